@@ -1,0 +1,72 @@
+"""The ``linkwork`` command.
+
+A thin layer: it parses, calls the library and prints. Each command lives in its own module of
+this package and registers itself on :data:`app` through a ``register(app)`` function; the
+modules are listed in :data:`COMMAND_MODULES`. Every expected failure (bad file, bad parameter,
+impossible mechanism) prints one line on stderr and exits with code 2 -- see :func:`main`.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+from collections.abc import Sequence
+
+import typer
+
+from linkwork.errors import LinkworkError
+
+__all__ = ["COMMAND_MODULES", "app", "main"]
+
+app = typer.Typer(
+    name="linkwork",
+    help="Kinematics, kinetostatics, balancing and synthesis of machine mechanisms.",
+    add_completion=False,
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+)
+
+#: Modules of linkwork.cli that define commands (each has ``register(app)``).
+COMMAND_MODULES: tuple[str, ...] = ("analyze",)
+
+
+
+@app.callback()
+def _root() -> None:
+    """Kinematics, kinetostatics, balancing and synthesis of machine mechanisms."""
+
+
+for _name in COMMAND_MODULES:
+    importlib.import_module(f"linkwork.cli.{_name}").register(app)
+
+
+def _fail(message: str) -> int:
+    first = " ".join(str(message).split())
+    print(f"linkwork: error: {first}", file=sys.stderr)
+    return 2
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line; return the exit code (0 ok, 2 bad input or impossible request).
+
+    Expected failures never show a traceback: a :class:`~linkwork.errors.LinkworkError`, a
+    missing or unreadable file, or a usage error prints one line on stderr and returns 2.
+    """
+    command = typer.main.get_command(app)
+    args = list(sys.argv[1:] if argv is None else argv)
+    try:
+        rv = command.main(args=args, prog_name="linkwork", standalone_mode=False)
+    except typer.Exit as exc:
+        return int(exc.exit_code)
+    except typer.Abort:
+        return _fail("aborted")
+    except typer.TyperException as exc:  # usage errors: bad option, missing argument, ...
+        fmt = getattr(exc, "format_message", None)
+        return _fail(fmt() if callable(fmt) else str(exc))
+    except (LinkworkError, OSError) as exc:
+        return _fail(str(exc))
+    return int(rv) if isinstance(rv, int) else 0
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

@@ -1,0 +1,64 @@
+"""``linkwork analyze FILE.toml``: analyse a mechanism file over a cycle.
+
+The file's ``type`` picks the analyser from :data:`ANALYZERS` (file type -> ``"module:function"``).
+An analyser is called as ``fn(doc, out=Path, angles=ndarray [rad], console=rich Console)``: it
+prints a table of the main quantities at ``angles`` and writes the full cycle (CSV, JSON) and its
+plots (PNG) into ``out``.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Callable
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+
+from linkwork import files
+from linkwork.errors import FileFormatError, ParameterError
+
+#: File type -> "module:function" of its analyser.
+ANALYZERS: dict[str, str] = {}
+
+
+def parse_angles(text: str) -> np.ndarray:
+    """Parse a comma-separated list of crank angles in degrees (``"0,30,90"``) to radians."""
+    try:
+        vals = [float(t) for t in text.split(",") if t.strip()]
+    except ValueError:
+        limit = "must be comma-separated numbers in degrees"
+        raise ParameterError("--angles", text, limit) from None
+    if not vals:
+        raise ParameterError("--angles", text, "must list at least one angle")
+    return np.radians(np.array(vals))
+
+
+def _resolve(spec: str) -> Callable[..., Any]:
+    mod, fn = spec.split(":")
+    return getattr(importlib.import_module(mod), fn)
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``analyze`` command to ``app``."""
+
+    @app.command()
+    def analyze(
+        file: Annotated[Path, typer.Argument(help="mechanism file (TOML)")],
+        out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
+            "linkwork-output"),
+        angles: Annotated[str, typer.Option(help="crank angles for the table, deg, comma-separated")
+                          ] = "0,30,60,90,120,150,180,210,240,270,300,330",
+    ) -> None:
+        """Analyse a mechanism over a cycle: table, CSV/JSON and plots in an output folder."""
+        from rich.console import Console
+
+        doc = files.load(file)
+        kind = files.read_toml(file)["type"]
+        if kind not in ANALYZERS:
+            raise FileFormatError(str(file), "type", f"type {kind!r} cannot be analysed; "
+                                  f"analysable: {sorted(ANALYZERS)}")
+        table_angles = parse_angles(angles)
+        out.mkdir(parents=True, exist_ok=True)
+        _resolve(ANALYZERS[kind])(doc, out=out, angles=table_angles, console=Console())

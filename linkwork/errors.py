@@ -1,0 +1,212 @@
+"""The exception hierarchy of linkwork.
+
+Every error linkwork raises on purpose derives from :class:`LinkworkError` and from the builtin
+that matches its meaning, so callers can catch either ``LinkworkError`` or, say, ``ValueError``.
+Messages name the parameter, its value and the limit, or the crank-angle ranges where a mechanism
+cannot be assembled.
+
+The ``require_*`` helpers are the one place where argument checks are written; models call them
+instead of ``assert`` or ad-hoc ``if`` blocks.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+__all__ = [
+    "AssemblyError",
+    "ConvergenceError",
+    "FileFormatError",
+    "InfeasibleError",
+    "LinkworkError",
+    "ParameterError",
+    "StructureError",
+    "angle_ranges",
+    "format_angle_ranges",
+    "require_finite",
+    "require_in_range",
+    "require_positive",
+]
+
+
+class LinkworkError(Exception):
+    """Base class of every error raised by linkwork on purpose."""
+
+
+class ParameterError(LinkworkError, ValueError):
+    """A parameter value makes the request impossible.
+
+    Parameters
+    ----------
+    parameter : str
+        Name of the parameter, as in the call (``"lambda2"``, ``"alpha"``).
+    value : object
+        The offending value (a scalar, or the worst element of an array).
+    limit : str
+        The limit it violates, in words (``"must be > 0"``, ``">= |lambda_e| + 1 = 1.3"``).
+    """
+
+    def __init__(self, parameter: str, value: Any, limit: str, detail: str = "") -> None:
+        self.parameter = parameter
+        self.value = value
+        self.limit = limit
+        msg = f"{parameter} = {_fmt(value)} is invalid: {limit}"
+        if detail:
+            msg += f" ({detail})"
+        super().__init__(msg)
+
+
+class AssemblyError(LinkworkError, ValueError):
+    """The mechanism cannot be assembled at some driver positions.
+
+    Attributes
+    ----------
+    ranges : list of (float, float)
+        Driver-position ranges [rad or m] where assembly fails (closed intervals of the sampled
+        positions).
+    """
+
+    def __init__(self, message: str, ranges: Sequence[tuple[float, float]] = (),
+                 driver: str = "phi1", unit: str = "rad") -> None:
+        self.ranges = [(float(a), float(b)) for a, b in ranges]
+        self.driver = driver
+        if self.ranges:
+            message += f"; cannot assemble at {driver} in {format_angle_ranges(self.ranges, unit)}"
+        super().__init__(message)
+
+
+class StructureError(LinkworkError, ValueError):
+    """A mechanism description is structurally wrong (locked, under-driven, unsolvable group)."""
+
+
+class FileFormatError(LinkworkError, ValueError):
+    """A mechanism or study file is missing, unreadable or invalid.
+
+    The message names the file, the key (dotted path) and the problem.
+    """
+
+    def __init__(self, file: str, key: str | None, problem: str) -> None:
+        self.file = file
+        self.key = key
+        self.problem = problem
+        where = f"{file}: {key}" if key else str(file)
+        super().__init__(f"{where}: {problem}")
+
+
+class ConvergenceError(LinkworkError, RuntimeError):
+    """An iterative solve did not converge."""
+
+
+class InfeasibleError(LinkworkError, ValueError):
+    """A synthesis or optimisation request cannot be met.
+
+    Attributes
+    ----------
+    constraint : str
+        The constraint that cannot be met.
+    closest : object
+        The closest achievable value of that constraint's quantity.
+    """
+
+    def __init__(self, constraint: str, closest: Any, detail: str = "") -> None:
+        self.constraint = constraint
+        self.closest = closest
+        msg = f"cannot satisfy {constraint}; closest achievable: {_fmt(closest)}"
+        if detail:
+            msg += f" ({detail})"
+        super().__init__(msg)
+
+
+def _fmt(value: Any) -> str:
+    if isinstance(value, str):
+        return value
+    if isinstance(value, float | np.floating):
+        return f"{float(value):.6g}"
+    if isinstance(value, np.ndarray) and value.size == 1:
+        return f"{float(value.reshape(())):.6g}"
+    return repr(value)
+
+
+def require_finite(name: str, value: ArrayLike) -> np.ndarray:
+    """Return ``value`` as a float array, or raise :class:`ParameterError` if any is NaN/inf."""
+    arr = np.asarray(value, dtype=float)
+    bad = ~np.isfinite(arr)
+    if bad.any():
+        raise ParameterError(name, arr[bad].flat[0], "must be finite")
+    return arr
+
+
+def require_positive(name: str, value: ArrayLike, *, allow_zero: bool = False) -> np.ndarray:
+    """Return ``value`` as a float array, or raise if any element is not > 0 (>= 0)."""
+    arr = require_finite(name, value)
+    bad = arr < 0 if allow_zero else arr <= 0
+    if bad.any():
+        limit = "must be >= 0" if allow_zero else "must be > 0"
+        raise ParameterError(name, arr[bad].flat[0], limit)
+    return arr
+
+
+def require_in_range(name: str, value: ArrayLike, lo: float | None = None, hi: float | None = None,
+                     *, lo_open: bool = False, hi_open: bool = False, unit: str = "",
+                     scale: float = 1.0) -> np.ndarray:
+    """Return ``value`` as a float array, or raise if any element leaves [lo, hi].
+
+    ``scale`` and ``unit`` only change how the message shows numbers (e.g. ``scale=180/pi``,
+    ``unit="deg"`` for angles given in radians).
+    """
+    arr = require_finite(name, value)
+    bad = np.zeros(arr.shape, dtype=bool)
+    if lo is not None:
+        bad |= arr <= lo if lo_open else arr < lo
+    if hi is not None:
+        bad |= arr >= hi if hi_open else arr > hi
+    if bad.any():
+        v = arr[bad].flat[0]
+        lo_s = "-inf" if lo is None else f"{lo * scale:.6g}"
+        hi_s = "inf" if hi is None else f"{hi * scale:.6g}"
+        interval = f"{'(' if lo_open else '['}{lo_s}, {hi_s}{')' if hi_open else ']'}"
+        shown = f"{v * scale:.6g}{(' ' + unit) if unit else ''}"
+        suffix = f" {unit}" if unit else ""
+        raise ParameterError(name, shown if unit else v, f"must lie in {interval}{suffix}")
+    return arr
+
+
+def angle_ranges(angles: ArrayLike, mask: ArrayLike) -> list[tuple[float, float]]:
+    """Contiguous ranges of ``angles`` (1-D, ordered) where ``mask`` is true.
+
+    ``mask`` may have more dimensions than ``angles`` (designs on the leading axes, positions on
+    the last one); a position counts as bad if it is bad for any design.
+    """
+    a = np.asarray(angles, dtype=float).ravel()
+    m: np.ndarray = np.asarray(mask, dtype=bool)
+    if m.ndim > 1:  # positions on the last axis, designs before it
+        m = np.asarray(m.reshape(-1, m.shape[-1]).any(axis=0))
+    m = np.broadcast_to(m, a.shape)
+    ranges: list[tuple[float, float]] = []
+    start = None
+    for i, bad in enumerate(m):
+        if bad and start is None:
+            start = i
+        if not bad and start is not None:
+            ranges.append((a[start], a[i - 1]))
+            start = None
+    if start is not None:
+        ranges.append((a[start], a[-1]))
+    return ranges
+
+
+def format_angle_ranges(ranges: Sequence[tuple[float, float]], unit: str = "rad") -> str:
+    """Format driver ranges for a message: angles in degrees, lengths as given."""
+    parts = []
+    for lo, hi in ranges[:8]:
+        if unit == "rad":
+            lo_s, hi_s = f"{np.degrees(lo):.4g}", f"{np.degrees(hi):.4g} deg"
+        else:
+            lo_s, hi_s = f"{lo:.6g}", f"{hi:.6g} {unit}"
+        parts.append(f"[{lo_s}, {hi_s}]")
+    more = f" and {len(ranges) - 8} more" if len(ranges) > 8 else ""
+    return ", ".join(parts) + more

@@ -1,0 +1,159 @@
+"""Mechanism and study files (TOML), validated with pydantic, with units.
+
+A file is a TOML document whose top-level ``type`` key says what it describes
+(``"sine_press"``, ``"planar"``, ``"swashplate"``, ...). Each type has a pydantic schema
+registered with :func:`register_schema`; :func:`load` reads the file, picks the schema and
+returns the validated model. Quantities may carry units (``"100 mm"``, ``"60 deg"``,
+``"120 rpm"``); the field types :data:`Length`, :data:`Angle`, ... convert them to SI on load.
+Every problem raises :class:`~linkwork.errors.FileFormatError` naming the file, the key and the
+problem.
+"""
+
+from __future__ import annotations
+
+import tomllib
+from collections.abc import Callable
+from pathlib import Path
+from typing import Annotated, Any, TypeVar
+
+import pydantic
+from pydantic import BaseModel, BeforeValidator, ConfigDict
+
+from linkwork.errors import FileFormatError, ParameterError
+from linkwork.units import to_si
+
+__all__ = [
+    "Acceleration",
+    "Angle",
+    "AngularAcceleration",
+    "AngularVelocity",
+    "Dimensionless",
+    "FileModel",
+    "Force",
+    "Inertia",
+    "Length",
+    "Mass",
+    "Stiffness",
+    "Time",
+    "Torque",
+    "Velocity",
+    "load",
+    "read_toml",
+    "register_schema",
+    "schemas",
+]
+
+
+def _quantity(kind: str) -> Callable[[Any], float]:
+    def convert(value: Any) -> float:
+        try:
+            return to_si(value, kind)
+        except ParameterError as exc:
+            raise ValueError(exc.limit) from None
+
+    return convert
+
+
+Length = Annotated[float, BeforeValidator(_quantity("length"))]
+Angle = Annotated[float, BeforeValidator(_quantity("angle"))]
+AngularVelocity = Annotated[float, BeforeValidator(_quantity("angular_velocity"))]
+AngularAcceleration = Annotated[float, BeforeValidator(_quantity("angular_acceleration"))]
+Velocity = Annotated[float, BeforeValidator(_quantity("velocity"))]
+Acceleration = Annotated[float, BeforeValidator(_quantity("acceleration"))]
+Mass = Annotated[float, BeforeValidator(_quantity("mass"))]
+Inertia = Annotated[float, BeforeValidator(_quantity("inertia"))]
+Force = Annotated[float, BeforeValidator(_quantity("force"))]
+Torque = Annotated[float, BeforeValidator(_quantity("torque"))]
+Time = Annotated[float, BeforeValidator(_quantity("time"))]
+Stiffness = Annotated[float, BeforeValidator(_quantity("stiffness"))]
+Dimensionless = Annotated[float, BeforeValidator(_quantity("dimensionless"))]
+
+
+class FileModel(BaseModel):
+    """Base of every file schema: unknown keys are errors, models are immutable."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+M = TypeVar("M", bound=type[BaseModel])
+_SCHEMAS: dict[str, type[BaseModel]] = {}
+
+
+def register_schema(type_name: str) -> Callable[[M], M]:
+    """Class decorator: register a pydantic schema for files with ``type = type_name``."""
+
+    def deco(cls: M) -> M:
+        _SCHEMAS[type_name] = cls
+        return cls
+
+    return deco
+
+
+def schemas() -> dict[str, type[BaseModel]]:
+    """The registered file types (importing the modules that define them first)."""
+    _import_schema_modules()
+    return dict(_SCHEMAS)
+
+
+def _import_schema_modules() -> None:
+    import importlib
+
+    for mod in SCHEMA_MODULES:
+        importlib.import_module(mod)
+
+
+#: Modules that define and register file schemas.
+SCHEMA_MODULES: tuple[str, ...] = ()
+
+
+def read_toml(path: str | Path) -> dict[str, Any]:
+    """Read a TOML file; missing, unreadable or invalid files raise FileFormatError."""
+    p = Path(path)
+    if not p.exists():
+        raise FileFormatError(str(p), None, "file not found")
+    if p.is_dir():
+        raise FileFormatError(str(p), None, "is a directory, not a file")
+    try:
+        text = p.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise FileFormatError(str(p), None, f"cannot be read ({exc})") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise FileFormatError(str(p), None, f"invalid TOML: {exc}") from None
+
+
+def _validation_error(path: str, exc: pydantic.ValidationError) -> FileFormatError:
+    err = exc.errors()[0]
+    key = ".".join(str(x) for x in err["loc"]) or None
+    msg = err["msg"]
+    if err["type"] == "extra_forbidden":
+        msg = "unknown key"
+    elif err["type"] == "missing":
+        msg = "missing required key"
+    elif "input" in err and err["type"] != "missing":
+        msg = f"{msg} (got {err['input']!r})"
+    extra = f" (+{len(exc.errors()) - 1} more problems)" if len(exc.errors()) > 1 else ""
+    return FileFormatError(path, key, msg + extra)
+
+
+def validate(path: str | Path, data: dict[str, Any], schema: type[BaseModel]) -> Any:
+    """Validate ``data`` (read from ``path``) against ``schema``; errors name file and key."""
+    try:
+        return schema.model_validate(data)
+    except pydantic.ValidationError as exc:
+        raise _validation_error(str(path), exc) from None
+    except ParameterError as exc:  # raised by model validators that build mechanisms
+        raise FileFormatError(str(path), exc.parameter, str(exc)) from None
+
+
+def load(path: str | Path) -> Any:
+    """Read and validate a linkwork file; dispatch on its top-level ``type`` key."""
+    data = read_toml(path)
+    known = schemas()
+    kind = data.get("type")
+    if kind is None:
+        raise FileFormatError(str(path), "type", f"missing required key; one of {sorted(known)}")
+    if kind not in known:
+        raise FileFormatError(str(path), "type", f"unknown type {kind!r}; one of {sorted(known)}")
+    return validate(path, data, known[kind])

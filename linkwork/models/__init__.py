@@ -1,0 +1,1 @@
+"""Closed-form models from the literature: pure, vectorised functions."""

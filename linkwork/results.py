@@ -1,0 +1,90 @@
+"""The common base of linkwork's result objects.
+
+A result is a frozen dataclass of NumPy arrays whose last axis runs over the positions of the
+cycle (shape ``(..., n)``), plus scalars that describe the inputs. It knows the unit of each
+field (class attribute ``units``) and exports itself to a dict, CSV, JSON and, where pandas is
+installed, a DataFrame. Plotting lives in :mod:`linkwork.plot`.
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import json
+from pathlib import Path
+from typing import Any, ClassVar
+
+import numpy as np
+
+__all__ = ["Result"]
+
+
+class Result:
+    """Mixin for frozen dataclass results: export to dict / CSV / JSON / DataFrame.
+
+    Subclasses are ``@dataclass(frozen=True)`` and set ``units`` (field name -> unit string) and
+    optionally ``position_field`` (the name of the driver-position array, e.g. ``"phi1"``).
+    """
+
+    units: ClassVar[dict[str, str]] = {}
+    position_field: ClassVar[str] = "phi1"
+
+    def _fields(self) -> dict[str, Any]:
+        return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}  # type: ignore[arg-type]
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """Per-position arrays, flattened to 1-D columns (only 1-D-over-positions fields)."""
+        n = np.asarray(getattr(self, self.position_field)).shape[-1]
+        cols: dict[str, np.ndarray] = {}
+        for name, val in self._fields().items():
+            arr = np.asarray(val)
+            if arr.ndim >= 1 and arr.shape[-1] == n and arr.dtype.kind in "fcib":
+                if arr.ndim == 1:
+                    cols[name] = arr
+                else:
+                    flat = np.broadcast_to(arr, arr.shape).reshape(-1, n)
+                    for i, row in enumerate(flat):
+                        cols[f"{name}[{i}]"] = row
+        return cols
+
+    def scalars(self) -> dict[str, Any]:
+        """Non-array fields and 0-d arrays, as plain Python values."""
+        out: dict[str, Any] = {}
+        for name, val in self._fields().items():
+            arr = np.asarray(val) if not isinstance(val, str) else None
+            if arr is None:
+                out[name] = val
+            elif arr.ndim == 0 and arr.dtype.kind in "fcib":
+                out[name] = arr.item()
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """Everything as JSON-able Python values, with units."""
+        data: dict[str, Any] = {"type": type(self).__name__, "units": dict(self.units)}
+        data.update(self.scalars())
+        data["columns"] = {k: v.tolist() for k, v in self.columns().items()}
+        return data
+
+    def to_json(self, path: str | Path) -> Path:
+        """Write :meth:`to_dict` as JSON; return the path."""
+        p = Path(path)
+        p.write_text(json.dumps(self.to_dict(), indent=1, allow_nan=True))
+        return p
+
+    def to_csv(self, path: str | Path) -> Path:
+        """Write the per-position columns as CSV with a unit row in the header names."""
+        p = Path(path)
+        cols = self.columns()
+        header = [f"{k} [{self.units.get(k.split('[')[0], '')}]" for k in cols]
+        with p.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            for row in zip(*cols.values(), strict=True):
+                w.writerow([repr(float(x)) for x in row])
+        return p
+
+    def to_frame(self) -> Any:
+        """A pandas DataFrame of the per-position columns (requires pandas)."""
+        import pandas as pd  # optional dependency
+
+        return pd.DataFrame(self.columns())

@@ -1,0 +1,103 @@
+"""SI units inside, other units only at the edges.
+
+Inside linkwork every length is metres, every angle radians, every angular speed rad/s, every
+mass kg, force N, torque N·m. Files and the command line accept quantities with units
+("100 mm", "30 deg", "120 rpm"); :func:`to_si` converts them. A plain number in a file is taken
+as already being in the SI unit of its kind (radians for angles) -- see ``docs/conventions.md``.
+
+pint is imported lazily, on the first conversion of a string, so importing linkwork stays fast.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+from typing import Any
+
+from linkwork.errors import ParameterError
+
+__all__ = ["KINDS", "deg", "rpm", "to_deg", "to_si"]
+
+#: SI unit of each kind of quantity that files and the CLI accept.
+KINDS: dict[str, str] = {
+    "length": "m",
+    "angle": "rad",
+    "angular_velocity": "rad/s",
+    "angular_acceleration": "rad/s**2",
+    "velocity": "m/s",
+    "acceleration": "m/s**2",
+    "mass": "kg",
+    "inertia": "kg*m**2",
+    "force": "N",
+    "torque": "N*m",
+    "time": "s",
+    "frequency": "1/s",
+    "stiffness": "N/m",
+    "rotational_stiffness": "N*m/rad",
+    "dimensionless": "",
+}
+
+
+@lru_cache(maxsize=1)
+def _registry() -> Any:
+    import pint
+
+    ureg: Any = pint.UnitRegistry()
+    ureg.define("rpm = revolution / minute")  # pint knows rpm; this keeps the meaning explicit
+    return ureg
+
+
+def to_si(value: Any, kind: str, name: str = "value") -> float:
+    """Convert ``value`` to the SI unit of ``kind`` and return a float.
+
+    Parameters
+    ----------
+    value : float or str
+        A number (taken as SI) or a string with a unit, e.g. ``"100 mm"``, ``"30 deg"``,
+        ``"120 rpm"``.
+    kind : str
+        One of :data:`KINDS`.
+    name : str
+        Parameter name used in error messages.
+
+    Raises
+    ------
+    ParameterError
+        The string cannot be parsed or has the wrong dimension.
+    """
+    if kind not in KINDS:
+        raise ParameterError("kind", kind, f"must be one of {sorted(KINDS)}")
+    if isinstance(value, bool):
+        raise ParameterError(name, value, f"must be a number or a quantity in {KINDS[kind] or '1'}")
+    if isinstance(value, int | float):
+        return float(value)
+    if not isinstance(value, str):
+        raise ParameterError(name, value, "must be a number or a string such as '100 mm'")
+    ureg = _registry()
+    try:
+        q = ureg.Quantity(value.strip())
+    except Exception as exc:  # pint raises several unrelated types
+        raise ParameterError(name, value, f"cannot be read as a quantity ({exc})") from None
+    unit = KINDS[kind]
+    try:
+        if not hasattr(q, "to"):
+            return float(q)
+        return float(q.to(unit).magnitude) if unit else float(q.to("").magnitude)
+    except Exception:
+        limit = f"must have the dimension of {kind} ({unit or '1'})"
+        raise ParameterError(name, value, limit) from None
+
+
+def deg(x: float) -> float:
+    """``x`` degrees, in radians (``deg(90) == pi/2``)."""
+    return math.radians(x)
+
+
+def to_deg(x: float) -> float:
+    """Radians to degrees (``to_deg(pi/2) == 90``)."""
+    return math.degrees(x)
+
+
+def rpm(n: float) -> float:
+    """``n`` revolutions per minute, in rad/s."""
+    return n * 2.0 * math.pi / 60.0

@@ -1,0 +1,58 @@
+"""The exception hierarchy and the argument-check helpers."""
+
+import numpy as np
+import pytest
+
+from linkwork.errors import (
+    AssemblyError,
+    FileFormatError,
+    InfeasibleError,
+    LinkworkError,
+    ParameterError,
+    angle_ranges,
+    require_in_range,
+    require_positive,
+)
+
+
+@pytest.mark.parametrize("cls", [ParameterError, AssemblyError, FileFormatError, InfeasibleError])
+def test_errors_are_linkwork_and_value_errors(cls):
+    assert issubclass(cls, LinkworkError)
+    assert issubclass(cls, ValueError)
+
+
+def test_parameter_error_names_parameter_value_and_limit():
+    with pytest.raises(ParameterError, match=r"L1 = -0\.1 is invalid: must be > 0") as info:
+        require_positive("L1", [0.2, -0.1])
+    assert info.value.parameter == "L1"
+    assert info.value.value == pytest.approx(-0.1)
+
+
+def test_require_in_range_reports_scaled_value_and_interval():
+    with pytest.raises(ParameterError, match=r"alpha = 200 deg.*\(0, 180\) deg"):
+        require_in_range("alpha", np.radians(200.0), 0.0, np.pi, lo_open=True, hi_open=True,
+                         unit="deg", scale=180 / np.pi)
+    ok = require_in_range("alpha", np.radians(60.0), 0.0, np.pi)
+    assert ok == pytest.approx(np.radians(60.0))
+
+
+def test_require_finite_rejects_nan():
+    with pytest.raises(ParameterError, match="must be finite"):
+        require_positive("L1", float("nan"))
+
+
+def test_angle_ranges_finds_contiguous_runs():
+    a = np.radians(np.arange(0, 360, 10.0))
+    mask = (np.degrees(a) >= 50) & (np.degrees(a) <= 80) | (np.degrees(a) >= 340)
+    r = angle_ranges(a, mask)
+    assert np.degrees(r).round(6).tolist() == [[50, 80], [340, 350]]
+    # designs on leading axes: a position is bad if bad for any design
+    m2 = np.zeros((3, a.size), bool)
+    m2[1, 3] = True
+    assert angle_ranges(a, m2) == [(a[3], a[3])]
+
+
+def test_assembly_error_lists_ranges_in_degrees():
+    err = AssemblyError("rod too short", [(np.radians(10), np.radians(20))])
+    assert "phi1 in [10, 20 deg]" in str(err)
+    assert err.ranges[0][0] == pytest.approx(np.radians(10))

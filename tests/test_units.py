@@ -1,0 +1,46 @@
+"""Unit conversion at the edges."""
+
+import math
+
+import pytest
+
+from linkwork.errors import ParameterError
+from linkwork.units import deg, rpm, to_deg, to_si
+
+
+@pytest.mark.parametrize(
+    ("value", "kind", "expected"),
+    [
+        ("100 mm", "length", 0.1),
+        ("30 deg", "angle", math.pi / 6),
+        ("120 rpm", "angular_velocity", 4 * math.pi),
+        ("2 kg", "mass", 2.0),
+        ("1.5 kN", "force", 1500.0),
+        ("3 N*m", "torque", 3.0),
+        (0.25, "length", 0.25),
+        (1, "angle", 1.0),
+        ("0.5", "dimensionless", 0.5),
+    ],
+)
+def test_to_si(value, kind, expected):
+    assert to_si(value, kind) == pytest.approx(expected, rel=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("value", "kind", "match"),
+    [
+        ("100 kg", "length", "dimension of length"),
+        ("ten mm", "length", "cannot be read"),
+        (True, "length", "must be a number"),
+        ([1, 2], "length", "must be a number"),
+    ],
+)
+def test_to_si_rejects(value, kind, match):
+    with pytest.raises(ParameterError, match=match):
+        to_si(value, kind, name="L1")
+
+
+def test_helpers():
+    assert deg(180) == pytest.approx(math.pi)
+    assert to_deg(math.pi / 2) == pytest.approx(90)
+    assert rpm(60) == pytest.approx(2 * math.pi)
