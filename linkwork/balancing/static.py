@@ -1,0 +1,184 @@
+"""Static (force) balancing by counterweights: closed forms for the four-bar and crank-slider.
+
+A mechanism is force balanced when its total centre of mass is stationary, i.e. its shaking
+force :math:`-\\sum m_i a_{S_i}` vanishes at every position and speed. Counterweights on links
+hinged to the frame can do this when the total first moment of mass
+:math:`\\sum m_i r_{S_i}` can be written, using the loop-closure equations, as a constant plus
+terms that each rotate rigidly with one frame-hinged link ("method of linearly independent
+vectors", Berkof and Lowen [1]_); each such term is then cancelled by a counterweight on that
+link.
+
+Complex notation: a point fixed to a link is given by its local coordinates as a complex number
+:math:`p = \\xi + i\\eta`, with :math:`\\xi` along the link (from its first joint towards its
+second) and :math:`\\eta` perpendicular, counter-clockwise. A counterweight is its local first
+moment :math:`q = m_{cw}\\,\\rho_{cw}` (complex): static moment :math:`S = |q|` [kg·m] and angle
+on the link :math:`\\arg q` [rad] from the link's line.
+
+References
+----------
+.. [1] Berkof R. S., Lowen G. G. A new method for completely force balancing simple linkages.
+   ASME J. Eng. Ind., 1969, 91(1), 21-26.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from linkwork.errors import ParameterError, require_finite, require_in_range, require_positive
+from linkwork.results import Result
+
+__all__ = [
+    "Counterweight",
+    "crank_slider_counterweight",
+    "fourbar_counterweights",
+]
+
+
+@dataclass(frozen=True)
+class Counterweight(Result):
+    """A counterweight on a link, as a first moment of mass in the link's frame.
+
+    Attributes
+    ----------
+    link : str
+        Name of the link that carries it.
+    static_moment : float
+        :math:`S = m_{cw} r_{cw}` [kg·m].
+    angle : float
+        Direction of the counterweight's centre on the link [rad], from the link's line
+        (first joint -> second joint), counter-clockwise; ``pi`` = on the extension beyond the
+        hinge, opposite the link's other joint.
+    """
+
+    link: str
+    static_moment: float
+    angle: float
+    units: ClassVar[dict[str, str]] = {"static_moment": "kg*m", "angle": "rad"}
+    position_field: ClassVar[str] = "static_moment"
+
+    @property
+    def first_moment(self) -> complex:
+        """Local first moment :math:`q = S e^{i\\,angle}` [kg·m]."""
+        return complex(self.static_moment * np.cos(self.angle),
+                       self.static_moment * np.sin(self.angle))
+
+    def mass(self, radius: float) -> float:
+        """Counterweight mass [kg] for a centre at ``radius`` [m] from the hinge."""
+        r = float(require_positive("radius", radius))
+        return self.static_moment / r
+
+    @classmethod
+    def from_first_moment(cls, link: str, q: complex) -> Counterweight:
+        """From a complex local first moment [kg·m]."""
+        return cls(link, float(abs(q)), float(np.angle(q)) if q != 0 else 0.0)
+
+    @classmethod
+    def from_mass(cls, link: str, mass: float, radius: float, angle: float) -> Counterweight:
+        """From a mass [kg] at ``radius`` [m] from the hinge and ``angle`` [rad] on the link."""
+        m = float(require_positive("mass", mass, allow_zero=True))
+        r = float(require_positive("radius", radius))
+        return cls(link, m * r, float(require_finite("angle", angle)))
+
+
+def fourbar_counterweights(l1: float, l2: float, l3: float, m1: float, s1: complex,
+                           m2: float, s2: complex, m3: float, s3: complex,
+                           ) -> tuple[Counterweight, Counterweight]:
+    """Crank and rocker counterweights that fully force-balance a four-bar (Berkof-Lowen).
+
+    Loop closure :math:`l_1 e^{i\\theta_1} + l_2 e^{i\\theta_2} = l_0 + l_3 e^{i\\theta_3}`
+    eliminates the coupler's direction from the total first moment:
+
+    .. math::
+
+        \\sum m_k r_{S_k} = e^{i\\theta_1}\\left[m_1 s_1 + m_2 l_1 (1 - s_2/l_2)\\right]
+            + e^{i\\theta_3}\\left[m_3 s_3 + m_2 s_2 l_3/l_2\\right] + \\text{const},
+
+    so counterweights with local first moments
+
+    .. math::
+
+        q_1 = -\\left[m_1 s_1 + m_2 l_1 (1 - s_2/l_2)\\right], \\qquad
+        q_3 = -\\left[m_3 s_3 + m_2 s_2 l_3 / l_2\\right]
+
+    on the crank and the rocker make it stationary, for any coupler centre :math:`s_2` (also
+    off the line AB) and independently of the frame length :math:`l_0` and of the assembly
+    branch. For a coupler centre on AB this is the statically equivalent split of the coupler
+    into :math:`m_2(1 - s_2/l_2)` at A and :math:`m_2 s_2/l_2` at B.
+
+    Parameters
+    ----------
+    l1, l2, l3 : float
+        Crank OA, coupler AB and rocker CB lengths [m].
+    m1, m2, m3 : float
+        Masses of crank, coupler, rocker [kg].
+    s1, s2, s3 : complex
+        Centres of mass in local coordinates [m]: crank from O along OA, coupler from A along
+        AB, rocker from C along CB (imaginary part: perpendicular, counter-clockwise).
+
+    Returns
+    -------
+    (Counterweight, Counterweight)
+        On the crank (``"crank"``, angle from OA) and on the rocker (``"rocker"``, angle
+        from CB).
+    """
+    L1, L2, L3 = (float(require_positive(n, v)) for n, v in (("l1", l1), ("l2", l2),
+                                                               ("l3", l3)))
+    M1, M2, M3 = (float(require_positive(n, v, allow_zero=True))
+                  for n, v in (("m1", m1), ("m2", m2), ("m3", m3)))
+    z1, z2, z3 = complex(s1), complex(s2), complex(s3)
+    for n, z in (("s1", z1), ("s2", z2), ("s3", z3)):
+        require_finite(n, [z.real, z.imag])
+    q1 = -(M1 * z1 + M2 * L1 * (1.0 - z2 / L2))
+    q3 = -(M3 * z3 + M2 * z2 * L3 / L2)
+    return (Counterweight.from_first_moment("crank", q1),
+            Counterweight.from_first_moment("rocker", q3))
+
+
+def crank_slider_counterweight(l1: float, l2: float, m1: float, s1: complex, m2: float,
+                               s2: complex, m3: float, fraction: float = 0.0) -> Counterweight:
+    """Crank counterweight of a crank-slider: rotating masses plus a fraction of the reciprocating.
+
+    With the rod's centre :math:`s_2` (from A along AB) the rod's first moment splits, exactly,
+    into :math:`m_2(1 - s_2/l_2)` at the crank pin A (rotating) and :math:`m_2 s_2/l_2` at the
+    slider B (reciprocating, with the slider mass :math:`m_3`):
+
+    .. math::
+
+        q_1 = -\\left[m_1 s_1 + m_2 l_1 (1 - s_2/l_2)\\right]
+              - k\\,l_1 \\left(m_3 + m_2 s_2/l_2\\right).
+
+    ``fraction`` k = 0 balances the rotating masses fully (the shaking force is then only the
+    reciprocating one, along the guide); k = 1 cancels the first harmonic of the
+    reciprocating force along the guide (centred crank-slider) but adds an equal rotating
+    force across it. A counterweight on the crank cannot cancel the reciprocating force
+    exactly: it is not a vector rotating with a frame-hinged link (it contains all
+    harmonics of the slider motion), so full force balance by counterweights is impossible.
+
+    Parameters
+    ----------
+    l1, l2 : float
+        Crank OA and rod AB [m].
+    m1, m2, m3 : float
+        Crank, rod and slider masses [kg].
+    s1, s2 : complex
+        Crank centre from O along OA, rod centre from A along AB [m].
+    fraction : float
+        k in [0, 1]: share of the reciprocating mass (referred to the crank pin) balanced.
+
+    Returns
+    -------
+    Counterweight
+        On ``"crank"``, angle from OA.
+    """
+    L1, L2 = float(require_positive("l1", l1)), float(require_positive("l2", l2))
+    M1, M2, M3 = (float(require_positive(n, v, allow_zero=True))
+                  for n, v in (("m1", m1), ("m2", m2), ("m3", m3)))
+    k = float(require_in_range("fraction", fraction, 0.0, 1.0))
+    z1, z2 = complex(s1), complex(s2)
+    if not (np.isfinite(z1) and np.isfinite(z2)):
+        raise ParameterError("s1/s2", (z1, z2), "must be finite")
+    q1 = -(M1 * z1 + M2 * L1 * (1.0 - z2 / L2)) - k * L1 * (M3 + M2 * z2 / L2)
+    return Counterweight.from_first_moment("crank", q1)
