@@ -1,0 +1,359 @@
+"""Offset crank-slider: the idle mode of the variable-structure sine press drive (paper 000).
+
+Geometry and conventions (Fig. 1 and Eqs. (1)-(13) in [1]_)
+------------------------------------------------------------
+* Frame ``AXY`` with origin at the crank axis ``A``; ``X`` to the right, ``Y`` up.
+* Crank ``AB`` of length ``L1``; the crank angle ``phi1`` is measured from ``+X``,
+  counter-clockwise positive: ``B = L1 (cos phi1, sin phi1)``.
+* Rod ``BC`` of length ``L2 = lambda2 L1``.
+* The slider ``C`` runs in a guide parallel to ``AY`` at ``X = e = lambda_e L1`` (``lambda_e``
+  may be negative: guide left of ``A``).  ``Y_C`` is the slider position along ``+Y`` measured from
+  the line through ``A`` perpendicular to the guide.
+* The rod angle ``phi2`` is the direction of the vector ``BC`` measured **from the guide direction
+  +Y towards +X** (clockwise positive in the usual picture), as in Eq. (1):
+  ``tan phi2 = (X_C - X_B) / (Y_C - Y_B)``, so ``BC = L2 (sin phi2, cos phi2)``.
+* ``branch=+1`` is the ``+`` root of Eq. (2): the slider lies above the crank pin
+  (``cos phi2 > 0``, ``phi2`` in (-pi/2, pi/2)); ``branch=-1`` is the mirror assembly
+  (``cos phi2 < 0``, ``phi2`` in (pi/2, 3pi/2) wrapped to (-pi, pi]).
+
+Transfer functions are derivatives with respect to ``phi1`` ("analogues"); actual velocities and
+accelerations follow from the crank speed ``omega1`` and the crank acceleration ``eps1``.
+
+References
+----------
+.. [1] Toktakunov, Zh. Sh. Analytic determination of the kinematics of a variable-structure sine
+   mechanism (paper 000 of the linkwork seed papers).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from linkwork.errors import (
+    AssemblyError,
+    ParameterError,
+    angle_ranges,
+    require_finite,
+    require_positive,
+)
+from linkwork.results import Result
+
+__all__ = [
+    "CrankSliderResult",
+    "assembly_limit",
+    "dead_centres",
+    "max_pressure_angle",
+    "offset_crank_slider",
+    "pressure_angle",
+    "stroke",
+]
+
+#: ``|cos phi2|`` at or below this value counts as a locked position (rod perpendicular to the
+#: guide): the transfer functions are unbounded there.
+COS_PHI2_MIN = 1e-7
+
+
+@dataclass(frozen=True)
+class CrankSliderResult(Result):
+    """Kinematics of the offset crank-slider over crank positions.
+
+    All arrays broadcast to the common shape of the inputs (designs on leading axes, crank
+    positions on the last one).  Names follow [1]_; units in :attr:`units`.
+
+    Attributes
+    ----------
+    phi1 : crank angle [rad], from +X, counter-clockwise.
+    L1, lambda2, lambda_e, omega1, eps1, branch : the inputs.
+    X_B, Y_B : crank-pin coordinates [m], Eq. (2).
+    X_C, Y_C : slider coordinates [m]; ``X_C = e``; ``Y_C`` is Eq. (5) (for ``branch=+1``).
+    phi2 : rod angle [rad] from +Y towards +X, Eqs. (1), (3), (4).
+    U21 : ``d phi2 / d phi1`` [-], Eq. (6).
+    V_qC : ``d Y_C / d phi1`` [m/rad], Eqs. (7), (8).
+    eps_q2 : ``d U21 / d phi1`` [1/rad], the angular-acceleration analogue, Eq. (11).
+    a_qC : ``d^2 Y_C / d phi1^2`` [m/rad^2], the acceleration analogue of the slider.
+    omega2 : rod angular velocity ``d phi2 / dt`` [rad/s] (positive in the sense of ``phi2``).
+    eps2 : rod angular acceleration [rad/s^2], Eqs. (10), (12).
+    V_C : slider velocity along +Y [m/s].
+    a_C : slider acceleration along +Y [m/s^2], Eq. (13) (corrected, see docs/errata.md).
+    pressure_angle : acute angle between the rod and the guide [rad], ``arcsin |sin phi2|``.
+    valid : False where the mechanism cannot be assembled (only with ``on_failure="nan"``).
+    """
+
+    phi1: np.ndarray
+    L1: np.ndarray
+    lambda2: np.ndarray
+    lambda_e: np.ndarray
+    omega1: np.ndarray
+    eps1: np.ndarray
+    branch: int
+    X_B: np.ndarray
+    Y_B: np.ndarray
+    X_C: np.ndarray
+    Y_C: np.ndarray
+    phi2: np.ndarray
+    U21: np.ndarray
+    V_qC: np.ndarray
+    eps_q2: np.ndarray
+    a_qC: np.ndarray
+    omega2: np.ndarray
+    eps2: np.ndarray
+    V_C: np.ndarray
+    a_C: np.ndarray
+    pressure_angle: np.ndarray
+    valid: np.ndarray
+
+    units: ClassVar[dict[str, str]] = {
+        "phi1": "rad", "L1": "m", "lambda2": "1", "lambda_e": "1", "omega1": "rad/s",
+        "eps1": "rad/s^2", "branch": "1", "X_B": "m", "Y_B": "m", "X_C": "m", "Y_C": "m",
+        "phi2": "rad", "U21": "1", "V_qC": "m/rad", "eps_q2": "1/rad", "a_qC": "m/rad^2",
+        "omega2": "rad/s", "eps2": "rad/s^2", "V_C": "m/s", "a_C": "m/s^2",
+        "pressure_angle": "rad", "valid": "1",
+    }
+
+
+def assembly_limit(lambda_e: ArrayLike) -> np.ndarray:
+    """Smallest ``lambda2`` that lets the crank turn fully: ``|lambda_e| + 1`` (exclusive).
+
+    At ``lambda2 = |lambda_e| + 1`` the rod becomes perpendicular to the guide at one crank
+    position (a locked position with unbounded transfer functions), so a fully rotating crank
+    needs ``lambda2 > |lambda_e| + 1``.
+    """
+    return np.abs(np.asarray(lambda_e, dtype=float)) + 1.0
+
+
+def _check_branch(branch: int) -> int:
+    if branch not in (1, -1):
+        raise ParameterError("branch", branch, "must be +1 or -1")
+    return int(branch)
+
+
+def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lambda_e: ArrayLike,
+                        omega1: ArrayLike = 1.0, eps1: ArrayLike = 0.0, branch: int = +1, *,
+                        on_failure: Literal["raise", "nan"] = "raise") -> CrankSliderResult:
+    r"""Positions, transfer functions, velocities and accelerations of the offset crank-slider.
+
+    Parameters
+    ----------
+    phi1 : array_like
+        Crank angle [rad], from +X, counter-clockwise.  Shape ``(n,)`` typically.
+    L1 : array_like
+        Crank length [m], > 0.  May be ``(m, 1)`` to sweep designs.
+    lambda2 : array_like
+        Relative rod length ``L2 / L1`` [-], > 0.
+    lambda_e : array_like
+        Relative guide offset ``e / L1`` [-] (signed; the guide is the line ``X = e``).
+    omega1 : array_like, optional
+        Crank angular velocity [rad/s] (counter-clockwise positive).  Default 1, which makes
+        ``V_C == V_qC`` and ``a_C == a_qC``.
+    eps1 : array_like, optional
+        Crank angular acceleration [rad/s^2].  Default 0.
+    branch : {+1, -1}, optional
+        Assembly branch: ``+1`` is the ``+`` root of Eq. (2) in [1]_ (slider above the pin).
+    on_failure : {"raise", "nan"}, optional
+        What to do at positions where the mechanism cannot be assembled
+        (``|lambda_e - cos phi1| >= lambda2``): raise :class:`~linkwork.errors.AssemblyError`
+        listing the crank-angle ranges (default), or return NaN there with ``valid`` False.
+
+    Returns
+    -------
+    CrankSliderResult
+
+    Raises
+    ------
+    ParameterError
+        ``L1 <= 0``, ``lambda2 <= 0``, non-finite input or a branch other than +/-1.
+    AssemblyError
+        Some positions cannot be assembled (the rod is too short to reach the guide) or the rod
+        is perpendicular to the guide (locked position); the message lists the crank-angle
+        ranges.  With ``lambda2 > |lambda_e| + 1`` every crank angle assembles.
+
+    Notes
+    -----
+    With :math:`s_2 = \sin\varphi_2`, :math:`c_2 = \cos\varphi_2` (Eqs. (1)-(4) in [1]_):
+
+    .. math::
+
+        s_2 = \frac{\lambda_e - \cos\varphi_1}{\lambda_2}, \qquad
+        c_2 = \pm\sqrt{1 - s_2^2}, \qquad
+        Y_C = L_1(\sin\varphi_1 + \lambda_2 c_2)
+
+    Transfer functions (Eqs. (6), (8), (11) in [1]_; the last printed form of
+    :math:`\varepsilon_{q2}` lacks a square, see ``docs/errata.md``):
+
+    .. math::
+
+        U_{21} = \frac{\sin\varphi_1}{\lambda_2 c_2}, \qquad
+        V_{qC} = L_1\frac{\cos(\varphi_1+\varphi_2)}{c_2}, \qquad
+        \varepsilon_{q2} = \frac{\cos\varphi_1 + \lambda_2 s_2 U_{21}^2}{\lambda_2 c_2}
+
+    .. math::
+
+        a_{qC} = \frac{d^2Y_C}{d\varphi_1^2}
+               = -\frac{L_1}{c_2}\left[\sin(\varphi_1+\varphi_2)
+                 + \frac{\sin^2\varphi_1}{\lambda_2 c_2^2}\right]
+
+    and with the crank speed (Eqs. (10), (12); Eq. (13) corrected):
+
+    .. math::
+
+        \omega_2 = U_{21}\omega_1, \quad
+        \varepsilon_2 = U_{21}\varepsilon_1 + \varepsilon_{q2}\omega_1^2, \quad
+        V_C = V_{qC}\omega_1, \quad
+        a_C = V_{qC}\varepsilon_1 + a_{qC}\omega_1^2
+
+    Eq. (13) of [1]_ prints :math:`\cos(\varphi_2-\varphi_1)`, :math:`+\sin(\varphi_2-\varphi_1)`
+    and :math:`+\sin^2\varphi_1/(\lambda_2\cos^2\varphi_2)` in the bracket; the derivation (and
+    finite differences) give :math:`\cos(\varphi_1+\varphi_2)`, :math:`-\sin(\varphi_1+\varphi_2)`
+    and :math:`-\sin^2\varphi_1/(\lambda_2\cos^2\varphi_2)`.  The corrected form is used here.
+
+    References
+    ----------
+    .. [1] Toktakunov, Zh. Sh. Analytic determination of the kinematics of a variable-structure
+       sine mechanism (paper 000).
+    """
+    branch = _check_branch(branch)
+    if on_failure not in ("raise", "nan"):
+        raise ParameterError("on_failure", on_failure, "must be 'raise' or 'nan'")
+    phi1_a = require_finite("phi1", phi1)
+    L1_a = require_positive("L1", L1)
+    lam2 = require_positive("lambda2", lambda2)
+    lame = require_finite("lambda_e", lambda_e)
+    w1 = require_finite("omega1", omega1)
+    e1 = require_finite("eps1", eps1)
+    phi1_b, L1_b, lam2_b, lame_b, w1_b, e1_b = np.broadcast_arrays(phi1_a, L1_a, lam2, lame, w1, e1)
+
+    c1 = np.cos(phi1_b)
+    s1 = np.sin(phi1_b)
+    s2 = (lame_b - c1) / lam2_b
+    c2sq = 1.0 - s2 * s2
+    bad = c2sq <= COS_PHI2_MIN**2
+    if bad.any():
+        if on_failure == "raise":
+            _raise_assembly(phi1_a, bad, lam2, lame)
+        s2 = np.where(bad, np.nan, s2)
+        c2sq = np.where(bad, np.nan, c2sq)
+    c2 = branch * np.sqrt(c2sq)
+
+    phi2 = np.arctan2(s2, c2)
+    Y_B = L1_b * s1
+    X_B = L1_b * c1
+    Y_C = L1_b * (s1 + lam2_b * c2)
+    X_C = L1_b * lame_b
+    U21 = s1 / (lam2_b * c2)
+    cos12 = c1 * c2 - s1 * s2  # cos(phi1 + phi2)
+    sin12 = s1 * c2 + c1 * s2  # sin(phi1 + phi2)
+    V_qC = L1_b * cos12 / c2
+    eps_q2 = (c1 + lam2_b * s2 * U21 * U21) / (lam2_b * c2)
+    a_qC = -L1_b / c2 * (sin12 + s1 * s1 / (lam2_b * c2 * c2))
+    omega2 = U21 * w1_b
+    eps2 = U21 * e1_b + eps_q2 * w1_b * w1_b
+    V_C = V_qC * w1_b
+    a_C = V_qC * e1_b + a_qC * w1_b * w1_b
+    mu = np.arcsin(np.abs(s2))
+
+    return CrankSliderResult(
+        phi1=phi1_b, L1=L1_a, lambda2=lam2, lambda_e=lame, omega1=w1, eps1=e1, branch=branch,
+        X_B=X_B, Y_B=Y_B, X_C=X_C, Y_C=Y_C, phi2=phi2, U21=U21, V_qC=V_qC, eps_q2=eps_q2,
+        a_qC=a_qC, omega2=omega2, eps2=eps2, V_C=V_C, a_C=a_C, pressure_angle=mu, valid=~bad,
+    )
+
+
+def _raise_assembly(phi1: np.ndarray, bad: np.ndarray, lam2: np.ndarray,
+                    lame: np.ndarray) -> None:
+    if phi1.ndim <= 1 and phi1.size > 1:
+        order = np.argsort(phi1)
+        per_angle = np.asarray(bad.reshape(-1, bad.shape[-1]).any(axis=0))
+        ranges = angle_ranges(phi1[order], per_angle[order])
+    else:
+        vals = np.unique(np.broadcast_to(phi1, bad.shape)[bad])
+        ranges = [(v, v) for v in vals[:8]]
+    shape = np.broadcast_shapes(lam2.shape, lame.shape)
+    l2_all = np.broadcast_to(lam2, shape)
+    lim_all = np.broadcast_to(assembly_limit(lame), shape)
+    worst = np.unravel_index(np.argmin(l2_all - lim_all), shape)
+    l2, lim = float(l2_all[worst]), float(lim_all[worst])
+    raise AssemblyError(
+        f"offset crank-slider cannot be assembled (rod does not reach the guide, or is "
+        f"perpendicular to it): lambda2 = {l2:.6g}, a fully rotating crank needs "
+        f"lambda2 > |lambda_e| + 1 = {lim:.6g}", ranges)
+
+
+def _check_full_rotation(lambda2: ArrayLike, lambda_e: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    lam2 = require_positive("lambda2", lambda2)
+    lame = require_finite("lambda_e", lambda_e)
+    limit = assembly_limit(lame)
+    bad = np.broadcast_to(lam2 <= limit, np.broadcast_shapes(lam2.shape, limit.shape))
+    if bad.any():
+        i = np.unravel_index(np.argmax(bad), bad.shape)
+        raise ParameterError("lambda2", float(np.broadcast_to(lam2, bad.shape)[i]),
+                             f"must be > |lambda_e| + 1 = "
+                             f"{float(np.broadcast_to(limit, bad.shape)[i]):.6g} for a fully "
+                             f"rotating crank")
+    return lam2, lame
+
+
+def stroke(L1: ArrayLike, lambda2: ArrayLike, lambda_e: ArrayLike) -> np.ndarray:
+    r"""Slider stroke [m] of the offset crank-slider (the same for both branches).
+
+    .. math::
+
+        H = L_1\left[\sqrt{(\lambda_2+1)^2-\lambda_e^2} - \sqrt{(\lambda_2-1)^2-\lambda_e^2}\right]
+
+    The extreme positions are the two dead centres where crank and rod are collinear
+    (extended, ``|AC| = L2 + L1``, and folded, ``|AC| = L2 - L1``).
+
+    Raises
+    ------
+    ParameterError
+        ``L1 <= 0`` or ``lambda2 <= |lambda_e| + 1`` (no full crank rotation).
+    """
+    L1_a = require_positive("L1", L1)
+    lam2, lame = _check_full_rotation(lambda2, lambda_e)
+    return L1_a * (np.sqrt((lam2 + 1.0) ** 2 - lame**2) - np.sqrt((lam2 - 1.0) ** 2 - lame**2))
+
+
+def dead_centres(lambda2: ArrayLike, lambda_e: ArrayLike,
+                 branch: int = +1) -> tuple[np.ndarray, np.ndarray]:
+    """Crank angles [rad, in [0, 2 pi)] of the slider's extreme positions.
+
+    Returns
+    -------
+    phi1_top, phi1_bottom : ndarray
+        Crank angles where ``Y_C`` is largest and smallest.  For ``branch=+1`` the top dead
+        centre is the extended position (B between A and C) and the bottom one the folded
+        position; for ``branch=-1`` the reverse.  ``V_qC = 0`` at both
+        (``cos(phi1 + phi2) = 0``).
+    """
+    branch = _check_branch(branch)
+    lam2, lame = _check_full_rotation(lambda2, lambda_e)
+    y_ext = branch * np.sqrt((lam2 + 1.0) ** 2 - lame**2)  # C / L1 when extended
+    y_fold = branch * np.sqrt((lam2 - 1.0) ** 2 - lame**2)  # C / L1 when folded
+    phi_ext = np.mod(np.arctan2(y_ext, lame), 2 * np.pi)  # B along +AC
+    phi_fold = np.mod(np.arctan2(-y_fold, -lame), 2 * np.pi)  # B along -AC
+    if branch == 1:
+        return phi_ext, phi_fold
+    return phi_fold, phi_ext
+
+
+def pressure_angle(phi1: ArrayLike, lambda2: ArrayLike, lambda_e: ArrayLike) -> np.ndarray:
+    """Pressure angle [rad] at the slider: acute angle between the rod and the guide.
+
+    The rod force acts along ``BC`` and the slider moves along the guide, so the pressure angle
+    is ``arcsin |sin phi2| = arcsin(|lambda_e - cos phi1| / lambda2)``; it is the same on both
+    branches.  Raises :class:`~linkwork.errors.AssemblyError` where the rod cannot reach the guide.
+    """
+    res = offset_crank_slider(phi1, 1.0, lambda2, lambda_e)
+    return res.pressure_angle
+
+
+def max_pressure_angle(lambda2: ArrayLike, lambda_e: ArrayLike) -> np.ndarray:
+    """Largest pressure angle over a revolution [rad]: ``arcsin((|lambda_e| + 1) / lambda2)``.
+
+    Reached at ``phi1 = pi`` for ``lambda_e >= 0`` and at ``phi1 = 0`` for ``lambda_e < 0``.
+    """
+    lam2, lame = _check_full_rotation(lambda2, lambda_e)
+    return np.arcsin((np.abs(lame) + 1.0) / lam2)

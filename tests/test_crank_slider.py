@@ -1,0 +1,219 @@
+"""Offset crank-slider (paper 000, idle mode) against an independent construction and FDs."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from _paper000_geometry import crank_slider_positions, time_derivatives, unwrap_pair
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.optimize import minimize_scalar
+
+from linkwork.errors import AssemblyError, LinkworkError, ParameterError
+from linkwork.models.crank_slider import (
+    dead_centres,
+    max_pressure_angle,
+    offset_crank_slider,
+    pressure_angle,
+    stroke,
+)
+
+PHI = np.linspace(0.0, 2 * np.pi, 73)
+DESIGNS = [  # L1 [m], lambda2, lambda_e, omega1 [rad/s], eps1 [rad/s^2], branch
+    (0.05, 4.0, 0.5, 12.566, 0.0, 1),
+    (0.05, 4.0, 0.5, 12.566, 35.0, 1),
+    (0.12, 2.6, -1.3, -7.0, -20.0, 1),
+    (0.03, 3.0, 0.8, 20.0, 150.0, -1),
+    (1.0, 1.6, 0.0, 1.0, 1.0, 1),
+]
+
+
+def _rel(a, b, scale):
+    return abs(a - b) / scale
+
+
+@pytest.mark.parametrize("L1,lam2,lame,w1,e1,branch", DESIGNS)
+def test_positions_match_independent_construction(L1, lam2, lame, w1, e1, branch):
+    r = offset_crank_slider(PHI, L1, lam2, lame, w1, e1, branch)
+    for i, p in enumerate(PHI):
+        g = crank_slider_positions(p, L1, lam2, lame, branch)
+        assert r.Y_C[i] == pytest.approx(g["Y_C"], rel=1e-12, abs=1e-13 * L1)
+        assert r.X_C[i] == pytest.approx(g["X_C"], rel=1e-14, abs=1e-15)
+        assert r.X_B[i] == pytest.approx(g["X_B"], abs=1e-15 * L1)
+        assert abs(unwrap_pair(r.phi2[i], g["phi2"])) < 1e-11
+        assert r.pressure_angle[i] == pytest.approx(g["mu"], abs=1e-7)
+
+
+@pytest.mark.parametrize("L1,lam2,lame,w1,e1,branch", DESIGNS)
+def test_velocities_accelerations_match_time_differences_of_construction(
+        L1, lam2, lame, w1, e1, branch):
+    """omega2, eps2, V_C, a_C (with eps1 != 0) vs d/dt of the constructed positions."""
+    phis = PHI[:-1:4]
+    r = offset_crank_slider(phis, L1, lam2, lame, w1, e1, branch)
+    vscale = abs(w1) * L1 + abs(e1) * L1 * 1e-3
+    ascale = (w1 * w1 + abs(e1)) * L1
+    for i, p in enumerate(phis):
+        _, v, a = time_derivatives(
+            lambda q: crank_slider_positions(q, L1, lam2, lame, branch)["Y_C"], p, w1, e1)
+        ref_phi2 = crank_slider_positions(p, L1, lam2, lame, branch)["phi2"]
+        _, w2, eps2 = time_derivatives(
+            lambda q, ref=ref_phi2: ref + unwrap_pair(
+                ref, crank_slider_positions(q, L1, lam2, lame, branch)["phi2"]), p, w1, e1)
+        assert _rel(r.V_C[i], v, vscale) < 1e-7
+        assert _rel(r.a_C[i], a, ascale) < 1e-6
+        assert _rel(r.omega2[i], w2, abs(w1)) < 1e-7
+        assert _rel(r.eps2[i], eps2, w1 * w1 + abs(e1)) < 1e-6
+
+
+@pytest.mark.parametrize("L1,lam2,lame,w1,e1,branch", DESIGNS)
+def test_transfer_functions_match_finite_differences_of_position_functions(
+        L1, lam2, lame, w1, e1, branch):
+    """U21, V_qC, eps_q2, a_qC vs phi1-differences of the model's own phi2 and Y_C."""
+    h = 1e-4
+    r = offset_crank_slider(PHI, L1, lam2, lame, branch=branch)
+    rp = offset_crank_slider(PHI + h, L1, lam2, lame, branch=branch)
+    rm = offset_crank_slider(PHI - h, L1, lam2, lame, branch=branch)
+    dphi2_p = np.angle(np.exp(1j * (rp.phi2 - r.phi2)))
+    dphi2_m = np.angle(np.exp(1j * (r.phi2 - rm.phi2)))
+    np.testing.assert_allclose(r.U21, (dphi2_p + dphi2_m) / (2 * h), rtol=0, atol=1e-7)
+    np.testing.assert_allclose(r.eps_q2, (dphi2_p - dphi2_m) / h**2, rtol=0, atol=2e-5)
+    np.testing.assert_allclose(r.V_qC, (rp.Y_C - rm.Y_C) / (2 * h), rtol=0, atol=1e-8 * L1)
+    np.testing.assert_allclose(r.a_qC, (rp.Y_C - 2 * r.Y_C + rm.Y_C) / h**2, rtol=0,
+                               atol=2e-5 * L1)
+    np.testing.assert_allclose(r.eps_q2, (rp.U21 - rm.U21) / (2 * h), rtol=0, atol=1e-6)
+
+
+def test_broadcast_designs_against_angles():
+    L1 = np.array([[0.05], [0.08], [0.1]])
+    lam2 = np.array([[4.0], [3.0], [5.0]])
+    lame = np.array([[0.5], [-0.4], [1.0]])
+    r = offset_crank_slider(PHI, L1, lam2, lame, 10.0, 3.0)
+    assert r.Y_C.shape == (3, PHI.size)
+    for k in range(3):
+        one = offset_crank_slider(PHI, L1[k, 0], lam2[k, 0], lame[k, 0], 10.0, 3.0)
+        for name in ("phi2", "Y_C", "U21", "V_qC", "eps_q2", "a_C", "eps2", "V_C"):
+            np.testing.assert_array_equal(getattr(r, name)[k], getattr(one, name))
+
+
+def test_scalar_input_gives_scalar_shaped_result():
+    r = offset_crank_slider(0.3, 0.05, 4.0, 0.5)
+    g = crank_slider_positions(0.3, 0.05, 4.0, 0.5)
+    assert np.shape(r.Y_C) == () and float(r.Y_C) == pytest.approx(g["Y_C"], rel=1e-13)
+
+
+@settings(max_examples=80, deadline=None)
+@given(phi1=st.floats(-10, 10), L1=st.floats(1e-3, 2.0), lame=st.floats(-3, 3),
+       extra=st.floats(0.01, 5.0), branch=st.sampled_from([1, -1]))
+def test_property_loop_closure(phi1, L1, lame, extra, branch):
+    lam2 = abs(lame) + 1.0 + extra
+    r = offset_crank_slider(phi1, L1, lam2, lame, branch=branch)
+    B = np.array([L1 * math.cos(phi1), L1 * math.sin(phi1)])
+    C = np.array([float(r.X_C), float(r.Y_C)])
+    rod = lam2 * L1 * np.array([math.sin(float(r.phi2)), math.cos(float(r.phi2))])
+    np.testing.assert_allclose(B + rod, C, atol=1e-12 * (1 + lam2) * L1)
+    assert math.hypot(*(C - B)) == pytest.approx(lam2 * L1, rel=1e-12)
+    assert float(r.X_C) == pytest.approx(lame * L1, abs=1e-15)
+    assert branch * math.cos(float(r.phi2)) > 0
+
+
+@settings(max_examples=60, deadline=None)
+@given(phi1=st.floats(0, 2 * np.pi), lame=st.floats(-2, 2), extra=st.floats(0.05, 4.0),
+       w1=st.floats(-30, 30), e1=st.floats(-100, 100))
+def test_property_velocity_is_chain_rule_of_transfer_function(phi1, lame, extra, w1, e1):
+    """Velocity closure: d/dt (B + BC) has zero X component and Y component V_C."""
+    L1, lam2 = 0.07, abs(lame) + 1.0 + extra
+    r = offset_crank_slider(phi1, L1, lam2, lame, w1, e1)
+    vB = w1 * L1 * np.array([-math.sin(phi1), math.cos(phi1)])
+    p2 = float(r.phi2)
+    vBC = lam2 * L1 * float(r.omega2) * np.array([math.cos(p2), -math.sin(p2)])
+    np.testing.assert_allclose(vB + vBC, [0.0, float(r.V_C)], atol=1e-10 * (1 + abs(w1)))
+
+
+def test_assembly_error_lists_ranges():
+    """lambda2 = 1.2 < |lambda_e| + 1 = 1.5: fails where |0.5 - cos phi1| >= 1.2,
+    i.e. cos phi1 <= -0.7, phi1 in [134.43, 225.57] deg."""
+    phi = np.radians(np.arange(0.0, 360.0, 1.0))
+    with pytest.raises(AssemblyError) as ei:
+        offset_crank_slider(phi, 0.05, 1.2, 0.5)
+    (lo, hi), = ei.value.ranges
+    assert math.degrees(lo) == pytest.approx(135.0) and math.degrees(hi) == pytest.approx(225.0)
+    assert "lambda2 = 1.2" in str(ei.value) and "1.5" in str(ei.value)
+    assert isinstance(ei.value, ValueError) and isinstance(ei.value, LinkworkError)
+
+
+def test_assembly_nan_mode_masks_bad_positions():
+    phi = np.radians(np.arange(0.0, 360.0, 1.0))
+    r = offset_crank_slider(phi, 0.05, 1.2, 0.5, on_failure="nan")
+    expected_bad = np.abs(0.5 - np.cos(phi)) >= 1.2
+    np.testing.assert_array_equal(~r.valid, expected_bad)
+    assert np.isnan(r.Y_C[expected_bad]).all() and np.isfinite(r.Y_C[~expected_bad]).all()
+
+
+def test_assembly_limit_exact_is_locked():
+    """lambda2 == |lambda_e| + 1: the rod is perpendicular to the guide at phi1 = pi."""
+    with pytest.raises(AssemblyError):
+        offset_crank_slider(np.array([0.0, np.pi]), 0.05, 1.5, 0.5)
+    r = offset_crank_slider(np.array([0.0, np.pi / 2]), 0.05, 1.5, 0.5)
+    assert np.isfinite(r.a_C).all()
+
+
+@pytest.mark.parametrize("kw,name", [
+    ({"L1": -0.05}, "L1"), ({"L1": 0.0}, "L1"), ({"lambda2": -4.0}, "lambda2"),
+    ({"lambda_e": float("nan")}, "lambda_e"), ({"branch": 0}, "branch"),
+    ({"omega1": float("inf")}, "omega1"),
+])
+def test_bad_parameters(kw, name):
+    args = {"phi1": PHI, "L1": 0.05, "lambda2": 4.0, "lambda_e": 0.5} | kw
+    with pytest.raises(ParameterError) as ei:
+        offset_crank_slider(**args)
+    assert ei.value.parameter == name
+
+
+@pytest.mark.parametrize("lam2,lame,branch", [(4.0, 0.5, 1), (2.6, -1.3, 1), (3.0, 0.8, -1),
+                                              (1.6, 0.0, 1)])
+def test_stroke_and_dead_centres_vs_numerical_extremes(lam2, lame, branch):
+    L1 = 0.05
+
+    def y(p):
+        return crank_slider_positions(p, L1, lam2, lame, branch)["Y_C"]
+
+    grid = np.linspace(0, 2 * np.pi, 721)
+    ys = np.array([y(p) for p in grid])
+    top = minimize_scalar(lambda p: -y(p), bracket=(grid[ys.argmax()] - 0.05,
+                                                   grid[ys.argmax()], grid[ys.argmax()] + 0.05),
+                          tol=1e-12)
+    bot = minimize_scalar(y, bracket=(grid[ys.argmin()] - 0.05, grid[ys.argmin()],
+                                      grid[ys.argmin()] + 0.05), tol=1e-12)
+    assert float(stroke(L1, lam2, lame)) == pytest.approx(-top.fun - bot.fun, rel=1e-10)
+    p_top, p_bot = dead_centres(lam2, lame, branch)
+    assert abs(unwrap_pair(float(p_top), top.x)) < 1e-5
+    assert abs(unwrap_pair(float(p_bot), bot.x)) < 1e-5
+    r = offset_crank_slider(np.array([p_top, p_bot]), L1, lam2, lame, branch=branch)
+    np.testing.assert_allclose(r.V_qC, 0.0, atol=1e-14)
+    assert float(r.Y_C[0]) == pytest.approx(-top.fun, rel=1e-12)
+
+
+def test_stroke_zero_offset_is_twice_crank():
+    assert float(stroke(0.05, 4.0, 0.0)) == pytest.approx(0.1, rel=1e-14)
+
+
+def test_stroke_rejects_short_rod():
+    with pytest.raises(ParameterError, match="lambda2"):
+        stroke(0.05, 1.4, 0.5)
+
+
+def test_pressure_angle_max():
+    phi = np.linspace(0, 2 * np.pi, 3601)
+    mu = pressure_angle(phi, 4.0, 0.5)
+    assert float(mu.max()) == pytest.approx(float(max_pressure_angle(4.0, 0.5)), rel=1e-9)
+    assert float(max_pressure_angle(4.0, 0.5)) == pytest.approx(math.asin(1.5 / 4.0))
+
+
+def test_result_exports(tmp_path):
+    r = offset_crank_slider(PHI, 0.05, 4.0, 0.5, 12.0, 1.0)
+    d = r.to_dict()
+    assert d["units"]["a_C"] == "m/s^2" and len(d["columns"]["Y_C"]) == PHI.size
+    text = r.to_csv(tmp_path / "c.csv").read_text().splitlines()
+    assert text[0].startswith("phi1 [rad]") and len(text) == PHI.size + 1
