@@ -1,0 +1,186 @@
+"""Chunked evaluation of a vectorised function over many candidates (sweeps, synthesis searches,
+Monte-Carlo studies).
+
+One function, :func:`evaluate`: it splits ``N`` candidates into chunks of ``chunk_size``, calls
+a vectorised ``func`` on each chunk and joins the results in the original order. Memory stays
+bounded by the chunk (a function that works on ``(chunk, n_angles)`` arrays never sees all
+``N`` at once). It runs in-process by default; given a dask.distributed ``Client`` or a
+scheduler address it spreads the chunks over that cluster instead (DESIGN.md, principle 7) --
+same call, same result.
+
+Example
+-------
+>>> import numpy as np
+>>> from linkwork.sweep import evaluate
+>>> x = np.linspace(0.0, 1.0, 100_001)
+>>> y = evaluate(np.sqrt, x, chunk_size=10_000)          # in-process, 11 chunks
+>>> bool(np.allclose(y, np.sqrt(x)))
+True
+
+With a cluster (``func`` must then be picklable: a module-level function or a
+``functools.partial`` of one)::
+
+    from dask.distributed import Client
+    with Client("tcp://scheduler:8786") as client:
+        y = evaluate(my_model, candidates, client=client)
+    y = evaluate(my_model, candidates, client="tcp://scheduler:8786")  # connects and closes
+
+A progress bar::
+
+    with rich_progress("designs") as progress:
+        y = evaluate(my_model, candidates, progress=progress)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from typing import Any
+
+import numpy as np
+
+from linkwork.errors import ParameterError
+
+__all__ = ["chunk_slices", "evaluate", "rich_progress"]
+
+#: A progress callback: called as ``progress(done, total)`` with numbers of candidates.
+Progress = Callable[[int, int], None]
+
+
+def chunk_slices(n: int, chunk_size: int) -> list[slice]:
+    """Slices that cover ``range(n)`` in order, each at most ``chunk_size`` long."""
+    if int(chunk_size) < 1:
+        raise ParameterError("chunk_size", chunk_size, "must be an integer >= 1")
+    if int(n) < 0:
+        raise ParameterError("n", n, "must be >= 0")
+    cs = int(chunk_size)
+    return [slice(i, min(i + cs, int(n))) for i in range(0, int(n), cs)]
+
+
+def _length(candidates: Any) -> int:
+    if isinstance(candidates, Mapping):
+        lengths = {k: len(np.asarray(v)) for k, v in candidates.items()}
+        if not lengths:
+            raise ParameterError("candidates", "{}", "must not be an empty mapping")
+        if len(set(lengths.values())) != 1:
+            raise ParameterError("candidates", lengths, "all arrays must have the same length")
+        return next(iter(lengths.values()))
+    arr = np.asarray(candidates)
+    if arr.ndim == 0:
+        raise ParameterError("candidates", candidates, "must be an array or a mapping of arrays "
+                             "with the candidates on the first axis")
+    return int(arr.shape[0])
+
+
+def _take(candidates: Any, sl: slice) -> Any:
+    if isinstance(candidates, Mapping):
+        return {k: np.asarray(v)[sl] for k, v in candidates.items()}
+    return np.asarray(candidates)[sl]
+
+
+def _join(parts: Sequence[Any]) -> Any:
+    first = parts[0]
+    if isinstance(first, Mapping):
+        return {k: np.concatenate([np.atleast_1d(np.asarray(p[k])) for p in parts])
+                for k in first}
+    if isinstance(first, tuple):
+        return tuple(np.concatenate([np.atleast_1d(np.asarray(p[i])) for p in parts])
+                     for i in range(len(first)))
+    return np.concatenate([np.atleast_1d(np.asarray(p)) for p in parts])
+
+
+def evaluate(func: Callable[[Any], Any], candidates: Any, *, chunk_size: int = 10_000,
+             client: Any = None, progress: Progress | None = None,
+             combine: Callable[[Any, Any], Any] | None = None) -> Any:
+    """Evaluate a vectorised ``func`` over candidates, chunk by chunk.
+
+    Parameters
+    ----------
+    func : callable
+        Takes one chunk of ``candidates`` (same type: an array slice, or a dict of array
+        slices) and returns an array, a tuple of arrays or a dict of arrays whose first axis
+        runs over the chunk's candidates.
+    candidates : ndarray or mapping of str to ndarray
+        ``N`` candidates along the first axis (e.g. an ``(N, k)`` parameter matrix, or
+        ``{"r": (N,), "l": (N,)}``).
+    chunk_size : int
+        Candidates per call of ``func``; bounds the memory ``func`` uses.
+    client : dask.distributed.Client or str, optional
+        Run the chunks on this cluster (a ``Client``, or a scheduler address such as
+        ``"tcp://10.0.0.1:8786"``, connected for this call and closed afterwards). ``None``:
+        in-process, in order.
+    progress : callable, optional
+        ``progress(done, total)`` after each finished chunk (numbers of candidates).
+    combine : callable, optional
+        ``combine(accumulated, chunk_result) -> accumulated``, applied to the chunk results in
+        order (the first result starts the accumulation); use it to keep only a summary
+        (best-k, histograms, running sums) so that results need not fit in memory either.
+
+    Returns
+    -------
+    Same structure as one ``func`` result, joined along the first axis in candidate order, or
+    the final accumulated value when ``combine`` is given. ``N = 0`` returns ``func`` applied
+    to the empty selection.
+    """
+    n = _length(candidates)
+    slices = chunk_slices(n, chunk_size) or [slice(0, 0)]
+    if client is None:
+        parts: list[Any] = []
+        acc: Any = None
+        for i, sl in enumerate(slices):
+            res = func(_take(candidates, sl))
+            if combine is None:
+                parts.append(res)
+            else:
+                acc = res if i == 0 else combine(acc, res)
+            if progress is not None:
+                progress(sl.stop, n)
+        return _join(parts) if combine is None else acc
+    return _evaluate_dask(func, candidates, slices, n, client, progress, combine)
+
+
+def _evaluate_dask(func: Callable[[Any], Any], candidates: Any, slices: list[slice], n: int,
+                   client: Any, progress: Progress | None,
+                   combine: Callable[[Any, Any], Any] | None) -> Any:
+    from dask.distributed import Client, as_completed
+
+    own = isinstance(client, str)
+    cl = Client(client) if own else client
+    try:
+        chunks = [_take(candidates, sl) for sl in slices]
+        futures = cl.map(func, chunks, pure=False)
+        index = {f.key: i for i, f in enumerate(futures)}
+        results: list[Any] = [None] * len(futures)
+        done = 0
+        for fut in as_completed(futures):
+            i = index[fut.key]
+            results[i] = fut.result()
+            done += slices[i].stop - slices[i].start
+            if progress is not None:
+                progress(done, n)
+        if combine is None:
+            return _join(results)
+        acc = results[0]
+        for res in results[1:]:
+            acc = combine(acc, res)
+        return acc
+    finally:
+        if own:
+            cl.close()
+
+
+@contextmanager
+def rich_progress(description: str = "evaluating", *, console: Any = None
+                  ) -> Iterator[Progress]:
+    """A Rich progress bar as a ``progress(done, total)`` callback (context manager)."""
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+    with Progress("[progress.description]{task.description}", BarColumn(),
+                  MofNCompleteColumn(), TimeElapsedColumn(), console=console,
+                  transient=False) as bar:
+        task = bar.add_task(description, total=None)
+
+        def update(done: int, total: int) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield update

@@ -1,0 +1,79 @@
+"""linkwork.sweep: chunked evaluation in-process and on an in-process dask cluster."""
+
+import functools
+
+import numpy as np
+import pytest
+
+from linkwork.errors import ParameterError
+from linkwork.sweep import chunk_slices, evaluate, rich_progress
+
+
+def _model(x, scale=1.0):
+    """A vectorised 'model': per candidate a row (N, 3) -> dict of per-candidate results."""
+    x = np.asarray(x)
+    return {"sum": scale * x.sum(axis=1), "max": x.max(axis=1)}
+
+
+def test_chunk_slices_cover_in_order():
+    sl = chunk_slices(10, 4)
+    assert [(s.start, s.stop) for s in sl] == [(0, 4), (4, 8), (8, 10)]
+    assert chunk_slices(0, 4) == []
+    with pytest.raises(ParameterError, match="chunk_size"):
+        chunk_slices(10, 0)
+
+
+def test_in_process_matches_direct_call_and_bounds_chunks():
+    rng = np.random.default_rng(0)
+    x = rng.normal(size=(1003, 3))
+    seen = []
+
+    def model(c):
+        seen.append(len(c))
+        return _model(c)
+
+    calls = []
+    out = evaluate(model, x, chunk_size=100, progress=lambda d, t: calls.append((d, t)))
+    ref = _model(x)
+    np.testing.assert_array_equal(out["sum"], ref["sum"])
+    np.testing.assert_array_equal(out["max"], ref["max"])
+    assert max(seen) == 100 and sum(seen) == 1003
+    assert calls[-1] == (1003, 1003) and len(calls) == 11
+
+
+def test_mapping_candidates_tuple_results_and_combine():
+    cand = {"a": np.arange(10.0), "b": np.arange(10.0) ** 2}
+    out = evaluate(lambda c: (c["a"] + c["b"], c["a"] * 2), cand, chunk_size=3)
+    np.testing.assert_array_equal(out[0], cand["a"] + cand["b"])
+    np.testing.assert_array_equal(out[1], 2 * cand["a"])
+    total = evaluate(lambda c: c["b"].sum(), cand, chunk_size=4, combine=lambda s, x: s + x)
+    assert total == cand["b"].sum()
+    with pytest.raises(ParameterError, match="same length"):
+        evaluate(lambda c: c["a"], {"a": np.zeros(3), "b": np.zeros(4)})
+
+
+def test_dask_in_process_cluster_gives_the_same_result():
+    from dask.distributed import Client
+
+    x = np.random.default_rng(1).normal(size=(500, 3))
+    calls = []
+    with Client(processes=False, dashboard_address=None, n_workers=1,
+                threads_per_worker=2) as client:
+        out = evaluate(functools.partial(_model, scale=2.0), x, chunk_size=64, client=client,
+                       progress=lambda d, t: calls.append(d))
+        best = evaluate(functools.partial(_model, scale=1.0), x, chunk_size=64, client=client,
+                        combine=lambda acc, r: {"max": np.maximum(acc["max"].max(),
+                                                                  r["max"].max()),
+                                                "sum": acc["sum"]})
+    ref = _model(x, scale=2.0)
+    np.testing.assert_array_equal(out["sum"], ref["sum"])
+    assert sorted(calls)[-1] == 500 and len(calls) == 8
+    assert float(np.max(best["max"])) == x.max()
+
+
+def test_rich_progress_callback(capsys):
+    from rich.console import Console
+
+    with rich_progress("test", console=Console(file=None, force_terminal=False)) as cb:
+        out = evaluate(np.square, np.arange(50.0), chunk_size=7, progress=cb)
+    np.testing.assert_array_equal(out, np.arange(50.0) ** 2)
