@@ -1,0 +1,41 @@
+"""Spatial reactions of planar mechanisms with redundant constraints (paper 004).
+
+See :mod:`linkwork.redundancy.core` for the model and its conventions and ``docs/redundancy.md``
+for the theory, the defaults and the mapping to the equations of paper 004.
+"""
+
+from linkwork.redundancy.core import (
+    COMPONENTS,
+    DEFAULT_BEARING_STIFFNESS,
+    JOINT_KINDS,
+    RedundancyCount,
+    SpatialGeometry,
+    SpatialJoint,
+    SpatialModel,
+    SpatialReactions,
+    bearing_stiffness,
+    count_redundancy,
+    equilibrium_matrix,
+    influence,
+    misfit,
+    solve_reactions,
+    wrench_about_origin,
+)
+
+__all__ = [
+    "COMPONENTS",
+    "DEFAULT_BEARING_STIFFNESS",
+    "JOINT_KINDS",
+    "RedundancyCount",
+    "SpatialGeometry",
+    "SpatialJoint",
+    "SpatialModel",
+    "SpatialReactions",
+    "bearing_stiffness",
+    "count_redundancy",
+    "equilibrium_matrix",
+    "influence",
+    "misfit",
+    "solve_reactions",
+    "wrench_about_origin",
+]
