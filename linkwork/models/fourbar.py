@@ -321,7 +321,7 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
         raise ParameterError("on_fail", on_fail, "must be 'raise' or 'nan'")
     t2 = np.asarray(theta2, dtype=float)
 
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         ax = a_ * np.cos(t2)
         ay = a_ * np.sin(t2)
         sx = d_ - ax          # s = O4 - A
@@ -534,7 +534,8 @@ def limit_positions(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
     def crank_at(f: np.ndarray) -> np.ndarray:
         cos_t = (aa * aa + dd * dd - f * f) / (2.0 * aa * dd)
         with np.errstate(invalid="ignore"):
-            return np.where(np.abs(cos_t) <= 1.0, np.arccos(np.clip(cos_t, -1, 1)), np.nan)
+            return np.where(np.abs(cos_t) <= 1.0 + 1e-12, np.arccos(np.clip(cos_t, -1, 1)),
+                            np.nan)
 
     tog_ext = crank_at(bb + cc)
     tog_fold = crank_at(np.abs(bb - cc))
@@ -584,7 +585,7 @@ def transmission_angle(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLi
     aa, bb, cc, dd = (_as_arr(n, x) for n, x in zip("abcd", (a, b, c, d), strict=True))
     cos_mu = (bb * bb + cc * cc - aa * aa - dd * dd + 2.0 * aa * dd * np.cos(t2)) / (2 * bb * cc)
     with np.errstate(invalid="ignore"):
-        mu = np.where(np.abs(cos_mu) <= 1.0, np.arccos(np.clip(cos_mu, -1, 1)), np.nan)
+        mu = np.where(np.abs(cos_mu) <= 1.0 + 1e-12, np.arccos(np.clip(cos_mu, -1, 1)), np.nan)
     return np.minimum(mu, np.pi - mu) if acute else mu
 
 

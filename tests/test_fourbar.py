@@ -1,0 +1,546 @@
+"""The closed-form four-bar (linkwork.models.fourbar) against independent constructions.
+
+References used here: Norton's Freudenstein-type closed form (written out below, independently of
+the vector form in the module), scipy root finding, finite differences over time, a full linear
+equilibrium system assembled link by link, the power balance, and Norton's Example 4-1.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings
+from hypothesis import strategies as st
+from scipy.optimize import brentq, fsolve
+
+from linkwork.errors import AssemblyError, LinkworkError, ParameterError
+from linkwork.models.fourbar import (
+    FourbarResult,
+    fourbar,
+    fourbar_kinetostatics,
+    grashof,
+    limit_positions,
+    transmission_angle,
+    transmission_angle_extremes,
+)
+
+# paper 001's example four-bar: l_OA = 0.1, l_AB = 0.3, l_BC = 0.2, l_OC = 0.3 m
+A1, B1, C1, D1 = 0.1, 0.3, 0.2, 0.3
+CYCLE = np.linspace(0.0, 2 * np.pi, 361)
+
+
+# --- independent references --------------------------------------------------------------------
+
+
+def norton_angles(t2, a, b, c, d):
+    """Both solutions (theta3, theta4) of Norton's Eqs. (4.10)-(4.13), with B left of A->O4 first.
+
+    Freudenstein: K1 = d/a, K2 = d/c, K3 = (a^2 - b^2 + c^2 + d^2)/(2ac); theta4 from a quadratic
+    in tan(theta4/2); theta3 likewise with K4 = d/b, K5 = (c^2 - d^2 - a^2 - b^2)/(2ab).  The two
+    roots are then sorted by the side of A->O4 on which B lies (this is the test's own decision,
+    made from the points, not from the module's formulas).
+    """
+    k1, k2, k3 = d / a, d / c, (a * a - b * b + c * c + d * d) / (2 * a * c)
+    k4, k5 = d / b, (c * c - d * d - a * a - b * b) / (2 * a * b)
+    ca = np.cos(t2) - k1 - k2 * np.cos(t2) + k3
+    cb = -2 * np.sin(t2)
+    cc = k1 - (k2 + 1) * np.cos(t2) + k3
+    cd = np.cos(t2) - k1 + k4 * np.cos(t2) + k5
+    ce = -2 * np.sin(t2)
+    cf = k1 + (k4 - 1) * np.cos(t2) + k5
+    sols = []
+    for sgn in (-1.0, 1.0):
+        t4 = 2 * np.arctan2(-cb + sgn * np.sqrt(cb * cb - 4 * ca * cc), 2 * ca)
+        t3 = 2 * np.arctan2(-ce + sgn * np.sqrt(ce * ce - 4 * cd * cf), 2 * cd)
+        sols.append((t3, t4))
+    # pair them: for each theta4 root, the coupler angle follows from B - A
+    ax, ay = a * np.cos(t2), a * np.sin(t2)
+    cand = []
+    for _, t4 in sols:
+        bx, by = d + c * np.cos(t4), c * np.sin(t4)
+        t3 = np.arctan2(by - ay, bx - ax)
+        side = (d - ax) * (by - ay) + ay * (bx - ax)
+        cand.append((t3, t4, side))
+    (t3a, t4a, sa), (t3b, t4b, _) = cand
+    left = (np.where(sa > 0, t3a, t3b), np.where(sa > 0, t4a, t4b))
+    right = (np.where(sa > 0, t3b, t3a), np.where(sa > 0, t4b, t4a))
+    return left, right
+
+
+def wrap(x):
+    return np.angle(np.exp(1j * np.asarray(x)))
+
+
+def B_by_fsolve(t2, a, b, c, d, guess):
+    """B as a root of |B - A| = b, |B - O4| = c (scipy)."""
+    ax, ay = a * math.cos(t2), a * math.sin(t2)
+
+    def eqs(p):
+        return [(p[0] - ax) ** 2 + (p[1] - ay) ** 2 - b * b, (p[0] - d) ** 2 + p[1] ** 2 - c * c]
+
+    return fsolve(eqs, guess, xtol=1e-13)
+
+
+# --- positions -----------------------------------------------------------------------------------
+
+
+def test_norton_example_4_1_open():
+    # Norton, Design of Machinery, Example 4-1: a=40, b=120, c=80, d=100, theta2=40 deg:
+    # open circuit theta3 = 20.298 deg, theta4 = 57.325 deg.
+    r = fourbar(np.radians(40.0), 40.0, 120.0, 80.0, 100.0, branch=+1)
+    assert np.degrees(r.theta3) == pytest.approx(20.298, abs=5e-4)
+    assert np.degrees(r.theta4) == pytest.approx(57.325, abs=5e-4)
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+@pytest.mark.parametrize("design", [(A1, B1, C1, D1), (0.05, 0.12, 0.09, 0.1),
+                                    (0.2, 0.15, 0.2, 0.1)])
+def test_positions_match_freudenstein_closed_form(design, branch):
+    a, b, c, d = design
+    t2 = np.linspace(0, 2 * np.pi, 721)
+    r = fourbar(t2, a, b, c, d, branch=branch)
+    left, right = norton_angles(t2, a, b, c, d)
+    t3, t4 = left if branch == 1 else right
+    np.testing.assert_allclose(wrap(r.theta3 - t3), 0, atol=1e-11)
+    np.testing.assert_allclose(wrap(r.theta4 - t4), 0, atol=1e-11)
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_points_match_scipy_root(branch):
+    t2s = np.radians([0, 37, 90, 163, 210, 300])
+    r = fourbar(t2s, A1, B1, C1, D1, branch=branch)
+    for i, t2 in enumerate(t2s):
+        xb, yb = B_by_fsolve(t2, A1, B1, C1, D1, [r.xB[i] + 0.01, r.yB[i] - 0.01])
+        assert (xb, yb) == pytest.approx((r.xB[i], r.yB[i]), abs=1e-11)
+        assert (r.xA[i], r.yA[i]) == pytest.approx((A1 * math.cos(t2), A1 * math.sin(t2)),
+                                                   abs=1e-15)
+
+
+def test_branch_plus_one_is_left_of_A_to_O4():
+    r_p = fourbar(CYCLE, A1, B1, C1, D1, branch=+1)
+    r_m = fourbar(CYCLE, A1, B1, C1, D1, branch=-1)
+    side = lambda r: (D1 - r.xA) * (r.yB - r.yA) - (0 - r.yA) * (r.xB - r.xA)  # noqa: E731
+    assert (side(r_p) > 0).all() and (side(r_m) < 0).all()
+    # the two branches are mirror images about the line A O4: the same transmission angle
+    np.testing.assert_allclose(r_p.transmission_angle, r_m.transmission_angle, atol=1e-12)
+
+
+def test_coupler_point():
+    p, q = 0.12, -0.07
+    r = fourbar(CYCLE, A1, B1, C1, D1, coupler_point=(p, q))
+    # P from the two distances |AP| and |BP| and the side of AB it is on
+    ap, bp = math.hypot(p, q), math.hypot(B1 - p, q)
+    np.testing.assert_allclose(np.hypot(r.xP - r.xA, r.yP - r.yA), ap, atol=1e-14)
+    np.testing.assert_allclose(np.hypot(r.xP - r.xB, r.yP - r.yB), bp, atol=1e-14)
+    side = (r.xB - r.xA) * (r.yP - r.yA) - (r.yB - r.yA) * (r.xP - r.xA)
+    assert (np.sign(side) == np.sign(q)).all()
+
+
+def test_broadcast_over_designs_equals_separate_calls():
+    a = np.array([[0.1], [0.08], [0.12]])
+    t2 = np.linspace(0, 2 * np.pi, 50)
+    r = fourbar(t2, a, B1, C1, D1, omega2=7.0, alpha2=-2.0, branch=-1)
+    assert r.theta4.shape == (3, 50)
+    for i in range(3):
+        ri = fourbar(t2, float(a[i, 0]), B1, C1, D1, omega2=7.0, alpha2=-2.0, branch=-1)
+        for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xB", "yB"):
+            np.testing.assert_allclose(getattr(r, name)[i], getattr(ri, name), rtol=0, atol=0)
+
+
+def test_scalar_input_gives_scalar_shaped_arrays():
+    r = fourbar(0.3, A1, B1, C1, D1)
+    assert np.shape(r.theta3) == () and isinstance(r, FourbarResult)
+
+
+# --- velocities and accelerations -----------------------------------------------------------
+
+
+def _time_fd(t0, a, b, c, d, w2, e2, branch, dt=1e-5):
+    """omega, alpha of coupler and rocker by central differences in time (theta2(t) quadratic)."""
+    ts = np.array([-2, -1, 0, 1, 2]) * dt
+    th = t0 + w2 * ts + 0.5 * e2 * ts * ts
+    out = []
+    for name in ("theta3", "theta4"):
+        ang = np.unwrap(np.array([getattr(fourbar(x, a, b, c, d, branch=branch), name)
+                                  for x in th]))
+        w = (ang[0] - 8 * ang[1] + 8 * ang[3] - ang[4]) / (12 * dt)
+        al = (-ang[0] + 16 * ang[1] - 30 * ang[2] + 16 * ang[3] - ang[4]) / (12 * dt * dt)
+        out += [w, al]
+    return out
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_velocity_acceleration_finite_differences(branch):
+    w2, e2 = 10.0, 25.0
+    for t0 in np.radians([0, 45, 100, 180, 250, 333]):
+        r = fourbar(t0, A1, B1, C1, D1, w2, e2, branch)
+        w3, al3, w4, al4 = _time_fd(t0, A1, B1, C1, D1, w2, e2, branch)
+        assert float(r.omega3) == pytest.approx(w3, rel=1e-8, abs=1e-8)
+        assert float(r.omega4) == pytest.approx(w4, rel=1e-8, abs=1e-8)
+        assert float(r.alpha3) == pytest.approx(al3, rel=1e-4, abs=2e-3)
+        assert float(r.alpha4) == pytest.approx(al4, rel=1e-4, abs=2e-3)
+
+
+def test_point_velocity_acceleration_finite_differences():
+    p, q = 0.1, 0.04
+    w2, e2, dt = 5.0, -3.0, 1e-5
+    t0 = np.radians(np.arange(0, 360, 30.0))
+    r = fourbar(t0, A1, B1, C1, D1, w2, e2)
+    for link in ("crank", "coupler", "rocker"):
+        pos = []
+        for k in (-1, 0, 1):
+            th = t0 + w2 * k * dt + 0.5 * e2 * (k * dt) ** 2
+            x, y, *_ = fourbar(th, A1, B1, C1, D1).point(link, p, q)
+            pos.append((x, y))
+        x, y, vx, vy, ax, ay = r.point(link, p, q)
+        np.testing.assert_allclose(vx, (pos[2][0] - pos[0][0]) / (2 * dt), atol=1e-8)
+        np.testing.assert_allclose(vy, (pos[2][1] - pos[0][1]) / (2 * dt), atol=1e-8)
+        np.testing.assert_allclose(ax, (pos[2][0] - 2 * pos[1][0] + pos[0][0]) / dt**2,
+                                   atol=2e-3)
+        np.testing.assert_allclose(ay, (pos[2][1] - 2 * pos[1][1] + pos[0][1]) / dt**2,
+                                   atol=2e-3)
+
+
+lengths = st.floats(0.2, 5.0)
+
+
+@settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.filter_too_much])
+@given(a=lengths, b=lengths, c=lengths, d=lengths, t2=st.floats(-np.pi, np.pi),
+       branch=st.sampled_from([1, -1]), w2=st.floats(-20, 20), e2=st.floats(-50, 50))
+def test_property_loop_closure_and_velocity_loop(a, b, c, d, t2, branch, w2, e2):
+    r = fourbar(t2, a, b, c, d, w2, e2, branch, on_fail="nan")
+    assume(bool(r.assembled))
+    f = math.hypot(d - a * math.cos(t2), a * math.sin(t2))
+    assume(min(b + c - f, f - abs(b - c)) > 1e-3 * (b + c))   # away from toggles
+    # loop closure a e2 + b e3 - c e4 - d = 0
+    ex = a * math.cos(t2) + b * np.cos(r.theta3) - c * np.cos(r.theta4) - d
+    ey = a * math.sin(t2) + b * np.sin(r.theta3) - c * np.sin(r.theta4)
+    assert abs(ex) < 1e-12 * (a + b + c + d) and abs(ey) < 1e-12 * (a + b + c + d)
+    # the velocity of B computed through the crank/coupler equals that through the rocker
+    vbx1 = -a * w2 * math.sin(t2) - b * r.omega3 * np.sin(r.theta3)
+    vby1 = a * w2 * math.cos(t2) + b * r.omega3 * np.cos(r.theta3)
+    vbx2, vby2 = -c * r.omega4 * np.sin(r.theta4), c * r.omega4 * np.cos(r.theta4)
+    scale = abs(w2) * (a + b + c) * (1 + abs(r.omega3) + abs(r.omega4))
+    assert abs(vbx1 - vbx2) <= 1e-9 * scale and abs(vby1 - vby2) <= 1e-9 * scale
+    # and the acceleration of B likewise
+    w3, w4, al3, al4 = r.omega3, r.omega4, r.alpha3, r.alpha4
+    abx1 = (-a * e2 * math.sin(t2) - a * w2 * w2 * math.cos(t2)
+            - b * al3 * np.sin(r.theta3) - b * w3 * w3 * np.cos(r.theta3))
+    aby1 = (a * e2 * math.cos(t2) - a * w2 * w2 * math.sin(t2)
+            + b * al3 * np.cos(r.theta3) - b * w3 * w3 * np.sin(r.theta3))
+    abx2 = -c * al4 * np.sin(r.theta4) - c * w4 * w4 * np.cos(r.theta4)
+    aby2 = c * al4 * np.cos(r.theta4) - c * w4 * w4 * np.sin(r.theta4)
+    ascale = (a + b + c) * (abs(e2) + w2 * w2 + w3 * w3 + w4 * w4 + abs(al3) + abs(al4) + 1)
+    assert abs(abx1 - abx2) <= 1e-9 * ascale and abs(aby1 - aby2) <= 1e-9 * ascale
+
+
+@settings(max_examples=50, deadline=None)
+@given(a=lengths, b=lengths, c=lengths, d=lengths, branch=st.sampled_from([1, -1]))
+def test_property_omega_is_derivative_of_theta(a, b, c, d, branch):
+    t2 = np.linspace(-np.pi, np.pi, 20001)
+    r = fourbar(t2, a, b, c, d, branch=branch, on_fail="nan")
+    f = np.hypot(d - a * np.cos(t2), a * np.sin(t2))
+    good = r.assembled & (np.minimum(b + c - f, f - abs(b - c)) > 0.05 * (b + c))
+    good = good[1:-1] & good[:-2] & good[2:]
+    assume(good.sum() > 10)
+    h = t2[1] - t2[0]
+    for th, om in ((r.theta3, r.omega3), (r.theta4, r.omega4)):
+        fd = wrap(th[2:] - th[:-2]) / (2 * h)
+        np.testing.assert_allclose(om[1:-1][good], fd[good], rtol=1e-4,
+                                   atol=1e-4 * (1 + np.nanmax(np.abs(om[1:-1][good]))))
+
+
+# --- failure policy -------------------------------------------------------------------------
+
+
+def test_assembly_error_lists_crank_ranges():
+    # non-Grashof: a=0.3, b=0.1, c=0.25, d=0.3 -> |AO4| must stay in [0.15, 0.35]
+    t2 = np.radians(np.arange(0.0, 360.0, 1.0))
+    with pytest.raises(AssemblyError, match="theta2") as info:
+        fourbar(t2, 0.3, 0.1, 0.25, 0.3)
+    assert isinstance(info.value, LinkworkError) and isinstance(info.value, ValueError)
+    # independent: where |AO4| leaves [|b-c|, b+c]
+    f = np.hypot(0.3 - 0.3 * np.cos(t2), 0.3 * np.sin(t2))
+    bad = (f > 0.35) | (f < 0.15)
+    lo, hi = info.value.ranges[0]
+    first = np.flatnonzero(bad)[0]
+    assert lo == pytest.approx(t2[first])
+    assert all(bad[(t2 >= lo - 1e-12) & (t2 <= hi + 1e-12)])
+    r = fourbar(t2, 0.3, 0.1, 0.25, 0.3, on_fail="nan")
+    np.testing.assert_array_equal(~r.assembled, bad)
+    assert np.isnan(r.theta4[bad]).all() and np.isfinite(r.theta4[~bad]).all()
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [({"a": -0.1}, "a"), ({"b": 0.0}, "b"), ({"c": float("nan")}, "c"), ({"d": np.inf}, "d"),
+     ({"branch": 0}, "branch"), ({"omega2": np.nan}, "omega2"), ({"on_fail": "skip"}, "on_fail"),
+     ({"a": np.array([0.1, -0.2])}, "a")],
+)
+def test_bad_parameters_are_named(kwargs, name):
+    args = {"theta2": CYCLE, "a": A1, "b": B1, "c": C1, "d": D1, **kwargs}
+    with pytest.raises(ParameterError) as info:
+        fourbar(**args)
+    assert info.value.parameter == name
+
+
+def test_nan_theta2_is_a_parameter_error():
+    with pytest.raises(ParameterError, match="theta2"):
+        fourbar(np.array([0.1, np.nan]), A1, B1, C1, D1)
+
+
+# --- Grashof, limit positions, transmission angle -------------------------------------------
+
+
+@pytest.mark.parametrize(
+    ("design", "cls", "motion"),
+    [((0.1, 0.3, 0.2, 0.3), "I", "crank-rocker"),      # paper 001's example
+     ((0.3, 0.2, 0.3, 0.1), "I", "double-crank"),
+     ((0.3, 0.1, 0.3, 0.25), "I", "double-rocker"),
+     ((0.3, 0.2, 0.1, 0.3), "I", "rocker-crank"),
+     ((0.4, 0.2, 0.25, 0.3), "II", "triple-rocker"),
+     ((0.2, 0.3, 0.2, 0.3), "III", "change-point")],   # parallelogram
+)
+def test_grashof_classification(design, cls, motion):
+    g = grashof(*design)
+    assert (g.grashof_class, g.motion) == (cls, motion)
+
+
+@settings(max_examples=80, deadline=None)
+@given(a=lengths, b=lengths, c=lengths, d=lengths)
+def test_property_grashof_crank_rotates_iff_it_assembles_everywhere(a, b, c, d):
+    lo = sorted((a, b, c, d))
+    assume(abs(lo[0] + lo[3] - lo[1] - lo[2]) > 1e-3)
+    g = grashof(a, b, c, d)
+    t2 = np.linspace(0, 2 * np.pi, 3601)
+    f = np.hypot(d - a * np.cos(t2), a * np.sin(t2))
+    margin = np.minimum(b + c - f, f - abs(b - c))
+    assume(np.abs(margin).min() > 1e-4 or margin.min() < -1e-3)
+    everywhere = bool(fourbar(t2, a, b, c, d, on_fail="nan").assembled.all())
+    assert g.crank_rotates == everywhere
+    # Grashof's theorem: the crank turns fully iff class I and the crank or the frame is shortest
+    assert g.crank_rotates == (g.grashof_class == "I" and g.motion in ("crank-rocker",
+                                                                          "double-crank"))
+
+
+def test_grashof_vectorised_over_designs():
+    g = grashof(np.array([0.1, 0.4]), np.array([0.3, 0.2]), np.array([0.2, 0.25]), 0.3)
+    assert list(g.motion) == ["crank-rocker", "triple-rocker"]
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_rocker_limit_positions_are_theta4_extremes(branch):
+    lim = limit_positions(A1, B1, C1, D1, branch)
+    t2 = np.linspace(-np.pi, np.pi, 200001)
+    r = fourbar(t2, A1, B1, C1, D1, branch=branch)
+    # extremes of theta4 over the cycle (theta4 does not wrap here: B stays on one side)
+    t4 = np.unwrap(r.theta4)
+    i_max, i_min = np.argmax(t4), np.argmin(t4)
+    found = sorted([wrap(t4[i_max]), wrap(t4[i_min])])
+    assert sorted([lim.theta4_rocker_extended, lim.theta4_rocker_folded]) == pytest.approx(
+        found, abs=1e-8)
+    assert lim.rocker_swing == pytest.approx(t4[i_max] - t4[i_min], abs=1e-8)
+    # at the limit crank angles, omega4 = 0 and theta4 equals the limit angle
+    for t2l, t4l in ((lim.theta2_rocker_extended, lim.theta4_rocker_extended),
+                     (lim.theta2_rocker_folded, lim.theta4_rocker_folded)):
+        rl = fourbar(t2l, A1, B1, C1, D1, branch=branch)
+        assert float(rl.omega4) == pytest.approx(0.0, abs=1e-12)
+        assert float(rl.theta4) == pytest.approx(t4l, abs=1e-12)
+    # time ratio: crank angle folded -> extended over extended -> folded (omega2 > 0)
+    fwd = np.mod(lim.theta2_rocker_extended - lim.theta2_rocker_folded, 2 * np.pi)
+    assert lim.time_ratio == pytest.approx(fwd / (2 * np.pi - fwd))
+    assert np.isnan(lim.theta2_toggle_extended) and np.isnan(lim.theta2_toggle_folded)
+
+
+def test_input_toggle_positions_of_a_double_rocker():
+    a, b, c, d = 0.3, 0.1, 0.25, 0.3
+    lim = limit_positions(a, b, c, d)
+    # independent: root of |AO4|(theta2) - (b + c) and - |b - c| with brentq on [0, pi]
+    f = lambda t, target: math.hypot(d - a * math.cos(t), a * math.sin(t)) - target  # noqa: E731
+    ext = brentq(f, 0.0, np.pi, args=(b + c,), xtol=1e-15)
+    fold = brentq(f, 0.0, np.pi, args=(abs(b - c),), xtol=1e-15)
+    assert lim.theta2_toggle_extended == pytest.approx(ext, abs=1e-12)
+    assert lim.theta2_toggle_folded == pytest.approx(fold, abs=1e-12)
+    r = fourbar(np.array([fold + 1e-6, ext - 1e-6, ext + 1e-6]), a, b, c, d, on_fail="nan")
+    assert list(r.assembled) == [True, True, False]
+    mu = transmission_angle(np.array([ext, fold]), a, b, c, d)
+    assert mu == pytest.approx([np.pi, 0.0], abs=1e-6)
+
+
+@pytest.mark.parametrize("design", [(A1, B1, C1, D1), (0.3, 0.1, 0.25, 0.3),
+                                    (0.3, 0.2, 0.3, 0.1)])
+def test_transmission_angle_extremes_match_a_dense_cycle(design):
+    t2 = np.linspace(0, 2 * np.pi, 400001)
+    mu = transmission_angle(t2, *design)
+    ext = transmission_angle_extremes(*design)
+    # the sampled extremes lie inside [mu_min, mu_max] and come close to them (near an input
+    # toggle mu changes like sqrt(theta2 - toggle), so the sampled value lags by up to ~1e-2)
+    assert ext.mu_min - 1e-12 <= np.nanmin(mu) <= ext.mu_min + 1e-2
+    assert ext.mu_max - 1e-2 <= np.nanmax(mu) <= ext.mu_max + 1e-12
+    at = transmission_angle(np.array([ext.theta2_at_min, ext.theta2_at_max]), *design)
+    assert at == pytest.approx([ext.mu_min, ext.mu_max], abs=1e-7)
+    assert ext.max_deviation == pytest.approx(np.nanmax(np.abs(mu - np.pi / 2)), abs=1e-2)
+    r = fourbar(t2, *design, on_fail="nan")
+    np.testing.assert_allclose(r.transmission_angle[r.assembled], mu[r.assembled], atol=1e-7)
+    # law of cosines on the drawn points (triangle A B O4)
+    ab = np.hypot(r.xB - r.xA, r.yB - r.yA)
+    bo = np.hypot(r.xB - design[3], r.yB)
+    ao = np.hypot(r.xA - design[3], r.yA)
+    cos_mu = (ab**2 + bo**2 - ao**2) / (2 * ab * bo)
+    ok = r.assembled
+    np.testing.assert_allclose(np.cos(r.transmission_angle[ok]), cos_mu[ok], atol=1e-9)
+
+
+def test_transmission_angle_of_paper001_crank_rocker():
+    # crank along the frame line: |AO4| = d -+ a = 0.2, 0.4 -> mu = acos((b^2+c^2-f^2)/(2bc))
+    ext = transmission_angle_extremes(A1, B1, C1, D1)
+    assert ext.mu_min == pytest.approx(math.acos((0.09 + 0.04 - 0.04) / 0.12))
+    assert ext.mu_max == pytest.approx(math.acos((0.09 + 0.04 - 0.16) / 0.12))
+    assert ext.theta2_at_min == 0.0 and ext.theta2_at_max == pytest.approx(np.pi)
+
+
+def test_transmission_extremes_raise_when_never_assembled():
+    with pytest.raises(AssemblyError):
+        transmission_angle_extremes(0.1, 0.1, 0.1, 1.0)
+
+
+# --- kinetostatics ---------------------------------------------------------------------------
+
+MASS = (1.0, 3.0, 2.0)
+INERTIA = (0.004, 0.0225, 0.00567)
+COM = ((0.04, 0.01), (0.17, -0.03), (0.08, 0.02))
+FORCE = ((2.0, -1.0), (-15.0, 8.0), (5.0, 12.0))
+FPOINT = ((0.1, 0.0), (0.25, 0.05), (0.2, -0.02))
+MOMENT = (0.4, -1.5, 2.5)
+GRAV = (0.0, -9.81)
+
+
+def _loaded(t2, branch, w2=10.0, e2=-30.0):
+    return fourbar_kinetostatics(t2, A1, B1, C1, D1, w2, e2, branch, mass=MASS, inertia=INERTIA,
+                                 com=COM, gravity=GRAV, force=FORCE, force_point=FPOINT,
+                                 moment=MOMENT)
+
+
+def _local(ex, ey, p, q):
+    return p * ex - q * ey, p * ey + q * ex
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_kinetostatics_solves_the_full_equilibrium_system(branch):
+    """Assemble the 9x9 system (3 equations per link) per position and solve it with numpy."""
+    w2, e2 = 10.0, -30.0
+    t2 = np.radians(np.arange(0, 360, 15.0))
+    res = _loaded(t2, branch, w2, e2)
+    k = res.kinematics
+    for i in range(t2.size):
+        th = (t2[i], k.theta3[i], k.theta4[i])
+        om = (w2, k.omega3[i], k.omega4[i])
+        al = (e2, k.alpha3[i], k.alpha4[i])
+        origin = ((0.0, 0.0), (k.xA[i], k.yA[i]), (D1, 0.0))
+        # accelerations of the link origins (O2, A, O4) from the angles, independently
+        acc0 = ((0.0, 0.0),
+                (-A1 * (e2 * math.sin(th[0]) + w2**2 * math.cos(th[0])),
+                 A1 * (e2 * math.cos(th[0]) - w2**2 * math.sin(th[0]))), (0.0, 0.0))
+        # unknowns x = [ROx, ROy, RAx, RAy, RBx, RBy, RCx, RCy, Q]
+        M = np.zeros((9, 9))
+        rhs = np.zeros(9)
+        A = np.array([k.xA[i], k.yA[i]])
+        Bp = np.array([k.xB[i], k.yB[i]])
+        O4 = np.array([D1, 0.0])
+        # joint forces acting on each link: (unknown index, sign, point)
+        joints = {0: [(0, +1, np.zeros(2)), (2, -1, A)],
+                  1: [(2, +1, A), (4, -1, Bp)],
+                  2: [(4, +1, Bp), (6, +1, O4)]}
+        for li in range(3):
+            ex, ey = math.cos(th[li]), math.sin(th[li])
+            sx, sy = _local(ex, ey, *COM[li])
+            S = np.array(origin[li]) + np.array([sx, sy])
+            aS = np.array(acc0[li]) + np.array([-al[li] * sy - om[li] ** 2 * sx,
+                                                al[li] * sx - om[li] ** 2 * sy])
+            fx, fy = _local(ex, ey, *FPOINT[li])
+            P = np.array(origin[li]) + np.array([fx, fy])
+            row = 3 * li
+            for idx, sgn, pt in joints[li]:
+                M[row, idx] += sgn
+                M[row + 1, idx + 1] += sgn
+                M[row + 2, idx] += -sgn * pt[1]       # moment about the global origin
+                M[row + 2, idx + 1] += sgn * pt[0]
+            if li == 0:
+                M[2, 8] = 1.0
+            inertia_f = -MASS[li] * aS
+            rhs[row:row + 2] = -(np.array(FORCE[li]) + MASS[li] * np.array(GRAV) + inertia_f)
+            mom = (P[0] * FORCE[li][1] - P[1] * FORCE[li][0]
+                   + S[0] * (MASS[li] * GRAV[1] + inertia_f[1])
+                   - S[1] * (MASS[li] * GRAV[0] + inertia_f[0])
+                   + MOMENT[li] - INERTIA[li] * al[li])
+            rhs[row + 2] = -mom
+        x = np.linalg.solve(M, rhs)
+        got = [res.R_Ox[i], res.R_Oy[i], res.R_Ax[i], res.R_Ay[i], res.R_Bx[i], res.R_By[i],
+               res.R_Cx[i], res.R_Cy[i], res.Q[i]]
+        np.testing.assert_allclose(got, x, rtol=1e-10, atol=1e-9)
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_kinetostatics_power_balance(branch):
+    """Q omega2 + power of weights, external forces and moments = dT/dt, with eps1 != 0."""
+    w2, e2 = 10.0, -30.0
+    res = _loaded(CYCLE, branch, w2, e2)
+    k = res.kinematics
+    omegas = (w2, k.omega3, k.omega4)
+    alphas = (e2, k.alpha3, k.alpha4)
+    power = res.Q * w2
+    dT = np.zeros_like(power)
+    for li, link in enumerate(("crank", "coupler", "rocker")):
+        _, _, vx, vy, ax, ay = k.point(link, *COM[li])
+        dT += MASS[li] * (vx * ax + vy * ay) + INERTIA[li] * omegas[li] * alphas[li]
+        power += MASS[li] * (GRAV[0] * vx + GRAV[1] * vy) + MOMENT[li] * omegas[li]
+        _, _, vx, vy, _, _ = k.point(link, *FPOINT[li])
+        power += FORCE[li][0] * vx + FORCE[li][1] * vy
+    np.testing.assert_allclose(power, dT, rtol=0, atol=1e-9 * np.abs(dT).max())
+
+
+def test_kinetostatics_momentum_balance():
+    """Frame's forces on the links = rate of change of momentum minus weights and loads."""
+    res = _loaded(CYCLE, +1)
+    k = res.kinematics
+    fx = res.R_Ox + res.R_Cx
+    fy = res.R_Oy + res.R_Cy
+    for li, link in enumerate(("crank", "coupler", "rocker")):
+        *_, ax, ay = k.point(link, *COM[li])
+        fx = fx - MASS[li] * ax + FORCE[li][0] + MASS[li] * GRAV[0]
+        fy = fy - MASS[li] * ay + FORCE[li][1] + MASS[li] * GRAV[1]
+    np.testing.assert_allclose(fx, 0, atol=1e-10)
+    np.testing.assert_allclose(fy, 0, atol=1e-10)
+    np.testing.assert_allclose(res.shaking_force_x, -(res.R_Ox + res.R_Cx))
+
+
+def test_kinetostatics_statics_of_a_weightless_linkage():
+    """Static check by virtual work: Q = -M4 * dtheta4/dtheta2 for a moment M4 on the rocker."""
+    t2 = np.radians(np.arange(5, 360, 10.0))
+    res = fourbar_kinetostatics(t2, A1, B1, C1, D1, omega2=0.0, moment=(0.0, 0.0, 3.0))
+    ratio = fourbar(t2, A1, B1, C1, D1, omega2=1.0).omega4
+    np.testing.assert_allclose(res.Q, -3.0 * ratio, rtol=1e-12)
+
+
+def test_kinetostatics_paper001_example_without_loads_is_inertial_only():
+    """Paper 001's linkage (masses 1/3/2 kg at midpoints, omega=10 1/s): Q = dT/dt / omega."""
+    m = (1.0, 3.0, 2.0)
+    res = fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, 10.0, mass=m)
+    k = res.kinematics
+    T = np.zeros_like(CYCLE)
+    for li, link in enumerate(("crank", "coupler", "rocker")):
+        _, _, vx, vy, _, _ = k.point(link, (A1, B1, C1)[li] / 2)
+        T = T + 0.5 * m[li] * (vx * vx + vy * vy)
+    dT = np.gradient(T, CYCLE) * 10.0  # dT/dt = dT/dtheta2 * omega2
+    np.testing.assert_allclose(res.Q[1:-1] * 10.0, dT[1:-1], atol=2e-3 * np.abs(dT).max())
+
+
+def test_kinetostatics_bad_loads_are_named():
+    with pytest.raises(ParameterError, match=r"mass\[1\]"):
+        fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, mass=(1.0, -3.0, 2.0))
+    with pytest.raises(ParameterError, match="force"):
+        fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, force=((1.0, 2.0), (1.0,), (0, 0)))
+    with pytest.raises(ParameterError, match="moment"):
+        fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, moment=(1.0, 2.0))
