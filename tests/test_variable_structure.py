@@ -1,0 +1,115 @@
+"""The variable-structure mechanism (paper 000) as one object, and its duty schedule."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+from _paper000_geometry import crank_slider_positions, slot_positions
+
+from linkwork.errors import ParameterError
+from linkwork.models.variable_structure import (
+    IDLE,
+    WORKING,
+    Segment,
+    VariableStructureMechanism,
+)
+
+A60 = math.radians(60)
+W1 = 2 * math.pi * 120 / 60  # 120 rpm
+
+
+@pytest.fixture
+def mech():
+    return VariableStructureMechanism(L1=0.05, lambda2=4.0, lambda_e=0.5, alpha=A60,
+                                      f_slot=0.1, f_guide=0.1)
+
+
+def test_state_switch_is_immutable(mech):
+    w = mech.switch(WORKING, math.radians(45))
+    assert mech.mode == IDLE and mech.alpha == A60
+    assert w.mode == WORKING and w.alpha == pytest.approx(math.radians(45))
+    assert mech.stroke() == pytest.approx(
+        0.05 * (math.sqrt(25 - 0.25) - math.sqrt(9 - 0.25)), rel=1e-14)
+    assert w.stroke() == pytest.approx(0.1 / math.sin(math.radians(45)), rel=1e-14)
+
+
+def test_state_validation(mech):
+    with pytest.raises(ParameterError, match="working range"):
+        mech.switch(alpha=math.radians(5))
+    with pytest.raises(ParameterError, match="mode"):
+        mech.switch("sleeping")
+    with pytest.raises(ParameterError, match="lambda2"):
+        VariableStructureMechanism(0.05, 1.2, 0.5, A60)
+    with pytest.raises(ParameterError, match="L1"):
+        VariableStructureMechanism(-0.05, 4.0, 0.5, A60)
+
+
+def test_schedule_5_idle_then_3_working(mech):
+    spr = 72
+    r = mech.run([("idle", 5), ("working", 3, A60)], W1, samples_per_revolution=spr)
+    n_idle, n_work = 5 * spr + 1, 3 * spr + 1
+    assert r.t.shape == (n_idle + n_work,)
+    # one switch, after 5 revolutions = 2.5 s at 120 rpm
+    np.testing.assert_allclose(r.switch_t, [2.5], rtol=1e-14)
+    np.testing.assert_array_equal(r.switch_to, [1])
+    assert r.switch[n_idle] and r.switch.sum() == 1
+    assert r.t[n_idle - 1] == r.t[n_idle]  # the switch instant appears on both sides
+    assert r.t[-1] == pytest.approx(4.0)
+    # idle samples: slider C of the crank-slider from the independent construction
+    for k in range(0, n_idle, 37):
+        phi = r.phi1[k]
+        assert r.mode[k] == 0
+        assert r.s[k] == pytest.approx(crank_slider_positions(phi, 0.05, 4.0, 0.5)["Y_C"],
+                                       rel=1e-12)
+        assert r.ram_s[k] == 0.0 and r.ram_v[k] == 0.0
+    # working samples: the ram, X3 from the independent slot construction
+    x0 = slot_positions(0.0, 0.05, A60)["x_P"]
+    for k in range(n_idle, r.t.size, 23):
+        phi = r.phi1[k]
+        assert r.mode[k] == 1
+        x3 = x0 - slot_positions(phi, 0.05, A60)["x_P"]
+        assert r.s[k] == pytest.approx(x3, abs=1e-14)
+        assert r.ram_s[k] == r.s[k]
+    # working velocity is d s / d t of the sampled output (central differences)
+    tw, sw, vw = r.t[n_idle:], r.s[n_idle:], r.v[n_idle:]
+    fd = (sw[2:] - sw[:-2]) / (tw[2:] - tw[:-2])
+    np.testing.assert_allclose(vw[1:-1], fd, atol=2e-3 * np.abs(vw).max())
+    # the ram's position is continuous at the switch; its velocity jumps by omega1 L1 cot(alpha)
+    assert r.ram_s[n_idle - 1] == pytest.approx(r.ram_s[n_idle], abs=1e-16)
+    assert r.switch_ram_dv[0] == pytest.approx(W1 * 0.05 / math.tan(A60), rel=1e-12)
+    # over 3 working strokes the ram covers 3 double strokes of 2 L1 / sin(alpha)
+    assert r.ram_s.max() - r.ram_s.min() == pytest.approx(0.1 / math.sin(A60), rel=1e-3)
+
+
+def test_schedule_alternating_and_alpha_changes(mech):
+    sched = [Segment("working", 1, math.radians(45)), Segment("idle", 2),
+             Segment("working", 2, math.radians(120))]
+    r = mech.run(sched, W1, samples_per_revolution=36)
+    np.testing.assert_array_equal(r.switch_to, [0, 1])
+    np.testing.assert_allclose(r.switch_t, [0.5, 1.5])
+    np.testing.assert_allclose(r.switch_ram_dv, [-W1 * 0.05 / math.tan(math.radians(45)),
+                                                 W1 * 0.05 / math.tan(math.radians(120))])
+    assert set(np.round(np.degrees(r.alpha[r.mode == 1]))) == {45.0, 120.0}
+    d = r.to_dict()
+    assert [s["to"] for s in d["switches"]] == ["idle", "working"]
+
+
+@pytest.mark.parametrize("bad,match", [
+    ([("idle", 0)], "revolutions"), ([("idle", 1.5)], "revolutions"), ([], "schedule"),
+    ([("coast", 2)], "mode"), ([("working", 2, math.radians(179))], "working range"),
+])
+def test_bad_schedules(mech, bad, match):
+    with pytest.raises(ParameterError, match=match):
+        mech.run(bad, W1)
+
+
+def test_bad_speed(mech):
+    with pytest.raises(ParameterError, match="omega1"):
+        mech.run([("idle", 1)], -1.0)
+
+
+def test_output_link_labels(mech):
+    assert mech.output(0.3).link == "slider C: Y_C"
+    assert mech.switch(WORKING).output(0.3).link == "ram: X3"
