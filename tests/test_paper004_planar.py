@@ -1,0 +1,185 @@
+"""Paper 004 (Abdrashev & Myrzaliev), planar kinetostatics, Eqs. (8)-(13), checked one by one.
+
+Each printed formula is evaluated literally (``printed=True``) and compared with
+
+* the independent derivation in :func:`linkwork.models.fourbar.fourbar_kinetostatics`, itself
+  checked against a 9x9 equilibrium solve in ``tests/test_fourbar.py``, and
+* the power balance  Q omega1 + sum(F_i . v_Si) + sum(M_i omega_i) = 0  of the d'Alembert
+  loads (F_i, M_i already contain the inertia forces and couples), computed here.
+
+The paper's symbols: links 1, 2, 3 = crank, coupler, rocker (Norton's 2, 3, 4); phi3 is the angle
+of the vector B -> C (its loop equation (1) runs O -> A -> B -> C), i.e. Norton's theta4 + pi.
+F_i is the resultant force on link i at the link's midpoint, M_i the resultant couple.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from linkwork.models.fourbar import (
+    fourbar_kinetostatics,
+    paper004_eq8,
+    paper004_eq9,
+    paper004_eq10,
+    paper004_eq11,
+    paper004_eq12,
+    paper004_eq13,
+    paper004_planar,
+)
+
+# paper 001's four-bar as a loom linkage stand-in: l1 = 0.1, l2 = 0.3, l3 = 0.2, frame 0.3 m
+L1, L2, L3, D = 0.1, 0.3, 0.2, 0.3
+MASS = (1.0, 3.0, 2.0)
+INERTIA = (0.0008, 0.0225, 0.00567)
+FORCE = ((3.0, -2.0), (-15.0, 8.0), (5.0, 12.0))    # external forces at the midpoints [N]
+MOMENT = (0.7, -1.5, 2.5)                           # external couples [N m]
+GRAV = (0.0, -9.81)
+W1, E1 = 10.0, -30.0
+T2 = np.linspace(0.0, 2 * np.pi, 73)
+
+
+def _case(branch, force=FORCE, moment=MOMENT, inertia=INERTIA):
+    """Derivation (fourbar_kinetostatics) and the paper's inputs F_i, M_i for the same state."""
+    res = fourbar_kinetostatics(T2, L1, L2, L3, D, W1, E1, branch, mass=MASS, inertia=inertia,
+                                gravity=GRAV, force=force, moment=moment)
+    k = res.kinematics
+    omegas = (W1, k.omega3, k.omega4)
+    alphas = (E1, k.alpha3, k.alpha4)
+    F, M, V = [], [], []
+    for i, (link, length) in enumerate((("crank", L1), ("coupler", L2), ("rocker", L3))):
+        _, _, vx, vy, ax, ay = k.point(link, length / 2)
+        F.append((force[i][0] + MASS[i] * (GRAV[0] - ax), force[i][1] + MASS[i] * (GRAV[1] - ay)))
+        M.append(moment[i] - inertia[i] * alphas[i])
+        V.append((vx, vy))
+    phi = (T2, k.theta3, k.theta4 + np.pi)
+    return res, phi, F, M, V, omegas
+
+
+def _power_residual(Q, F, M, V, omegas):
+    """Q omega1 + power of all d'Alembert loads; zero for the right Q."""
+    p = Q * W1
+    for i in range(3):
+        p = p + F[i][0] * V[i][0] + F[i][1] * V[i][1] + M[i] * omegas[i]
+    return p
+
+
+def _scale(res):
+    return max(np.abs(res.R_Bx).max(), np.abs(res.R_By).max(), np.abs(res.Q).max())
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq8_RBx_as_printed(branch):
+    res, phi, F, M, _, _ = _case(branch)
+    got = paper004_eq8(phi[1], phi[2], L2, L3, F[1], F[2], M[1], M[2], printed=True)
+    np.testing.assert_allclose(got, res.R_Bx, rtol=0, atol=1e-10 * _scale(res))
+
+
+def test_paper004_eq8_holds_only_with_phi3_from_B_to_C():
+    """phi3 -> phi3 + pi flips every term of (8) but the M3 one: the convention is B -> C."""
+    res, phi, F, M, _, _ = _case(+1)
+    got = paper004_eq8(phi[1], phi[2] - np.pi, L2, L3, F[1], F[2], M[1], M[2])
+    assert np.abs(got - res.R_Bx).max() > 1e-2 * _scale(res)
+    # with no couple at all on link 3 (no external moment, no rotary inertia) both agree
+    res0, phi0, F0, M0, _, _ = _case(+1, moment=(0.7, -1.5, 0.0), inertia=(0.0008, 0.0225, 0.0))
+    got0 = paper004_eq8(phi0[1], phi0[2] - np.pi, L2, L3, F0[1], F0[2], M0[1], M0[2])
+    np.testing.assert_allclose(got0, res0.R_Bx, rtol=0, atol=1e-10 * _scale(res0))
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq9_RBy_printed_is_wrong(branch):
+    res, phi, F, M, _, _ = _case(branch)
+    got = paper004_eq9(phi[1], phi[2], L2, L3, F[1], F[2], M[1], M[2], printed=True)
+    assert np.abs(got - res.R_By).max() > 0.05 * _scale(res)
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq9_RBy_corrected(branch):
+    res, phi, F, M, _, _ = _case(branch)
+    got = paper004_eq9(phi[1], phi[2], L2, L3, F[1], F[2], M[1], M[2], printed=False)
+    np.testing.assert_allclose(got, res.R_By, rtol=0, atol=1e-10 * _scale(res))
+
+
+def test_paper004_eq9_each_printed_error_matters():
+    """Fixing only the cos->sin of the second term, or only the first term, is not enough."""
+    res, phi, F, M, _, _ = _case(+1)
+    s2, c2 = np.sin(phi[1]), np.cos(phi[1])
+    s3, c3 = np.sin(phi[2]), np.cos(phi[2])
+    den = L2 * L3 * np.sin(phi[1] - phi[2])
+    t3 = -F[2][0] * L3 / 2 * s3 + F[2][1] * L3 / 2 * c3 - M[2]
+    first_printed = -L3 * s3 * (-F[1][0] * L2 / 2 * s2 - F[1][1] * L2 / 2 * c2 - M[1])
+    first_fixed = L3 * s3 * (F[1][0] * L2 / 2 * s2 - F[1][1] * L2 / 2 * c2 - M[1])
+    only_sin = (first_printed - L2 * s2 * t3) / den
+    only_first = (first_fixed - L2 * c2 * t3) / den
+    both = (first_fixed - L2 * s2 * t3) / den
+    tol = 1e-10 * _scale(res)
+    assert np.abs(only_sin - res.R_By).max() > 1e3 * tol
+    assert np.abs(only_first - res.R_By).max() > 1e3 * tol
+    np.testing.assert_allclose(both, res.R_By, rtol=0, atol=tol)
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq10_RC(branch):
+    res, _, F, _, _, _ = _case(branch)
+    rcx, rcy = paper004_eq10(F[2], (res.R_Bx, res.R_By))
+    np.testing.assert_allclose(rcx, res.R_Cx, atol=1e-10 * _scale(res))
+    np.testing.assert_allclose(rcy, res.R_Cy, atol=1e-10 * _scale(res))
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq11_RA(branch):
+    res, _, F, _, _, _ = _case(branch)
+    rax, ray = paper004_eq11(F[1], (res.R_Bx, res.R_By))
+    np.testing.assert_allclose(rax, res.R_Ax, atol=1e-10 * _scale(res))
+    np.testing.assert_allclose(ray, res.R_Ay, atol=1e-10 * _scale(res))
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq12_R0(branch):
+    res, _, F, _, _, _ = _case(branch)
+    r0x, r0y = paper004_eq12(F[0], (res.R_Ax, res.R_Ay))
+    np.testing.assert_allclose(r0x, res.R_Ox, atol=1e-10 * _scale(res))
+    np.testing.assert_allclose(r0y, res.R_Oy, atol=1e-10 * _scale(res))
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq13_Q_printed_violates_power_balance(branch):
+    res, phi, F, M, V, om = _case(branch)
+    q = paper004_eq13(phi[0], L1, (res.R_Ax, res.R_Ay), F[0], M[0], printed=True)
+    scale = np.abs(res.Q * W1).max()
+    assert np.abs(_power_residual(q, F, M, V, om)).max() > 1e-2 * scale
+    # the error is exactly twice the moment of F1 about O
+    mom_f1 = L1 / 2 * (np.cos(phi[0]) * F[0][1] - np.sin(phi[0]) * F[0][0])
+    np.testing.assert_allclose(q - res.Q, 2 * mom_f1, atol=1e-10 * scale)
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq13_Q_corrected_satisfies_power_balance(branch):
+    res, phi, F, M, V, om = _case(branch)
+    q = paper004_eq13(phi[0], L1, (res.R_Ax, res.R_Ay), F[0], M[0], printed=False)
+    scale = np.abs(res.Q * W1).max()
+    np.testing.assert_allclose(q, res.Q, atol=1e-10 * np.abs(res.Q).max())
+    np.testing.assert_allclose(_power_residual(q, F, M, V, om), 0, atol=1e-10 * scale)
+
+
+def test_paper004_eq13_printed_is_right_when_F1_vanishes():
+    """A crank balanced about O with no load on it: F1 = 0 and the printed (13) is exact."""
+    res = fourbar_kinetostatics(T2, L1, L2, L3, D, W1, 0.0, +1, mass=(0.0, 3.0, 2.0),
+                                inertia=(0.0008, 0.0225, 0.00567), gravity=GRAV,
+                                moment=(0.7, 0.0, 0.0))
+    q = paper004_eq13(T2, L1, (res.R_Ax, res.R_Ay), (0.0, 0.0), 0.7, printed=True)
+    np.testing.assert_allclose(q, res.Q, atol=1e-12 * np.abs(res.Q).max())
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_planar_chain_corrected_equals_derivation(branch):
+    res, phi, F, M, _, _ = _case(branch)
+    p = paper004_planar(*phi, L1, L2, L3, *F, *M, printed=False)
+    tol = 1e-10 * _scale(res)
+    for mine, theirs in ((res.R_Bx, p.R_Bx), (res.R_By, p.R_By), (res.R_Cx, p.R_Cx),
+                         (res.R_Cy, p.R_Cy), (res.R_Ax, p.R_Ax), (res.R_Ay, p.R_Ay),
+                         (res.R_Ox, p.R_0x), (res.R_Oy, p.R_0y), (res.Q, p.Q)):
+        np.testing.assert_allclose(theirs, mine, rtol=0, atol=tol)
+    # and the printed chain is not
+    pp = paper004_planar(*phi, L1, L2, L3, *F, *M, printed=True)
+    assert np.abs(pp.Q - res.Q).max() > 1e-2 * np.abs(res.Q).max()
