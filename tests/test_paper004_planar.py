@@ -183,3 +183,47 @@ def test_paper004_planar_chain_corrected_equals_derivation(branch):
     # and the printed chain is not
     pp = paper004_planar(*phi, L1, L2, L3, *F, *M, printed=True)
     assert np.abs(pp.Q - res.Q).max() > 1e-2 * np.abs(res.Q).max()
+
+
+# --- the planar (third) rows of the moment equations (3), (5), (7) that (8)-(13) come from ---
+
+
+def _moment_rows(branch):
+    res, phi, F, M, _, _ = _case(branch)
+    s1, c1 = np.sin(phi[0]), np.cos(phi[0])
+    s2, c2 = np.sin(phi[1]), np.cos(phi[1])
+    s3, c3 = np.sin(phi[2]), np.cos(phi[2])
+    RA, RB = (res.R_Ax, res.R_Ay), (res.R_Bx, res.R_By)
+    eq3 = (RB[1] * L3 * c3 - RB[0] * L3 * s3 + F[2][0] * L3 / 2 * s3 - F[2][1] * L3 / 2 * c3
+           + M[2])
+    eq5 = ((RB[0] * L2 * s2 - RB[1] * L2 * c2) + F[1][1] * L2 / 2 * c2
+           - F[1][0] * L2 / 2 * s2 + M[1])
+    eq7 = (-RA[1] * L1 * c1 + RA[0] * L1 * s1 + F[0][0] * L1 / 2 * s1 - F[0][1] * L1 / 2 * c1
+           - M[0] + res.Q)
+    return res, phi, F, M, eq3, eq5, eq7
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq5_third_row_coupler_moments_about_A(branch):
+    res, _, _, _, _, eq5, _ = _moment_rows(branch)
+    np.testing.assert_allclose(eq5, 0, atol=1e-10 * _scale(res))
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq3_third_row_is_inconsistent(branch):
+    """Printed: R_B terms fit phi3 = C -> B, the F3 terms phi3 = B -> C; neither closes."""
+    res, phi, _, M, eq3, _, _ = _moment_rows(branch)
+    assert np.abs(eq3).max() > 1e-2 * np.abs(M[2]).max()
+    # residual = 2 x (moment of R_B about C), i.e. the R_B terms have the wrong sign for the
+    # paper's phi3 (B -> C) under which (8) holds
+    mom_rb = -L3 * (np.cos(phi[2]) * res.R_By - np.sin(phi[2]) * res.R_Bx)
+    np.testing.assert_allclose(eq3, -2 * mom_rb, atol=1e-10 * _scale(res))
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+def test_paper004_eq7_third_row_signs_of_F1_and_M1(branch):
+    """Printed (7): F1 terms and M1 carry the wrong sign (residual 2(-mom F1 - M1))."""
+    res, phi, F, M, _, _, eq7 = _moment_rows(branch)
+    mom_f1 = L1 / 2 * (np.cos(phi[0]) * F[0][1] - np.sin(phi[0]) * F[0][0])
+    np.testing.assert_allclose(eq7, -2 * mom_f1 - 2 * M[0], atol=1e-10 * _scale(res))
+    assert np.abs(eq7).max() > 1e-2 * np.abs(res.Q).max()
