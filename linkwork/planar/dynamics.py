@@ -1,0 +1,305 @@
+"""Inverse dynamics (kinetostatics) of a planar mechanism over all positions.
+
+Given the motion (:func:`~linkwork.planar.kinematics.kinematics`), masses, centroidal inertias,
+gravity and external loads, the Newton-Euler equations of every moving body,
+
+.. math:: m_i \\mathbf a_{Ci} = \\sum \\mathbf F, \\qquad I_{Ci} \\varepsilon_i = \\sum M_{C},
+
+are solved for the joint reactions and the driving torque (force) at every position at once
+(d'Alembert: the inertia forces ``-m a_C`` and couples ``-I_C eps`` join the applied loads; the
+equations are the transposed constraint Jacobian times the Lagrange multipliers).
+
+Sign conventions
+----------------
+* Joint reaction of joint ``J(name, a, b)``: the force **exerted by body a on body b**, components
+  in the fixed frame's axes [N], applied at the joint centre (revolute), at the slider point of
+  ``b`` (prismatic) or at the pin (pin-in-slot); a prismatic joint also transmits a couple ``mz``
+  [N m] exerted by a on b (counter-clockwise positive). The force on ``a`` is the opposite.
+* Driving torque ``Q`` [N m] (Crank): the torque the driver exerts on its joint's body ``b``
+  through body ``a`` (for a crank driven from the frame: the motor torque on the crank),
+  counter-clockwise positive, so the driving power is ``Q * omega1``. Linear driver: ``Q`` [N]
+  is the force on ``b`` along the guide direction, power ``Q * v1``.
+* Shaking force and moment: the resultant force and moment that the moving bodies exert on the
+  frame through all frame joints, the motor's reaction included (the reaction ``-Q`` on the
+  frame when the driver's joint is a frame joint), moment about the point ``about``.
+  With no loads ``F_sh = -sum m_i a_Ci``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from linkwork.errors import ParameterError, require_finite
+from linkwork.planar.kinematics import Kinematics, _batched_solve, _rows, _State
+from linkwork.planar.model import Linear, Mechanism, Prismatic, Revolute
+from linkwork.results import Result
+
+__all__ = ["BodyTorque", "Dynamics", "PointForce", "inverse_dynamics", "kinetic_energy"]
+
+Arr = np.ndarray
+
+
+@dataclass(frozen=True)
+class PointForce:
+    """External force on ``body`` at ``point`` (name, ``"com"`` or local (x, y) [m]).
+
+    ``fx, fy`` [N] in the fixed frame's axes, scalars or arrays over the positions.
+    """
+
+    body: str
+    point: str | tuple[float, float] = "com"
+    fx: ArrayLike = 0.0
+    fy: ArrayLike = 0.0
+
+
+@dataclass(frozen=True)
+class BodyTorque:
+    """External couple ``mz`` [N m] on ``body`` (counter-clockwise positive), scalar or array."""
+
+    body: str
+    mz: ArrayLike = 0.0
+
+
+@dataclass(frozen=True)
+class Dynamics(Result):
+    """Joint reactions, driving torque, shaking force and moment, kinetic energy.
+
+    Attributes
+    ----------
+    kinematics : Kinematics
+        The motion analysed.
+    phi1 : ndarray (n,)
+        Driver positions.
+    joints : tuple of str
+        Joint names (row order of the reaction arrays).
+    fx, fy : ndarray (n_joints, n)
+        Reaction force exerted by the joint's body ``a`` on its body ``b`` [N], frame axes.
+    mz : ndarray (n_joints, n)
+        Couple exerted by ``a`` on ``b`` [N m] (prismatic joints; zero for the others).
+    px, py : ndarray (n_joints, n)
+        Point of application of the reaction force [m].
+    Q : ndarray (n,)
+        Driving torque [N m] (or force [N] for a Linear driver) on the driver joint's body b.
+    shaking_fx, shaking_fy : ndarray (n,)
+        Force exerted by the moving bodies on the frame [N].
+    shaking_m : ndarray (n,)
+        Moment of the forces (and couples) on the frame about ``about`` [N m].
+    about : tuple of float
+        Reference point of the shaking moment [m].
+    T : ndarray (n,)
+        Kinetic energy [J].
+    gravity : tuple of float
+        Gravity acceleration vector used [m/s^2].
+    """
+
+    kinematics: Kinematics
+    phi1: Arr
+    joints: tuple[str, ...]
+    fx: Arr
+    fy: Arr
+    mz: Arr
+    px: Arr
+    py: Arr
+    Q: Arr
+    shaking_fx: Arr
+    shaking_fy: Arr
+    shaking_m: Arr
+    about: tuple[float, float]
+    T: Arr
+    gravity: tuple[float, float]
+    units: ClassVar[dict[str, str]] = {
+        "phi1": "rad", "fx": "N", "fy": "N", "mz": "N*m", "px": "m", "py": "m", "Q": "N*m",
+        "shaking_fx": "N", "shaking_fy": "N", "shaking_m": "N*m", "T": "J"}
+
+    def reaction(self, joint: str) -> tuple[Arr, Arr]:
+        """(fx, fy) of joint ``joint``: force by its body a on its body b [N]."""
+        try:
+            i = self.joints.index(joint)
+        except ValueError:
+            raise ParameterError("joint", joint, f"no such joint; known: {list(self.joints)}"
+                                 ) from None
+        return self.fx[i], self.fy[i]
+
+    def reaction_magnitude(self, joint: str) -> Arr:
+        """|R| of joint ``joint`` [N]."""
+        fx, fy = self.reaction(joint)
+        return np.hypot(fx, fy)
+
+    @property
+    def power(self) -> Arr:
+        """Driving power ``Q * omega1`` [W]."""
+        return self.Q * self.kinematics.omega1
+
+
+def _state_from(kin: Kinematics) -> _State:
+    nb, n = kin.x.shape
+    st = _State(nb, n)
+    for i in range(nb):
+        st.X[i], st.Y[i] = kin.x[i], kin.y[i]
+        st.set_angle(i, kin.theta[i])
+        st.VX[i], st.VY[i], st.W[i] = kin.vx[i], kin.vy[i], kin.omega[i]
+        st.AX[i], st.AY[i], st.E[i] = kin.ax[i], kin.ay[i], kin.eps[i]
+    return st
+
+
+def kinetic_energy(kin: Kinematics) -> Arr:
+    """Kinetic energy of all moving bodies [J] at every position."""
+    m = kin.mechanism
+    T = np.zeros(kin.n)
+    for b in m.bodies:
+        c = kin.point(b.name, "com")
+        T += 0.5 * b.mass * (c.vx**2 + c.vy**2) + 0.5 * b.inertia * kin.omega[m.index[b.name]]**2
+    return T
+
+
+def _per_pos(name: str, v: ArrayLike, n: int) -> Arr:
+    a = require_finite(name, v)
+    try:
+        return np.broadcast_to(a, (n,))
+    except ValueError:
+        raise ParameterError(name, a.shape, f"must be a scalar or have shape ({n},)") from None
+
+
+def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
+                     loads: Sequence[PointForce | BodyTorque] = (),
+                     about: ArrayLike = (0.0, 0.0)) -> Dynamics:
+    """Joint reactions, driving torque, shaking force/moment and kinetic energy.
+
+    Parameters
+    ----------
+    kin : Kinematics
+        Result of :func:`~linkwork.planar.kinematics.kinematics`.
+    gravity : (gx, gy), optional
+        Gravity acceleration [m/s^2] in frame axes, e.g. ``(0, -9.81)``; default none.
+    loads : sequence of PointForce and BodyTorque
+        External loads on moving bodies (constant or per position).
+    about : (x, y)
+        Point about which the shaking moment is taken [m] (default the frame origin).
+
+    Returns
+    -------
+    Dynamics
+        See the module docstring for the sign conventions.
+    """
+    mech: Mechanism = kin.mechanism
+    n = kin.n
+    g = (0.0, 0.0) if gravity is None else tuple(float(v) for v in require_finite(
+        "gravity", gravity).ravel())
+    if len(g) != 2:
+        raise ParameterError("gravity", gravity, "must be a vector (gx, gy) [m/s^2]")
+    ab = tuple(float(v) for v in require_finite("about", about).ravel())
+    if len(ab) != 2:
+        raise ParameterError("about", about, "must be a point (x, y) [m]")
+    st = _state_from(kin)
+    nb = len(mech.body_names)
+    # generalised applied-minus-inertia forces on each moving body (about its origin)
+    f = np.zeros((n, 3 * (nb - 1)))
+    for b in mech.bodies:
+        i = mech.index[b.name]
+        c = kin.point(b.name, "com")
+        rx, ry = c.x - kin.x[i], c.y - kin.y[i]
+        Fx = b.mass * (g[0] - c.ax)
+        Fy = b.mass * (g[1] - c.ay)
+        f[:, 3 * i - 3] += Fx
+        f[:, 3 * i - 2] += Fy
+        f[:, 3 * i - 1] += rx * Fy - ry * Fx - b.inertia * kin.eps[i]
+    for ld in loads:
+        if ld.body == mech.frame.name:
+            raise ParameterError("loads.body", ld.body, "loads must act on moving bodies")
+        if ld.body not in mech.index:
+            raise ParameterError("loads.body", ld.body,
+                                 f"no such body; known: {list(mech.body_names[1:])}")
+        i = mech.index[ld.body]
+        if isinstance(ld, PointForce):
+            pm = kin.point(ld.body, ld.point)
+            fx, fy = _per_pos("fx", ld.fx, n), _per_pos("fy", ld.fy, n)
+            rx, ry = pm.x - kin.x[i], pm.y - kin.y[i]
+            f[:, 3 * i - 3] += fx
+            f[:, 3 * i - 2] += fy
+            f[:, 3 * i - 1] += rx * fy - ry * fx
+        elif isinstance(ld, BodyTorque):
+            f[:, 3 * i - 1] += _per_pos("mz", ld.mz, n)
+        else:
+            raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
+    # constraint Jacobian (all joints + driver row)
+    size = 3 * (nb - 1)
+    J = np.zeros((n, size, size))
+    meta: list[tuple[int, str]] = []  # (joint index, row kind)
+    r = 0
+    for ji, j in enumerate(mech.joints):
+        drv = mech.driver if j.name == mech.driver.joint else None
+        rows = _rows(mech, st, j, drv, None, need_gamma=False)
+        ia, ib = mech.index[j.a], mech.index[j.b]
+        for k, row in enumerate(rows):
+            for body, key in ((ia, "ja"), (ib, "jb")):
+                if body > 0:
+                    for comp in range(3):
+                        J[:, r, 3 * body - 3 + comp] += row[key][comp]
+            kind = "drive" if row.get("drive") else (
+                ("x", "y")[k] if isinstance(j, Revolute) else ("n", "t")[k])
+            meta.append((ji, kind))
+            r += 1
+    good = kin.assembled
+    lam = _batched_solve(np.swapaxes(J, 1, 2), f, good)
+    nj = len(mech.joints)
+    fxr = np.zeros((nj, n))
+    fyr = np.zeros((nj, n))
+    mzr = np.zeros((nj, n))
+    pxr = np.zeros((nj, n))
+    pyr = np.zeros((nj, n))
+    Q = np.zeros(n)
+    for ji, j in enumerate(mech.joints):
+        pb = mech.joint_geometry(j)[1]
+        pxr[ji], pyr[ji] = st.wpt(mech.index[j.b], pb)
+    for r, (ji, kind) in enumerate(meta):
+        j = mech.joints[ji]
+        lr = lam[:, r]
+        if kind == "x":
+            fxr[ji] += lr
+        elif kind == "y":
+            fyr[ji] += lr
+        elif kind == "t":
+            mzr[ji] += -lr
+        elif kind == "n" or (kind == "drive" and isinstance(j, Prismatic)):
+            ia = mech.index[j.a]
+            ang = mech.joint_geometry(j)[2]
+            ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
+            ex, ey = (-uy, ux) if kind == "n" else (ux, uy)
+            if kind == "n":
+                fxr[ji] += -lr * ex
+                fyr[ji] += -lr * ey
+            else:
+                Q = -lr
+        else:  # crank drive
+            Q = -lr
+    # shaking force and moment on the frame
+    sfx = np.zeros(n)
+    sfy = np.zeros(n)
+    sm = np.zeros(n)
+    fr = mech.frame.name
+    drv_j = mech.joint(mech.driver.joint)
+    for ji, j in enumerate(mech.joints):
+        if fr not in (j.a, j.b):
+            continue
+        sgn = -1.0 if j.a == fr else 1.0
+        fx, fy, mz = sgn * fxr[ji], sgn * fyr[ji], sgn * mzr[ji]
+        if j is drv_j and isinstance(mech.driver, Linear):
+            ia = mech.index[j.a]
+            ang = mech.joint_geometry(j)[2]
+            ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
+            fx = fx + sgn * Q * ux
+            fy = fy + sgn * Q * uy
+        sfx += fx
+        sfy += fy
+        sm += (pxr[ji] - ab[0]) * fy - (pyr[ji] - ab[1]) * fx + mz
+        if j is drv_j and not isinstance(mech.driver, Linear):
+            sm += sgn * Q
+    T = kinetic_energy(kin)
+    return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), fxr, fyr, mzr, pxr, pyr,
+                    Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]))
+

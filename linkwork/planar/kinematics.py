@@ -1,0 +1,779 @@
+"""Kinematics of a planar mechanism over all driver positions at once.
+
+Positions: group by group in the order of :mod:`linkwork.planar.structure`; the driver body and
+every dyad (RRR, RRP, PRR, RPR, RPP, PPR, PRP) and one-body slot group (RS, PS) in closed form,
+as array expressions over the positions, with the branch chosen per group (see ``docs/planar.md``
+for the branch definitions); other groups by Newton iteration continued from the previous
+position. Velocities and accelerations: for each group the constraint equations, differentiated
+once and twice, give a linear system in that group's body velocities (accelerations); the systems
+of all positions are solved at once (closed form for the driver body, batched
+``numpy.linalg.solve`` otherwise).
+
+Body coordinates: origin ``(x, y)`` [m] and angle ``theta`` [rad] (counter-clockwise from the
+fixed x-axis) of each body's own frame; ``vx, vy, ax, ay`` are the velocity [m/s] and
+acceleration [m/s^2] of the body point at the body's origin, ``omega`` [rad/s] and ``eps``
+[rad/s^2] the angular velocity and acceleration (counter-clockwise positive).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from linkwork.errors import (
+    AssemblyError,
+    ParameterError,
+    StructureError,
+    angle_ranges,
+    require_finite,
+)
+from linkwork.planar.model import (
+    Crank,
+    Joint,
+    Linear,
+    Mechanism,
+    PinInSlot,
+    Prismatic,
+    Revolute,
+)
+from linkwork.planar.structure import Group
+from linkwork.results import Result
+
+__all__ = ["Kinematics", "PointMotion", "kinematics"]
+
+Arr = np.ndarray
+Vec = tuple[Arr, Arr]
+
+
+# ---------------------------------------------------------------------------------------------
+# state of all bodies over the positions
+class _State:
+    def __init__(self, nb: int, n: int) -> None:
+        z = np.zeros(n)
+        self.n = n
+        self.X = [z] * nb
+        self.Y = [z] * nb
+        self.T = [z] * nb
+        self.C = [z + 1.0] * nb
+        self.S = [z] * nb
+        self.VX = [z] * nb
+        self.VY = [z] * nb
+        self.W = [z] * nb
+        self.AX = [z] * nb
+        self.AY = [z] * nb
+        self.E = [z] * nb
+        self.bad = np.zeros(n, dtype=bool)
+
+    def set_angle(self, i: int, th: Arr) -> None:
+        self.T[i] = th
+        self.C[i] = np.cos(th)
+        self.S[i] = np.sin(th)
+
+    def rot(self, i: int, v: tuple[float, float]) -> Vec:
+        c, s = self.C[i], self.S[i]
+        return c * v[0] - s * v[1], s * v[0] + c * v[1]
+
+    def wpt(self, i: int, p: tuple[float, float]) -> Vec:
+        rx, ry = self.rot(i, p)
+        return self.X[i] + rx, self.Y[i] + ry
+
+    def place(self, i: int, p: tuple[float, float], world: Vec) -> None:
+        """Set the origin of body i so that its local point p is at ``world`` (angle known)."""
+        rx, ry = self.rot(i, p)
+        self.X[i] = world[0] - rx
+        self.Y[i] = world[1] - ry
+
+    def point_vel(self, i: int, p: tuple[float, float]) -> Vec:
+        rx, ry = self.rot(i, p)
+        return self.VX[i] - self.W[i] * ry, self.VY[i] + self.W[i] * rx
+
+    def point_acc(self, i: int, p: tuple[float, float]) -> Vec:
+        rx, ry = self.rot(i, p)
+        w2 = self.W[i] ** 2
+        return (self.AX[i] - self.E[i] * ry - w2 * rx, self.AY[i] + self.E[i] * rx - w2 * ry)
+
+
+# ---------------------------------------------------------------------------------------------
+# results
+@dataclass(frozen=True)
+class PointMotion(Result):
+    """Position [m], velocity [m/s] and acceleration [m/s^2] of a body point, frame axes."""
+
+    phi1: Arr
+    x: Arr
+    y: Arr
+    vx: Arr
+    vy: Arr
+    ax: Arr
+    ay: Arr
+    units: ClassVar[dict[str, str]] = {"phi1": "rad", "x": "m", "y": "m", "vx": "m/s",
+                                       "vy": "m/s", "ax": "m/s^2", "ay": "m/s^2"}
+
+
+@dataclass(frozen=True)
+class Kinematics(Result):
+    """Positions, velocities and accelerations of every body over the driver positions.
+
+    Arrays of shape ``(n_bodies + 1, n)``: row ``i`` is body ``bodies[i]`` (row 0 the frame,
+    always zero), column ``k`` the driver position ``phi1[k]``.
+
+    Attributes
+    ----------
+    mechanism : Mechanism
+        The analysed mechanism.
+    phi1, omega1, eps1 : ndarray (n,)
+        Driver position [rad], speed [rad/s], acceleration [rad/s^2] (for a Linear driver: slide
+        coordinate [m], speed [m/s], acceleration [m/s^2]).
+    bodies : tuple of str
+        Body names, frame first.
+    x, y, theta : ndarray (nb, n)
+        Pose of each body's frame [m, m, rad].
+    vx, vy, omega : ndarray (nb, n)
+        Velocity of the body point at the body's origin [m/s] and angular velocity [rad/s].
+    ax, ay, eps : ndarray (nb, n)
+        Acceleration of that point [m/s^2] and angular acceleration [rad/s^2].
+    assembled : ndarray of bool (n,)
+        False where the mechanism cannot be assembled (those positions hold NaN; only with
+        ``on_fail="nan"``).
+    branches : dict
+        Branch used for each group key.
+    """
+
+    mechanism: Mechanism
+    phi1: Arr
+    omega1: Arr
+    eps1: Arr
+    bodies: tuple[str, ...]
+    x: Arr
+    y: Arr
+    theta: Arr
+    vx: Arr
+    vy: Arr
+    omega: Arr
+    ax: Arr
+    ay: Arr
+    eps: Arr
+    assembled: Arr
+    branches: Mapping[str, int]
+    units: ClassVar[dict[str, str]] = {
+        "phi1": "rad", "omega1": "rad/s", "eps1": "rad/s^2", "x": "m", "y": "m", "theta": "rad",
+        "vx": "m/s", "vy": "m/s", "omega": "rad/s", "ax": "m/s^2", "ay": "m/s^2",
+        "eps": "rad/s^2", "assembled": ""}
+
+    @property
+    def n(self) -> int:
+        """Number of positions."""
+        return int(self.phi1.shape[0])
+
+    def _row(self, body: str) -> int:
+        try:
+            return self.bodies.index(body)
+        except ValueError:
+            raise ParameterError("body", body, f"no such body; known: {list(self.bodies)}"
+                                 ) from None
+
+    def point(self, body: str, point: str | tuple[float, float] = "com") -> PointMotion:
+        """Motion of a point of ``body``: a named point, ``"com"``, or local (x, y) [m]."""
+        i = self._row(body)
+        p = self.mechanism.body(body).point(point) if isinstance(point, str) else (
+            float(point[0]), float(point[1]))
+        c, s = np.cos(self.theta[i]), np.sin(self.theta[i])
+        rx, ry = c * p[0] - s * p[1], s * p[0] + c * p[1]
+        w, e = self.omega[i], self.eps[i]
+        return PointMotion(self.phi1, self.x[i] + rx, self.y[i] + ry,
+                           self.vx[i] - w * ry, self.vy[i] + w * rx,
+                           self.ax[i] - e * ry - w * w * rx, self.ay[i] + e * rx - w * w * ry)
+
+    def angle(self, body: str) -> Arr:
+        """Angle of ``body``'s x-axis [rad] (continuous only where the model is)."""
+        return self.theta[self._row(body)]
+
+    def slide(self, joint: str) -> tuple[Arr, Arr, Arr]:
+        """Slide coordinate, speed, acceleration of a prismatic or pin-in-slot joint.
+
+        ``s = u . (P_b - Q_a)`` [m] with ``u`` the line's direction; the derivatives are taken
+        relative to the guide body ``a`` (the sliding speed and acceleration along the line).
+        """
+        m = self.mechanism
+        j = m.joint(joint)
+        if not isinstance(j, Prismatic | PinInSlot):
+            raise ParameterError("joint", joint, "must be prismatic or pin-in-slot")
+        qa, pb, ang = m.joint_geometry(j)
+        ia = self._row(j.a)
+        ta = self.theta[ia]
+        ux, uy = np.cos(ta + ang), np.sin(ta + ang)
+        Q = self.point(j.a, qa)
+        P = self.point(j.b, pb)
+        dx, dy = P.x - Q.x, P.y - Q.y
+        s = ux * dx + uy * dy
+        # relative velocity of P w.r.t. the body a point coincident with it
+        wa, ea = self.omega[ia], self.eps[ia]
+        rvx = P.vx - (Q.vx - wa * dy)
+        rvy = P.vy - (Q.vy + wa * dx)
+        sd = ux * rvx + uy * rvy
+        # relative acceleration: a_P - a_{a@P} - 2 wa k x v_rel
+        aax = Q.ax - ea * dy - wa * wa * dx
+        aay = Q.ay + ea * dx - wa * wa * dy
+        rax = P.ax - aax + 2 * wa * rvy
+        ray = P.ay - aay - 2 * wa * rvx
+        return s, sd, ux * rax + uy * ray
+
+
+# ---------------------------------------------------------------------------------------------
+# joint constraint rows: Jacobian blocks on body a and b, gamma (J qdd = gamma), residual
+def _geom(mech: Mechanism, j: Joint) -> tuple[tuple[float, float], tuple[float, float], float]:
+    return mech.joint_geometry(j)
+
+
+def _rows(mech: Mechanism, st: _State, j: Joint, drv: Crank | Linear | None,
+          rates: tuple[Arr, Arr] | None, need_gamma: bool = True) -> list[dict[str, Any]]:
+    """Constraint rows of joint j (plus the driver row if drv is given).
+
+    Each row: ``ja``, ``jb`` (3-tuples of arrays: d/dx, d/dy, d/dtheta), ``gam`` (acceleration
+    right-hand side from velocity terms), ``rv``/``ra`` (driver's velocity/acceleration terms),
+    ``res`` (residual, for Newton).
+    """
+    ia, ib = mech.index[j.a], mech.index[j.b]
+    qa, pb, ang = _geom(mech, j)
+    rows: list[dict[str, Any]] = []
+    zero = np.zeros(st.n)
+    one = zero + 1.0
+    if isinstance(j, Revolute):
+        wax, way = st.rot(ia, qa)
+        wbx, wby = st.rot(ib, pb)
+        wa2, wb2 = st.W[ia] ** 2, st.W[ib] ** 2
+        res = (st.X[ia] + wax - st.X[ib] - wbx, st.Y[ia] + way - st.Y[ib] - wby)
+        rows.append({"ja": (one, zero, -way), "jb": (-one, zero, wby),
+                     "gam": wax * wa2 - wbx * wb2, "res": res[0]})
+        rows.append({"ja": (zero, one, wax), "jb": (zero, -one, -wbx),
+                     "gam": way * wa2 - wby * wb2, "res": res[1]})
+        if drv is not None:
+            rows.append({"ja": (zero, zero, -one), "jb": (zero, zero, one), "gam": zero,
+                         "drive": True, "res": st.T[ib] - st.T[ia]})
+        return rows
+    # line joints
+    wax, way = st.rot(ia, qa)
+    wbx, wby = st.rot(ib, pb)
+    ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
+    nx, ny = -uy, ux
+    dx = st.X[ib] + wbx - st.X[ia] - wax
+    dy = st.Y[ib] + wby - st.Y[ia] - way
+
+    def line_row(ex: Arr, ey: Arr) -> dict[str, Any]:
+        # Phi = e . d with e rotating with body a; k x e = (-ey, ex)
+        kex, key_ = -ey, ex
+        th_a = kex * dx + key_ * dy - (ex * -way + ey * wax)
+        th_b = ex * -wby + ey * wbx
+        row: dict[str, Any] = {"ja": (-ex, -ey, th_a), "jb": (ex, ey, th_b),
+                               "res": ex * dx + ey * dy}
+        if need_gamma:
+            wa, wb = st.W[ia], st.W[ib]
+            ddx = st.VX[ib] - wb * wby - st.VX[ia] + wa * way
+            ddy = st.VY[ib] + wb * wbx - st.VY[ia] - wa * wax
+            quad = (-wa * wa * (ex * dx + ey * dy) + 2 * wa * (kex * ddx + key_ * ddy)
+                    + ex * (-wb * wb * wbx + wa * wa * wax) + ey * (-wb * wb * wby + wa * wa * way))
+            row["gam"] = -quad
+        return row
+
+    rows.append(line_row(nx, ny))
+    if isinstance(j, Prismatic):
+        rows.append({"ja": (zero, zero, -one), "jb": (zero, zero, one), "gam": zero,
+                     "res": st.T[ib] - st.T[ia] - j.rel_angle})
+        if drv is not None:
+            r = line_row(ux, uy)
+            r["drive"] = True
+            rows.append(r)
+    return rows
+
+
+# ---------------------------------------------------------------------------------------------
+# closed-form position solutions
+def _fail(st: _State, bad: Arr) -> None:
+    st.bad |= bad
+
+
+def _sqrt_checked(st: _State, arg: Arr, scale: Arr | float) -> Arr:
+    tol = 1e-12 * np.asarray(scale) ** 2
+    bad = ~(arg >= -tol)
+    _fail(st, bad)
+    return np.sqrt(np.where(bad, np.nan, np.maximum(arg, 0.0)))
+
+
+def _theta_of_prismatic(mech: Mechanism, st: _State, j: Joint, body: int) -> Arr:
+    """Angle of ``body`` fixed by prismatic joint j to an already-known body."""
+    assert isinstance(j, Prismatic)
+    ia, ib = mech.index[j.a], mech.index[j.b]
+    return st.T[ia] + j.rel_angle if body == ib else st.T[ib] - j.rel_angle
+
+
+def _locus(mech: Mechanism, st: _State, j: Joint, body: int, p_int: tuple[float, float]
+           ) -> tuple[str, Any]:
+    """Locus of the point ``p_int`` of ``body`` allowed by its external joint j.
+
+    Returns ("circle", (A, radius, p_ext)) with A the world centre, or ("line", (B0, u)) with
+    the body's angle set in ``st``: points ``B0 + t u``, ``u`` the guide direction.
+    """
+    ia, ib = mech.index[j.a], mech.index[j.b]
+    k = ia if body == ib else ib
+    qa, pb, ang = _geom(mech, j)
+    if isinstance(j, Revolute):
+        p_ext = qa if body == ia else pb
+        p_known = pb if body == ia else qa
+        A = st.wpt(k, p_known)
+        rad = float(np.hypot(p_int[0] - p_ext[0], p_int[1] - p_ext[1]))
+        if rad == 0.0:
+            raise StructureError(f"joint {j.name}: body {mech.body_names[body]} has its two "
+                                 "joint centres at the same point; the dyad is not determined")
+        return "circle", (A, rad, p_ext)
+    st.set_angle(body, _theta_of_prismatic(mech, st, j, body))
+    if body == ib:  # body is the slider on known guide k = a
+        Q = st.wpt(k, qa)
+        u = st.rot(k, (np.cos(ang), np.sin(ang)))
+        off = st.rot(body, (p_int[0] - pb[0], p_int[1] - pb[1]))
+        return "line", ((Q[0] + off[0], Q[1] + off[1]), u)
+    # body is the guide; the known body's point X slides on it: B = X + A(pB - qa) - s u
+    X = st.wpt(k, pb)
+    u = st.rot(body, (np.cos(ang), np.sin(ang)))
+    off = st.rot(body, (p_int[0] - qa[0], p_int[1] - qa[1]))
+    return "line", ((X[0] + off[0], X[1] + off[1]), u)
+
+
+def _finish_side(st: _State, body: int, kind: str, data: Any, p_int: tuple[float, float],
+                 B: Vec) -> None:
+    if kind == "circle":
+        A, _, p_ext = data
+        th = (np.arctan2(B[1] - A[1], B[0] - A[0])
+              - np.arctan2(p_int[1] - p_ext[1], p_int[0] - p_ext[0]))
+        st.set_angle(body, th)
+    st.place(body, p_int, B)
+
+
+def _intersect(st: _State, l1: tuple[str, Any], l2: tuple[str, Any], branch: int) -> Vec:
+    k1, d1 = l1
+    k2, d2 = l2
+    if k1 == "circle" and k2 == "circle":
+        (A, r1, _), (C, r2, _) = d1, d2
+        ex, ey = C[0] - A[0], C[1] - A[1]
+        dd = np.hypot(ex, ey)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            a = (r1 * r1 - r2 * r2 + dd * dd) / (2 * dd)
+            h = _sqrt_checked(st, r1 * r1 - a * a, r1)
+            ux, uy = ex / dd, ey / dd
+        return A[0] + a * ux - branch * h * uy, A[1] + a * uy + branch * h * ux
+    if k1 == "line" and k2 == "line":
+        (P, u), (Q, v) = d1, d2
+        den = u[0] * v[1] - u[1] * v[0]
+        bad = np.abs(den) < 1e-12
+        _fail(st, bad)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            t = ((Q[0] - P[0]) * v[1] - (Q[1] - P[1]) * v[0]) / np.where(bad, np.nan, den)
+        return P[0] + t * u[0], P[1] + t * u[1]
+    (A, r, _), (B0, u) = (d1, d2) if k1 == "circle" else (d2, d1)
+    wx, wy = A[0] - B0[0], A[1] - B0[1]
+    t0 = wx * u[0] + wy * u[1]
+    perp2 = wx * wx + wy * wy - t0 * t0
+    h = _sqrt_checked(st, r * r - perp2, r)
+    t = t0 + branch * h
+    return B0[0] + t * u[0], B0[1] + t * u[1]
+
+
+def _solve_driver(mech: Mechanism, st: _State, g: Group, q: Arr) -> None:
+    j = mech.joint(g.joints[0])
+    ia, ib = mech.index[j.a], mech.index[j.b]
+    u = mech.index[g.bodies[0]]
+    qa, pb, ang = _geom(mech, j)
+    if isinstance(j, Revolute):
+        if u == ib:
+            st.set_angle(ib, st.T[ia] + q)
+            st.place(ib, pb, st.wpt(ia, qa))
+        else:
+            st.set_angle(ia, st.T[ib] - q)
+            st.place(ia, qa, st.wpt(ib, pb))
+        return
+    assert isinstance(j, Prismatic)
+    if u == ib:
+        st.set_angle(ib, st.T[ia] + j.rel_angle)
+        Q = st.wpt(ia, qa)
+        ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
+        st.place(ib, pb, (Q[0] + q * ux, Q[1] + q * uy))
+    else:
+        st.set_angle(ia, st.T[ib] - j.rel_angle)
+        P = st.wpt(ib, pb)
+        ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
+        st.place(ia, qa, (P[0] - q * ux, P[1] - q * uy))
+
+
+def _line_condition(mech: Mechanism, st: _State, j: Joint, body: int) -> tuple[Vec, Arr]:
+    """For a body of known angle: the line constraint of joint j as ``n . r_body = c``."""
+    ia, ib = mech.index[j.a], mech.index[j.b]
+    qa, pb, ang = _geom(mech, j)
+    ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
+    nx, ny = -uy, ux
+    if body == ia:  # body carries the line; known point X of b
+        X = st.wpt(ib, pb)
+        w = st.rot(ia, qa)
+        return (nx, ny), nx * (X[0] - w[0]) + ny * (X[1] - w[1])
+    Q = st.wpt(ia, qa)
+    w = st.rot(ib, pb)
+    return (nx, ny), nx * (Q[0] - w[0]) + ny * (Q[1] - w[1])
+
+
+def _solve_two_lines(mech: Mechanism, st: _State, body: int, j1: Joint, j2: Joint) -> None:
+    (n1, c1), (n2, c2) = _line_condition(mech, st, j1, body), _line_condition(mech, st, j2, body)
+    den = n1[0] * n2[1] - n1[1] * n2[0]
+    bad = np.abs(den) < 1e-12
+    _fail(st, bad)
+    den = np.where(bad, np.nan, den)
+    st.X[body] = (c1 * n2[1] - c2 * n1[1]) / den
+    st.Y[body] = (n1[0] * c2 - n2[0] * c1) / den
+
+
+def _rotating_line(mech: Mechanism, st: _State, g_body: int, A: Vec, a_loc: tuple[float, float],
+                   line_q: tuple[float, float], ang: float, h: Arr | float, X: Vec,
+                   branch: int) -> None:
+    """Angle of body g pinned at A whose line (through q at angle ang) must pass through X.
+
+    Solves ``(A(theta) n_loc) . (X - A) = h``; ``branch=+1`` makes the line's direction u
+    point from A towards X (``u . (X - A) > 0``).
+    """
+    dx, dy = X[0] - A[0], X[1] - A[1]
+    d = np.hypot(dx, dy)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        c = h / d
+    bad = ~(np.abs(c) <= 1.0 + 1e-12)
+    _fail(st, bad)
+    acos = np.arccos(np.clip(np.where(bad, np.nan, c), -1.0, 1.0))
+    th = np.arctan2(dy, dx) + branch * acos - ang - np.pi / 2
+    st.set_angle(g_body, th)
+    st.place(g_body, a_loc, A)
+
+
+def _solve_dyad(mech: Mechanism, st: _State, g: Group, branch: int) -> None:
+    j1, j2, j3 = (mech.joint(n) for n in g.joints)
+    b1, b2 = (mech.index[b] for b in g.bodies)
+    i2a, i2b = mech.index[j2.a], mech.index[j2.b]
+    qa2, pb2, ang2 = _geom(mech, j2)
+    if isinstance(j2, Revolute):
+        p1 = qa2 if b1 == i2a else pb2
+        p2 = pb2 if b2 == i2b else qa2
+        L1 = _locus(mech, st, j1, b1, p1)
+        L2 = _locus(mech, st, j3, b2, p2)
+        B = _intersect(st, L1, L2, branch)
+        _finish_side(st, b1, L1[0], L1[1], p1, B)
+        _finish_side(st, b2, L2[0], L2[1], p2, B)
+        return
+    # internal prismatic: guide body ga, slider body sb
+    assert isinstance(j2, Prismatic)
+    ga, sb = i2a, i2b
+    ext = {b1: j1, b2: j3}
+    jg: Joint = ext[ga]
+    js: Joint = ext[sb]
+    if isinstance(jg, Revolute) and isinstance(js, Revolute):  # RPR
+        A, a_loc = _pivot(mech, st, jg, ga)
+        C, c_loc = _pivot(mech, st, js, sb)
+        rel = j2.rel_angle
+        cr, sr = np.cos(rel), np.sin(rel)
+        px, py = pb2[0] - c_loc[0], pb2[1] - c_loc[1]
+        rpx, rpy = cr * px - sr * py, sr * px + cr * py
+        nlx, nly = -np.sin(ang2), np.cos(ang2)
+        h = nlx * (qa2[0] - a_loc[0] - rpx) + nly * (qa2[1] - a_loc[1] - rpy)
+        _rotating_line(mech, st, ga, A, a_loc, qa2, ang2, h, C, branch)
+        st.set_angle(sb, st.T[ga] + rel)
+        st.place(sb, c_loc, C)
+        return
+    # one or both external joints prismatic: both angles known
+    if isinstance(jg, Prismatic) and isinstance(js, Prismatic):
+        raise StructureError(f"dyad {g.bodies} with three prismatic pairs {g.joints} is not "
+                             "determined (the sliding along the common direction is free)")
+    jp: Joint
+    jf: Joint
+    if isinstance(jg, Prismatic):
+        st.set_angle(ga, _theta_of_prismatic(mech, st, jg, ga))
+        st.set_angle(sb, st.T[ga] + j2.rel_angle)
+        pinned, free, jp, jf = sb, ga, js, jg
+    else:  # jg is the revolute
+        st.set_angle(sb, _theta_of_prismatic(mech, st, js, sb))
+        st.set_angle(ga, st.T[sb] - j2.rel_angle)
+        pinned, free, jp, jf = ga, sb, jg, js
+    P, p_loc = _pivot(mech, st, jp, pinned)
+    st.place(pinned, p_loc, P)
+    _solve_two_lines(mech, st, free, jf, j2)
+
+
+def _pivot(mech: Mechanism, st: _State, j: Joint, body: int) -> tuple[Vec, tuple[float, float]]:
+    """World centre of revolute j (from its known side) and its local point on ``body``."""
+    ia = mech.index[j.a]
+    qa, pb, _ = _geom(mech, j)
+    if body == ia:
+        return st.wpt(mech.index[j.b], pb), qa
+    return st.wpt(ia, qa), pb
+
+
+def _solve_slot_group(mech: Mechanism, st: _State, g: Group, branch: int) -> None:
+    jt, js = (mech.joint(n) for n in g.joints)
+    b = mech.index[g.bodies[0]]
+    ia, ib = mech.index[js.a], mech.index[js.b]
+    qa, pb, ang = _geom(mech, js)
+    if isinstance(jt, Prismatic):
+        st.set_angle(b, _theta_of_prismatic(mech, st, jt, b))
+        _solve_two_lines(mech, st, b, jt, js)
+        return
+    A, a_loc = _pivot(mech, st, jt, b)
+    if b == ia:  # the body carries the slot; known pin X
+        X = st.wpt(ib, pb)
+        nlx, nly = -np.sin(ang), np.cos(ang)
+        h = nlx * (qa[0] - a_loc[0]) + nly * (qa[1] - a_loc[1])
+        _rotating_line(mech, st, b, A, a_loc, qa, ang, h, X, branch)
+        return
+    # the body carries the pin; slot in known body a
+    rad = float(np.hypot(pb[0] - a_loc[0], pb[1] - a_loc[1]))
+    Q = st.wpt(ia, qa)
+    u = st.rot(ia, (np.cos(ang), np.sin(ang)))
+    P = _intersect(st, ("circle", (A, rad, a_loc)), ("line", (Q, u)), branch)
+    _finish_side(st, b, "circle", (A, rad, a_loc), pb, P)
+
+
+# ---------------------------------------------------------------------------------------------
+# Newton for general groups
+def _group_rows(mech: Mechanism, st: _State, g: Group, need_gamma: bool
+                ) -> list[tuple[int, int, dict[str, Any]]]:
+    out = []
+    for name in g.joints:
+        j = mech.joint(name)
+        drv = mech.driver if name == mech.driver.joint else None
+        for r in _rows(mech, st, j, drv, None, need_gamma):
+            out.append((mech.index[j.a], mech.index[j.b], r))
+    return out
+
+
+def _assemble(mech: Mechanism, st: _State, g: Group, rows: list[tuple[int, int, dict[str, Any]]]
+              ) -> tuple[Arr, list[tuple[int, int, dict[str, Any]]]]:
+    cols = {mech.index[b]: 3 * k for k, b in enumerate(g.bodies)}
+    m = 3 * len(g.bodies)
+    J = np.zeros((st.n, m, m))
+    for r, (ia, ib, row) in enumerate(rows):
+        for body, key in ((ia, "ja"), (ib, "jb")):
+            if body in cols:
+                c = cols[body]
+                for k in range(3):
+                    J[:, r, c + k] += row[key][k]
+    return J, rows
+
+
+def _known_part(mech: Mechanism, st: _State, g: Group, rows: list[tuple[int, int, dict[str, Any]]],
+                level: str) -> Arr:
+    """Sum over known bodies of J_known * (q_dot or q_ddot) for each row."""
+    members = {mech.index[b] for b in g.bodies}
+    out = np.zeros((st.n, len(rows)))
+    for r, (ia, ib, row) in enumerate(rows):
+        for body, key in ((ia, "ja"), (ib, "jb")):
+            if body not in members:
+                if level == "v":
+                    q = (st.VX[body], st.VY[body], st.W[body])
+                else:
+                    q = (st.AX[body], st.AY[body], st.E[body])
+                ja = row[key]
+                out[:, r] += ja[0] * q[0] + ja[1] * q[1] + ja[2] * q[2]
+    return out
+
+
+def _solve_newton(mech: Mechanism, st: _State, g: Group, q: Arr, tol: float = 1e-12,
+                  max_iter: int = 50) -> None:
+    members = [mech.index[b] for b in g.bodies]
+    n = st.n
+    z = np.empty((len(members), 3))
+    for k, bname in enumerate(g.bodies):
+        gs = mech.body(bname).guess
+        z[k] = gs if gs is not None else (0.0, 0.0, 0.0)
+    sol = np.full((n, len(members), 3), np.nan)
+    scale = _length_scale(mech)
+    for i in range(n):
+        sub = _State(len(mech.body_names), 1)
+        for bi in range(len(mech.body_names)):
+            if bi in members:
+                continue
+            sub.X[bi], sub.Y[bi] = st.X[bi][i:i + 1], st.Y[bi][i:i + 1]
+            sub.set_angle(bi, st.T[bi][i:i + 1])
+        ok = False
+        for _ in range(max_iter):
+            for k, bi in enumerate(members):
+                sub.X[bi], sub.Y[bi] = z[k, 0:1], z[k, 1:2]
+                sub.set_angle(bi, z[k, 2:3])
+            rows = _group_rows(mech, sub, g, need_gamma=False)
+            J, _ = _assemble(mech, sub, g, rows)
+            res = np.array([float(r["res"][0]) - (float(q[i]) if r.get("drive") else 0.0)
+                            for _, _, r in rows])
+            if np.max(np.abs(res)) < tol * scale:
+                ok = True
+                break
+            try:
+                dz = np.linalg.solve(J[0], -res)
+            except np.linalg.LinAlgError:
+                break
+            z = z + dz.reshape(z.shape)
+        if ok:
+            sol[i] = z
+        else:
+            st.bad[i] = True
+            z = sol[i - 1] if i > 0 and np.isfinite(sol[i - 1]).all() else z
+    for k, bi in enumerate(members):
+        st.X[bi], st.Y[bi] = sol[:, k, 0], sol[:, k, 1]
+        st.set_angle(bi, sol[:, k, 2])
+
+
+def _length_scale(mech: Mechanism) -> float:
+    pts = [abs(c) for b in (mech.frame, *mech.bodies) for p in b.points.values() for c in p]
+    return max(max(pts, default=1.0), 1e-3)
+
+
+# ---------------------------------------------------------------------------------------------
+# velocities and accelerations
+def _driver_rates(mech: Mechanism, st: _State, g: Group, w1: Arr, e1: Arr) -> bool:
+    """Closed-form velocity/acceleration of a crank body; False if not applicable."""
+    j = mech.joint(g.joints[0])
+    if not isinstance(j, Revolute):
+        return False
+    ia, ib = mech.index[j.a], mech.index[j.b]
+    u = mech.index[g.bodies[0]]
+    k = ia if u == ib else ib
+    sign = 1.0 if u == ib else -1.0
+    qa, pb, _ = _geom(mech, j)
+    pk, pu = (qa, pb) if u == ib else (pb, qa)
+    st.W[u] = st.W[k] + sign * w1
+    st.E[u] = st.E[k] + sign * e1
+    vP = st.point_vel(k, pk)
+    aP = st.point_acc(k, pk)
+    rx, ry = st.rot(u, pu)
+    w, e = st.W[u], st.E[u]
+    st.VX[u], st.VY[u] = vP[0] + w * ry, vP[1] - w * rx
+    st.AX[u] = aP[0] + e * ry + w * w * rx
+    st.AY[u] = aP[1] - e * rx + w * w * ry
+    return True
+
+
+def _group_rates(mech: Mechanism, st: _State, g: Group, w1: Arr, e1: Arr) -> None:
+    if g.kind == "driver" and _driver_rates(mech, st, g, w1, e1):
+        return
+    members = [mech.index[b] for b in g.bodies]
+    rows = _group_rows(mech, st, g, need_gamma=False)
+    J, _ = _assemble(mech, st, g, rows)
+    rhs = -_known_part(mech, st, g, rows, "v")
+    for r, (_, _, row) in enumerate(rows):
+        if row.get("drive"):
+            rhs[:, r] += w1
+    good = ~st.bad
+    sol = _batched_solve(J, rhs, good)
+    for k, b in enumerate(members):
+        st.VX[b], st.VY[b], st.W[b] = sol[:, 3 * k], sol[:, 3 * k + 1], sol[:, 3 * k + 2]
+    rows = _group_rows(mech, st, g, need_gamma=True)
+    rhs = -_known_part(mech, st, g, rows, "a")
+    for r, (_, _, row) in enumerate(rows):
+        rhs[:, r] += row["gam"]
+        if row.get("drive"):
+            rhs[:, r] += e1
+    sol = _batched_solve(J, rhs, good)
+    for k, b in enumerate(members):
+        st.AX[b], st.AY[b], st.E[b] = sol[:, 3 * k], sol[:, 3 * k + 1], sol[:, 3 * k + 2]
+
+
+def _batched_solve(J: Arr, rhs: Arr, good: Arr) -> Arr:
+    out = np.full(rhs.shape, np.nan)
+    if good.all():
+        Jg, rg = J, rhs
+    else:
+        Jg, rg = J[good], rhs[good]
+    with np.errstate(all="ignore"):
+        det = np.linalg.det(Jg) if Jg.shape[0] else np.zeros(0)
+        sing = ~(np.abs(det) > 1e-300)
+        if sing.any():
+            Jg = Jg.copy()
+            Jg[sing] = np.eye(J.shape[1])
+        x = np.linalg.solve(Jg, rg[..., None])[..., 0]
+        x[sing] = np.nan
+    if good.all():
+        return x
+    out[good] = x
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None,
+               eps1: ArrayLike | None = None, *, branches: Mapping[str, int] | None = None,
+               on_fail: Literal["raise", "nan"] = "raise") -> Kinematics:
+    """Positions, velocities and accelerations of all bodies for all driver positions.
+
+    Parameters
+    ----------
+    mech : Mechanism
+        The mechanism (its structure is analysed first; StructureError if wrong).
+    phi1 : array_like (n,)
+        Driver positions: crank angle [rad] (``theta_b - theta_a`` of the driver joint) or, for
+        a Linear driver, the slide coordinate [m].
+    omega1, eps1 : float or array_like (n,), optional
+        Driver speed and acceleration per position (default: the driver's ``omega1``,
+        ``eps1``; for a Linear driver ``v1``, ``a1``).
+    branches : mapping, optional
+        Group key -> +1/-1, overriding ``mech.branches``.
+    on_fail : {"raise", "nan"}
+        Where some positions cannot be assembled: raise AssemblyError listing the driver ranges
+        (default), or return NaN there with ``assembled`` False.
+
+    Returns
+    -------
+    Kinematics
+    """
+    q = np.atleast_1d(require_finite("phi1", phi1)).astype(float)
+    if q.ndim != 1:
+        raise ParameterError("phi1", q.shape, "must be a 1-D array of driver positions")
+    if on_fail not in ("raise", "nan"):
+        raise ParameterError("on_fail", on_fail, "must be 'raise' or 'nan'")
+    n = q.shape[0]
+    drv = mech.driver
+    w1 = np.broadcast_to(require_finite("omega1", drv.omega1 if omega1 is None else omega1),
+                         (n,)).astype(float)
+    e1 = np.broadcast_to(require_finite("eps1", drv.eps1 if eps1 is None else eps1),
+                         (n,)).astype(float)
+    br = dict(mech.branches)
+    br.update(branches or {})
+    for k_, v_ in br.items():
+        if v_ not in (1, -1):
+            raise ParameterError(f"branches.{k_}", v_, "must be +1 or -1")
+    structure = mech.structure
+    nb = len(mech.body_names)
+    st = _State(nb, n)
+    used: dict[str, int] = {}
+    for g in structure.groups:
+        b = int(br.get(g.key, 1))
+        used[g.key] = b
+        if g.kind == "driver":
+            _solve_driver(mech, st, g, q)
+        elif g.kind in ("RS", "PS"):
+            _solve_slot_group(mech, st, g, b)
+        elif g.kind == "newton":
+            _solve_newton(mech, st, g, q)
+        else:
+            _solve_dyad(mech, st, g, b)
+    if st.bad.any() and on_fail == "raise":
+        unit = "rad" if isinstance(drv, Crank) else "m"
+        raise AssemblyError(f"mechanism cannot be assembled at {int(st.bad.sum())} of {n} "
+                            "driver positions", angle_ranges(q, st.bad), driver="phi1"
+                            if unit == "rad" else "s1", unit=unit)
+    for g in structure.groups:
+        _group_rates(mech, st, g, w1, e1)
+    bad = st.bad | ~np.isfinite(np.array(st.W)).all(axis=0)
+    if bad.any() and on_fail == "raise":
+        unit = "rad" if isinstance(drv, Crank) else "m"
+        raise AssemblyError("mechanism is at a singular (toggle) position where velocities are "
+                            "undefined", angle_ranges(q, bad), unit=unit)
+    out = {k: np.array(getattr(st, k)) for k in ("X", "Y", "T", "VX", "VY", "W", "AX", "AY", "E")}
+    if bad.any():
+        for v in out.values():
+            v[:, bad] = np.nan
+    return Kinematics(mech, q, w1.copy(), e1.copy(), mech.body_names, out["X"], out["Y"],
+                      out["T"], out["VX"], out["VY"], out["W"], out["AX"], out["AY"], out["E"],
+                      ~bad, used)
+

@@ -1,0 +1,471 @@
+"""Immutable description of a planar mechanism: frame, bodies, joints, driver.
+
+A body carries its own Cartesian frame; its named points, centre of mass and the joints' points
+are given in that frame [m]. The pose of body ``b`` in the fixed frame is ``(x_b, y_b, theta_b)``:
+a point ``p`` of the body is at ``r_b + A(theta_b) p`` with ``A`` the counter-clockwise rotation.
+The frame (ground) is a body too, always at pose ``(0, 0, 0)``.
+
+Joints (each joins a first body ``a`` and a second body ``b``; reactions are reported as the
+force exerted **by a on b**):
+
+* :class:`Revolute` -- point ``point_a`` of ``a`` coincides with point ``point_b`` of ``b``
+  (both default to the joint's name). 2 constraints.
+* :class:`Prismatic` -- ``a`` carries a guide line through its point ``through`` (default: the
+  joint's name) at angle ``angle`` in ``a``'s frame; point ``point`` of ``b`` (default: the
+  joint's name) stays on the line, and ``theta_b - theta_a`` stays equal to ``rel_angle``. The
+  slide coordinate is ``s = u . (P_b - Q_a)`` with ``u`` the line's direction. 2 constraints.
+* :class:`PinInSlot` -- ``a`` carries a straight slot (line through ``through`` at ``angle``),
+  point ``point`` of ``b`` (the pin) stays on it; rotation is free. 1 constraint (a higher pair).
+
+Drivers: :class:`Crank` on a revolute joint, ``phi1 = theta_b - theta_a`` (the angle of ``b``'s
+x-axis measured counter-clockwise from ``a``'s x-axis); :class:`Linear` on a prismatic joint,
+``s1 = u . (P_b - Q_a)``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+from functools import cached_property
+from types import MappingProxyType
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from linkwork.errors import ParameterError, StructureError
+
+if TYPE_CHECKING:
+    from linkwork.planar.structure import Structure
+
+__all__ = [
+    "Body",
+    "Crank",
+    "Joint",
+    "Linear",
+    "Mechanism",
+    "PinInSlot",
+    "Prismatic",
+    "Revolute",
+    "bar",
+    "crank_slider",
+    "fourbar",
+]
+
+Point = tuple[float, float]
+
+
+def _pt(name: str, value: Any) -> Point:
+    try:
+        x, y = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, "must be a pair of numbers (x, y) [m]") from None
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ParameterError(name, value, "must be finite")
+    return (x, y)
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body (link) with its own frame.
+
+    Parameters
+    ----------
+    name : str
+        Unique name (``"crank"``).
+    points : mapping str -> (x, y)
+        Named points in the body's frame [m] (joint centres, coupler points).
+    mass : float
+        Mass [kg], >= 0.
+    com : (x, y)
+        Centre of mass in the body's frame [m].
+    inertia : float
+        Centroidal moment of inertia about the z axis [kg m^2], >= 0.
+    guess : (x, y, theta), optional
+        Initial pose [m, m, rad] for Newton iteration of higher-class groups; it also selects
+        their assembly branch. Not used by closed-form (dyad) groups.
+    """
+
+    name: str
+    points: Mapping[str, Point] = field(default_factory=dict)
+    mass: float = 0.0
+    com: Point = (0.0, 0.0)
+    inertia: float = 0.0
+    guess: tuple[float, float, float] | None = None
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.name, str) or not self.name:
+            raise ParameterError("Body.name", self.name, "must be a non-empty string")
+        pts = {str(k): _pt(f"{self.name}.points.{k}", v) for k, v in dict(self.points).items()}
+        object.__setattr__(self, "points", MappingProxyType(pts))
+        object.__setattr__(self, "com", _pt(f"{self.name}.com", self.com))
+        for attr in ("mass", "inertia"):
+            v = float(getattr(self, attr))
+            if not math.isfinite(v) or v < 0:
+                raise ParameterError(f"{self.name}.{attr}", v, "must be finite and >= 0")
+            object.__setattr__(self, attr, v)
+        if self.guess is not None:
+            g = tuple(float(v) for v in self.guess)
+            if len(g) != 3:
+                raise ParameterError(f"{self.name}.guess", self.guess, "must be (x, y, theta)")
+            object.__setattr__(self, "guess", g)
+
+    def point(self, name: str) -> Point:
+        """Local coordinates [m] of the named point; ``"com"`` is the centre of mass."""
+        if name == "com":
+            return self.com
+        try:
+            return self.points[name]
+        except KeyError:
+            raise ParameterError(f"{self.name}.points", name,
+                                 f"no such point; known: {sorted(self.points)}") from None
+
+
+def bar(name: str, start: str, end: str, length: float, *, mass: float = 0.0,
+        com: float | Point | None = None, inertia: float | None = None,
+        points: Mapping[str, Point] | None = None) -> Body:
+    """A straight link whose x-axis runs from point ``start`` (origin) to point ``end``.
+
+    Parameters
+    ----------
+    name, start, end : str
+        Body name and names of its end points (``start`` at the origin, ``end`` at
+        ``(length, 0)``).
+    length : float
+        Distance between the end points [m], > 0.
+    mass : float
+        Mass [kg].
+    com : float or (x, y), optional
+        Centre of mass: a distance from ``start`` along the link [m], or local coordinates;
+        default the midpoint.
+    inertia : float, optional
+        Centroidal moment of inertia [kg m^2]; default that of a thin uniform rod,
+        ``mass * length**2 / 12``.
+    points : mapping, optional
+        Further named points in the link's frame.
+    """
+    from linkwork.errors import require_positive
+
+    length = float(require_positive(f"{name}.length", length))
+    c: Point = (length / 2, 0.0) if com is None else (
+        (float(com), 0.0) if np.ndim(com) == 0 else _pt(f"{name}.com", com))  # type: ignore[arg-type]
+    pts = {start: (0.0, 0.0), end: (length, 0.0)}
+    pts.update(dict(points or {}))
+    inert = mass * length**2 / 12.0 if inertia is None else inertia
+    return Body(name, pts, mass=mass, com=c, inertia=inert)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """Base of the joints: ``name``, first body ``a``, second body ``b``."""
+
+    name: str
+    a: str
+    b: str
+
+    #: number of scalar constraints the joint imposes
+    n_constraints = 2
+    #: one-letter type code used in group names (R, P, S)
+    code = "?"
+
+
+@dataclass(frozen=True)
+class Revolute(Joint):
+    """Revolute joint (turning pair): point ``point_a`` of ``a`` on point ``point_b`` of ``b``.
+
+    Reaction: force (fx, fy) exerted by ``a`` on ``b`` at the joint centre, in frame axes [N].
+    """
+
+    point_a: str | None = None
+    point_b: str | None = None
+    n_constraints = 2
+    code = "R"
+
+    @property
+    def pa(self) -> str:
+        return self.point_a or self.name
+
+    @property
+    def pb(self) -> str:
+        return self.point_b or self.name
+
+
+@dataclass(frozen=True)
+class Prismatic(Joint):
+    """Prismatic joint (sliding pair): ``b`` slides along a line fixed in ``a``.
+
+    Parameters
+    ----------
+    name, a, b : str
+        Joint name, guide body, slider body.
+    angle : float
+        Direction of the guide line in ``a``'s frame [rad], counter-clockwise from its x-axis;
+        it is also the positive direction of the slide coordinate.
+    through : str or (x, y), optional
+        A point of the line: a named point of ``a`` or local coordinates [m]; default the point
+        of ``a`` named like the joint, else ``a``'s origin.
+    point : str, optional
+        Point of ``b`` that stays on the line (default: the joint's name, else ``b``'s origin).
+    rel_angle : float
+        Constant ``theta_b - theta_a`` [rad].
+
+    Reaction: force (fx, fy) exerted by ``a`` on ``b`` (normal to the guide) applied at the
+    slider point, plus a couple ``mz`` [N m] exerted by ``a`` on ``b``.
+    """
+
+    angle: float = 0.0
+    through: str | Point | None = None
+    point: str | None = None
+    rel_angle: float = 0.0
+    n_constraints = 2
+    code = "P"
+
+
+@dataclass(frozen=True)
+class PinInSlot(Joint):
+    """Pin-in-slot (higher pair): point ``point`` of ``b`` stays on a straight slot of ``a``.
+
+    ``angle`` and ``through`` define the slot's line in ``a`` as for :class:`Prismatic`;
+    ``theta_b - theta_a`` is free. Reaction: force exerted by ``a`` on ``b`` (normal to the slot,
+    frictionless) at the pin.
+    """
+
+    angle: float = 0.0
+    through: str | Point | None = None
+    point: str | None = None
+    n_constraints = 1
+    code = "S"
+
+
+@dataclass(frozen=True)
+class Crank:
+    """Rotary driver on a revolute joint: ``phi1 = theta_b - theta_a`` [rad].
+
+    ``omega1`` [rad/s] and ``eps1`` [rad/s^2] are the defaults used when a kinematic analysis is
+    not given them (scalars, or arrays over the positions passed at analysis time).
+    """
+
+    joint: str
+    omega1: float = 1.0
+    eps1: float = 0.0
+    kind = "crank"
+
+
+@dataclass(frozen=True)
+class Linear:
+    """Linear driver on a prismatic joint: slide coordinate ``s1`` [m], speed ``v1`` [m/s],
+    acceleration ``a1`` [m/s^2] (passed to the analysis as ``phi1, omega1, eps1``)."""
+
+    joint: str
+    v1: float = 1.0
+    a1: float = 0.0
+    kind = "linear"
+
+    @property
+    def omega1(self) -> float:
+        return self.v1
+
+    @property
+    def eps1(self) -> float:
+        return self.a1
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """A planar mechanism: frame, moving bodies, joints, one driver, assembly branches.
+
+    Parameters
+    ----------
+    frame : Body
+        The fixed link; its points are the ground pivots and guide points.
+    bodies : sequence of Body
+        The moving links.
+    joints : sequence of Revolute, Prismatic, PinInSlot
+        The kinematic pairs.
+    driver : Crank or Linear
+        The input.
+    branches : mapping str -> +1/-1
+        Assembly branch of each Assur group, keyed by the group's key (see
+        :mod:`linkwork.planar.structure`; for a dyad the name of the joint between its two bodies).
+        Missing keys mean +1.
+    """
+
+    frame: Body
+    bodies: tuple[Body, ...]
+    joints: tuple[Joint, ...]
+    driver: Crank | Linear
+    branches: Mapping[str, int] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "bodies", tuple(self.bodies))
+        object.__setattr__(self, "joints", tuple(self.joints))
+        object.__setattr__(self, "branches", MappingProxyType(dict(self.branches)))
+        names = [self.frame.name] + [b.name for b in self.bodies]
+        dup = {n for n in names if names.count(n) > 1}
+        if dup:
+            raise ParameterError("bodies", sorted(dup)[0], "body names must be unique")
+        jn = [j.name for j in self.joints]
+        dupj = {n for n in jn if jn.count(n) > 1}
+        if dupj:
+            raise ParameterError("joints", sorted(dupj)[0], "joint names must be unique")
+        for j in self.joints:
+            if not isinstance(j, Revolute | Prismatic | PinInSlot):
+                raise ParameterError("joints", j, "must be Revolute, Prismatic or PinInSlot")
+            for side in (j.a, j.b):
+                if side not in names:
+                    raise ParameterError(f"joint {j.name}", side, f"unknown body; known: {names}")
+            if j.a == j.b:
+                raise ParameterError(f"joint {j.name}", j.a, "must join two different bodies")
+            self._check_joint_points(j)
+        for k, v in self.branches.items():
+            if v not in (1, -1):
+                raise ParameterError(f"branches.{k}", v, "must be +1 or -1")
+        d = self.driver
+        jmap = {j.name: j for j in self.joints}
+        if d.joint not in jmap:
+            raise ParameterError("driver.joint", d.joint, f"no such joint; known: {jn}")
+        dj = jmap[d.joint]
+        if isinstance(d, Crank) and not isinstance(dj, Revolute):
+            raise ParameterError("driver.joint", d.joint, "a Crank driver needs a revolute joint")
+        if isinstance(d, Linear) and not isinstance(dj, Prismatic):
+            raise ParameterError("driver.joint", d.joint,
+                                 "a Linear driver needs a prismatic joint")
+
+    def _check_joint_points(self, j: Joint) -> None:
+        ba, bb = self.body(j.a), self.body(j.b)
+        if isinstance(j, Revolute):
+            ba.point(j.pa)
+            bb.point(j.pb)
+        elif isinstance(j, Prismatic | PinInSlot):
+            if isinstance(j.through, str):
+                ba.point(j.through)
+            elif j.through is not None:
+                _pt(f"joint {j.name}.through", j.through)
+            if j.point is not None:
+                bb.point(j.point)
+
+    # -- look-ups ---------------------------------------------------------------------------
+    @cached_property
+    def body_names(self) -> tuple[str, ...]:
+        """Names of all bodies, the frame first (index 0)."""
+        return (self.frame.name, *(b.name for b in self.bodies))
+
+    @cached_property
+    def index(self) -> dict[str, int]:
+        """Body name -> index (frame 0, moving bodies 1..N in the given order)."""
+        return {n: i for i, n in enumerate(self.body_names)}
+
+    def body(self, name: str) -> Body:
+        """The body called ``name`` (the frame included)."""
+        if name == self.frame.name:
+            return self.frame
+        for b in self.bodies:
+            if b.name == name:
+                return b
+        raise ParameterError("body", name, f"no such body; known: {list(self.body_names)}")
+
+    def joint(self, name: str) -> Joint:
+        """The joint called ``name``."""
+        for j in self.joints:
+            if j.name == name:
+                return j
+        raise ParameterError("joint", name,
+                             f"no such joint; known: {[j.name for j in self.joints]}")
+
+    def joint_geometry(self, j: Joint) -> tuple[Point, Point, float]:
+        """Local geometry of a joint: (point on a, point on b, line angle in a [rad]).
+
+        Revolute: the two coincident points and 0. Prismatic/PinInSlot: the line's point on
+        ``a``, the slider/pin point on ``b`` and the line's angle in ``a``.
+        """
+        ba, bb = self.body(j.a), self.body(j.b)
+        if isinstance(j, Revolute):
+            return ba.point(j.pa), bb.point(j.pb), 0.0
+        assert isinstance(j, Prismatic | PinInSlot)
+        if j.through is None:
+            qa = ba.points.get(j.name, (0.0, 0.0))
+        elif isinstance(j.through, str):
+            qa = ba.point(j.through)
+        else:
+            qa = _pt("through", j.through)
+        pb = bb.point(j.point) if j.point is not None else bb.points.get(j.name, (0.0, 0.0))
+        return qa, pb, float(j.angle)
+
+    def branch(self, key: str) -> int:
+        """Assembly branch of the group with this key (+1 unless set in ``branches``)."""
+        return int(self.branches.get(key, 1))
+
+    def with_branches(self, **branches: int) -> Mechanism:
+        """A copy with some group branches changed (``m.with_branches(B=-1)``)."""
+        new = dict(self.branches)
+        new.update(branches)
+        return Mechanism(self.frame, self.bodies, self.joints, self.driver, new)
+
+    @cached_property
+    def structure(self) -> Structure:
+        """Structural analysis (mobility, Assur groups); raises StructureError if wrong."""
+        from linkwork.planar.structure import analyse
+
+        return analyse(self)
+
+    def validate(self) -> Mechanism:
+        """Run the structural analysis now (raises StructureError); return self."""
+        _ = self.structure
+        return self
+
+
+def _as_bodies(bodies: Iterable[Body]) -> tuple[Body, ...]:
+    out = tuple(bodies)
+    for b in out:
+        if not isinstance(b, Body):
+            raise StructureError(f"not a Body: {b!r}")
+    return out
+
+
+def fourbar(a: float, b: float, c: float, d: float, *, masses: tuple[float, float, float] = (
+        0.0, 0.0, 0.0), inertias: tuple[float | None, float | None, float | None] = (
+        None, None, None), coms: tuple[Any, Any, Any] = (None, None, None), omega1: float = 1.0,
+        eps1: float = 0.0, branch: int = 1) -> Mechanism:
+    """The four-bar O2-A-B-O4 in Norton's notation, as an engine model.
+
+    Frame line O2 -> O4 along +x (``O2 = (0, 0)``, ``O4 = (d, 0)``); crank ``a`` = O2A (body
+    ``"crank"``, driven by ``Crank("O2")`` so ``phi1`` is Norton's theta2), coupler ``b`` = AB
+    (``"coupler"``), rocker ``c`` = O4B (``"rocker"``, x-axis from O4 to B). ``branch=+1`` puts B
+    on the left of the directed line A -> O4 (the dyad's key is ``"B"``). Masses, centroidal
+    inertias (default thin rods) and centres of mass (distance from the link's first point,
+    default midpoints) per link crank, coupler, rocker.
+    """
+    links = [("crank", "O2", "A", a), ("coupler", "A", "B", b), ("rocker", "O4", "B", c)]
+    bodies = [bar(n, s, e, L, mass=m, inertia=i, com=cm)
+              for (n, s, e, L), m, i, cm in zip(links, masses, inertias, coms, strict=True)]
+    frame = Body("frame", {"O2": (0.0, 0.0), "O4": (float(d), 0.0)})
+    joints = (Revolute("O2", "frame", "crank"), Revolute("A", "crank", "coupler"),
+              Revolute("B", "coupler", "rocker"), Revolute("O4", "frame", "rocker"))
+    return Mechanism(frame, _as_bodies(bodies), joints, Crank("O2", omega1, eps1), {"B": branch})
+
+
+def crank_slider(r: float, l: float, e: float = 0.0, *, guide_angle: float = 0.0,
+                 masses: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                 inertias: tuple[float | None, float | None] = (None, None),
+                 coms: tuple[Any, Any] = (None, None), omega1: float = 1.0, eps1: float = 0.0,
+                 branch: int = 1) -> Mechanism:
+    """The offset crank-slider O-A-B as an engine model.
+
+    Crank ``r`` = OA (``"crank"``, ``Crank("O")``), rod ``l`` = AB (``"rod"``), slider
+    (``"slider"``, point ``"B"`` at its origin) on a guide of the frame through ``(0, e)``
+    rotated by ``guide_angle`` about O (i.e. offset ``e`` measured normal to the guide,
+    positive to its left), direction ``(cos guide_angle, sin guide_angle)``. ``branch=+1`` puts
+    B on the positive side of the guide (further along its direction); the key is ``"B"``.
+    ``masses`` = (crank, rod, slider).
+    """
+    ca, sa = math.cos(guide_angle), math.sin(guide_angle)
+    through = (-e * sa, e * ca)
+    frame = Body("frame", {"O": (0.0, 0.0), "G": through})
+    crank = bar("crank", "O", "A", r, mass=masses[0], inertia=inertias[0], com=coms[0])
+    rod = bar("rod", "A", "B", l, mass=masses[1], inertia=inertias[1], com=coms[1])
+    slider = Body("slider", {"B": (0.0, 0.0)}, mass=masses[2])
+    joints = (Revolute("O", "frame", "crank"), Revolute("A", "crank", "rod"),
+              Revolute("B", "rod", "slider"),
+              Prismatic("G", "frame", "slider", angle=guide_angle, through="G", point="B"))
+    return Mechanism(frame, (crank, rod, slider), joints, Crank("O", omega1, eps1),
+                     {"B": branch})

@@ -1,0 +1,230 @@
+"""Structure of a planar mechanism: mobility and decomposition into the driver and Assur groups.
+
+Mobility by the Chebyshev-Gruebler formula for planar chains,
+
+.. math:: W = 3 n - 2 p_5 - p_4,
+
+with ``n`` moving bodies, ``p_5`` lower pairs (revolute, prismatic: 2 constraints each) and
+``p_4`` higher pairs (pin-in-slot: 1 constraint). One driver is supported, so ``W`` must be 1.
+
+The decomposition repeatedly takes the smallest set of not-yet-solved bodies whose joints to
+each other and to solved bodies impose exactly ``3 k`` constraints (the driver adds one to its
+joint): that set is the next group (the driver's own body first, then Assur groups), solvable
+once the bodies before it are known. Group kinds:
+
+* ``"driver"`` -- the driven body (1 body, driver joint).
+* dyads (class II, order 2), named by the pair types along the chain
+  ``external joint of the first body - joint between the bodies - external joint of the second``:
+  ``"RRR", "RRP", "PRR", "RPR", "RPP", "PPR", "PRP"``; solved in closed form.
+* one body with a pin-in-slot pair (the pin-in-slot variants of the RPR/RRP/RPP dyads with
+  the slider block removed): ``"RS"`` (revolute + slot), ``"PS"`` (prismatic + slot); closed
+  form.
+* anything else (class III and higher, groups with several slots): ``"newton"``, solved by
+  Newton's method continued from the previous position.
+
+Each group has a ``key`` for its assembly branch (``Mechanism.branches``): the joint between the
+two bodies of a dyad, the slot joint of an ``RS``/``PS`` group, the first body's name for a
+Newton group (whose branch is set by the bodies' ``guess`` poses).
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+from linkwork.errors import StructureError
+from linkwork.planar.model import Joint, Mechanism
+
+__all__ = ["Group", "Structure", "analyse", "mobility"]
+
+_CLOSED = {"RRR", "RRP", "PRR", "RPR", "RPP", "PPR", "PRP"}
+
+
+@dataclass(frozen=True)
+class Group:
+    """One group of the decomposition.
+
+    Attributes
+    ----------
+    kind : str
+        ``"driver"``, a dyad code (``"RRR"``, ...), ``"RS"``, ``"PS"`` or ``"newton"``.
+    bodies : tuple of str
+        Its bodies (for a dyad: first body = the one listed first in the mechanism).
+    joints : tuple of str
+        All its joints: for a dyad (J1, J2, J3) = (external of the first body, internal,
+        external of the second body).
+    external : tuple of str
+        Joints to bodies solved before (the group's order is their number).
+    cls : int
+        Assur class (1 for the driver, 2 for dyads and one-body slot groups, >= 3 above).
+    order : int
+        Number of external joints.
+    key : str
+        Branch key (see the module docstring).
+    """
+
+    kind: str
+    bodies: tuple[str, ...]
+    joints: tuple[str, ...]
+    external: tuple[str, ...]
+    cls: int
+    order: int
+    key: str
+
+
+@dataclass(frozen=True)
+class Structure:
+    """Result of :func:`analyse`: mobility and groups in solution order."""
+
+    n_bodies: int
+    n_lower: int
+    n_higher: int
+    mobility: int
+    groups: tuple[Group, ...]
+
+    def formula(self) -> str:
+        """The structural formula, e.g. ``"I(crank) -> II RRR(coupler, rocker)"``."""
+        roman = {1: "I", 2: "II", 3: "III", 4: "IV", 5: "V", 6: "VI"}
+        parts = []
+        for g in self.groups:
+            label = "I" if g.kind == "driver" else f"{roman.get(g.cls, g.cls)} {g.kind}"
+            parts.append(f"{label}({', '.join(g.bodies)})")
+        return " -> ".join(parts)
+
+
+def _cons(mech: Mechanism, j: Joint) -> int:
+    return j.n_constraints + (1 if j.name == mech.driver.joint else 0)
+
+
+def mobility(mech: Mechanism) -> int:
+    """Chebyshev-Gruebler mobility ``3 n - 2 p5 - p4`` (the driver not counted)."""
+    return 3 * len(mech.bodies) - sum(j.n_constraints for j in mech.joints)
+
+
+def _largest_cycle(bodies: tuple[str, ...], joints: list[Joint]) -> int:
+    adj: dict[str, set[str]] = {b: set() for b in bodies}
+    for j in joints:
+        if j.a in adj and j.b in adj:
+            adj[j.a].add(j.b)
+            adj[j.b].add(j.a)
+    best = 0
+
+    def dfs(start: str, node: str, seen: list[str]) -> None:
+        nonlocal best
+        for nb in adj[node]:
+            if nb == start and len(seen) >= 3:
+                best = max(best, len(seen))
+            elif nb not in seen:
+                dfs(start, nb, [*seen, nb])
+
+    for b in bodies:
+        dfs(b, b, [b])
+    return best
+
+
+def _describe(mech: Mechanism, bodies: set[str]) -> str:
+    js = [j.name for j in mech.joints if j.a in bodies or j.b in bodies]
+    return f"bodies {sorted(bodies)}, joints {js}"
+
+
+def analyse(mech: Mechanism) -> Structure:
+    """Mobility and Assur-group decomposition of ``mech``.
+
+    Raises
+    ------
+    StructureError
+        The mechanism is locked (mobility < 1), under-driven (mobility > 1), has a sub-chain
+        with more constraints than coordinates, or a set of bodies that no group order can
+        solve; the message names the bodies and joints involved.
+    """
+    n = len(mech.bodies)
+    p5 = sum(1 for j in mech.joints if j.n_constraints == 2)
+    p4 = sum(1 for j in mech.joints if j.n_constraints == 1)
+    w = mobility(mech)
+    everything = set(mech.body_names[1:])
+    if w < 1:
+        raise StructureError(
+            f"mechanism is locked: mobility W = 3*{n} - 2*{p5} - {p4} = {w} < 1 "
+            f"({_describe(mech, everything)})")
+    if w > 1:
+        raise StructureError(
+            f"mechanism is under-driven: mobility W = 3*{n} - 2*{p5} - {p4} = {w} but one "
+            f"driver ({mech.driver.joint}) is given ({_describe(mech, everything)})")
+    known = {mech.frame.name}
+    unknown = list(mech.body_names[1:])
+    groups: list[Group] = []
+    while unknown:
+        found = None
+        for k in range(1, min(len(unknown), 8) + 1):
+            for combo in itertools.combinations(unknown, k):
+                s = set(combo)
+                js = [j for j in mech.joints
+                      if (j.a in s or j.b in s) and j.a in s | known and j.b in s | known]
+                c = sum(_cons(mech, j) for j in js)
+                if c > 3 * k:
+                    raise StructureError(
+                        f"sub-chain is locked: {c} constraints on {3 * k} coordinates "
+                        f"({_describe(mech, s)})")
+                if c == 3 * k and (k == 1 or _connected(combo, js)):
+                    found = (combo, js)
+                    break
+            if found:
+                break
+        if found is None:
+            raise StructureError(
+                f"no Assur group can be solved among {_describe(mech, set(unknown))}: "
+                "they are not determined by the bodies solved before (under-driven part or "
+                "a joint missing)")
+        combo, js = found
+        groups.append(_make_group(mech, combo, js, known))
+        known |= set(combo)
+        unknown = [u for u in unknown if u not in combo]
+    return Structure(n, p5, p4, w, tuple(groups))
+
+
+def _connected(bodies: tuple[str, ...], joints: list[Joint]) -> bool:
+    seen = {bodies[0]}
+    changed = True
+    while changed:
+        changed = False
+        for j in joints:
+            if j.a in bodies and j.b in bodies and (j.a in seen) != (j.b in seen):
+                seen |= {j.a, j.b}
+                changed = True
+    return len(seen) == len(bodies)
+
+
+def _make_group(mech: Mechanism, combo: tuple[str, ...], js: list[Joint],
+                known: set[str]) -> Group:
+    order = [b for b in mech.body_names if b in combo]
+    ext = [j for j in js if not (j.a in combo and j.b in combo)]
+    internal = [j for j in js if j.a in combo and j.b in combo]
+    if len(order) == 1 and any(j.name == mech.driver.joint for j in js) and len(js) == 1:
+        return Group("driver", tuple(order), (js[0].name,), (js[0].name,), 1, 1, js[0].name)
+    kind = "newton"
+    key = order[0]
+    joints = [j.name for j in js]
+    drv = any(j.name == mech.driver.joint for j in js)
+    if len(order) == 2 and len(js) == 3 and len(internal) == 1 and not drv:
+        b1, b2 = order
+        e1 = [j for j in ext if b1 in (j.a, j.b)]
+        e2 = [j for j in ext if b2 in (j.a, j.b)]
+        if len(e1) == 1 and len(e2) == 1 and all(j.n_constraints == 2 for j in js):
+            code = e1[0].code + internal[0].code + e2[0].code
+            if code in _CLOSED:
+                kind, key = code, internal[0].name
+                joints = [e1[0].name, internal[0].name, e2[0].name]
+    elif len(order) == 1 and len(js) == 2 and not drv:
+        two = [j for j in js if j.n_constraints == 2]
+        one = [j for j in js if j.n_constraints == 1]
+        if len(two) == 1 and len(one) == 1:
+            kind, key = two[0].code + "S", one[0].name
+            joints = [two[0].name, one[0].name]
+    if kind == "newton":
+        cyc = _largest_cycle(tuple(order), js)
+        deg = max(sum(1 for j in js if b in (j.a, j.b)) for b in order)
+        cls = max(3, cyc, deg) if len(order) > 2 else 2
+    else:
+        cls = 2
+    return Group(kind, tuple(order), tuple(joints), tuple(j.name for j in ext), cls, len(ext),
+                 key)
