@@ -354,7 +354,7 @@ def test_shaft_axial_and_radial_misfit_analytic(e):
 def test_bad_inputs_raise_parameter_errors():
     with pytest.raises(ParameterError, match="kind"):
         SpatialJoint("X", "ground", "crank", kind="hinge")
-    with pytest.raises(ParameterError, match="e = -0.01"):
+    with pytest.raises(ParameterError, match=r"e = -0\.01"):
         SpatialJoint("X", "ground", "crank", e=-0.01)
     with pytest.raises(ParameterError, match="constrained"):
         SpatialJoint("X", "ground", "crank", stiffness=(1, 1, 0, 1, 1, 0))

@@ -190,7 +190,7 @@ def test_reference_power_balance():
     phi = np.linspace(0, 2 * np.pi, 19)
     _, q = planar_reactions(phi)
     k = kinematics(phi)
-    centres, forces, moments = loads(phi)
+    _, forces, moments = loads(phi)
     # velocities of centres by finite differences of positions
     h = 1e-6
     cp, _, _ = loads(phi + h)

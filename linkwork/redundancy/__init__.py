@@ -21,21 +21,37 @@ from linkwork.redundancy.core import (
     solve_reactions,
     wrench_about_origin,
 )
+from linkwork.redundancy.mechanism import (
+    Deviation,
+    OutOfPlaneLoad,
+    body_wrenches,
+    deviation_array,
+    geometry,
+    spatial_model,
+    spatial_reactions,
+)
 
 __all__ = [
     "COMPONENTS",
     "DEFAULT_BEARING_STIFFNESS",
     "JOINT_KINDS",
+    "Deviation",
+    "OutOfPlaneLoad",
     "RedundancyCount",
     "SpatialGeometry",
     "SpatialJoint",
     "SpatialModel",
     "SpatialReactions",
     "bearing_stiffness",
+    "body_wrenches",
     "count_redundancy",
+    "deviation_array",
     "equilibrium_matrix",
+    "geometry",
     "influence",
     "misfit",
     "solve_reactions",
+    "spatial_model",
+    "spatial_reactions",
     "wrench_about_origin",
 ]

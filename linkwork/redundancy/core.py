@@ -732,7 +732,7 @@ def solve_reactions(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     m = model.n_unknowns - 1
     dc = (np.zeros((n, m)) if deviations is None else misfit(model, geom, deviations))
     if dc.ndim != 2:
-        raise ParameterError("deviations", np.shape(deviations),
+        raise ParameterError("deviations", dc.shape[:-2],
                              f"must have shape ({len(model.joints)}, 2, 6)")
     if method == "force":
         inf = influence(model, geom, wrenches)

@@ -1,0 +1,259 @@
+"""Spatial reactions of a mechanism of the planar engine (:mod:`linkwork.planar`).
+
+Feeds the array core (:mod:`linkwork.redundancy.core`) from a
+:class:`~linkwork.planar.Mechanism` and its :func:`~linkwork.planar.kinematics`: joint centres,
+body angles, slide directions and the body wrenches (gravity, d'Alembert inertia forces and
+moments, external loads, optional out-of-plane loads and heights of the centres of mass).
+
+Joints: a planar :class:`~linkwork.planar.Revolute` becomes a revolute-family spatial joint
+centred on its point; a :class:`~linkwork.planar.Prismatic` a prismatic-family joint centred on
+the slider point with the slide direction ``theta_a + angle``. Pin-in-slot joints (higher pairs)
+are not supported.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from linkwork.errors import ParameterError, StructureError, require_finite
+from linkwork.redundancy.core import (
+    JOINT_KINDS,
+    SpatialGeometry,
+    SpatialJoint,
+    SpatialModel,
+    SpatialReactions,
+    solve_reactions,
+)
+
+__all__ = [
+    "Deviation",
+    "OutOfPlaneLoad",
+    "body_wrenches",
+    "deviation_array",
+    "geometry",
+    "spatial_model",
+    "spatial_reactions",
+]
+
+
+@dataclass(frozen=True)
+class Deviation:
+    """Manufacturing deviation of the element of ``joint`` carried by ``body``.
+
+    Offsets ``dx, dy, dz`` [m] of the element's centre and small rotations (tilts) ``tx, ty``
+    (and ``tz``, which only matters for prismatic joints) [rad] of its axis about the nominal
+    centre, in ``body``'s own frame (the engine's body frame; the ground's is the fixed frame).
+    """
+
+    joint: str
+    body: str
+    dx: float = 0.0
+    dy: float = 0.0
+    dz: float = 0.0
+    tx: float = 0.0
+    ty: float = 0.0
+    tz: float = 0.0
+
+    def vector(self) -> np.ndarray:
+        """(dx, dy, dz, tx, ty, tz) [m, rad]."""
+        return require_finite(f"deviation {self.joint}/{self.body}",
+                              [self.dx, self.dy, self.dz, self.tx, self.ty, self.tz])
+
+
+@dataclass(frozen=True)
+class OutOfPlaneLoad:
+    """External out-of-plane load on ``body``: force ``fz`` [N] at the centre of mass (at the
+    body's height) and moments ``mx``, ``my`` [N·m] about the fixed x, y axes."""
+
+    body: str
+    fz: float = 0.0
+    mx: float = 0.0
+    my: float = 0.0
+
+
+def _ground(mech: Any) -> str:
+    return str(mech.frame.name)
+
+
+def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = None,
+                  default: Mapping[str, Any] | None = None) -> SpatialModel:
+    """The spatial model of an engine mechanism.
+
+    Parameters
+    ----------
+    mech : linkwork.planar.Mechanism
+    joints : mapping joint name -> mapping, optional
+        Per-joint keyword arguments of :class:`~linkwork.redundancy.SpatialJoint` (``kind``,
+        ``e``, ``z``, ``stiffness``, ``k_bearing``, ``axial_ratio``).
+    default : mapping, optional
+        Keyword arguments used for joints not in ``joints`` (and under theirs).
+
+    Returns
+    -------
+    SpatialModel
+        Bodies in the mechanism's order, the frame renamed ``"ground"``.
+    """
+    from linkwork.planar import PinInSlot, Prismatic
+
+    joints = dict(joints or {})
+    known = {j.name for j in mech.joints}
+    for name in joints:
+        if name not in known:
+            raise ParameterError("joints", name, f"no such joint; known: {sorted(known)}")
+    ground = _ground(mech)
+    out = []
+    for j in mech.joints:
+        if isinstance(j, PinInSlot):
+            raise StructureError(f"joint {j.name}: pin-in-slot joints are not supported by the "
+                                 "spatial (redundancy) analysis; use revolute or prismatic joints")
+        kw = {**dict(default or {}), **dict(joints.get(j.name, {}))}
+        family = "P" if isinstance(j, Prismatic) else "R"
+        kw.setdefault("kind", "prismatic" if family == "P" else "revolute")
+        if kw["kind"] in JOINT_KINDS and JOINT_KINDS[kw["kind"]][0] != family:
+            raise ParameterError(f"{j.name}.kind", kw["kind"],
+                                 "must be a " + ("prismatic" if family == "P" else "revolute")
+                                 + f"-family kind for a planar {type(j).__name__} joint")
+        a = "ground" if j.a == ground else j.a
+        b = "ground" if j.b == ground else j.b
+        out.append(SpatialJoint(j.name, a, b, **kw))
+    return SpatialModel(tuple(b.name for b in mech.bodies), tuple(out), mech.driver.joint)
+
+
+def geometry(mech: Any, kin: Any) -> SpatialGeometry:
+    """Joint centres, body angles and slide directions from the engine's kinematics."""
+    from linkwork.planar import Prismatic
+
+    n = kin.n
+    pts = np.zeros((n, len(mech.joints), 2))
+    slide = np.zeros((n, len(mech.joints)))
+    for k, j in enumerate(mech.joints):
+        _, pb, ang = mech.joint_geometry(j)
+        pm = kin.point(j.b, pb)
+        pts[:, k, 0], pts[:, k, 1] = pm.x, pm.y
+        if isinstance(j, Prismatic):
+            slide[:, k] = kin.angle(j.a) + ang
+    angles = np.stack([kin.angle(b.name) for b in mech.bodies], axis=1)
+    if not np.all(np.isfinite(pts)):
+        raise ParameterError("kinematics", "NaN", "must be assembled at every position")
+    return SpatialGeometry(pts, angles, slide)
+
+
+def body_wrenches(mech: Any, kin: Any, *, gravity: ArrayLike | None = None,
+                  loads: Sequence[Any] = (), heights: Mapping[str, float] | None = None,
+                  out_of_plane: Sequence[OutOfPlaneLoad] = ()) -> np.ndarray:
+    r"""Wrench about the origin on every moving body: gravity + inertia + external loads.
+
+    .. math:: \mathbf{F} = m(\mathbf{g} - \mathbf{a}_S) + \sum \mathbf{F}_{ext},\quad
+              M_z = -I_S \varepsilon + \sum M_{ext},
+
+    the force of each body applied at its centre of mass lifted to the height ``heights[body]``
+    [m] (default 0, the plane of the joints' z = 0), external point forces at their points at
+    the same height; then :class:`OutOfPlaneLoad` terms.
+
+    Returns
+    -------
+    ndarray, shape (n, n_bodies, 6)
+    """
+    from linkwork.planar import BodyTorque, PointForce
+
+    n = kin.n
+    g = np.zeros(2) if gravity is None else require_finite("gravity", gravity).ravel()
+    if g.shape != (2,):
+        raise ParameterError("gravity", g.shape, "must be a vector (gx, gy) [m/s^2]")
+    h = dict(heights or {})
+    names = [b.name for b in mech.bodies]
+    for name in h:
+        if name not in names:
+            raise ParameterError("heights", name, f"no such moving body; known: {names}")
+    force = np.zeros((n, len(names), 3))
+    moment = np.zeros((n, len(names), 3))
+
+    def add(i: int, fx: Any, fy: Any, fz: Any, x: Any, y: Any, z: float) -> None:
+        f = np.stack(np.broadcast_arrays(fx, fy, fz, np.zeros(n)), -1)[:, :3]
+        p = np.stack(np.broadcast_arrays(x, y, z, np.zeros(n)), -1)[:, :3]
+        force[:, i] += f
+        moment[:, i] += np.cross(p, f)
+
+    for i, b in enumerate(mech.bodies):
+        c = kin.point(b.name, "com")
+        add(i, b.mass * (g[0] - c.ax), b.mass * (g[1] - c.ay), 0.0, c.x, c.y, h.get(b.name, 0.0))
+        moment[:, i, 2] -= b.inertia * kin.eps[kin.bodies.index(b.name)]
+    for ld in loads:
+        if ld.body not in names:
+            raise ParameterError("loads.body", ld.body, f"no such moving body; known: {names}")
+        i = names.index(ld.body)
+        if isinstance(ld, PointForce):
+            pm = kin.point(ld.body, ld.point)
+            add(i, require_finite("fx", ld.fx), require_finite("fy", ld.fy), 0.0, pm.x, pm.y,
+                h.get(ld.body, 0.0))
+        elif isinstance(ld, BodyTorque):
+            moment[:, i, 2] += require_finite("mz", ld.mz)
+        else:
+            raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
+    for op in out_of_plane:
+        if op.body not in names:
+            raise ParameterError("out_of_plane.body", op.body,
+                                 f"no such moving body; known: {names}")
+        i = names.index(op.body)
+        c = kin.point(op.body, "com")
+        add(i, 0.0, 0.0, float(op.fz), c.x, c.y, h.get(op.body, 0.0))
+        moment[:, i, 0] += float(op.mx)
+        moment[:, i, 1] += float(op.my)
+    return np.concatenate([force, moment], axis=-1)
+
+
+def deviation_array(model: SpatialModel, deviations: Iterable[Deviation],
+                    ground: str = "ground") -> np.ndarray:
+    """Deviations as the core's array, shape (n_joints, 2, 6) (element on body a, on body b).
+
+    ``ground`` is the name the caller uses for the frame (``"ground"`` is accepted too).
+    """
+    out = np.zeros((len(model.joints), 2, 6))
+    names = [j.name for j in model.joints]
+    for d in deviations:
+        if d.joint not in names:
+            raise ParameterError("deviation.joint", d.joint, f"no such joint; known: {names}")
+        jt = model.joints[names.index(d.joint)]
+        body = "ground" if d.body == ground else d.body
+        if body == jt.body_a:
+            side = 0
+        elif body == jt.body_b:
+            side = 1
+        else:
+            raise ParameterError(f"deviation {d.joint}.body", d.body,
+                                 f"must be one of the joint's bodies {jt.body_a!r}, "
+                                 f"{jt.body_b!r}")
+        out[names.index(d.joint), side] += d.vector()
+    return out
+
+
+def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = None,
+                      eps1: ArrayLike | None = None, gravity: ArrayLike | None = None,
+                      loads: Sequence[Any] = (),
+                      joints: Mapping[str, Mapping[str, Any]] | None = None,
+                      default: Mapping[str, Any] | None = None,
+                      heights: Mapping[str, float] | None = None,
+                      out_of_plane: Sequence[OutOfPlaneLoad] = (),
+                      deviations: Iterable[Deviation] = (),
+                      method: str = "force") -> SpatialReactions:
+    """Spatial joint reactions of an engine mechanism over the driver positions ``phi1``.
+
+    Runs :func:`linkwork.planar.kinematics`, builds :func:`spatial_model`, :func:`geometry`,
+    :func:`body_wrenches` and :func:`deviation_array`, and calls
+    :func:`~linkwork.redundancy.solve_reactions`. Parameters as in those functions; ``phi1``,
+    ``omega1``, ``eps1`` as in :func:`linkwork.planar.kinematics` [rad, rad/s, rad/s^2].
+    """
+    from linkwork.planar import kinematics
+
+    kin = kinematics(mech, phi1, omega1, eps1)
+    model = spatial_model(mech, joints, default)
+    geom = geometry(mech, kin)
+    w = body_wrenches(mech, kin, gravity=gravity, loads=loads, heights=heights,
+                      out_of_plane=out_of_plane)
+    dev = deviation_array(model, deviations, _ground(mech))
+    return solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
