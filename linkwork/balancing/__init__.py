@@ -4,9 +4,21 @@
   content, RMS and peak over a cycle;
 * :mod:`linkwork.balancing.partial` -- partial dynamic balancing after paper 001: the crank
   counterweight's axis moved to O1(x, y) (least squares, the paper's formula (1), first
-  harmonic, continuous RMS), and the paper's efficiency R_j.
+  harmonic, continuous RMS), and the paper's efficiency R_j;
+* :mod:`linkwork.balancing.static` -- counterweights in closed form (four-bar by linearly
+  independent vectors, crank-slider with a fraction of the reciprocating mass);
+* :mod:`linkwork.balancing.mechanism` -- counterweights on planar-engine mechanisms (a new
+  mechanism description), shaking loads from a kinematic solution, general force balancing;
+* :mod:`linkwork.balancing.comparison` -- paper 001's table for any crank-driven mechanism,
+  with the driving torque and frame-bearing reactions before and after.
 """
 
+from linkwork.balancing.comparison import (
+    BalancingComparison,
+    CycleComparison,
+    compare_balancing,
+    crank_axis,
+)
 from linkwork.balancing.loads import (
     Harmonics,
     harmonics,
@@ -15,6 +27,16 @@ from linkwork.balancing.loads import (
     rms,
     shaking_force,
     shaking_moment,
+)
+from linkwork.balancing.mechanism import (
+    ForceBalance,
+    ShakingLoads,
+    add_counterweights,
+    cycle,
+    force_balance,
+    frame_hinge,
+    frame_hinged_links,
+    shaking_loads,
 )
 from linkwork.balancing.partial import (
     AxisOffset,
@@ -25,14 +47,33 @@ from linkwork.balancing.partial import (
     periodic_weights,
     rms_offset,
 )
+from linkwork.balancing.static import (
+    Counterweight,
+    crank_slider_counterweight,
+    fourbar_counterweights,
+)
 
 __all__ = [
     "AxisOffset",
+    "BalancingComparison",
+    "Counterweight",
+    "CycleComparison",
+    "ForceBalance",
     "Harmonics",
+    "ShakingLoads",
+    "add_counterweights",
+    "compare_balancing",
     "counterweight_axis_moment",
     "counterweight_axis_offset",
+    "crank_axis",
+    "crank_slider_counterweight",
+    "cycle",
     "efficiency",
     "first_harmonic_offset",
+    "force_balance",
+    "fourbar_counterweights",
+    "frame_hinge",
+    "frame_hinged_links",
     "harmonics",
     "moment_about",
     "peak",
@@ -40,5 +81,6 @@ __all__ = [
     "rms",
     "rms_offset",
     "shaking_force",
+    "shaking_loads",
     "shaking_moment",
 ]

@@ -46,18 +46,39 @@ class Counterweight(Result):
     link : str
         Name of the link that carries it.
     static_moment : float
-        :math:`S = m_{cw} r_{cw}` [kg·m].
+        :math:`S = m_{cw} r_{cw}` [kg·m], about the link's hinge with the frame.
     angle : float
         Direction of the counterweight's centre on the link [rad], from the link's line
-        (first joint -> second joint), counter-clockwise; ``pi`` = on the extension beyond the
-        hinge, opposite the link's other joint.
+        (first joint -> second joint; in the planar engine: the body's x axis),
+        counter-clockwise; ``pi`` = on the extension beyond the hinge, opposite the link's
+        other joint.
+    radius : float or None
+        Distance of the counterweight's centre from the hinge [m]; needed to turn S into a
+        mass when the counterweight is added to a mechanism (the mass is ``S / radius``).
+    inertia : float
+        The counterweight's own centroidal moment of inertia [kg·m²] (0: a point mass).
     """
 
     link: str
     static_moment: float
     angle: float
-    units: ClassVar[dict[str, str]] = {"static_moment": "kg*m", "angle": "rad"}
+    radius: float | None = None
+    inertia: float = 0.0
+    units: ClassVar[dict[str, str]] = {"static_moment": "kg*m", "angle": "rad", "radius": "m",
+                                       "inertia": "kg*m**2"}
     position_field: ClassVar[str] = "static_moment"
+
+    def __post_init__(self) -> None:
+        require_positive("static_moment", self.static_moment, allow_zero=True)
+        require_finite("angle", self.angle)
+        if self.radius is not None:
+            require_positive("radius", self.radius)
+        require_positive("inertia", self.inertia, allow_zero=True)
+
+    def with_radius(self, radius: float, inertia: float = 0.0) -> Counterweight:
+        """The same static moment and angle at ``radius`` [m], with own inertia [kg·m²]."""
+        return Counterweight(self.link, self.static_moment, self.angle, float(radius),
+                             float(inertia))
 
     @property
     def first_moment(self) -> complex:
@@ -65,22 +86,32 @@ class Counterweight(Result):
         return complex(self.static_moment * np.cos(self.angle),
                        self.static_moment * np.sin(self.angle))
 
-    def mass(self, radius: float) -> float:
-        """Counterweight mass [kg] for a centre at ``radius`` [m] from the hinge."""
-        r = float(require_positive("radius", radius))
+    def mass(self, radius: float | None = None) -> float:
+        """Counterweight mass [kg] for a centre at ``radius`` [m] (default: its own radius)."""
+        if radius is None and self.radius is None:
+            raise ParameterError(f"counterweight on {self.link}: radius", None,
+                                 "must be given to turn the static moment into a mass")
+        rr = self.radius if radius is None else radius
+        assert rr is not None  # checked above
+        r = float(require_positive("radius", rr))
         return self.static_moment / r
 
     @classmethod
-    def from_first_moment(cls, link: str, q: complex) -> Counterweight:
+    def from_first_moment(cls, link: str, q: complex, radius: float | None = None,
+                          inertia: float = 0.0) -> Counterweight:
         """From a complex local first moment [kg·m]."""
-        return cls(link, float(abs(q)), float(np.angle(q)) if q != 0 else 0.0)
+        angle = float(np.angle(q)) if q != 0 else 0.0
+        if angle <= -np.pi + 1e-15:  # keep angles in (-pi, pi]
+            angle = float(np.pi)
+        return cls(link, float(abs(q)), angle, radius, inertia)
 
     @classmethod
-    def from_mass(cls, link: str, mass: float, radius: float, angle: float) -> Counterweight:
+    def from_mass(cls, link: str, mass: float, radius: float, angle: float,
+                  inertia: float = 0.0) -> Counterweight:
         """From a mass [kg] at ``radius`` [m] from the hinge and ``angle`` [rad] on the link."""
         m = float(require_positive("mass", mass, allow_zero=True))
         r = float(require_positive("radius", radius))
-        return cls(link, m * r, float(require_finite("angle", angle)))
+        return cls(link, m * r, float(require_finite("angle", angle)), r, inertia)
 
 
 def fourbar_counterweights(l1: float, l2: float, l3: float, m1: float, s1: complex,

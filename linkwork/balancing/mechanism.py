@@ -1,0 +1,338 @@
+"""Counterweights on planar-engine mechanisms: new mechanism descriptions, general force balance.
+
+A counterweight changes only the mass properties of the link that carries it, so the balanced
+mechanism is a new :class:`~linkwork.planar.model.Mechanism` with those links' mass, centre of
+mass and inertia replaced by the combined values; every other analysis (kinematics, inverse
+dynamics, the CLI) runs on it unchanged.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from linkwork.balancing.loads import peak, rms
+from linkwork.balancing.partial import periodic_weights
+from linkwork.balancing.static import Counterweight
+from linkwork.errors import InfeasibleError, ParameterError, require_finite
+from linkwork.planar.kinematics import Kinematics, kinematics
+from linkwork.planar.model import Body, Mechanism, Prismatic, Revolute
+from linkwork.results import Result
+
+__all__ = [
+    "ForceBalance",
+    "ShakingLoads",
+    "add_counterweights",
+    "cycle",
+    "force_balance",
+    "frame_hinge",
+    "frame_hinged_links",
+    "shaking_loads",
+    "with_counterweight",
+]
+
+
+def frame_hinge(mech: Mechanism, link: str) -> tuple[float, float]:
+    """Local coordinates [m] of the point where ``link`` is hinged to the frame.
+
+    Raises
+    ------
+    ParameterError
+        ``link`` is the frame, unknown, or has no revolute joint with the frame.
+    """
+    if link == mech.frame.name:
+        raise ParameterError("counterweight.link", link, "must be a moving link, not the frame")
+    mech.body(link)
+    for j in mech.joints:
+        if isinstance(j, Revolute):
+            if j.a == mech.frame.name and j.b == link:
+                return mech.body(link).point(j.pb)
+            if j.b == mech.frame.name and j.a == link:
+                return mech.body(link).point(j.pa)
+    raise ParameterError("counterweight.link", link,
+                         f"must be hinged to the frame by a revolute joint; such links: "
+                         f"{list(frame_hinged_links(mech))}")
+
+
+def frame_hinged_links(mech: Mechanism) -> tuple[str, ...]:
+    """Names of the moving links joined to the frame by a revolute joint, in body order."""
+    out = []
+    for b in mech.bodies:
+        for j in mech.joints:
+            if isinstance(j, Revolute) and {j.a, j.b} == {mech.frame.name, b.name}:
+                out.append(b.name)
+                break
+    return tuple(out)
+
+
+def with_counterweight(body: Body, hinge: tuple[float, float], cw: Counterweight) -> Body:
+    """``body`` with a counterweight added: combined mass, centre of mass and inertia.
+
+    The counterweight's centre is at ``hinge + radius*(cos angle, sin angle)`` in the body's
+    frame, its mass ``S / radius``; the inertia about the new centre follows the parallel-axis
+    theorem.
+    """
+    m_cw = cw.mass()
+    r = cw.radius
+    assert r is not None  # cw.mass() raised otherwise
+    rho = np.array(hinge) + r * np.array([np.cos(cw.angle), np.sin(cw.angle)])
+    c0 = np.array(body.com)
+    m = body.mass + m_cw
+    if m == 0.0:
+        return body
+    c = (body.mass * c0 + m_cw * rho) / m
+    inertia = (body.inertia + body.mass * float(np.sum((c0 - c) ** 2))
+               + cw.inertia + m_cw * float(np.sum((rho - c) ** 2)))
+    return dataclasses.replace(body, mass=m, com=(float(c[0]), float(c[1])), inertia=inertia)
+
+
+def add_counterweights(mech: Mechanism, counterweights: Iterable[Counterweight]) -> Mechanism:
+    """A new mechanism with the counterweights added to their (frame-hinged) links.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    counterweights : iterable of Counterweight
+        Each with ``link`` a frame-hinged link of ``mech`` and a ``radius``; the angle is
+        measured from the link body's x axis, the radius from its hinge with the frame.
+
+    Returns
+    -------
+    Mechanism
+        Same frame, joints, driver and branches; the carrying links' mass properties changed.
+    """
+    bodies = {b.name: b for b in mech.bodies}
+    for cw in counterweights:
+        hinge = frame_hinge(mech, cw.link)
+        bodies[cw.link] = with_counterweight(bodies[cw.link], hinge, cw)
+    return dataclasses.replace(mech, bodies=tuple(bodies[b.name] for b in mech.bodies))
+
+
+def cycle(n: int = 360, start: float = 0.0) -> np.ndarray:
+    """``n`` crank angles evenly spaced over one turn from ``start`` [rad], end excluded."""
+    if int(n) != n or n < 8:
+        raise ParameterError("n", n, "must be an integer >= 8")
+    return start + 2.0 * np.pi * np.arange(int(n)) / int(n)
+
+
+@dataclass(frozen=True)
+class ShakingLoads(Result):
+    """Shaking force and moment of a mechanism over the driver positions.
+
+    Attributes
+    ----------
+    phi1 : ndarray (n,)
+        Driver positions [rad].
+    fx, fy : ndarray (n,)
+        Shaking force :math:`-\\sum m_i a_{S_i}` [N] (exerted on the frame).
+    moment : ndarray (n,)
+        Shaking moment about ``point`` [N·m], counter-clockwise positive:
+        :math:`-\\sum [(r_{S_i} - P)\\times m_i a_{S_i} + I_{S_i}\\varepsilon_i]`.
+    point : tuple
+        Reference point P in frame coordinates [m].
+    """
+
+    phi1: np.ndarray
+    fx: np.ndarray
+    fy: np.ndarray
+    moment: np.ndarray
+    point: tuple[float, float]
+    units: ClassVar[dict[str, str]] = {"phi1": "rad", "fx": "N", "fy": "N", "moment": "N*m",
+                                       "point": "m"}
+
+    @property
+    def force(self) -> np.ndarray:
+        """(n, 2) shaking force [N]."""
+        return np.stack([self.fx, self.fy], axis=-1)
+
+    def force_rms(self) -> float:
+        """Continuous RMS of |F| over the cycle [N] (phi1 must sample one full cycle)."""
+        return rms(self.phi1, self.force, vector=True)
+
+    def moment_rms(self) -> float:
+        """Continuous RMS of the moment over the cycle [N·m]."""
+        return rms(self.phi1, self.moment)
+
+    def force_peak(self) -> float:
+        """Largest |F| over the samples [N]."""
+        return peak(self.force, vector=True)
+
+    def moment_peak(self) -> float:
+        """Largest |M| over the samples [N·m]."""
+        return peak(self.moment)
+
+
+def shaking_loads(kin: Kinematics, point: ArrayLike = (0.0, 0.0)) -> ShakingLoads:
+    """Shaking force and moment about ``point`` from a kinematic solution and mass properties.
+
+    Parameters
+    ----------
+    kin : Kinematics
+        From :func:`linkwork.planar.kinematics.kinematics`; the mass properties are those of
+        ``kin.mechanism``.
+    point : (x, y)
+        Reference point of the moment [m], frame coordinates.
+    """
+    P = require_finite("point", point)
+    if P.shape != (2,):
+        raise ParameterError("point", P.tolist(), "must be (x, y)")
+    n = kin.n
+    fx, fy, mz = np.zeros(n), np.zeros(n), np.zeros(n)
+    for b in kin.mechanism.bodies:
+        if b.mass == 0.0 and b.inertia == 0.0:
+            continue
+        c = kin.point(b.name, "com")
+        i = kin.bodies.index(b.name)
+        Fx, Fy = -b.mass * c.ax, -b.mass * c.ay
+        fx += Fx
+        fy += Fy
+        mz += (c.x - P[0]) * Fy - (c.y - P[1]) * Fx - b.inertia * kin.eps[i]
+    return ShakingLoads(kin.phi1, fx, fy, mz, (float(P[0]), float(P[1])))
+
+
+@dataclass(frozen=True)
+class ForceBalance(Result):
+    """Counterweights for (the best possible) force balance of a mechanism.
+
+    Attributes
+    ----------
+    counterweights : tuple of Counterweight
+        One per frame-hinged link used (static moment, angle on the link, radius).
+    mechanism : Mechanism
+        The balanced mechanism (a new description).
+    full : bool
+        True when the shaking force vanishes (residual RMS <= ``tol`` times the unbalanced).
+    force_rms_before, force_rms_after : float
+        RMS of |F| over the cycle [N].
+    ratio : float
+        force_rms_after / force_rms_before.
+    reason : str
+        Why full force balance is impossible (empty when ``full``).
+    """
+
+    counterweights: tuple[Counterweight, ...]
+    mechanism: Mechanism
+    full: bool
+    force_rms_before: float
+    force_rms_after: float
+    ratio: float
+    reason: str
+    units: ClassVar[dict[str, str]] = {"force_rms_before": "N", "force_rms_after": "N"}
+    position_field: ClassVar[str] = "force_rms_before"
+
+
+def _cw_force_basis(kin: Kinematics, link: str) -> np.ndarray:
+    """Shaking force per unit local first moment q of a counterweight on a frame-hinged link.
+
+    F = (omega^2 I - eps J) A(theta) q; returns shape (n, 2, 2).
+    """
+    i = kin.bodies.index(link)
+    th, w, e = kin.theta[i], kin.omega[i], kin.eps[i]
+    c, s = np.cos(th), np.sin(th)
+    A = np.stack([np.stack([c, -s], -1), np.stack([s, c], -1)], -2)  # (n, 2, 2)
+    w2 = w**2
+    K = np.stack([np.stack([w2, e], -1), np.stack([-e, w2], -1)], -2)  # w2*I - e*J
+    return np.asarray(np.einsum("nij,njk->nik", K, A))
+
+
+def _default_radius(mech: Mechanism, link: str) -> float:
+    h = np.array(frame_hinge(mech, link))
+    d = [float(np.hypot(*(np.array(p) - h))) for p in mech.body(link).points.values()]
+    d = [x for x in d if x > 0]
+    return 0.5 * max(d) if d else 0.1
+
+
+def _not_balanceable(mech: Mechanism, links: Sequence[str]) -> str:
+    sliders = []
+    for j in mech.joints:
+        if isinstance(j, Prismatic) and mech.frame.name in (j.a, j.b):
+            b = j.b if j.a == mech.frame.name else j.a
+            if mech.body(b).mass > 0:
+                sliders.append(b)
+    why = (f"the total first moment of mass contains terms that do not rotate rigidly with the "
+           f"counterweighted links {list(links)}")
+    if sliders:
+        why += (f"; {sliders} translate on the frame (reciprocating mass: its first moment "
+                "follows the slide coordinate, with all its harmonics, which no rotating "
+                "counterweight can cancel)")
+    return why
+
+
+def force_balance(mech: Mechanism, links: Sequence[str] | None = None,
+                  radii: float | Mapping[str, float] | None = None, *, n: int = 360,
+                  tol: float = 1e-9, require_full: bool = False) -> ForceBalance:
+    """Counterweights on frame-hinged links that make the shaking force vanish, or least.
+
+    The shaking force is linear in the counterweights' local first moments
+    :math:`q_k = m_k \\rho_k`: a counterweight on link k (hinged to the frame, angle
+    :math:`\\theta_k`) adds :math:`(\\omega_k^2 I - \\varepsilon_k J) A(\\theta_k) q_k`. The
+    :math:`q_k` minimising the cycle RMS of the total shaking force (weighted linear least
+    squares over ``n`` positions of one turn, at the driver's speed) are returned. When the
+    mechanism can be fully force balanced by counterweights on these links (the method of
+    linearly independent vectors succeeds: four-bar, any coupler centre), the residual is zero
+    to rounding and this is the classical solution; otherwise (e.g. a slider's reciprocating
+    mass) ``full`` is False, ``reason`` says why, and the counterweights are the best in the
+    RMS sense (for a centred crank-slider: half of the reciprocating mass on the crank).
+
+    Parameters
+    ----------
+    mech : Mechanism
+        A crank-driven mechanism with mass properties.
+    links : sequence of str, optional
+        Links to carry counterweights (each hinged to the frame by a revolute joint); default
+        all such links.
+    radii : float or mapping link -> float, optional
+        Counterweight radius from the hinge [m] (sets its mass S/r and inertia m r^2 in the new
+        mechanism); default half the distance from the hinge to the link's farthest point.
+    n : int
+        Positions over one turn.
+    tol : float
+        Relative residual (RMS after / before) under which the balance counts as full.
+    require_full : bool
+        Raise :class:`~linkwork.errors.InfeasibleError` instead of returning a partial balance.
+
+    Returns
+    -------
+    ForceBalance
+    """
+    use = tuple(frame_hinged_links(mech) if links is None else links)
+    if not use:
+        raise ParameterError("links", list(use), "no link hinged to the frame to carry a "
+                             "counterweight")
+    for link in use:
+        frame_hinge(mech, link)
+    phi = cycle(n)
+    kin = kinematics(mech, phi)
+    base = shaking_loads(kin)
+    F0 = base.force.reshape(-1)
+    w = np.repeat(periodic_weights(phi), 2)
+    B = np.concatenate([_cw_force_basis(kin, link).reshape(-1, 2) for link in use], axis=1)
+    sw = np.sqrt(w)
+    q = np.linalg.lstsq(B * sw[:, None], -F0 * sw, rcond=None)[0]
+    rms_before = base.force_rms()
+    resid = (F0 + B @ q).reshape(-1, 2)
+    rms_after = rms(phi, resid, vector=True)
+    ratio = rms_after / rms_before if rms_before > 0 else 0.0
+    full = ratio <= tol
+    reason = "" if full else _not_balanceable(mech, use)
+    if not full and require_full:
+        raise InfeasibleError("full force balance by counterweights on frame-hinged links",
+                              f"RMS shaking force {rms_after:.6g} N ({ratio:.3g} of unbalanced)",
+                              reason)
+    cws = []
+    for k, link in enumerate(use):
+        if isinstance(radii, Mapping):
+            r = float(radii[link]) if link in radii else _default_radius(mech, link)
+        elif radii is None:
+            r = _default_radius(mech, link)
+        else:
+            r = float(radii)
+        qk = complex(q[2 * k], q[2 * k + 1])
+        cws.append(Counterweight.from_first_moment(link, qk, r))
+    balanced = add_counterweights(mech, [c for c in cws if c.static_moment > 0])
+    return ForceBalance(tuple(cws), balanced, bool(full), rms_before, rms_after, ratio, reason)

@@ -1,0 +1,110 @@
+"""Figures for balancing: residual moments, shaking force hodographs, torques, Pareto sets."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from linkwork.plot import pyplot
+
+__all__ = ["plot_force_hodograph", "plot_moments", "plot_pareto", "plot_torques"]
+
+
+def _ax(ax: Any) -> Any:
+    if ax is None:
+        _, ax = pyplot().subplots(figsize=(7, 4))
+    return ax
+
+
+def plot_moments(phi: ArrayLike, curves: Mapping[str, ArrayLike], ax: Any = None,
+                 ylabel: str = "shaking moment [N·m]",
+                 markers: Mapping[str, tuple[ArrayLike, ArrayLike]] | None = None,
+                 ) -> dict[str, Any]:
+    """Curves over the crank angle (e.g. M, dM1, dM2, dM3 of paper 001's table).
+
+    Parameters
+    ----------
+    phi : array_like
+        Crank angle [rad] (drawn in degrees).
+    curves : mapping label -> array_like
+        Values at ``phi``.
+    ax : matplotlib Axes, optional
+    markers : mapping label -> (phi_deg, values), optional
+        Extra points drawn as markers (e.g. the paper's printed table).
+
+    Returns
+    -------
+    dict
+        ``{"ax": ax, label: Line2D, ...}``.
+    """
+    ax = _ax(ax)
+    deg = np.degrees(np.asarray(phi, dtype=float))
+    out: dict[str, Any] = {"ax": ax}
+    for label, y in curves.items():
+        (out[label],) = ax.plot(deg, np.asarray(y, dtype=float), label=label)
+    for label, pts in (markers or {}).items():
+        x, y = pts
+        (out[label],) = ax.plot(np.asarray(x), np.asarray(y), "o", ms=4, label=label)
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("crank angle φ1 [deg]")
+    ax.set_ylabel(ylabel)
+    ax.set_xlim(deg.min(), deg.max())
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3)
+    return out
+
+
+def plot_torques(phi: ArrayLike, curves: Mapping[str, ArrayLike], ax: Any = None) -> dict[str, Any]:
+    """Driving torque (or bearing-reaction magnitudes) over the crank angle, before/after."""
+    return plot_moments(phi, curves, ax=ax, ylabel="driving torque [N·m]")
+
+
+def plot_force_hodograph(forces: Mapping[str, ArrayLike], ax: Any = None) -> dict[str, Any]:
+    """Shaking-force hodographs: the tip of (Fx, Fy) over a cycle, per mechanism variant.
+
+    Parameters
+    ----------
+    forces : mapping label -> array_like of shape (n, 2)
+        Shaking force [N].
+    """
+    ax = _ax(ax)
+    out: dict[str, Any] = {"ax": ax}
+    for label, F in forces.items():
+        f = np.asarray(F, dtype=float)
+        (out[label],) = ax.plot(f[:, 0], f[:, 1], label=label)
+    ax.plot([0], [0], "k+")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("Fx [N]")
+    ax.set_ylabel("Fy [N]")
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3)
+    return out
+
+
+def plot_pareto(force_rms: Sequence[float], moment_rms: Sequence[float],
+                torque_fluct: Sequence[float], ax: Any = None,
+                points: Mapping[str, tuple[float, float]] | None = None) -> dict[str, Any]:
+    """Trade-off of optimal balancing: RMS shaking force vs RMS shaking moment.
+
+    Colour = driving-torque fluctuation. ``points`` adds labelled comparison designs
+    (e.g. the unbalanced, static and paper-001 solutions) as ``label -> (F_rms, M_rms)``.
+    """
+    ax = _ax(ax)
+    out: dict[str, Any] = {"ax": ax}
+    sc = ax.scatter(force_rms, moment_rms, c=torque_fluct, cmap="viridis", s=25,
+                    label="optimal (weights)")
+    out["pareto"] = sc
+    cb = ax.figure.colorbar(sc, ax=ax)
+    cb.set_label("driving-torque fluctuation (RMS) [N·m]")
+    marks = ["s", "^", "D", "v", "P", "X"]
+    for i, (label, (f, m)) in enumerate((points or {}).items()):
+        (out[label],) = ax.plot([f], [m], marks[i % len(marks)], ms=8, label=label,
+                                markerfacecolor="none", markeredgewidth=1.5)
+    ax.set_xlabel("RMS shaking force [N]")
+    ax.set_ylabel("RMS shaking moment [N·m]")
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3)
+    return out

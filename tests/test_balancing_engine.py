@@ -1,0 +1,169 @@
+"""Force balancing and shaking loads on planar-engine mechanisms."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from linkwork.balancing import moment_about
+from linkwork.balancing.mechanism import (
+    add_counterweights,
+    cycle,
+    force_balance,
+    frame_hinged_links,
+    shaking_loads,
+)
+from linkwork.balancing.static import (
+    Counterweight,
+    crank_slider_counterweight,
+    fourbar_counterweights,
+)
+from linkwork.errors import InfeasibleError, ParameterError
+from linkwork.planar.kinematics import kinematics
+from linkwork.planar.model import crank_slider, fourbar
+
+PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.00567),
+             coms=(0.05, 0.15, 0.1), omega1=10.0)
+
+
+def paper_fourbar(branch=1):
+    return fourbar(0.1, 0.3, 0.2, 0.3, branch=branch, **PAPER)
+
+
+def fd_fourbar_shaking(l, masses, coms, inertias, omega, phi, branch):
+    """Independent: plain-trig four-bar positions, accelerations by central differences in
+    time, shaking force and moment about O summed link by link."""
+    l1, l2, l3, l0 = l
+    h = 1e-4
+
+    def pose(t):
+        th1 = phi + omega * t
+        A = l1 * np.exp(1j * th1)
+        AC = l0 - A
+        L = np.abs(AC)
+        th2 = np.angle(AC) + branch * np.arccos((l2**2 + L**2 - l3**2) / (2 * l2 * L))
+        B = A + l2 * np.exp(1j * th2)
+        th3 = np.angle(B - l0)
+        S = [coms[0] * np.exp(1j * th1), A + coms[1] * np.exp(1j * th2),
+             l0 + coms[2] * np.exp(1j * th3)]
+        return S, [th1, th2, th3]
+
+    (Sm, Tm), (S0, T0), (Sp, Tp) = pose(-h), pose(0.0), pose(h)
+    F = np.zeros_like(phi, dtype=complex)
+    M = np.zeros_like(phi)
+    for k in range(3):
+        a = (Sp[k] - 2 * S0[k] + Sm[k]) / h**2
+        eps = (np.angle(np.exp(1j * (Tp[k] - T0[k]))) - np.angle(np.exp(1j * (T0[k] - Tm[k])))
+               ) / h**2
+        f = -masses[k] * a
+        F += f
+        M += (S0[k].real * f.imag - S0[k].imag * f.real) - inertias[k] * eps
+    return F, M
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_shaking_loads_match_independent_finite_differences(branch):
+    phi = cycle(24)
+    sl = shaking_loads(kinematics(paper_fourbar(branch), phi))
+    F, M = fd_fourbar_shaking((0.1, 0.3, 0.2, 0.3), PAPER["masses"], PAPER["coms"],
+                              PAPER["inertias"], 10.0, phi, branch)
+    scale = np.abs(F).max()
+    np.testing.assert_allclose(sl.fx, F.real, atol=1e-5 * scale)
+    np.testing.assert_allclose(sl.fy, F.imag, atol=1e-5 * scale)
+    np.testing.assert_allclose(sl.moment, M, atol=1e-5 * np.abs(M).max())
+
+
+def test_shaking_moment_about_any_point_consistent():
+    phi = cycle(36)
+    kin = kinematics(paper_fourbar(), phi)
+    P = (0.15, -0.2)
+    a, b = shaking_loads(kin), shaking_loads(kin, P)
+    np.testing.assert_allclose(b.moment, moment_about(a.moment, a.force, P), atol=1e-12)
+    # mean over the cycle of -dH/dt is zero (steady motion)
+    assert abs(a.moment.mean()) < 1e-9 * a.moment_peak()
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_paper001_static_balance_zero_shaking_force(branch):
+    mech = paper_fourbar(branch)
+    fb = force_balance(mech, radii={"crank": 0.05, "rocker": 0.1})
+    assert fb.full
+    ref = fourbar_counterweights(0.1, 0.3, 0.2, 1.0, 0.05, 3.0, 0.15, 2.0, 0.1)
+    for got, exp in zip(fb.counterweights, ref, strict=True):
+        assert got.link == exp.link
+        assert got.static_moment == pytest.approx(exp.static_moment, rel=1e-10)
+        assert np.cos(got.angle - exp.angle) == pytest.approx(1.0, abs=1e-12)
+    assert fb.counterweights[0].mass() == pytest.approx(4.0)
+    assert fb.counterweights[1].mass() == pytest.approx(5.0)
+    phi = cycle(720, 0.0123)
+    before = shaking_loads(kinematics(mech, phi))
+    after = shaking_loads(kinematics(fb.mechanism, phi))
+    assert after.force_peak() <= 1e-9 * before.force_peak()
+
+
+@settings(max_examples=25, deadline=None)
+@given(st.integers(0, 10_000), st.sampled_from([1, -1]))
+def test_general_force_balance_equals_berkof_lowen(seed, branch):
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(0.05, 0.1)
+    b, c, d = rng.uniform(0.25, 0.4, 3)
+    masses = tuple(rng.uniform(0.5, 3, 3))
+    coms = tuple(tuple(rng.normal(0, 0.08, 2)) for _ in range(3))
+    mech = fourbar(a, b, c, d, masses=masses, coms=coms, omega1=7.0, branch=branch)
+    fb = force_balance(mech, n=90)
+    assert fb.full
+    ref = fourbar_counterweights(a, b, c, *(v for mk, ck in zip(masses, coms, strict=True)
+                                           for v in (mk, complex(*ck))))
+    for got, exp in zip(fb.counterweights, ref, strict=True):
+        assert abs(got.first_moment - exp.first_moment) < 1e-9 * (1 + abs(exp.first_moment))
+    phi = cycle(200, 0.3)
+    before = shaking_loads(kinematics(mech, phi))
+    after = shaking_loads(kinematics(fb.mechanism, phi))
+    assert after.force_peak() <= 1e-9 * before.force_peak()
+
+
+def test_crank_slider_cannot_be_fully_force_balanced():
+    mech = crank_slider(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
+    assert frame_hinged_links(mech) == ("crank",)
+    fb = force_balance(mech)
+    assert not fb.full
+    assert "slider" in fb.reason
+    # best RMS: rotating masses plus half the reciprocating mass (m3 + m2/2) at the pin
+    expected = crank_slider_counterweight(0.05, 0.2, 1.0, 0.025, 2.0, 0.1, 3.0, fraction=0.5)
+    assert fb.counterweights[0].static_moment == pytest.approx(expected.static_moment, rel=2e-3)
+    with pytest.raises(InfeasibleError, match="frame-hinged"):
+        force_balance(mech, require_full=True)
+
+
+@pytest.mark.parametrize("k", [0.0, 1.0])
+def test_crank_slider_fraction_on_engine(k):
+    mech = crank_slider(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
+    cw = crank_slider_counterweight(0.05, 0.2, 1.0, 0.025, 2.0, 0.1, 3.0, fraction=k)
+    bal = add_counterweights(mech, [cw.with_radius(0.04)])
+    phi = cycle(360)
+    sl = shaking_loads(kinematics(bal, phi))
+    m_rec = 3.0 + 2.0 * 0.5
+    np.testing.assert_allclose(sl.fy, -k * m_rec * 0.05 * 100 * np.sin(phi), atol=1e-9)
+    a1 = 2 * np.mean(sl.fx * np.cos(phi))
+    assert a1 == pytest.approx((1 - k) * m_rec * 0.05 * 100, abs=1e-9)
+
+
+def test_add_counterweights_mass_properties():
+    mech = paper_fourbar()
+    cw = Counterweight.from_mass("rocker", 5.0, 0.1, np.pi, inertia=0.001)
+    bal = add_counterweights(mech, [cw])
+    r0, r1 = mech.body("rocker"), bal.body("rocker")
+    assert r1.mass == pytest.approx(7.0)
+    # first moment about the hinge O4 (local origin): 2*0.1 - 5*0.1 = -0.3
+    assert r1.mass * r1.com[0] == pytest.approx(-0.3)
+    assert r1.com[1] == pytest.approx(0.0, abs=1e-15)
+    # inertia about the hinge: I_S + m*0.1^2 + I_cw + 5*0.1^2
+    J_hinge = r1.inertia + r1.mass * (r1.com[0] ** 2 + r1.com[1] ** 2)
+    assert J_hinge == pytest.approx(r0.inertia + 2 * 0.01 + 0.001 + 5 * 0.01)
+    assert bal.body("coupler") == mech.body("coupler")
+    with pytest.raises(ParameterError, match="hinged to the frame"):
+        add_counterweights(mech, [Counterweight("coupler", 0.1, 0.0, 0.05)])
+    with pytest.raises(ParameterError, match="radius"):
+        add_counterweights(mech, [Counterweight("crank", 0.1, 0.0)])
