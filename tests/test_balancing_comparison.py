@@ -1,0 +1,126 @@
+"""Paper-001 comparison on the engine: consistency, independent checks of its columns."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from linkwork.balancing import (
+    Counterweight,
+    add_counterweights,
+    compare_balancing,
+    counterweight_axis_offset,
+    efficiency,
+)
+from linkwork.errors import ParameterError
+from linkwork.planar.dynamics import inverse_dynamics
+from linkwork.planar.kinematics import kinematics
+from linkwork.planar.model import crank_slider, fourbar
+
+PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.00567),
+             coms=(0.05, 0.15, 0.1), omega1=10.0)
+RADII = {"crank": 0.05, "rocker": 0.1}
+
+
+@pytest.fixture(scope="module")
+def comp():
+    return compare_balancing(fourbar(0.1, 0.3, 0.2, 0.3, **PAPER), radii=RADII)
+
+
+def _angles_fd(phi, h=1e-4):
+    """Independent plain-trig coupler and rocker angular accelerations (omega1 = 10)."""
+    def ang(p):
+        A = 0.1 * np.exp(1j * p)
+        AC = 0.3 - A
+        L = np.abs(AC)
+        th2 = np.angle(AC) + np.arccos((0.09 + L**2 - 0.04) / (0.6 * L))
+        th3 = np.angle(A + 0.3 * np.exp(1j * th2) - 0.3)
+        return th2, th3
+    (a2m, a3m), (a20, a30), (a2p, a3p) = ang(phi - 10 * h), ang(phi), ang(phi + 10 * h)
+
+    def dd(m, z, p):
+        return (np.angle(np.exp(1j * (p - z))) - np.angle(np.exp(1j * (z - m)))) / h**2
+    return dd(a2m, a20, a2p), dd(a3m, a30, a3p)
+
+
+def test_paper001_residual_moment_of_force_balanced_fourbar(comp):
+    """After force balancing with point-mass counterweights the shaking moment is
+    -(J_C eps3 + (I_S2 - m2 l_AS2 l_S2B) eps2) (the coupler replaced by statically
+    equivalent masses at A and B plus a residual inertia; the crank turns uniformly), with
+    J_C = I_S3 + m3 l_CS3^2 + m2 (l_AS2/l_AB) l_CB^2 + m_cw3 r_3^2 = 0.13567 kg m^2. The paper's
+    M_0 = -sum I_Si eps_i (its first formula) drops the m r x v part and is wrong here."""
+    e2, e3 = _angles_fd(comp.phi1)
+    J_C = 0.00567 + 2 * 0.1**2 + 1.5 * 0.2**2 + 5.0 * 0.1**2
+    exact = -(J_C * e3 + (0.0225 - 3.0 * 0.15 * 0.15) * e2)
+    np.testing.assert_allclose(comp.dM1, exact, atol=1e-5 * np.abs(exact).max())
+    paper_m0 = -(0.0225 * e2 + 0.00567 * e3)
+    assert np.abs(paper_m0 - comp.dM1).max() > 0.5 * np.abs(comp.dM1).max()
+
+
+def test_columns_consistent_with_cycle_and_definitions(comp):
+    c = comp.cycle
+    idx = np.searchsorted(c.phi1, comp.phi1)  # the cycle includes the table angles
+    np.testing.assert_allclose(c.phi1[idx], comp.phi1, atol=1e-12)
+    for a, b in ((comp.M, c.M), (comp.dM1, c.dM1), (comp.dM2, c.dM2), (comp.dM3, c.dM3)):
+        np.testing.assert_allclose(a, b[idx], atol=1e-9)
+    assert comp.R2 == pytest.approx(efficiency(comp.dM1, comp.dM2))
+    assert comp.R3 == pytest.approx(efficiency(comp.dM1, comp.dM3))
+    # constant speed: the continuous-RMS axis is the first-harmonic axis
+    assert comp.x_rms == pytest.approx(comp.x2, abs=1e-12)
+    assert comp.y_rms == pytest.approx(comp.y2, abs=1e-12)
+    # 12 evenly spaced positions: formula (1) = least squares, close to the continuous optimum
+    # (they differ only by the 11th/13th harmonics aliased onto the first)
+    p1 = counterweight_axis_offset(comp.phi1, comp.dM1, comp.static_moment,
+                                   10.0, method="paper")
+    assert (p1.x, p1.y) == pytest.approx((comp.x3, comp.y3), abs=1e-12)
+    assert np.hypot(comp.x3 - comp.x2, comp.y3 - comp.y2) < 1e-3
+    assert np.abs(c.F1).max() <= 1e-9 * np.abs(c.F0).max()
+
+
+def test_driving_torque_by_power_balance(comp):
+    """Q omega1 = dT/dt (no gravity, no loads): T differentiated spectrally over the cycle."""
+    c = comp.cycle
+    for mech, Q in ((fourbar(0.1, 0.3, 0.2, 0.3, **PAPER), c.Q0),
+                    (comp.balance.mechanism, c.Q1)):
+        T = inverse_dynamics(kinematics(mech, c.phi1)).T
+        k = np.fft.rfftfreq(c.phi1.size, d=1.0 / c.phi1.size)
+        dT = np.fft.irfft(1j * k * np.fft.rfft(T), n=c.phi1.size)  # dT/dphi
+        np.testing.assert_allclose(Q, dT, atol=1e-8 * np.abs(Q).max())
+
+
+def test_moved_axis_bearing_loads(comp):
+    """O1 carries S omega^2 = 20 N; the crank bearing then carries what it carries in the
+    mechanism balanced by the rocker counterweight alone (built independently)."""
+    c = comp.cycle
+    np.testing.assert_allclose(c.reactions3["O1"], 0.2 * 100, rtol=1e-12)
+    rocker_only = add_counterweights(fourbar(0.1, 0.3, 0.2, 0.3, **PAPER),
+                                     [Counterweight("rocker", 0.5, np.pi, 0.1)])
+    d = inverse_dynamics(kinematics(rocker_only, c.phi1))
+    np.testing.assert_allclose(c.reactions3["O2"], d.reaction_magnitude("O2"), rtol=1e-9)
+    np.testing.assert_allclose(c.reactions3["O4"], c.reactions1["O4"], rtol=1e-12)
+
+
+def test_summary_reports_increases(comp):
+    s = comp.summary()
+    assert s["shaking force peak [N]"]["static"] < 1e-9 * s["shaking force peak [N]"][
+        "unbalanced"]
+    inc = comp.increases()
+    # static balancing raises the frame-bearing loads at O4 and the driving torque here
+    assert any(m.startswith("bearing O4 peak") for m in inc)
+    assert any(m.startswith("driving torque peak") for m in inc)
+
+
+def test_compare_requires_crank_counterweight():
+    mech = fourbar(0.1, 0.3, 0.2, 0.3, **PAPER)
+    with pytest.raises(ParameterError, match="crank"):
+        compare_balancing(mech, links=["rocker"], radii=RADII)
+
+
+def test_compare_on_crank_slider_partial_force_balance():
+    mech = crank_slider(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
+    c = compare_balancing(mech, n=120)
+    assert not c.balance.full
+    assert c.balance.ratio < 1.0
+    # moving the axis never changes the shaking force
+    assert c.summary()["shaking force RMS [N]"]["static"] < c.summary()[
+        "shaking force RMS [N]"]["unbalanced"]
