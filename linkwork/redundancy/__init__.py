@@ -30,11 +30,18 @@ from linkwork.redundancy.mechanism import (
     spatial_model,
     spatial_reactions,
 )
+from linkwork.redundancy.tolerance import (
+    PEAK_QUANTITIES,
+    Tolerance,
+    ToleranceStudy,
+    tolerance_study,
+)
 
 __all__ = [
     "COMPONENTS",
     "DEFAULT_BEARING_STIFFNESS",
     "JOINT_KINDS",
+    "PEAK_QUANTITIES",
     "Deviation",
     "OutOfPlaneLoad",
     "RedundancyCount",
@@ -42,6 +49,8 @@ __all__ = [
     "SpatialJoint",
     "SpatialModel",
     "SpatialReactions",
+    "Tolerance",
+    "ToleranceStudy",
     "bearing_stiffness",
     "body_wrenches",
     "count_redundancy",
@@ -53,5 +62,6 @@ __all__ = [
     "solve_reactions",
     "spatial_model",
     "spatial_reactions",
+    "tolerance_study",
     "wrench_about_origin",
 ]

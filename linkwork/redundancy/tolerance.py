@@ -1,0 +1,252 @@
+"""Monte-Carlo tolerance study of the spatial reactions caused by manufacturing deviations.
+
+The reactions are affine in the deviations (first-order theory, :mod:`linkwork.redundancy.core`):
+``r = r0 + H delta_c``, with ``r0`` and ``H`` computed once per position by the force method.
+A study draws ``N`` samples of the deviations from their tolerance distributions, maps them to
+misfits and reactions for all positions at once (vectorised over samples and positions) and keeps
+the peak over the cycle of every reaction component of every joint. Samples are processed in
+chunks through :func:`linkwork.sweep.evaluate`: in-process by default, on a dask.distributed
+cluster when a client or scheduler address is given. The random draws are made up front from one
+seeded generator, so the result does not depend on chunking or on the cluster.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from linkwork.errors import ParameterError, require_finite, require_positive
+from linkwork.redundancy.core import (
+    COMPONENTS,
+    SpatialGeometry,
+    SpatialModel,
+    _joint_frames,
+    influence,
+    misfit,
+)
+
+__all__ = ["PEAK_QUANTITIES", "Tolerance", "ToleranceStudy", "tolerance_study"]
+
+#: Quantities whose peak over the cycle is kept per joint: the six components and the bending
+#: moment magnitude sqrt(mx² + my²).
+PEAK_QUANTITIES: tuple[str, ...] = (*COMPONENTS, "bending")
+
+_DEV_COMPONENTS = ("dx", "dy", "dz", "tx", "ty", "tz")
+
+
+@dataclass(frozen=True)
+class Tolerance:
+    """Tolerance of one deviation component of one joint element.
+
+    Parameters
+    ----------
+    joint : str
+        Joint name.
+    side : {"a", "b"}
+        The element on the joint's body a or body b.
+    component : {"dx", "dy", "dz", "tx", "ty", "tz"}
+        Offset [m] or tilt [rad], in that body's frame.
+    limit : float
+        Tolerance half-width (>= 0): for ``"normal"`` the deviation is N(mean, (limit/3)²)
+        (``limit`` = 3 sigma); for ``"uniform"`` it is U(mean - limit, mean + limit).
+    distribution : {"normal", "uniform"}
+    mean : float
+        Systematic part of the deviation.
+    """
+
+    joint: str
+    side: str
+    component: str
+    limit: float
+    distribution: str = "normal"
+    mean: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.side not in ("a", "b"):
+            raise ParameterError(f"tolerance {self.joint}.side", self.side, "must be 'a' or 'b'")
+        if self.component not in _DEV_COMPONENTS:
+            raise ParameterError(f"tolerance {self.joint}.component", self.component,
+                                 f"must be one of {list(_DEV_COMPONENTS)}")
+        if self.distribution not in ("normal", "uniform"):
+            raise ParameterError(f"tolerance {self.joint}.distribution", self.distribution,
+                                 "must be 'normal' or 'uniform'")
+        require_positive(f"tolerance {self.joint}.{self.component}.limit", self.limit,
+                         allow_zero=True)
+        require_finite(f"tolerance {self.joint}.{self.component}.mean", self.mean)
+
+
+@dataclass(frozen=True)
+class ToleranceStudy:
+    """Peaks over the cycle of the spatial reactions for N Monte-Carlo samples of deviations.
+
+    Attributes
+    ----------
+    joints : tuple of str
+    quantities : tuple of str
+        :data:`PEAK_QUANTITIES` (axis 2 of ``peaks``).
+    peaks : ndarray, shape (N, n_joints, 7)
+        Peak |value| over the cycle per sample [N or N·m]; ``bending`` is sqrt(mx² + my²).
+    nominal : ndarray, shape (n_joints, 7)
+        The same peaks without deviations.
+    draws : ndarray, shape (N, n_tolerances)
+        The sampled deviations [m, rad].
+    tolerances : tuple of Tolerance
+    seed : int or None
+    """
+
+    joints: tuple[str, ...]
+    quantities: tuple[str, ...]
+    peaks: np.ndarray
+    nominal: np.ndarray
+    draws: np.ndarray
+    tolerances: tuple[Tolerance, ...]
+    seed: int | None
+
+    @property
+    def n_samples(self) -> int:
+        """Number of samples N."""
+        return int(self.peaks.shape[0])
+
+    def sample(self, joint: str, quantity: str = "bending") -> np.ndarray:
+        """Peaks of one quantity of one joint over the samples, shape (N,)."""
+        if joint not in self.joints:
+            raise ParameterError("joint", joint, f"must be one of {list(self.joints)}")
+        if quantity not in self.quantities:
+            raise ParameterError("quantity", quantity, f"must be one of {list(self.quantities)}")
+        return self.peaks[:, self.joints.index(joint), self.quantities.index(quantity)]
+
+    def percentiles(self, q: Sequence[float] = (50.0, 95.0, 99.0)) -> dict[str, Any]:
+        """Percentiles of every peak: {joint: {quantity: {"p50": ..., ...}}} plus nominal."""
+        qs = [float(v) for v in q]
+        vals = np.percentile(self.peaks, qs, axis=0)   # (len(q), nj, 7)
+        out: dict[str, Any] = {}
+        for j, name in enumerate(self.joints):
+            out[name] = {
+                qu: {"nominal": float(self.nominal[j, k]),
+                     **{f"p{v:g}": float(vals[i, j, k]) for i, v in enumerate(qs)}}
+                for k, qu in enumerate(self.quantities)}
+        return out
+
+    def to_json(self, path: str | Path, q: Sequence[float] = (50.0, 95.0, 99.0)) -> Path:
+        """Write the percentiles, the tolerances and N as JSON; return the path."""
+        p = Path(path)
+        data = {"type": "ToleranceStudy", "n_samples": self.n_samples, "seed": self.seed,
+                "units": {"f*": "N", "m*": "N*m", "bending": "N*m"},
+                "tolerances": [t.__dict__ for t in self.tolerances],
+                "percentiles": self.percentiles(q)}
+        p.write_text(json.dumps(data, indent=1))
+        return p
+
+    def to_csv(self, path: str | Path) -> Path:
+        """One row per sample: the peaks of every joint and quantity."""
+        import csv
+
+        p = Path(path)
+        header = [f"{qu}_{j} [{'N' if qu.startswith('f') else 'N*m'}]"
+                  for j in self.joints for qu in self.quantities]
+        with p.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(header)
+            for row in self.peaks.reshape(self.n_samples, -1):
+                w.writerow([repr(float(x)) for x in row])
+        return p
+
+
+def _global(model: SpatialModel, frames: list[np.ndarray], r: np.ndarray) -> np.ndarray:
+    """Local unknowns (..., n, m+1) -> global components (..., n_joints, 6, n)."""
+    lead = r.shape[:-2]
+    n = r.shape[-2]
+    out = np.zeros((*lead, len(model.joints), 6, n))
+    k = 0
+    for j, jt in enumerate(model.joints):
+        loc = np.zeros((*lead, n, 6))
+        sel = list(jt.constrained)
+        loc[..., sel] = r[..., k:k + len(sel)]
+        k += len(sel)
+        if j == model.driver_index:
+            loc[..., 5 if jt.family == "R" else 0] += r[..., -1]
+        out[..., j, :, :] = np.swapaxes(np.einsum("nij,...nj->...ni", frames[j], loc), -1, -2)
+    return out
+
+
+def _peaks(comp: np.ndarray) -> np.ndarray:
+    """(..., nj, 6, n) -> (..., nj, 7) peak |.| over positions, bending last."""
+    p = np.max(np.abs(comp), axis=-1)
+    bend = np.max(np.hypot(comp[..., 3, :], comp[..., 4, :]), axis=-1)
+    return np.concatenate([p, bend[..., None]], axis=-1)
+
+
+def _chunk(draws: np.ndarray, *, model: SpatialModel, geom: SpatialGeometry, r0: np.ndarray,
+           h: np.ndarray, index: np.ndarray) -> np.ndarray:
+    """Peaks for a chunk of samples (module level so that Dask can pickle it)."""
+    dev = np.zeros((draws.shape[0], len(model.joints) * 2 * 6))
+    np.add.at(dev, (slice(None), index), draws)
+    dev = dev.reshape(draws.shape[0], len(model.joints), 2, 6)
+    dc = misfit(model, geom, dev)                                 # (S, n, m)
+    r = r0 + np.einsum("nij,snj->sni", h, dc)
+    return _peaks(_global(model, _joint_frames(model, geom), r))
+
+
+def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike,
+                    tolerances: Sequence[Tolerance], n_samples: int, *,
+                    seed: int | None = 0, chunk_size: int = 500, client: Any = None,
+                    progress: Any = None) -> ToleranceStudy:
+    """Monte-Carlo study of the peak spatial reactions over a cycle.
+
+    Parameters
+    ----------
+    model, geom, wrenches
+        As for :func:`~linkwork.redundancy.solve_reactions` (the cycle's positions).
+    tolerances : sequence of Tolerance
+        Independent random deviations (components not listed are zero).
+    n_samples : int
+        Number of samples N, >= 1.
+    seed : int or None
+        Seed of the random generator (``numpy.random.default_rng``).
+    chunk_size : int
+        Samples per vectorised evaluation (memory ~ chunk × positions × unknowns).
+    client : dask.distributed.Client or str, optional
+        Spread the chunks over this cluster (see :func:`linkwork.sweep.evaluate`).
+    progress : callable, optional
+        ``progress(done, total)`` after each chunk (e.g. :func:`linkwork.sweep.rich_progress`).
+
+    Returns
+    -------
+    ToleranceStudy
+    """
+    from linkwork.sweep import evaluate
+
+    if int(n_samples) < 1:
+        raise ParameterError("n_samples", n_samples, "must be an integer >= 1")
+    if not tolerances:
+        raise ParameterError("tolerances", "[]", "must list at least one tolerance")
+    names = [j.name for j in model.joints]
+    index = []
+    for t in tolerances:
+        if t.joint not in names:
+            raise ParameterError("tolerance.joint", t.joint, f"must be one of {names}")
+        index.append((names.index(t.joint) * 2 + (0 if t.side == "a" else 1)) * 6
+                     + _DEV_COMPONENTS.index(t.component))
+    rng = np.random.default_rng(seed)
+    n = int(n_samples)
+    draws = np.empty((n, len(tolerances)))
+    for k, t in enumerate(tolerances):
+        if t.distribution == "normal":
+            draws[:, k] = rng.normal(t.mean, t.limit / 3.0, n)
+        else:
+            draws[:, k] = rng.uniform(t.mean - t.limit, t.mean + t.limit, n)
+    inf = influence(model, geom, wrenches)
+    frames = _joint_frames(model, geom)
+    nominal = _peaks(_global(model, frames, inf.r0))
+    func = functools.partial(_chunk, model=model, geom=geom, r0=inf.r0, h=inf.h,
+                             index=np.asarray(index))
+    peaks = evaluate(func, draws, chunk_size=chunk_size, client=client, progress=progress)
+    return ToleranceStudy(joints=tuple(names), quantities=PEAK_QUANTITIES, peaks=peaks,
+                          nominal=nominal, draws=draws, tolerances=tuple(tolerances), seed=seed)

@@ -1,0 +1,103 @@
+"""Monte-Carlo tolerance study: equals per-sample solves, independent of chunking and of the
+executor (in-process or dask.distributed), linear in the tolerance width."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from test_redundancy_fourbar_ref import geometry, spatial_model, wrenches
+
+from linkwork.errors import ParameterError
+from linkwork.redundancy import Tolerance, solve_reactions, tolerance_study
+
+PHI = np.linspace(0.0, 2 * np.pi, 36, endpoint=False)
+TOLS = [Tolerance("O", "a", "tx", 2e-4), Tolerance("O", "a", "ty", 2e-4),
+        Tolerance("B", "b", "dz", 2e-5, "uniform"), Tolerance("C", "a", "tx", 3e-4, mean=1e-4),
+        Tolerance("A", "a", "ty", 1e-4, "uniform")]
+
+
+def _setup():
+    m = spatial_model(z=(0.0, 0.02, 0.02, 0.0))
+    return m, geometry(PHI), wrenches(PHI, z_g=(0.01, 0.02, 0.01))
+
+
+def test_tolerance_study_equals_per_sample_solves():
+    m, g, w = _setup()
+    st = tolerance_study(m, g, w, TOLS, 12, seed=4, chunk_size=5)
+    assert st.peaks.shape == (12, 4, 7)
+    slot = {"O": 0, "A": 1, "B": 2, "C": 3}
+    comp = {"dx": 0, "dy": 1, "dz": 2, "tx": 3, "ty": 4, "tz": 5}
+    for s in (0, 5, 11):
+        dev = np.zeros((4, 2, 6))
+        for t, v in zip(TOLS, st.draws[s], strict=True):
+            dev[slot[t.joint], 0 if t.side == "a" else 1, comp[t.component]] += v
+        r = solve_reactions(m, g, w, dev)
+        for j, name in enumerate("OABC"):
+            assert np.isclose(st.sample(name, "fz")[s], np.max(np.abs(r.fz[j])), rtol=1e-9)
+            assert np.isclose(st.sample(name, "bending")[s], np.max(r.bending()[j]), rtol=1e-9)
+            assert np.isclose(st.peaks[s, j, 0], np.max(np.abs(r.fx[j])), rtol=1e-9)
+    r0 = solve_reactions(m, g, w)
+    assert np.allclose(st.nominal[:, 6], np.max(r0.bending(), axis=1), rtol=1e-9)
+
+
+def test_tolerance_study_chunking_invariant_and_seeded():
+    m, g, w = _setup()
+    a = tolerance_study(m, g, w, TOLS, 40, seed=1, chunk_size=7)
+    b = tolerance_study(m, g, w, TOLS, 40, seed=1, chunk_size=1000)
+    assert np.array_equal(a.draws, b.draws)
+    assert np.allclose(a.peaks, b.peaks, rtol=1e-12, atol=0)
+
+
+def test_tolerance_study_distributions():
+    m, g, w = _setup()
+    st = tolerance_study(m, g, w, TOLS, 4000, seed=2, chunk_size=2000)
+    assert np.all(np.abs(st.draws[:, 2]) <= 2e-5)               # uniform within +-limit
+    assert np.isclose(np.std(st.draws[:, 0]), 2e-4 / 3, rtol=0.05)  # normal: limit = 3 sigma
+    assert np.isclose(np.mean(st.draws[:, 3]), 1e-4, atol=5e-6)
+    pc = st.percentiles((5, 95))
+    assert pc["B"]["bending"]["p5"] < pc["B"]["bending"]["p95"]
+
+
+def test_tolerance_peaks_scale_with_width_without_loads():
+    """No loads: reactions are linear in the deviations, so doubling every tolerance (same
+    seed) doubles every peak."""
+    m, g, _ = _setup()
+    w0 = np.zeros((len(PHI), 3, 6))
+    tols = [Tolerance(t.joint, t.side, t.component, t.limit, t.distribution) for t in TOLS]
+    tols2 = [Tolerance(t.joint, t.side, t.component, 2 * t.limit, t.distribution) for t in TOLS]
+    a = tolerance_study(m, g, w0, tols, 30, seed=3)
+    b = tolerance_study(m, g, w0, tols2, 30, seed=3)
+    assert np.allclose(b.peaks, 2 * a.peaks, rtol=1e-9, atol=1e-12)
+
+
+def test_tolerance_study_dask_client_same_result():
+    distributed = pytest.importorskip("dask.distributed")
+    m, g, w = _setup()
+    local = tolerance_study(m, g, w, TOLS, 30, seed=5, chunk_size=10)
+    with distributed.Client(processes=False, n_workers=1, threads_per_worker=1,
+                            dashboard_address=None) as client:
+        remote = tolerance_study(m, g, w, TOLS, 30, seed=5, chunk_size=10, client=client)
+    assert np.allclose(local.peaks, remote.peaks, rtol=1e-12, atol=0)
+
+
+def test_tolerance_study_exports(tmp_path):
+    m, g, w = _setup()
+    st = tolerance_study(m, g, w, TOLS, 10, seed=0)
+    import json
+
+    data = json.loads(st.to_json(tmp_path / "t.json").read_text())
+    assert data["n_samples"] == 10 and "p95" in data["percentiles"]["B"]["bending"]
+    lines = st.to_csv(tmp_path / "t.csv").read_text().splitlines()
+    assert len(lines) == 11 and lines[0].startswith("fx_O [N]")
+
+
+def test_tolerance_bad_input():
+    m, g, w = _setup()
+    with pytest.raises(ParameterError, match="side"):
+        Tolerance("O", "c", "tx", 1e-4)
+    with pytest.raises(ParameterError, match="component"):
+        Tolerance("O", "a", "rx", 1e-4)
+    with pytest.raises(ParameterError, match="n_samples"):
+        tolerance_study(m, g, w, TOLS, 0)
+    with pytest.raises(ParameterError, match=r"tolerance\.joint"):
+        tolerance_study(m, g, w, [Tolerance("Z", "a", "tx", 1e-4)], 5)
