@@ -186,9 +186,9 @@ def _peaks(comp: np.ndarray) -> np.ndarray:
 def _chunk(draws: np.ndarray, *, model: SpatialModel, geom: SpatialGeometry, r0: np.ndarray,
            h: np.ndarray, index: np.ndarray) -> np.ndarray:
     """Peaks for a chunk of samples (module level so that Dask can pickle it)."""
-    dev = np.zeros((draws.shape[0], len(model.joints) * 2 * 6))
-    np.add.at(dev, (slice(None), index), draws)
-    dev = dev.reshape(draws.shape[0], len(model.joints), 2, 6)
+    onehot = np.zeros((index.shape[0], len(model.joints) * 2 * 6))
+    onehot[np.arange(index.shape[0]), index] = 1.0                # repeated slots add up
+    dev = (draws @ onehot).reshape(draws.shape[0], len(model.joints), 2, 6)
     dc = misfit(model, geom, dev)                                 # (S, n, m)
     r = r0 + np.einsum("nij,snj->sni", h, dc)
     return _peaks(_global(model, _joint_frames(model, geom), r))
