@@ -20,7 +20,9 @@ from linkwork import files
 from linkwork.errors import FileFormatError, ParameterError
 
 #: File type -> "module:function" of its analyser.
-ANALYZERS: dict[str, str] = {}
+ANALYZERS: dict[str, str] = {
+    "sine_press": "linkwork.cli._sine_press:analyze_sine_press",
+}
 
 
 def parse_angles(text: str) -> np.ndarray:

@@ -1,0 +1,129 @@
+"""Kinematic diagrams of the variable-structure sine press drive (paper 000).
+
+Every function takes ``axes=None`` (or ``ax=None``), draws, and returns what it drew; figures are
+created through :func:`linkwork.plot.pyplot` only when no axes are given.  Lengths are shown in
+mm, angles in degrees; the models stay in SI.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from linkwork.models.crank_slider import CrankSliderResult
+from linkwork.models.sine import InclinedSlotResult, force_ratio, working_range
+from linkwork.models.variable_structure import ScheduleResult
+from linkwork.plot import pyplot
+
+__all__ = ["plot_cycle", "plot_force_ratio", "plot_schedule"]
+
+
+def _axes3(axes: Any, sharex: bool = True) -> Any:
+    if axes is not None:
+        return axes
+    plt = pyplot()
+    _, ax = plt.subplots(3, 1, figsize=(8, 8.5), sharex=sharex)
+    return ax
+
+
+def plot_cycle(idle: CrankSliderResult | None, working: InclinedSlotResult | None,
+               axes: Any = None) -> Any:
+    """Position, velocity and acceleration of the output link against crank angle, both modes.
+
+    Idle mode: slider C of the crank-slider (``Y_C``, ``V_C``, ``a_C``); working mode: the ram
+    (``X3``, ``V3``, ``a3``).  Both must be 1-D over crank angle.
+
+    Returns
+    -------
+    axes : array of 3 matplotlib Axes (position [mm], velocity [m/s], acceleration [m/s^2]).
+    """
+    ax = _axes3(axes)
+    if idle is not None:
+        deg = np.degrees(idle.phi1)
+        ax[0].plot(deg, idle.Y_C * 1e3, label="idle: slider C, $Y_C$")
+        ax[1].plot(deg, idle.V_C, label="idle: $V_C$")
+        ax[2].plot(deg, idle.a_C, label="idle: $a_C$")
+    if working is not None:
+        deg = np.degrees(working.phi1)
+        a = float(np.degrees(np.asarray(working.alpha).reshape(-1)[0]))
+        ax[0].plot(deg, working.X3 * 1e3, label=f"working: ram $X_3$ ($\\alpha$ = {a:.4g}°)")
+        ax[1].plot(deg, working.V3, label="working: $V_3$")
+        ax[2].plot(deg, working.a3, label="working: $a_3$")
+    for a_, lab in zip(ax, ("position [mm]", "velocity [m/s]", "acceleration [m/s²]"),
+                       strict=True):
+        a_.set_ylabel(lab)
+        a_.grid(True, alpha=0.3)
+        a_.axhline(0.0, color="0.6", lw=0.6)
+        a_.legend(loc="best", fontsize=8)
+    ax[-1].set_xlabel("crank angle φ1 [deg]")
+    ax[-1].set_xticks(np.arange(0, 361, 45))
+    ax[0].set_title("Output link over one crank revolution")
+    return ax
+
+
+def plot_schedule(res: ScheduleResult, axes: Any = None, ram: bool = True) -> Any:
+    """Output-link motion over a duty schedule against time, switch points marked.
+
+    Draws ``s, v, a`` of the active structure's output link and, if ``ram``, the press ram's
+    motion (dashed); working segments are shaded and every switch is a vertical line.
+
+    Returns
+    -------
+    axes : array of 3 matplotlib Axes.
+    """
+    ax = _axes3(axes)
+    seg_breaks = np.flatnonzero(res.switch)
+    bounds = np.concatenate([[0], seg_breaks, [res.t.size]])
+    for k in range(bounds.size - 1):
+        sl = slice(bounds[k], bounds[k + 1])
+        working = bool(res.mode[bounds[k]] == 1)
+        color = "C1" if working else "C0"
+        label_s = ("working: ram $X_3$" if working else "idle: slider C, $Y_C$")
+        for a_, y, scale in zip(ax, (res.s, res.v, res.a), (1e3, 1.0, 1.0), strict=True):
+            a_.plot(res.t[sl], y[sl] * scale, color=color, lw=1.2,
+                    label=label_s if k < 2 else None)
+            if working:
+                a_.axvspan(res.t[sl][0], res.t[sl][-1], color="C1", alpha=0.07)
+    if ram:
+        for a_, y, scale in zip(ax, (res.ram_s, res.ram_v, res.ram_a), (1e3, 1.0, 1.0),
+                                strict=True):
+            a_.plot(res.t, y * scale, color="k", lw=0.8, ls="--", label="press ram")
+    for t in res.switch_t:
+        for a_ in ax:
+            a_.axvline(t, color="C3", lw=1.0, ls=":")
+    for a_, lab in zip(ax, ("position [mm]", "velocity [m/s]", "acceleration [m/s²]"),
+                       strict=True):
+        a_.set_ylabel(lab)
+        a_.grid(True, alpha=0.3)
+    ax[0].legend(loc="upper right", fontsize=8)
+    ax[-1].set_xlabel("time [s] (dotted: mode switches)")
+    ax[0].set_title("Duty schedule: idle and working modes")
+    return ax
+
+
+def plot_force_ratio(f_slot: float, f_guide: float, alpha: float | None = None,
+                     ax: Any = None) -> Any:
+    """Worst-case force ratio (friction model of :func:`linkwork.models.sine.force_ratio`)
+    against the slot angle, with the working range and optionally the chosen ``alpha`` [rad].
+
+    Returns
+    -------
+    ax : matplotlib Axes.
+    """
+    if ax is None:
+        _, ax = pyplot().subplots(figsize=(7, 3.5))
+    a = np.linspace(1e-3, np.pi - 1e-3, 721)
+    ax.plot(np.degrees(a), force_ratio(a, f_slot, f_guide), label="worst-case force ratio η")
+    lo, hi = working_range(f_slot, f_guide)
+    ax.axvspan(float(np.degrees(lo)), float(np.degrees(hi)), color="C2", alpha=0.1,
+               label="working range")
+    if alpha is not None:
+        ax.axvline(float(np.degrees(alpha)), color="C3", ls="--", label="α chosen")
+    ax.axhline(0.0, color="0.4", lw=0.8)
+    ax.set_ylim(-1.0, 1.05)
+    ax.set_xlabel("slot angle α [deg]")
+    ax.set_ylabel("η [-]")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="lower center", fontsize=8)
+    return ax
