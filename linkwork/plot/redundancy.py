@@ -1,0 +1,111 @@
+"""Figures for spatial reactions with redundant constraints: components over the cycle, bending
+moments, Monte-Carlo histograms of the peaks."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from linkwork.plot import pyplot
+
+__all__ = ["plot_bending", "plot_components", "plot_peak_histogram"]
+
+_UNIT = {"fx": "N", "fy": "N", "fz": "N", "mx": "N·m", "my": "N·m", "mz": "N·m",
+         "bending": "N·m", "Q": "N·m"}
+
+
+def _ax(ax: Any) -> Any:
+    if ax is None:
+        _, ax = pyplot().subplots(figsize=(7, 4))
+    return ax
+
+
+def plot_components(result: Any, component: str = "fz", joints: Sequence[str] | None = None,
+                    ax: Any = None) -> dict[str, Any]:
+    """One reaction component of several joints over the driver positions.
+
+    Parameters
+    ----------
+    result : linkwork.redundancy.SpatialReactions
+    component : str
+        ``fx, fy, fz, mx, my, mz`` or ``bending`` (sqrt(mx² + my²)).
+    joints : sequence of str, optional
+        Default all joints.
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    dict
+        ``{"ax": ax, joint: Line2D, ...}``.
+    """
+    ax = _ax(ax)
+    names = list(result.joints) if joints is None else list(joints)
+    data = result.bending() if component == "bending" else getattr(result, component)
+    deg = np.degrees(np.asarray(result.phi1, dtype=float))
+    out: dict[str, Any] = {"ax": ax}
+    for name in names:
+        (out[name],) = ax.plot(deg, data[result.joints.index(name)], label=name)
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("driver position φ1 [deg]")
+    ax.set_ylabel(f"{component} [{_UNIT.get(component, '')}]")
+    ax.set_xlim(deg.min(), deg.max())
+    ax.legend(fontsize=8, title="joint")
+    ax.grid(True, alpha=0.3)
+    return out
+
+
+def plot_bending(result: Any, axes: Any = None) -> dict[str, Any]:
+    """A 2x2 panel: axial forces fz, bending moments mx, my and the driving torque Q.
+
+    Returns ``{"axes": axes, "fz": {...}, "mx": {...}, "my": {...}, "Q": Line2D}``.
+    """
+    if axes is None:
+        _, axes = pyplot().subplots(2, 2, figsize=(11, 7), sharex=True)
+    ax = np.asarray(axes).ravel()
+    out: dict[str, Any] = {"axes": axes}
+    for a, comp in zip(ax[:3], ("fz", "mx", "my"), strict=True):
+        out[comp] = plot_components(result, comp, ax=a)
+    deg = np.degrees(np.asarray(result.phi1, dtype=float))
+    (out["Q"],) = ax[3].plot(deg, result.Q, color="k")
+    ax[3].set_ylabel("driving torque Q [N·m]")
+    ax[3].set_xlabel("driver position φ1 [deg]")
+    ax[3].grid(True, alpha=0.3)
+    return out
+
+
+def plot_peak_histogram(study: Any, joint: str, quantity: str = "bending", ax: Any = None,
+                        bins: int = 40, percentiles: Sequence[float] = (50.0, 95.0, 99.0)
+                        ) -> dict[str, Any]:
+    """Histogram of the peak over the cycle of one quantity of one joint, over the samples.
+
+    Parameters
+    ----------
+    study : linkwork.redundancy.ToleranceStudy
+    joint, quantity : str
+        As for :meth:`ToleranceStudy.sample`.
+    ax : matplotlib Axes, optional
+    bins : int
+    percentiles : sequence of float
+        Drawn as vertical lines; the nominal (no deviation) peak as a dashed line.
+
+    Returns
+    -------
+    dict
+        ``{"ax": ax, "hist": (counts, edges, patches), "p50": Line2D, ..., "nominal": Line2D}``.
+    """
+    ax = _ax(ax)
+    vals = study.sample(joint, quantity)
+    out: dict[str, Any] = {"ax": ax}
+    out["hist"] = ax.hist(vals, bins=bins, color="0.7", edgecolor="0.4")
+    for q in percentiles:
+        v = float(np.percentile(vals, q))
+        out[f"p{q:g}"] = ax.axvline(v, color="C3", lw=1.0, label=f"p{q:g} = {v:.4g}")
+    nom = float(study.nominal[study.joints.index(joint), study.quantities.index(quantity)])
+    out["nominal"] = ax.axvline(nom, color="k", ls="--", lw=1.0, label=f"nominal = {nom:.4g}")
+    ax.set_xlabel(f"peak {quantity} at joint {joint} over the cycle "
+                  f"[{_UNIT.get(quantity, '')}]")
+    ax.set_ylabel(f"samples (N = {study.n_samples})")
+    ax.legend(fontsize=8)
+    return out
