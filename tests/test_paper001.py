@@ -120,7 +120,9 @@ def test_paper001_example_table_not_reproducible_from_its_data():
     therefore differs from the paper's (-0.071, 0.189) m; fed the paper's dM1 column, the
     same function returns the paper's numbers (test above)."""
     c = _paper_comparison()
-    assert abs(c.M.mean()) < 1e-9 and abs(c.dM1.mean()) < 1e-9
+    assert abs(c.cycle.M.mean()) < 1e-9 and abs(c.cycle.dM1.mean()) < 1e-9
+    # 12 samples: the mean is off only by the aliased 12th harmonic (0.0015 N*m here)
+    assert abs(c.M.mean()) < 0.01 and abs(c.dM1.mean()) < 0.01
     assert np.abs(c.M - M_TABLE).max() > 3.0
     assert np.abs(c.dM1 - DM1_TABLE).max() > 3.0
     assert np.hypot(c.x3 + 0.071, c.y3 - 0.189) > 0.05
