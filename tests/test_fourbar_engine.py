@@ -102,7 +102,7 @@ def test_fourbar_kinetostatics_equals_engine(design, branch):
 def test_paper004_eqs8_to_13_against_engine(branch):
     """Paper 004's setting (centres of mass at midpoints), its formulas vs the engine."""
     design = DESIGNS["crank-rocker (paper 001)"]
-    a, b, c, d = design
+    a, b, c, _ = design
     t2 = np.linspace(0.0, 2 * np.pi, 361)
     mech = engine_fourbar(*design, masses=MASS, inertias=INERTIA, omega1=W2, eps1=E2,
                           branch=branch)
