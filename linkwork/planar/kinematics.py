@@ -67,15 +67,32 @@ class _State:
         self.AY = [z] * nb
         self.E = [z] * nb
         self.bad = np.zeros(n, dtype=bool)
+        self.pos_bad = self.bad
+        self._rot: dict[tuple[int, float, float], Vec] = {}
 
-    def set_angle(self, i: int, th: Arr) -> None:
+    def set_angle(self, i: int, th: Arr, c: Arr | None = None, s: Arr | None = None) -> None:
+        """Set body i's angle (with its cosine and sine when already known)."""
         self.T[i] = th
-        self.C[i] = np.cos(th)
-        self.S[i] = np.sin(th)
+        self.C[i] = np.cos(th) if c is None else c
+        self.S[i] = np.sin(th) if s is None else s
+        if self._rot:
+            self._rot = {k: v for k, v in self._rot.items() if k[0] != i}
 
     def rot(self, i: int, v: tuple[float, float]) -> Vec:
+        """A local vector of body i in frame axes (cached per body and vector)."""
+        key = (i, float(v[0]), float(v[1]))
+        hit = self._rot.get(key)
+        if hit is not None:
+            return hit
         c, s = self.C[i], self.S[i]
-        return c * v[0] - s * v[1], s * v[0] + c * v[1]
+        if key[2] == 0.0:
+            out = (c * key[1], s * key[1])
+        elif key[1] == 0.0:
+            out = (-s * key[2], c * key[2])
+        else:
+            out = (c * key[1] - s * key[2], s * key[1] + c * key[2])
+        self._rot[key] = out
+        return out
 
     def wpt(self, i: int, p: tuple[float, float]) -> Vec:
         rx, ry = self.rot(i, p)
@@ -345,10 +362,15 @@ def _locus(mech: Mechanism, st: _State, j: Joint, body: int, p_int: tuple[float,
 def _finish_side(st: _State, body: int, kind: str, data: Any, p_int: tuple[float, float],
                  B: Vec) -> None:
     if kind == "circle":
-        A, _, p_ext = data
-        th = (np.arctan2(B[1] - A[1], B[0] - A[0])
-              - np.arctan2(p_int[1] - p_ext[1], p_int[0] - p_ext[0]))
-        st.set_angle(body, th)
+        A, rad, p_ext = data
+        ex, ey = (B[0] - A[0]) / rad, (B[1] - A[1]) / rad
+        phi0 = float(np.arctan2(p_int[1] - p_ext[1], p_int[0] - p_ext[0]))
+        c0, s0 = np.cos(phi0), np.sin(phi0)
+        th = np.arctan2(ey, ex)
+        if phi0 != 0.0:
+            st.set_angle(body, th - phi0, ex * c0 + ey * s0, ey * c0 - ex * s0)
+        else:
+            st.set_angle(body, th, ex, ey)
     st.place(body, p_int, B)
 
 
@@ -656,7 +678,12 @@ def _driver_rates(mech: Mechanism, st: _State, g: Group, w1: Arr, e1: Arr) -> bo
 
 
 def _group_rates(mech: Mechanism, st: _State, g: Group, w1: Arr, e1: Arr) -> None:
-    if g.kind == "driver" and _driver_rates(mech, st, g, w1, e1):
+    if g.kind == "driver":
+        if not _driver_rates(mech, st, g, w1, e1):
+            _linear_driver_rates(mech, st, g, w1, e1)
+        return
+    if g.kind != "newton":
+        _closed_rates(mech, st, g)
         return
     members = [mech.index[b] for b in g.bodies]
     rows = _group_rows(mech, st, g, need_gamma=False)
@@ -680,6 +707,222 @@ def _group_rates(mech: Mechanism, st: _State, g: Group, w1: Arr, e1: Arr) -> Non
         st.AX[b], st.AY[b], st.E[b] = sol[:, 3 * k], sol[:, 3 * k + 1], sol[:, 3 * k + 2]
 
 
+# ---------------------------------------------------------------------------------------------
+# closed-form velocities and accelerations of dyads and one-body slot groups
+def _vel_at(st: _State, k: int, X: Vec) -> Vec:
+    """Velocity of the material point of body k at world point X."""
+    return (st.VX[k] - st.W[k] * (X[1] - st.Y[k]), st.VY[k] + st.W[k] * (X[0] - st.X[k]))
+
+
+def _acc_at(st: _State, k: int, X: Vec) -> Vec:
+    """Acceleration of the material point of body k at world point X."""
+    rx, ry = X[0] - st.X[k], X[1] - st.Y[k]
+    w2 = st.W[k] ** 2
+    return (st.AX[k] - st.E[k] * ry - w2 * rx, st.AY[k] + st.E[k] * rx - w2 * ry)
+
+
+class _Par:
+    """Motion of body b hung on a known body k through joint j, with one unknown rate z.
+
+    Revolute at A: ``z = omega_b``, ``v_b(X) = v_k(A) + z k x (X - A)``,
+    ``a_b(X) = a_k(A) + zdot k x (X - A) - z^2 (X - A)``.
+    Prismatic with guide direction u: ``z`` = velocity of b relative to k along u,
+    ``omega_b = omega_k``, ``v_b(X) = v_k(X) + z u``, ``a_b(X) = a_k(X) + zdot u + 2 omega_k z
+    (k x u)``. A known body (``j`` None) has no unknown.
+    """
+
+    def __init__(self, mech: Mechanism, st: _State, j: Joint | None, b: int,
+                 idx: int | None) -> None:
+        self.st, self.b, self.idx = st, b, idx
+        self.rev = False
+        self.known = j is None
+        self.z: Arr | float = 0.0
+        if j is None:
+            return
+        ia, ib = mech.index[j.a], mech.index[j.b]
+        self.k = ia if b == ib else ib
+        qa, pb, ang = mech.joint_geometry(j)
+        if isinstance(j, Revolute):
+            self.rev = True
+            self.pk = qa if self.k == ia else pb
+            self.A = st.wpt(self.k, self.pk)
+        else:
+            self.u = st.rot(ia, (np.cos(ang), np.sin(ang)))
+
+    def d(self, X: Vec) -> Vec:
+        if self.rev:
+            return -(X[1] - self.A[1]), X[0] - self.A[0]
+        return self.u
+
+    def cv(self, X: Vec) -> Vec:
+        if self.known:
+            return _vel_at(self.st, self.b, X)
+        if self.rev:
+            return self.st.point_vel(self.k, self.pk)
+        return _vel_at(self.st, self.k, X)
+
+    def w(self) -> tuple[Arr | float, float]:
+        """Angular velocity as (constant part, coefficient of z)."""
+        if self.known:
+            return self.st.W[self.b], 0.0
+        return (0.0, 1.0) if self.rev else (self.st.W[self.k], 0.0)
+
+    def e(self) -> tuple[Arr | float, float]:
+        if self.known:
+            return self.st.E[self.b], 0.0
+        return (0.0, 1.0) if self.rev else (self.st.E[self.k], 0.0)
+
+    def ca(self, X: Vec) -> Vec:
+        """Acceleration at X without the zdot term (z already solved)."""
+        if self.known:
+            return _acc_at(self.st, self.b, X)
+        z = self.z
+        if self.rev:
+            aA = self.st.point_acc(self.k, self.pk)
+            return (aA[0] - z * z * (X[0] - self.A[0]), aA[1] - z * z * (X[1] - self.A[1]))
+        aK = _acc_at(self.st, self.k, X)
+        c = 2 * self.st.W[self.k] * z
+        return aK[0] - c * self.u[1], aK[1] + c * self.u[0]
+
+    def vel(self, X: Vec) -> Vec:
+        c = self.cv(X)
+        if self.known:
+            return c
+        dd = self.d(X)
+        return c[0] + self.z * dd[0], c[1] + self.z * dd[1]
+
+    def set_velocity(self) -> None:
+        st, b = self.st, self.b
+        r = (st.X[b], st.Y[b])
+        st.VX[b], st.VY[b] = self.vel(r)
+        c, k = self.w()
+        st.W[b] = c + k * self.z
+
+    def set_acceleration(self, zd: Arr) -> None:
+        st, b = self.st, self.b
+        r = (st.X[b], st.Y[b])
+        c = self.ca(r)
+        dd = self.d(r)
+        st.AX[b], st.AY[b] = c[0] + zd * dd[0], c[1] + zd * dd[1]
+        c0, k = self.e()
+        st.E[b] = c0 + k * zd
+
+
+def _closure_rows(mech: Mechanism, st: _State, j: Joint, pars: dict[int, _Par], n_unk: int,
+                  level: str) -> list[tuple[list[Arr | float], Arr]]:
+    """Closure equations of joint j in the unknown rates: rows (coefficients, rhs).
+
+    ``level="v"``: velocity rows; ``"a"``: acceleration rows (the same coefficients, z known).
+    Revolute at B: ``v_a(B) = v_b(B)``; prismatic (guide a): ``omega_a = omega_b`` and
+    ``n . (v_b(P) - v_a(P)) = 0``; pin-in-slot: the latter only. Accelerations add the Coriolis
+    term ``-2 omega_a k x v_rel`` of the relative sliding.
+    """
+    ia, ib = mech.index[j.a], mech.index[j.b]
+    pa_, pb_ = pars[ia], pars[ib]
+    qa, pb, ang = mech.joint_geometry(j)
+    rows: list[tuple[list[Arr | float], Arr]] = []
+
+    def coefs(vals: list[tuple[_Par, Any]]) -> list[Arr | float]:
+        c: list[Arr | float] = [0.0] * n_unk
+        for par, val in vals:
+            if par.idx is not None:
+                c[par.idx] = c[par.idx] + val
+        return c
+
+    if isinstance(j, Revolute):
+        B = st.wpt(ib, pb)
+        da, db = pa_.d(B), pb_.d(B)
+        if level == "v":
+            ca, cb = pa_.cv(B), pb_.cv(B)
+        else:
+            ca, cb = pa_.ca(B), pb_.ca(B)
+        for c in range(2):
+            rows.append((coefs([(pa_, da[c]), (pb_, -db[c])]), cb[c] - ca[c]))
+        return rows
+    P = st.wpt(ib, pb)
+    ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
+    nx, ny = -uy, ux
+    da, db = pa_.d(P), pb_.d(P)
+    cf = coefs([(pa_, -(nx * da[0] + ny * da[1])), (pb_, nx * db[0] + ny * db[1])])
+    if level == "v":
+        ca, cb = pa_.cv(P), pb_.cv(P)
+        rows.append((cf, -(nx * (cb[0] - ca[0]) + ny * (cb[1] - ca[1]))))
+    else:
+        ca, cb = pa_.ca(P), pb_.ca(P)
+        va, vb = pa_.vel(P), pb_.vel(P)
+        wa = pa_.w()[0] + pa_.w()[1] * pa_.z
+        rvx, rvy = vb[0] - va[0], vb[1] - va[1]
+        cor = 2 * wa * (nx * -rvy + ny * rvx)
+        rows.append((cf, -(nx * (cb[0] - ca[0]) + ny * (cb[1] - ca[1])) + cor))
+    if isinstance(j, Prismatic):
+        (c0a, ka), (c0b, kb) = (pa_.w(), pb_.w()) if level == "v" else (pa_.e(), pb_.e())
+        rows.append((coefs([(pa_, ka), (pb_, -kb)]), np.asarray(c0b - c0a) + np.zeros(st.n)))
+    return rows
+
+
+def _cramer(st: _State, rows: list[tuple[list[Arr | float], Arr]], scale: Arr | float
+            ) -> list[Arr]:
+    """Solve 1x1 or 2x2 systems position by position; singular -> NaN, flagged."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        if len(rows) == 1:
+            (a,), r = rows[0]
+            a = np.asarray(a) + np.zeros(st.n)
+            sing = ~(np.abs(a) > 1e-10 * np.asarray(scale))
+            return [np.where(sing, np.nan, r / np.where(sing, 1.0, a))]
+        (a11, a12), r1 = rows[0]
+        (a21, a22), r2 = rows[1]
+        det = np.asarray(a11 * a22 - a12 * a21) + np.zeros(st.n)
+        sing = ~(np.abs(det) > 1e-10 * np.asarray(scale))
+        inv = 1.0 / np.where(sing, np.nan, det)
+        return [(r1 * a22 - r2 * a12) * inv, (a11 * r2 - a21 * r1) * inv]
+
+
+def _group_pars(mech: Mechanism, st: _State, g: Group) -> tuple[dict[int, _Par], Joint,
+                                                                list[_Par]]:
+    """Parametrisations of a closed-form group's bodies and its closure joint."""
+    nb = len(mech.body_names)
+    members = [mech.index[b] for b in g.bodies]
+    pars: dict[int, _Par] = {}
+    for i in range(nb):
+        if i not in members:
+            pars[i] = _Par(mech, st, None, i, None)
+    if g.kind in ("RS", "PS"):
+        jt, js = (mech.joint(n) for n in g.joints)
+        b = members[0]
+        pars[b] = _Par(mech, st, jt, b, 0)
+        return pars, js, [pars[b]]
+    j1, j2, j3 = (mech.joint(n) for n in g.joints)
+    b1, b2 = members
+    pars[b1] = _Par(mech, st, j1, b1, 0)
+    pars[b2] = _Par(mech, st, j3, b2, 1)
+    return pars, j2, [pars[b1], pars[b2]]
+
+
+def _closed_rates(mech: Mechanism, st: _State, g: Group) -> None:
+    pars, jc, unk = _group_pars(mech, st, g)
+    n_unk = len(unk)
+    L = _length_scale(mech)
+    scale = L ** n_unk
+    z = _cramer(st, _closure_rows(mech, st, jc, pars, n_unk, "v"), scale)
+    for p, zi in zip(unk, z, strict=True):
+        p.z = zi
+    for p in unk:
+        p.set_velocity()
+    zd = _cramer(st, _closure_rows(mech, st, jc, pars, n_unk, "a"), scale)
+    for p, zdi in zip(unk, zd, strict=True):
+        p.set_acceleration(zdi)
+
+
+def _linear_driver_rates(mech: Mechanism, st: _State, g: Group, w1: Arr, e1: Arr) -> None:
+    j = mech.joint(g.joints[0])
+    b = mech.index[g.bodies[0]]
+    sign = 1.0 if b == mech.index[j.b] else -1.0
+    p = _Par(mech, st, j, b, 0)
+    p.z = sign * w1
+    p.set_velocity()
+    p.set_acceleration(sign * e1)
+
+
 def _batched_solve(J: Arr, rhs: Arr, good: Arr) -> Arr:
     out = np.full(rhs.shape, np.nan)
     if good.all():
@@ -701,6 +944,30 @@ def _batched_solve(J: Arr, rhs: Arr, good: Arr) -> Arr:
 
 
 # ---------------------------------------------------------------------------------------------
+_CHUNK = 8192
+
+
+def _solve_chunk(mech: Mechanism, groups: tuple[Group, ...], branches: dict[str, int], q: Arr,
+                 w1: Arr, e1: Arr) -> _State:
+    """Positions, velocities, accelerations of all bodies for the positions ``q``."""
+    st = _State(len(mech.body_names), q.shape[0])
+    with np.errstate(all="ignore"):
+        for g in groups:
+            b = branches[g.key]
+            if g.kind == "driver":
+                _solve_driver(mech, st, g, q)
+            elif g.kind in ("RS", "PS"):
+                _solve_slot_group(mech, st, g, b)
+            elif g.kind == "newton":
+                _solve_newton(mech, st, g, q)
+            else:
+                _solve_dyad(mech, st, g, b)
+        st.pos_bad = st.bad.copy()
+        for g in groups:
+            _group_rates(mech, st, g, w1, e1)
+    return st
+
+
 def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None,
                eps1: ArrayLike | None = None, *, branches: Mapping[str, int] | None = None,
                on_fail: Literal["raise", "nan"] = "raise") -> Kinematics:
@@ -744,35 +1011,36 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
             raise ParameterError(f"branches.{k_}", v_, "must be +1 or -1")
     structure = mech.structure
     nb = len(mech.body_names)
-    st = _State(nb, n)
-    used: dict[str, int] = {}
-    for g in structure.groups:
-        b = int(br.get(g.key, 1))
-        used[g.key] = b
-        if g.kind == "driver":
-            _solve_driver(mech, st, g, q)
-        elif g.kind in ("RS", "PS"):
-            _solve_slot_group(mech, st, g, b)
-        elif g.kind == "newton":
-            _solve_newton(mech, st, g, q)
-        else:
-            _solve_dyad(mech, st, g, b)
-    if st.bad.any() and on_fail == "raise":
-        unit = "rad" if isinstance(drv, Crank) else "m"
-        raise AssemblyError(f"mechanism cannot be assembled at {int(st.bad.sum())} of {n} "
-                            "driver positions", angle_ranges(q, st.bad), driver="phi1"
-                            if unit == "rad" else "s1", unit=unit)
-    for g in structure.groups:
-        _group_rates(mech, st, g, w1, e1)
-    bad = st.bad | ~np.isfinite(np.array(st.W)).all(axis=0)
+    used = {g.key: int(br.get(g.key, 1)) for g in structure.groups}
+    keys = ("X", "Y", "T", "VX", "VY", "W", "AX", "AY", "E")
+    block = np.empty((len(keys), nb, n))  # one allocation: much faster than nine
+    pos_bad = np.zeros(n, dtype=bool)
+    bad = np.zeros(n, dtype=bool)
+    # chunks keep the temporaries in cache; Newton groups need the whole sequence
+    newton = any(g.kind == "newton" for g in structure.groups)
+    step = n if newton else _CHUNK
+    for lo in range(0, n, step):
+        sl = slice(lo, min(lo + step, n))
+        st = _solve_chunk(mech, structure.groups, used, q[sl], w1[sl], e1[sl])
+        pos_bad[sl] = st.pos_bad
+        bad[sl] = st.bad
+        for i in range(1, nb):
+            bad[sl] |= ~np.isfinite(st.W[i])
+        for kk, key in enumerate(keys):
+            for i, arr in enumerate(getattr(st, key)):
+                block[kk, i, sl] = arr
+    unit = "rad" if isinstance(drv, Crank) else "m"
+    if pos_bad.any() and on_fail == "raise":
+        raise AssemblyError(f"mechanism cannot be assembled at {int(pos_bad.sum())} of {n} "
+                            "driver positions", angle_ranges(q, pos_bad),
+                            driver="phi1" if unit == "rad" else "s1", unit=unit)
     if bad.any() and on_fail == "raise":
-        unit = "rad" if isinstance(drv, Crank) else "m"
         raise AssemblyError("mechanism is at a singular (toggle) position where velocities are "
-                            "undefined", angle_ranges(q, bad), unit=unit)
-    out = {k: np.array(getattr(st, k)) for k in ("X", "Y", "T", "VX", "VY", "W", "AX", "AY", "E")}
+                            "undefined", angle_ranges(q, bad),
+                            driver="phi1" if unit == "rad" else "s1", unit=unit)
     if bad.any():
-        for v in out.values():
-            v[:, bad] = np.nan
+        block[:, :, bad] = np.nan
+    out = dict(zip(keys, block, strict=True))
     return Kinematics(mech, q, w1.copy(), e1.copy(), mech.body_names, out["X"], out["Y"],
                       out["T"], out["VX"], out["VY"], out["W"], out["AX"], out["AY"], out["E"],
                       ~bad, used)
