@@ -819,7 +819,7 @@ def _closure_rows(mech: Mechanism, st: _State, j: Joint, pars: dict[int, _Par], 
     """
     ia, ib = mech.index[j.a], mech.index[j.b]
     pa_, pb_ = pars[ia], pars[ib]
-    qa, pb, ang = mech.joint_geometry(j)
+    _qa, pb, ang = mech.joint_geometry(j)
     rows: list[tuple[list[Arr | float], Arr]] = []
 
     def coefs(vals: list[tuple[_Par, Any]]) -> list[Arr | float]:
