@@ -796,7 +796,7 @@ class _Par:
         r = (st.X[b], st.Y[b])
         st.VX[b], st.VY[b] = self.vel(r)
         c, k = self.w()
-        st.W[b] = c + k * self.z
+        st.W[b] = np.asarray(c + k * self.z, dtype=float)
 
     def set_acceleration(self, zd: Arr) -> None:
         st, b = self.st, self.b
@@ -805,7 +805,7 @@ class _Par:
         dd = self.d(r)
         st.AX[b], st.AY[b] = c[0] + zd * dd[0], c[1] + zd * dd[1]
         c0, k = self.e()
-        st.E[b] = c0 + k * zd
+        st.E[b] = np.asarray(c0 + k * zd, dtype=float)
 
 
 def _closure_rows(mech: Mechanism, st: _State, j: Joint, pars: dict[int, _Par], n_unk: int,
