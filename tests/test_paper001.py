@@ -132,3 +132,27 @@ def test_paper001_example_sensitivity_to_rocker_inertia_is_small():
     """0.00567 (printed) vs 0.00667 kg m^2 (thin rod): the axis moves by < 3 mm."""
     a, b = _paper_comparison(0.00567), _paper_comparison(0.00667)
     assert np.hypot(a.x3 - b.x3, a.y3 - b.y3) < 3e-3
+
+
+def test_paper001_table_means_not_explained_by_gravity():
+    """With weights the cycle means of M and dM1 become linear in the gravity vector g; the g
+    that gives both printed means (-1.86, -0.67 N*m) has |g| = 3.76 m/s^2, not 9.81: no frame
+    inclination reproduces the table."""
+    from linkwork.balancing import force_balance
+    from linkwork.planar.dynamics import inverse_dynamics
+    from linkwork.planar.kinematics import kinematics
+    from linkwork.planar.model import fourbar
+
+    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0),
+                   inertias=(1.0 / 1200, 0.0225, 0.00567), coms=(0.05, 0.15, 0.1), omega1=OMEGA)
+    bal = force_balance(mech, radii={"crank": 0.05, "rocker": 0.1}).mechanism
+    phi = np.radians(PHI_DEG)
+
+    def mean(m, g):
+        return inverse_dynamics(kinematics(m, phi), gravity=g).shaking_m.mean()
+
+    A = np.array([[mean(m, (1.0, 0.0)) - mean(m, (0.0, 0.0)),
+                   mean(m, (0.0, 1.0)) - mean(m, (0.0, 0.0))] for m in (mech, bal)])
+    rhs = [M_TABLE.mean() - mean(mech, (0.0, 0.0)), DM1_TABLE.mean() - mean(bal, (0.0, 0.0))]
+    g = np.linalg.solve(A, rhs)
+    assert np.hypot(*g) == pytest.approx(3.76, abs=0.01)
