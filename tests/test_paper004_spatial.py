@@ -248,3 +248,40 @@ def test_paper004_eq18_19_elimination(coeffs):
            - c["a11_11"] * c["a99"] / c["a9_11"] * g)
     assert np.isclose(MOx, K11 / den)                                           # (19) corrected
     assert not np.isclose(MOx, K11 / (den / c["a57"]))                          # (19) as printed
+
+
+# ------------------------------------------------------------------------------------------------
+# the "5-25 %" of the paper: influence of redundancy on the bending moment in B vs e, deviation
+
+_PHI72 = np.linspace(0.0, 2 * np.pi, 72, endpoint=False)
+
+
+def _influence_ratio(e, tilt):
+    """peak |M_B| / peak |Q| for the stacked loom four-bar, all axes of length e, a tilt of the
+    frame's bore at C about x."""
+    centres, forces, moments = loads(_PHI72)
+    n = len(_PHI72)
+    m = spatial_model(e=(e,) * 4, z=(0.0, e, e, -e))
+    p3 = np.concatenate([centres, np.broadcast_to(np.array([0.0, e, 0.0]), (n, 3))[..., None]],
+                        -1)
+    f3 = np.concatenate([forces, np.zeros((n, 3, 1))], -1)
+    m3 = np.zeros((n, 3, 3))
+    m3[..., 2] = moments
+    d = np.zeros((4, 2, 6))
+    d[3, 0, 3] = tilt
+    r = solve_reactions(m, geometry(_PHI72), wrench_about_origin(f3, m3, p3), d)
+    return np.max(r.bending()[2]) / np.max(np.abs(r.Q))
+
+
+def test_paper004_influence_of_redundancy_table():
+    """The table of docs/redundancy.md (ratios in %, to 0.01): without deviation the ratio
+    grows in proportion to e (lever arms of the in-plane forces), to 0.5 %."""
+    table = {0.005: (3.16, 3.13, 3.08, 2.95), 0.01: (6.32, 6.20, 6.02, 5.92),
+             0.02: (12.63, 12.21, 11.75, 14.05), 0.04: (25.25, 23.80, 24.15, 48.11),
+             0.06: (37.82, 35.18, 40.29, 102.78)}
+    for e, row in table.items():
+        got = [100 * _influence_ratio(e, t) for t in (0.0, 1e-4, 3e-4, 1e-3)]
+        assert np.allclose(got, row, atol=0.006), (e, got)
+    base = _influence_ratio(0.01, 0.0)
+    for e in (0.005, 0.02, 0.04):
+        assert np.isclose(_influence_ratio(e, 0.0) / base, e / 0.01, rtol=5e-3)
