@@ -750,6 +750,8 @@ class _Par:
             self.u = st.rot(ia, (np.cos(ang), np.sin(ang)))
 
     def d(self, X: Vec) -> Vec:
+        if self.known:
+            return 0.0, 0.0  # type: ignore[return-value]
         if self.rev:
             return -(X[1] - self.A[1]), X[0] - self.A[0]
         return self.u

@@ -1,0 +1,284 @@
+"""Every group kind of the planar engine: closure, finite differences, balances, branches.
+
+Each mechanism is checked against its own joint definitions written out here (coincident
+points with equal velocities and accelerations, points on lines, constant relative angles),
+against central differences of the positions, and with the power and momentum balances.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from linkwork.planar import (
+    Body,
+    BodyTorque,
+    Crank,
+    Linear,
+    Mechanism,
+    PinInSlot,
+    PointForce,
+    Prismatic,
+    Revolute,
+    bar,
+    crank_slider,
+    fourbar,
+    inverse_dynamics,
+    kinematics,
+)
+
+FULL = np.linspace(0.0, 2 * np.pi, 25)
+
+
+def _blk(name, pts, mass=0.5, inertia=2e-4):
+    return Body(name, pts, mass=mass, com=(0.01, -0.005), inertia=inertia)
+
+
+def m_rrr():
+    return fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2)), FULL, "RRR"
+
+
+def m_rrp():
+    return crank_slider(0.1, 0.35, 0.03, guide_angle=0.5, masses=(1, 2, 3)), FULL, "RRP"
+
+
+def m_prr():
+    base = crank_slider(0.1, 0.35, 0.03, guide_angle=0.5, masses=(1, 2, 3))
+    b = {x.name: x for x in base.bodies}
+    mech = Mechanism(base.frame, (b["crank"], b["slider"], b["rod"]), base.joints,
+                     base.driver, {"B": 1})
+    return mech, FULL, "PRR"
+
+
+def m_rpr():
+    frame = Body("frame", {"O": (0, 0), "C": (-0.25, 0.02)})
+    crank = bar("crank", "O", "A", 0.1, mass=1.0)
+    block = _blk("block", {"A": (0, 0)})
+    lever = bar("lever", "C", "E", 0.5, mass=2.0)
+    joints = (Revolute("O", "frame", "crank"), Revolute("A", "crank", "block"),
+              Prismatic("S", "lever", "block", angle=0.0, through=(0.0, 0.01), point="A"),
+              Revolute("C", "frame", "lever"))
+    return Mechanism(frame, (crank, block, lever), joints, Crank("O")), FULL, "RPR"
+
+
+def _yoke(order):
+    frame = Body("frame", {"O": (0, 0)})
+    crank = bar("crank", "O", "A", 0.1, mass=1.0)
+    block = _blk("block", {"A": (0, 0)})
+    yoke = Body("yoke", {"Y": (0.0, 0.0)}, mass=3.0, com=(0.05, 0.0), inertia=0.01)
+    joints = (Revolute("O", "frame", "crank"), Revolute("A", "crank", "block"),
+              Prismatic("S", "yoke", "block", angle=np.radians(70), through=(0.02, 0.0),
+                        point="A"),
+              Prismatic("G", "frame", "yoke", angle=0.2, through=(0.0, 0.01), point="Y"))
+    bodies = {"block": block, "yoke": yoke}
+    return Mechanism(frame, (crank, *(bodies[o] for o in order)), joints, Crank("O"))
+
+
+def m_rpp():
+    return _yoke(("block", "yoke")), FULL, "RPP"
+
+
+def m_ppr():
+    return _yoke(("yoke", "block")), FULL, "PPR"
+
+
+def m_prp():
+    frame = Body("frame", {"O": (0, 0)})
+    crank = bar("crank", "O", "A", 0.1, mass=1.0)
+    collar = _blk("collar", {"P": (0, 0)})
+    slider = _blk("slider", {"P": (0, 0)}, mass=1.5)
+    joints = (Revolute("O", "frame", "crank"),
+              Prismatic("G1", "crank", "collar", angle=0.0, through="O", point="P"),
+              Revolute("P", "collar", "slider"),
+              Prismatic("G2", "frame", "slider", angle=0.1, through=(0.0, 0.2), point="P"))
+    return (Mechanism(frame, (crank, collar, slider), joints, Crank("O")),
+            np.linspace(0.6, 2.4, 19), "PRP")
+
+
+def m_rs_slot_in_body():
+    frame = Body("frame", {"O": (0, 0), "C": (-0.25, 0.0)})
+    crank = bar("crank", "O", "A", 0.1, mass=1.0)
+    lever = bar("lever", "C", "E", 0.5, mass=2.0)
+    joints = (Revolute("O", "frame", "crank"), Revolute("C", "frame", "lever"),
+              PinInSlot("S", "lever", "crank", angle=0.0, through=(0.0, 0.015), point="A"))
+    return Mechanism(frame, (crank, lever), joints, Crank("O")), FULL, "RS"
+
+
+def m_rs_pin_in_known_slot():
+    frame = Body("frame", {"O": (0, 0), "C": (0.25, 0.0)})
+    crank = bar("crank", "O", "A", 0.4, mass=1.0)
+    lever = bar("lever", "C", "P", 0.3, mass=2.0)
+    joints = (Revolute("O", "frame", "crank"), Revolute("C", "frame", "lever"),
+              PinInSlot("S", "crank", "lever", angle=0.0, through="O", point="P"))
+    return Mechanism(frame, (crank, lever), joints, Crank("O")), FULL, "RS"
+
+
+def m_ps_sine():
+    frame = Body("frame", {"O": (0, 0)})
+    crank = bar("crank", "O", "A", 0.1, mass=1.0)
+    yoke = Body("yoke", {"Y": (0.0, 0.0)}, mass=3.0, com=(0.05, 0.02), inertia=0.01)
+    joints = (Revolute("O", "frame", "crank"),
+              Prismatic("G", "frame", "yoke", angle=0.0, point="Y"),
+              PinInSlot("S", "yoke", "crank", angle=np.radians(60), through=(0.01, 0.0),
+                        point="A"))
+    return Mechanism(frame, (crank, yoke), joints, Crank("O")), FULL, "PS"
+
+
+def m_linear_driver():
+    base = crank_slider(0.1, 0.35, 0.03, masses=(1, 2, 3))
+    mech = Mechanism(base.frame, base.bodies, base.joints, Linear("G", v1=0.7, a1=0.4),
+                     {"A": 1})
+    return mech, np.linspace(0.27, 0.43, 17), "RRR"
+
+
+def m_triad():
+    """A class III group (ternary link on three binary links), solved by Newton."""
+    phi0 = 0.3
+    A = np.array([0.1 * np.cos(phi0), 0.1 * np.sin(phi0)])
+    P1, P2, P3 = np.array([0.25, 0.15]), np.array([0.35, 0.05]), np.array([0.3, 0.25])
+    F2, F3 = np.array([0.45, -0.1]), np.array([0.5, 0.35])
+
+    def link(name, s, e, S, E, mass):
+        L = float(np.hypot(*(E - S)))
+        b = bar(name, s, e, L, mass=mass)
+        th = float(np.arctan2(*(E - S)[::-1]))
+        return Body(b.name, b.points, b.mass, b.com, b.inertia, guess=(S[0], S[1], th))
+
+    frame = Body("frame", {"O": (0, 0), "F2": tuple(F2), "F3": tuple(F3)})
+    crank = bar("crank", "O", "A", 0.1, mass=1.0)
+    tern = Body("tern", {"P1": (0, 0), "P2": tuple(P2 - P1), "P3": tuple(P3 - P1)}, mass=2.0,
+                com=tuple((P2 + P3 - 2 * P1) / 3), inertia=0.004, guess=(P1[0], P1[1], 0.0))
+    l1 = link("l1", "A", "P1", A, P1, 0.8)
+    l2 = link("l2", "F2", "P2", F2, P2, 0.6)
+    l3 = link("l3", "F3", "P3", F3, P3, 0.7)
+    joints = (Revolute("O", "frame", "crank"), Revolute("A", "crank", "l1"),
+              Revolute("P1", "l1", "tern"), Revolute("P2", "l2", "tern"),
+              Revolute("P3", "l3", "tern"), Revolute("F2", "frame", "l2"),
+              Revolute("F3", "frame", "l3"))
+    mech = Mechanism(frame, (crank, l1, l2, l3, tern), joints, Crank("O"))
+    return mech, np.linspace(phi0, phi0 + 0.55, 12), "newton"
+
+
+BUILDERS = [m_rrr, m_rrp, m_prr, m_rpr, m_rpp, m_ppr, m_prp, m_rs_slot_in_body,
+            m_rs_pin_in_known_slot, m_ps_sine, m_linear_driver, m_triad]
+
+
+def _check_joints(kin, tol=1e-12):
+    """Every joint's constraint, at position, velocity and acceleration level, written out."""
+    m = kin.mechanism
+    for j in m.joints:
+        qa, pb, ang = m.joint_geometry(j)
+        Pa, Pb = kin.point(j.a, qa), kin.point(j.b, pb)
+        ta = kin.angle(j.a)
+        if isinstance(j, Revolute):
+            for f in ("x", "y"):
+                np.testing.assert_allclose(getattr(Pa, f), getattr(Pb, f), atol=tol)
+            scale_v = 1 + np.max(np.abs(Pa.vx))
+            np.testing.assert_allclose(Pa.vx, Pb.vx, atol=tol * 10 * scale_v)
+            np.testing.assert_allclose(Pa.vy, Pb.vy, atol=tol * 10 * scale_v)
+            scale_a = 1 + np.max(np.abs(Pa.ax))
+            np.testing.assert_allclose(Pa.ax, Pb.ax, atol=tol * 100 * scale_a)
+            np.testing.assert_allclose(Pa.ay, Pb.ay, atol=tol * 100 * scale_a)
+        else:
+            nx, ny = -np.sin(ta + ang), np.cos(ta + ang)
+            np.testing.assert_allclose(nx * (Pb.x - Pa.x) + ny * (Pb.y - Pa.y), 0, atol=tol)
+            if isinstance(j, Prismatic):
+                np.testing.assert_allclose(kin.angle(j.b) - ta, j.rel_angle, atol=tol)
+
+
+@pytest.mark.parametrize("builder", BUILDERS, ids=lambda f: f.__name__)
+def test_group_kind_and_closure(builder):
+    mech, phi, kind = builder()
+    kinds = [g.kind for g in mech.structure.groups]
+    assert kinds[0] == "driver" and kinds[-1] == kind
+    for branch in (1, -1):
+        if kind == "newton":
+            kin = kinematics(mech, phi, omega1=3.0, eps1=1.5)
+        else:
+            key = mech.structure.groups[-1].key
+            kin = kinematics(mech, phi, omega1=3.0, eps1=1.5, branches={key: branch})
+        _check_joints(kin)
+
+
+@pytest.mark.parametrize("builder", BUILDERS, ids=lambda f: f.__name__)
+def test_group_finite_differences(builder):
+    mech, phi, kind = builder()
+    w, e = 2.0, -1.3
+    h = 1e-5 if kind != "newton" else 1e-4
+    k = kinematics(mech, phi, omega1=w, eps1=e)
+    kp = kinematics(mech, phi + h, omega1=w, eps1=e)
+    km = kinematics(mech, phi - h, omega1=w, eps1=e)
+    for name, vel, acc in (("x", k.vx, k.ax), ("y", k.vy, k.ay), ("theta", k.omega, k.eps)):
+        dp = getattr(kp, name) - getattr(k, name)
+        dm = getattr(km, name) - getattr(k, name)
+        if name == "theta":  # angles may wrap by 2 pi between neighbouring positions
+            dp, dm = np.angle(np.exp(1j * dp)), np.angle(np.exp(1j * dm))
+        d1 = (dp - dm) / (2 * h)
+        d2 = (dp + dm) / h**2
+        np.testing.assert_allclose(vel, d1 * w, atol=1e-7 * (1 + np.max(np.abs(vel))))
+        np.testing.assert_allclose(acc, d2 * w * w + d1 * e,
+                                   atol=2e-4 * (1 + np.max(np.abs(acc))))
+
+
+@pytest.mark.parametrize("builder", BUILDERS, ids=lambda f: f.__name__)
+def test_group_power_and_momentum(builder):
+    mech, phi, _ = builder()
+    g = (0.7, -9.81)
+    body = mech.bodies[-1].name
+    loads = [PointForce(body, "com", 5.0 * np.sin(phi), -3.0), BodyTorque(body, 0.8)]
+    k = kinematics(mech, phi, omega1=4.0, eps1=2.0)
+    d = inverse_dynamics(k, gravity=g, loads=loads, about=(0.1, 0.2))
+    dT, P = np.zeros(k.n), np.zeros(k.n)
+    Fx, Fy, M, px, py, dH = (np.zeros(k.n) for _ in range(6))
+    for b in mech.bodies:
+        i = mech.index[b.name]
+        c = k.point(b.name, "com")
+        dT += b.mass * (c.vx * c.ax + c.vy * c.ay) + b.inertia * k.omega[i] * k.eps[i]
+        P += b.mass * (g[0] * c.vx + g[1] * c.vy)
+        Fx += b.mass * g[0]
+        Fy += b.mass * g[1]
+        M += (c.x - 0.1) * b.mass * g[1] - (c.y - 0.2) * b.mass * g[0]
+        px += b.mass * c.ax
+        py += b.mass * c.ay
+        dH += (c.x - 0.1) * b.mass * c.ay - (c.y - 0.2) * b.mass * c.ax + b.inertia * k.eps[i]
+    c = k.point(body, "com")
+    fx = 5.0 * np.sin(phi)
+    P += fx * c.vx - 3.0 * c.vy + 0.8 * k.omega[mech.index[body]]
+    Fx += fx
+    Fy += -3.0
+    M += (c.x - 0.1) * -3.0 - (c.y - 0.2) * fx + 0.8
+    s = np.max(np.abs(dT)) + np.max(np.abs(P))
+    np.testing.assert_allclose(d.Q * k.omega1, dT - P, atol=1e-9 * s)
+    fs = np.max(np.abs(Fx)) + np.max(np.abs(Fy)) + np.max(np.abs(px)) + np.max(np.abs(py))
+    np.testing.assert_allclose(d.shaking_fx, Fx - px, atol=1e-9 * fs)
+    np.testing.assert_allclose(d.shaking_fy, Fy - py, atol=1e-9 * fs)
+    ms = np.max(np.abs(M)) + np.max(np.abs(dH))
+    np.testing.assert_allclose(d.shaking_m, M - dH, atol=1e-9 * ms)
+
+
+def test_branch_definitions_rpr_and_slot():
+    """RPR: branch +1 points the guide from its pivot towards the slider's pivot."""
+    mech, phi, _ = m_rpr()
+    for br in (1, -1):
+        k = kinematics(mech, phi, branches={"S": br})
+        lever = k.angle("lever")
+        C = k.point("lever", "C")
+        A = k.point("block", "A")
+        side = np.cos(lever) * (A.x - C.x) + np.sin(lever) * (A.y - C.y)
+        assert np.all(np.sign(side) == br)
+    mech, phi, _ = m_rs_pin_in_known_slot()
+    for br in (1, -1):
+        k = kinematics(mech, phi, branches={"S": br})
+        s = k.slide("S")[0]
+        other = kinematics(mech, phi, branches={"S": -br}).slide("S")[0]
+        assert np.all(br * (s - other) > 0)
+
+
+def test_slide_derivatives_by_finite_differences():
+    mech, phi, _ = m_ps_sine()
+    h = 1e-5
+    s, sd, sdd = kinematics(mech, phi).slide("S")
+    sp = kinematics(mech, phi + h).slide("S")[0]
+    sm = kinematics(mech, phi - h).slide("S")[0]
+    np.testing.assert_allclose(sd, (sp - sm) / (2 * h), atol=1e-8)
+    np.testing.assert_allclose(sdd, (sp - 2 * s + sm) / h**2, atol=1e-4)
