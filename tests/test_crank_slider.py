@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -217,3 +218,24 @@ def test_result_exports(tmp_path):
     assert d["units"]["a_C"] == "m/s^2" and len(d["columns"]["Y_C"]) == PHI.size
     text = r.to_csv(tmp_path / "c.csv").read_text().splitlines()
     assert text[0].startswith("phi1 [rad]") and len(text) == PHI.size + 1
+
+
+def test_dead_centres_named_fields():
+    dc = dead_centres(4.0, 0.5)
+    r = offset_crank_slider(np.array([dc.phi1_top, dc.phi1_bottom]), 0.05, 4.0, 0.5)
+    assert r.Y_C[0] > r.Y_C[1]
+    assert float(r.Y_C[0] - r.Y_C[1]) == pytest.approx(float(stroke(0.05, 4.0, 0.5)), rel=1e-12)
+
+
+def test_every_result_field_documented_with_unit():
+    import dataclasses
+
+    from linkwork.models.crank_slider import CrankSliderResult
+    doc = CrankSliderResult.__doc__ or ""
+    nomenclature = (Path(__file__).resolve().parents[1] / "docs" / "nomenclature.md").read_text()
+    for f in dataclasses.fields(CrankSliderResult):
+        assert f.name in CrankSliderResult.units, f.name
+        assert f.name in doc, f.name
+        if f.name not in ("valid", "branch", "L1", "lambda2", "lambda_e", "omega1", "eps1",
+                          "phi1"):
+            assert f"`{f.name}`" in nomenclature, f.name

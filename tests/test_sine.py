@@ -235,3 +235,23 @@ def test_working_range_impossible_friction():
         working_range(1.0, 1.0)
     with pytest.raises(ParameterError):
         working_range(-0.1, 0.1)
+
+
+def test_extreme_positions_named_fields():
+    ep = extreme_positions(math.radians(60))
+    assert float(ep.phi1_min) == pytest.approx(math.radians(330))
+    assert float(ep.phi1_max) == pytest.approx(math.radians(150))
+
+
+def test_every_result_field_documented_with_unit():
+    import dataclasses
+    from pathlib import Path
+
+    from linkwork.models.sine import InclinedSlotResult
+    doc = InclinedSlotResult.__doc__ or ""
+    nomenclature = (Path(__file__).resolve().parents[1] / "docs" / "nomenclature.md").read_text()
+    for f in dataclasses.fields(InclinedSlotResult):
+        assert f.name in InclinedSlotResult.units, f.name
+        assert f.name in doc, f.name
+        if f.name not in ("L1", "alpha", "omega1", "eps1", "phi1", "X_B", "Y_B"):
+            assert f"`{f.name}`" in nomenclature, f.name

@@ -28,7 +28,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar, Literal
+from typing import ClassVar, Literal, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -44,6 +44,7 @@ from linkwork.results import Result
 
 __all__ = [
     "CrankSliderResult",
+    "DeadCentres",
     "assembly_limit",
     "dead_centres",
     "max_pressure_angle",
@@ -113,6 +114,15 @@ class CrankSliderResult(Result):
         "omega2": "rad/s", "eps2": "rad/s^2", "V_C": "m/s", "a_C": "m/s^2",
         "pressure_angle": "rad", "valid": "1",
     }
+
+
+class DeadCentres(NamedTuple):
+    """Crank angles [rad, in [0, 2 pi)] of the slider's extreme positions."""
+
+    phi1_top: np.ndarray
+    """Crank angle where ``Y_C`` is largest."""
+    phi1_bottom: np.ndarray
+    """Crank angle where ``Y_C`` is smallest."""
 
 
 def assembly_limit(lambda_e: ArrayLike) -> np.ndarray:
@@ -316,17 +326,16 @@ def stroke(L1: ArrayLike, lambda2: ArrayLike, lambda_e: ArrayLike) -> np.ndarray
     return L1_a * (np.sqrt((lam2 + 1.0) ** 2 - lame**2) - np.sqrt((lam2 - 1.0) ** 2 - lame**2))
 
 
-def dead_centres(lambda2: ArrayLike, lambda_e: ArrayLike,
-                 branch: int = +1) -> tuple[np.ndarray, np.ndarray]:
+def dead_centres(lambda2: ArrayLike, lambda_e: ArrayLike, branch: int = +1) -> DeadCentres:
     """Crank angles [rad, in [0, 2 pi)] of the slider's extreme positions.
 
     Returns
     -------
-    phi1_top, phi1_bottom : ndarray
-        Crank angles where ``Y_C`` is largest and smallest.  For ``branch=+1`` the top dead
-        centre is the extended position (B between A and C) and the bottom one the folded
-        position; for ``branch=-1`` the reverse.  ``V_qC = 0`` at both
-        (``cos(phi1 + phi2) = 0``).
+    DeadCentres
+        Named tuple ``(phi1_top, phi1_bottom)``: crank angles where ``Y_C`` is largest and
+        smallest.  For ``branch=+1`` the top dead centre is the extended position (B between A
+        and C) and the bottom one the folded position; for ``branch=-1`` the reverse.
+        ``V_qC = 0`` at both (``cos(phi1 + phi2) = 0``).
     """
     branch = _check_branch(branch)
     lam2, lame = _check_full_rotation(lambda2, lambda_e)
@@ -335,8 +344,8 @@ def dead_centres(lambda2: ArrayLike, lambda_e: ArrayLike,
     phi_ext = np.mod(np.arctan2(y_ext, lame), 2 * np.pi)  # B along +AC
     phi_fold = np.mod(np.arctan2(-y_fold, -lame), 2 * np.pi)  # B along -AC
     if branch == 1:
-        return phi_ext, phi_fold
-    return phi_fold, phi_ext
+        return DeadCentres(phi_ext, phi_fold)
+    return DeadCentres(phi_fold, phi_ext)
 
 
 def pressure_angle(phi1: ArrayLike, lambda2: ArrayLike, lambda_e: ArrayLike) -> np.ndarray:

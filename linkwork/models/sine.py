@@ -41,7 +41,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import ClassVar, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -56,6 +56,7 @@ from linkwork.errors import (
 from linkwork.results import Result
 
 __all__ = [
+    "ExtremePositions",
     "InclinedSlotResult",
     "alpha_for_stroke",
     "check_alpha",
@@ -112,6 +113,15 @@ class InclinedSlotResult(Result):
         "a_q3": "m/rad^2", "a_q32": "m/rad^2", "V3": "m/s", "V32": "m/s", "a3": "m/s^2",
         "a32": "m/s^2",
     }
+
+
+class ExtremePositions(NamedTuple):
+    """Crank angles [rad, in [0, 2 pi)] of the ram's extreme positions."""
+
+    phi1_min: np.ndarray
+    """Crank angle where ``X3`` is smallest (``alpha - pi/2``)."""
+    phi1_max: np.ndarray
+    """Crank angle where ``X3`` is largest (``alpha + pi/2``)."""
 
 
 def _check_alpha_open(alpha: ArrayLike, name: str = "alpha") -> np.ndarray:
@@ -208,20 +218,21 @@ def stroke(L1: ArrayLike, alpha: ArrayLike) -> np.ndarray:
     return 2.0 * L1_a / np.sin(al)
 
 
-def extreme_positions(alpha: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+def extreme_positions(alpha: ArrayLike) -> ExtremePositions:
     r"""Crank angles [rad, in [0, 2 pi)] of the two extreme slider positions.
 
     ``U31 = 0`` gives :math:`\cos(\varphi_1-\alpha) = 0`.
 
     Returns
     -------
-    phi1_min, phi1_max : ndarray
-        ``alpha - pi/2`` (``X3`` smallest, ``X3 = L1 (1 - 1/sin alpha)``) and ``alpha + pi/2``
+    ExtremePositions
+        Named tuple ``(phi1_min, phi1_max)``: ``alpha - pi/2`` (``X3`` smallest,
+        ``X3 = L1 (1 - 1/sin alpha)``) and ``alpha + pi/2``
         (``X3`` largest, ``X3 = L1 (1 + 1/sin alpha)``), wrapped to [0, 2 pi).  At these crank
         angles the crank is perpendicular to the slot.
     """
     al = _check_alpha_open(alpha)
-    return np.mod(al - np.pi / 2, 2 * np.pi), np.mod(al + np.pi / 2, 2 * np.pi)
+    return ExtremePositions(np.mod(al - np.pi / 2, 2 * np.pi), np.mod(al + np.pi / 2, 2 * np.pi))
 
 
 def alpha_for_stroke(L1: ArrayLike, H: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
