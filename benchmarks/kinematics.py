@@ -131,7 +131,7 @@ def fourbar_contenders(n: int, with_engine: bool = True) -> list[Contender]:
     out: list[Contender] = []
 
     def plain_out(r: Any) -> tuple[np.ndarray, ...]:
-        t3, t4, w3, w4, al3, al4, xa, ya, xb, yb = r
+        w4, al4, xb, yb = r[3], r[5], r[8], r[9]
         return _rocker_point(xb, yb, w4, al4, d)
 
     out.append(Contender("plain NumPy", lambda: numpy_fourbar(t, a, b, c, d, OMEGA), plain_out))
