@@ -113,3 +113,21 @@ def test_bad_speed(mech):
 def test_output_link_labels(mech):
     assert mech.output(0.3).link == "slider C: Y_C"
     assert mech.switch(WORKING).output(0.3).link == "ram: X3"
+
+
+def test_plot_schedule_marks_switches(mech):
+    from linkwork.plot import pyplot
+    from linkwork.plot.sine import plot_cycle, plot_schedule
+
+    r = mech.run([("idle", 2), ("working", 1, A60), ("idle", 1)], W1, samples_per_revolution=36)
+    ax = plot_schedule(r)
+    assert len(ax) == 3
+    xs = {round(float(line.get_xdata()[0]), 12) for line in ax[0].lines
+          if len(line.get_xdata()) == 2 and line.get_xdata()[0] == line.get_xdata()[1]}
+    assert xs == {round(t, 12) for t in r.switch_t}
+    idle = mech.kinematics(np.linspace(0, 2 * np.pi, 37), W1)
+    work = mech.switch(WORKING).kinematics(np.linspace(0, 2 * np.pi, 37), W1)
+    ax2 = plot_cycle(idle, work)
+    np.testing.assert_allclose(ax2[0].lines[0].get_ydata(), idle.Y_C * 1e3)
+    np.testing.assert_allclose(ax2[2].lines[1].get_ydata(), work.a3)
+    pyplot().close("all")
