@@ -949,6 +949,14 @@ def _batched_solve(J: Arr, rhs: Arr, good: Arr) -> Arr:
 _CHUNK = 8192
 
 
+def _per_position(name: str, value: ArrayLike, n: int) -> Arr:
+    a = require_finite(name, value)
+    try:
+        return np.broadcast_to(a, (n,)).astype(float)
+    except ValueError:
+        raise ParameterError(name, a.shape, f"must be a scalar or have shape ({n},)") from None
+
+
 def _solve_chunk(mech: Mechanism, groups: tuple[Group, ...], branches: dict[str, int], q: Arr,
                  w1: Arr, e1: Arr) -> _State:
     """Positions, velocities, accelerations of all bodies for the positions ``q``."""
@@ -1002,10 +1010,8 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         raise ParameterError("on_fail", on_fail, "must be 'raise' or 'nan'")
     n = q.shape[0]
     drv = mech.driver
-    w1 = np.broadcast_to(require_finite("omega1", drv.omega1 if omega1 is None else omega1),
-                         (n,)).astype(float)
-    e1 = np.broadcast_to(require_finite("eps1", drv.eps1 if eps1 is None else eps1),
-                         (n,)).astype(float)
+    w1 = _per_position("omega1", drv.omega1 if omega1 is None else omega1, n)
+    e1 = _per_position("eps1", drv.eps1 if eps1 is None else eps1, n)
     br = dict(mech.branches)
     br.update(branches or {})
     for k_, v_ in br.items():

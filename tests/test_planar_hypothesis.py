@@ -1,0 +1,64 @@
+"""Hypothesis-generated four-bars and crank-sliders that assemble: closure and FD consistency."""
+
+from __future__ import annotations
+
+import numpy as np
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from linkwork.planar import crank_slider, fourbar, kinematics
+
+length = st.floats(0.05, 1.0)
+PHI = np.linspace(0.0, 2 * np.pi, 24, endpoint=False)
+
+
+def _fd(mech, phi, h=1e-6):
+    w, e = 1.7, 0.9
+    k = kinematics(mech, phi, omega1=w, eps1=e)
+    kp = kinematics(mech, phi + h, omega1=w, eps1=e)
+    km = kinematics(mech, phi - h, omega1=w, eps1=e)
+    for name, vel, acc in (("x", k.vx, k.ax), ("y", k.vy, k.ay), ("theta", k.omega, k.eps)):
+        dp = getattr(kp, name) - getattr(k, name)
+        dm = getattr(km, name) - getattr(k, name)
+        if name == "theta":
+            dp, dm = np.angle(np.exp(1j * dp)), np.angle(np.exp(1j * dm))
+        np.testing.assert_allclose(vel, (dp - dm) / (2 * h) * w,
+                                   atol=1e-6 * (1 + np.max(np.abs(vel))))
+        np.testing.assert_allclose(acc, (dp + dm) / h**2 * w * w + (dp - dm) / (2 * h) * e,
+                                   atol=2e-2 * (1 + np.max(np.abs(acc))))
+    return k
+
+
+@settings(max_examples=60, deadline=None)
+@given(a=length, b=length, c=length, d=length, branch=st.sampled_from([1, -1]))
+def test_random_fourbar_closure_and_fd(a, b, c, d, branch):
+    Ax, Ay = a * np.cos(PHI), a * np.sin(PHI)
+    reach = np.hypot(d - Ax, Ay)
+    margin = np.minimum(b + c - reach, reach - abs(b - c))
+    assume(np.min(margin) > 0.02 * (a + b + c + d))  # assembles, away from toggles
+    k = _fd(fourbar(a, b, c, d, branch=branch), PHI)
+    A, B = k.point("crank", "A"), k.point("coupler", "B")
+    O4 = k.point("rocker", "O4")
+    np.testing.assert_allclose(np.hypot(B.x - A.x, B.y - A.y), b, rtol=1e-12)
+    np.testing.assert_allclose(np.hypot(B.x - O4.x, B.y - O4.y), c, rtol=1e-12)
+    np.testing.assert_allclose(O4.x, d, atol=1e-12)
+    Br = k.point("rocker", "B")
+    np.testing.assert_allclose(B.x, Br.x, atol=1e-12)
+    # branch: B left of A -> O4 for +1
+    cross = (d - A.x) * (B.y - A.y) - (0 - A.y) * (B.x - A.x)
+    assert np.all(np.sign(cross) == branch)
+
+
+@settings(max_examples=60, deadline=None)
+@given(r=length, l=length, e=st.floats(-0.5, 0.5), ang=st.floats(-3.0, 3.0),
+       branch=st.sampled_from([1, -1]))
+def test_random_crank_slider_closure_and_fd(r, l, e, ang, branch):
+    assume(l - r - abs(e) > 0.02 * (r + l))
+    k = _fd(crank_slider(r, l, e, guide_angle=ang, branch=branch), PHI)
+    A, B = k.point("crank", "A"), k.point("slider", "B")
+    np.testing.assert_allclose(np.hypot(B.x - A.x, B.y - A.y), l, rtol=1e-12)
+    # B on the guide: distance e from O, normal -sin/cos
+    np.testing.assert_allclose(-np.sin(ang) * B.x + np.cos(ang) * B.y, e, atol=1e-12)
+    s = np.cos(ang) * B.x + np.sin(ang) * B.y
+    sa = np.cos(ang) * A.x + np.sin(ang) * A.y
+    assert np.all(np.sign(s - sa) == branch)
