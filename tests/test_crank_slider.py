@@ -239,3 +239,16 @@ def test_every_result_field_documented_with_unit():
         if f.name not in ("valid", "branch", "L1", "lambda2", "lambda_e", "omega1", "eps1",
                           "phi1"):
             assert f"`{f.name}`" in nomenclature, f.name
+
+
+def test_phi2_ranges_and_continuity_per_branch():
+    phi = np.linspace(0, 2 * np.pi, 721)
+    up = offset_crank_slider(phi, 0.05, 3.0, 0.8, branch=1)
+    down = offset_crank_slider(phi, 0.05, 3.0, 0.8, branch=-1)
+    assert np.all(np.abs(up.phi2) < np.pi / 2)
+    assert np.all((down.phi2 > np.pi / 2) & (down.phi2 < 1.5 * np.pi))
+    for r in (up, down):
+        assert np.abs(np.diff(r.phi2)).max() < 0.01  # no wrap-around jumps over the cycle
+    # mirror assembly: the rod direction is reflected in the horizontal line through B
+    np.testing.assert_allclose(np.sin(down.phi2), np.sin(up.phi2), atol=1e-15)
+    np.testing.assert_allclose(np.cos(down.phi2), -np.cos(up.phi2), atol=1e-15)

@@ -14,7 +14,8 @@ Geometry and conventions (Fig. 1 and Eqs. (1)-(13) in [1]_)
   ``tan phi2 = (X_C - X_B) / (Y_C - Y_B)``, so ``BC = L2 (sin phi2, cos phi2)``.
 * ``branch=+1`` is the ``+`` root of Eq. (2): the slider lies above the crank pin
   (``cos phi2 > 0``, ``phi2`` in (-pi/2, pi/2)); ``branch=-1`` is the mirror assembly
-  (``cos phi2 < 0``, ``phi2`` in (pi/2, 3pi/2) wrapped to (-pi, pi]).
+  (``cos phi2 < 0``, ``phi2 = pi - arcsin(sin phi2)`` in (pi/2, 3pi/2), continuous over the
+  cycle).
 
 Transfer functions are derivatives with respect to ``phi1`` ("analogues"); actual velocities and
 accelerations follow from the crank speed ``omega1`` and the crank acceleration ``eps1``.
@@ -71,7 +72,8 @@ class CrankSliderResult(Result):
     L1, lambda2, lambda_e, omega1, eps1, branch : the inputs.
     X_B, Y_B : crank-pin coordinates [m], Eq. (2).
     X_C, Y_C : slider coordinates [m]; ``X_C = e``; ``Y_C`` is Eq. (5) (for ``branch=+1``).
-    phi2 : rod angle [rad] from +Y towards +X, Eqs. (1), (3), (4).
+    phi2 : rod angle [rad] from +Y towards +X, Eqs. (1), (3), (4); in (-pi/2, pi/2) for
+        ``branch=+1``, in (pi/2, 3 pi/2) for ``branch=-1``.
     U21 : ``d phi2 / d phi1`` [-], Eq. (6).
     V_qC : ``d Y_C / d phi1`` [m/rad], Eqs. (7), (8).
     eps_q2 : ``d U21 / d phi1`` [1/rad], the angular-acceleration analogue, Eq. (11).
@@ -248,7 +250,7 @@ def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lamb
         c2sq = np.where(bad, np.nan, c2sq)
     c2 = branch * np.sqrt(c2sq)
 
-    phi2 = np.arctan2(s2, c2)
+    phi2 = np.arcsin(s2) if branch == 1 else np.pi - np.arcsin(s2)
     Y_B = L1_b * s1
     X_B = L1_b * c1
     Y_C = L1_b * (s1 + lam2_b * c2)
