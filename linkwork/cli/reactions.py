@@ -1,0 +1,258 @@
+"""``linkwork reactions FILE.toml``: spatial joint reactions with redundant constraints.
+
+The file is a ``planar`` mechanism file (the engine's format) with an optional ``[spatial]``
+table (joint axis lengths and heights, stiffnesses, deviations, out-of-plane loads, tolerances;
+see :mod:`linkwork.redundancy.spec`). The command prints the structural count (Somov-Malyshev,
+redundant constraints q), a table of every reaction component per joint at the chosen driver
+positions and their peaks over the cycle, and writes CSV/JSON and plots into ``--out``;
+``--tolerance-study N`` adds a Monte-Carlo study of the peaks with a progress bar.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+
+from linkwork import files
+from linkwork.errors import FileFormatError, ParameterError
+
+__all__ = ["load_problem", "register", "run"]
+
+
+def load_problem(path: Path) -> tuple[Any, dict[str, Any], Any]:
+    """Read a mechanism file: (mechanism, analysis keywords, spatial spec).
+
+    The mechanism part is validated by the engine's ``planar`` schema (without the ``spatial``
+    table), the ``spatial`` table by :func:`linkwork.redundancy.spec.read_spatial`. The
+    keywords are those of :func:`linkwork.redundancy.spatial_reactions` that the file fixes
+    (``gravity``, ``loads``, ``omega1``, ``eps1``).
+    """
+    from linkwork.redundancy.spec import read_spatial
+
+    raw = files.read_toml(path)
+    spatial = read_spatial(path, raw)
+    kind = raw.get("type")
+    known = files.schemas()
+    if kind != "planar" or "planar" not in known:
+        raise FileFormatError(str(path), "type", f"must be 'planar' (a mechanism of the planar "
+                              f"engine) for 'linkwork reactions'; got {kind!r}")
+    data = {k: v for k, v in raw.items() if k != "spatial"}
+    doc = files.validate(path, data, known["planar"])
+    mech, kwargs = _from_planar_doc(doc)
+    return mech, kwargs, spatial
+
+
+def _from_planar_doc(doc: Any) -> tuple[Any, dict[str, Any]]:
+    """Mechanism and analysis keywords from the engine's validated ``planar`` document."""
+    mech = doc.mechanism() if callable(getattr(doc, "mechanism", None)) else doc.build()
+    kwargs: dict[str, Any] = {}
+    for name in ("gravity", "loads", "omega1", "eps1"):
+        fn = getattr(doc, name, None)
+        val = fn() if callable(fn) else fn
+        if val is not None:
+            kwargs[name] = val
+    return mech, kwargs
+
+
+def _model_inputs(mech: Any, spec: Any) -> dict[str, Any]:
+    from linkwork.redundancy import Deviation, OutOfPlaneLoad
+
+    return {
+        "joints": spec.joint_kwargs(),
+        "default": spec.default_kwargs(),
+        "heights": dict(spec.heights),
+        "out_of_plane": [OutOfPlaneLoad(o.body, o.fz, o.mx, o.my) for o in spec.out_of_plane],
+        "deviations": [Deviation(d.joint, d.body, d.dx, d.dy, d.dz, d.tx, d.ty, d.tz)
+                       for d in spec.deviation],
+    }
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.4g}"
+
+
+def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
+        analysis: dict[str, Any] | None = None, method: str = "force",
+        tolerance_study: int = 0, seed: int = 0, scheduler: str | None = None,
+        chunk_size: int = 500, plots: bool = True) -> dict[str, Any]:
+    """Analyse ``mech`` with the spatial data ``spec`` and report; return what was computed.
+
+    Parameters
+    ----------
+    mech : linkwork.planar.Mechanism
+    spec : linkwork.redundancy.spec.SpatialSpec
+    out : Path
+        Output folder (created).
+    angles : ndarray
+        Driver positions for the table [rad].
+    console : rich.console.Console
+    analysis : dict, optional
+        ``gravity``, ``loads``, ``omega1``, ``eps1`` for the engine.
+    method : {"force", "displacement"}
+    tolerance_study : int
+        Number of Monte-Carlo samples (0: none).
+    seed, scheduler, chunk_size
+        For the tolerance study (``scheduler``: a dask.distributed address).
+    plots : bool
+        Write PNG figures.
+    """
+    from rich.table import Table
+
+    from linkwork.planar import kinematics
+    from linkwork.redundancy import (
+        Tolerance,
+        body_wrenches,
+        count_redundancy,
+        deviation_array,
+        geometry,
+        spatial_model,
+        spatial_reactions,
+    )
+    from linkwork.redundancy import tolerance_study as mc
+
+    analysis = dict(analysis or {})
+    out.mkdir(parents=True, exist_ok=True)
+    inputs = _model_inputs(mech, spec)
+    cycle = np.linspace(0.0, 2 * np.pi, spec.positions, endpoint=False)
+    res = spatial_reactions(mech, cycle, method=method, **analysis, **inputs)
+    at = spatial_reactions(mech, angles, method=method, **analysis, **inputs)
+    model = spatial_model(mech, inputs["joints"], inputs["default"])
+    kin = kinematics(mech, cycle, analysis.get("omega1"), analysis.get("eps1"))
+    geom = geometry(mech, kin)
+    count = count_redundancy(model, geom, position=spec.positions // 7)
+    console.print(f"[bold]{mech.__class__.__name__}[/bold]: {count.summary()}")
+
+    for k, phi in enumerate(angles):
+        t = Table(title=f"reactions at φ1 = {np.degrees(phi):.4g} deg (by body a on body b, "
+                  f"at the joint centre)")
+        for col in ("joint", "fx [N]", "fy [N]", "fz [N]", "mx [N·m]", "my [N·m]",
+                    "mz [N·m]"):
+            t.add_column(col, justify="right")
+        comp = at.components()
+        for j, name in enumerate(at.joints):
+            t.add_row(name, *(_fmt(comp[j, i, k]) for i in range(6)))
+        t.caption = f"driving torque Q = {_fmt(at.Q[k])} N·m"
+        console.print(t)
+    peaks = res.peaks()
+    t = Table(title=f"peaks over the cycle ({spec.positions} positions)")
+    for col in ("joint", "|fx| [N]", "|fy| [N]", "|fz| [N]", "|mx| [N·m]", "|my| [N·m]",
+                "bending [N·m]"):
+        t.add_column(col, justify="right")
+    for name in res.joints:
+        p = peaks[name]
+        t.add_row(name, *(_fmt(p[c]) for c in ("fx", "fy", "fz", "mx", "my", "bending")))
+    t.caption = f"peak |Q| = {_fmt(peaks['driver']['Q'])} N·m"
+    console.print(t)
+
+    written = [res.to_csv(out / "reactions.csv"), res.to_json(out / "reactions.json")]
+    (out / "reactions_peaks.json").write_text(json.dumps(
+        {"units": {"f*": "N", "m*": "N*m", "bending": "N*m", "Q": "N*m"}, "peaks": peaks,
+         "redundant_constraints": count.redundant,
+         "mobility_somov_malyshev": count.mobility_formula, "mobility": count.mobility},
+        indent=1))
+    written.append(out / "reactions_peaks.json")
+    if plots:
+        from linkwork.plot import save
+        from linkwork.plot.redundancy import plot_bending
+
+        fig = plot_bending(res)["axes"].ravel()[0].figure
+        written.append(save(fig, out / "reactions_bending.png"))
+
+    study = None
+    if tolerance_study:
+        from linkwork.sweep import rich_progress
+
+        if not spec.tolerance:
+            raise ParameterError("--tolerance-study", tolerance_study,
+                                 "needs at least one [[spatial.tolerance]] in the file")
+        tols = []
+        for tspec in spec.tolerance:
+            jt = next((j for j in model.joints if j.name == tspec.joint), None)
+            if jt is None:
+                raise ParameterError("spatial.tolerance.joint", tspec.joint,
+                                     f"no such joint; known: {[j.name for j in model.joints]}")
+            body = "ground" if tspec.body == mech.frame.name else tspec.body
+            if body not in (jt.body_a, jt.body_b):
+                raise ParameterError(f"spatial.tolerance {tspec.joint}.body", tspec.body,
+                                     "must be one of the joint's bodies")
+            tols.append(Tolerance(tspec.joint, "a" if body == jt.body_a else "b",
+                                  tspec.component, tspec.limit, tspec.distribution, tspec.mean))
+        w = body_wrenches(mech, kin, gravity=analysis.get("gravity"),
+                          loads=analysis.get("loads", ()), heights=inputs["heights"],
+                          out_of_plane=inputs["out_of_plane"])
+        # systematic deviations of the file are added as fixed means
+        fixed = deviation_array(model, inputs["deviations"], mech.frame.name)
+        for j, jt in enumerate(model.joints):
+            for side in (0, 1):
+                for c, cname in enumerate(("dx", "dy", "dz", "tx", "ty", "tz")):
+                    if fixed[j, side, c] != 0.0:
+                        tols.append(Tolerance(jt.name, "ab"[side], cname, 0.0, "uniform",
+                                              float(fixed[j, side, c])))
+        with rich_progress("tolerance study", console=console) as progress:
+            study = mc(model, geom, w, tols, tolerance_study, seed=seed, chunk_size=chunk_size,
+                       client=scheduler, progress=progress)
+        pct = study.percentiles((50.0, 95.0, 99.0))
+        t = Table(title=f"tolerance study: peaks over the cycle, N = {tolerance_study}")
+        for col in ("joint", "quantity", "nominal", "p50", "p95", "p99"):
+            t.add_column(col, justify="right")
+        for name in study.joints:
+            for qty in ("fz", "bending"):
+                row = pct[name][qty]
+                t.add_row(name, qty, *(_fmt(row[k]) for k in ("nominal", "p50", "p95", "p99")))
+        console.print(t)
+        written += [study.to_json(out / "tolerance.json"),
+                    study.to_csv(out / "tolerance_samples.csv")]
+        if plots:
+            from linkwork.plot import pyplot, save
+            from linkwork.plot.redundancy import plot_peak_histogram
+
+            for name in study.joints:
+                fig, ax = pyplot().subplots(figsize=(7, 4))
+                plot_peak_histogram(study, name, "bending", ax=ax)
+                written.append(save(fig, out / f"tolerance_bending_{name}.png"))
+    console.print("written: " + ", ".join(str(p) for p in written))
+    return {"reactions": res, "table": at, "count": count, "study": study, "files": written}
+
+
+def _parse_angles(text: str) -> np.ndarray:
+    from linkwork.cli.analyze import parse_angles
+
+    return parse_angles(text)
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``reactions`` command to ``app``."""
+
+    @app.command()
+    def reactions(
+        file: Annotated[Path, typer.Argument(help="planar mechanism file (TOML) with an "
+                                             "optional [spatial] table")],
+        out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
+            "linkwork-reactions"),
+        angles: Annotated[str, typer.Option(help="driver positions for the table, deg, "
+                                            "comma-separated")] = "0,90,180,270",
+        method: Annotated[str, typer.Option(help="force or displacement")] = "force",
+        tolerance_study: Annotated[int, typer.Option(
+            "--tolerance-study", help="Monte-Carlo samples of the deviations (0: none)")] = 0,
+        seed: Annotated[int, typer.Option(help="random seed of the tolerance study")] = 0,
+        scheduler: Annotated[str | None, typer.Option(
+            help="dask.distributed scheduler address for the tolerance study")] = None,
+        chunk_size: Annotated[int, typer.Option(help="samples per chunk")] = 500,
+        plots: Annotated[bool, typer.Option("--plots/--no-plots", help="write PNG figures")
+                         ] = True,
+    ) -> None:
+        """Spatial joint reactions (axial forces, bending moments) with redundant constraints."""
+        from rich.console import Console
+
+        if method not in ("force", "displacement"):
+            raise ParameterError("--method", method, "must be 'force' or 'displacement'")
+        if tolerance_study < 0:
+            raise ParameterError("--tolerance-study", tolerance_study, "must be >= 0")
+        mech, kwargs, spec = load_problem(file)
+        run(mech, spec, out=out, angles=_parse_angles(angles), console=Console(),
+            analysis=kwargs, method=method, tolerance_study=tolerance_study, seed=seed,
+            scheduler=scheduler, chunk_size=chunk_size, plots=plots)
