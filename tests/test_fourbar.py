@@ -544,3 +544,28 @@ def test_kinetostatics_bad_loads_are_named():
         fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, force=((1.0, 2.0), (1.0,), (0, 0)))
     with pytest.raises(ParameterError, match="moment"):
         fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, moment=(1.0, 2.0))
+
+
+# --- plots -------------------------------------------------------------------------------------
+
+
+def test_plots_draw_the_computed_curves():
+    from linkwork.plot import pyplot
+    from linkwork.plot.fourbar import (
+        plot_fourbar_forces,
+        plot_fourbar_linkage,
+        plot_fourbar_motion,
+    )
+
+    r = fourbar(CYCLE, A1, B1, C1, D1, 10.0, coupler_point=(0.15, 0.05))
+    ax = plot_fourbar_linkage(r)
+    labels = [ln.get_label() for ln in ax.get_lines()]
+    assert "path of B" in labels and "coupler curve P" in labels
+    path = ax.get_lines()[labels.index("path of B")]
+    np.testing.assert_array_equal(path.get_ydata(), r.yB)
+    axes = plot_fourbar_motion(r)
+    np.testing.assert_array_equal(axes[1].get_lines()[1].get_ydata(), r.omega4)
+    f = fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, 10.0, mass=(1.0, 3.0, 2.0))
+    axes = plot_fourbar_forces(f)
+    np.testing.assert_array_equal(axes[1].get_lines()[0].get_ydata(), f.Q)
+    pyplot().close("all")

@@ -1,0 +1,91 @@
+"""Figures of the closed-form four-bar: the linkage drawn at some positions, its motion and loads.
+
+Every function takes ``ax=None`` (a new figure then) and returns what it drew.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from linkwork.models.fourbar import FourbarForces, FourbarResult
+from linkwork.plot import pyplot
+
+__all__ = ["plot_fourbar_forces", "plot_fourbar_linkage", "plot_fourbar_motion"]
+
+
+def _axes(ax: Any, ncols: int = 1) -> Any:
+    if ax is not None:
+        return ax
+    _, ax = pyplot().subplots(1, ncols, figsize=(6 * ncols, 4.5))
+    return ax
+
+
+def plot_fourbar_linkage(result: FourbarResult, indices: Any = None, ax: Any = None) -> Any:
+    """Draw the linkage (frame, crank, coupler, rocker) at some positions of a 1-D result.
+
+    Parameters
+    ----------
+    result : FourbarResult
+        From :func:`linkwork.models.fourbar.fourbar` for one design (1-D arrays).
+    indices : sequence of int, optional
+        Positions to draw (default: 8 evenly spaced ones). The path of B (and of P, if present)
+        is drawn over the whole result.
+    ax : matplotlib Axes, optional
+
+    Returns
+    -------
+    Axes
+    """
+    ax = _axes(ax)
+    n = np.shape(result.xB)[-1] if np.ndim(result.xB) else 1
+    if indices is None:
+        indices = np.linspace(0, n - 1, min(n, 8)).astype(int)
+    d = float(np.asarray(result.d))
+    ax.plot([0.0, d], [0.0, 0.0], "k-", lw=3, label="frame")
+    for i in np.atleast_1d(indices):
+        xa, ya = np.atleast_1d(result.xA)[i], np.atleast_1d(result.yA)[i]
+        xb, yb = np.atleast_1d(result.xB)[i], np.atleast_1d(result.yB)[i]
+        ax.plot([0.0, xa, xb, d], [0.0, ya, yb, 0.0], "o-", color="0.5", lw=1, ms=3)
+    ax.plot(result.xB, result.yB, "-", lw=1.5, label="path of B")
+    if result.xP is not None:
+        ax.plot(result.xP, result.yP, "-", lw=1.5, label="coupler curve P")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.legend(loc="best")
+    return ax
+
+
+def plot_fourbar_motion(result: FourbarResult, axes: Any = None) -> Any:
+    """Angles, angular velocities and accelerations of coupler and rocker over theta2 [deg]."""
+    axes = _axes(axes, ncols=3)
+    t = np.degrees(result.theta2)
+    for ax, (q3, q4, label) in zip(axes, (
+            (np.degrees(np.unwrap(result.theta3)), np.degrees(np.unwrap(result.theta4)),
+             "angle [deg]"),
+            (result.omega3, result.omega4, "angular velocity [rad/s]"),
+            (result.alpha3, result.alpha4, "angular acceleration [rad/s^2]")), strict=True):
+        ax.plot(t, q3, label="coupler")
+        ax.plot(t, q4, label="rocker")
+        ax.set_xlabel("theta2 [deg]")
+        ax.set_ylabel(label)
+        ax.legend(loc="best")
+    return axes
+
+
+def plot_fourbar_forces(forces: FourbarForces, axes: Any = None) -> Any:
+    """Joint reaction magnitudes [N] and the driving moment Q [N m] over theta2 [deg]."""
+    axes = _axes(axes, ncols=2)
+    t = np.degrees(forces.theta2)
+    for name, fx, fy in (("O2", forces.R_Ox, forces.R_Oy), ("A", forces.R_Ax, forces.R_Ay),
+                         ("B", forces.R_Bx, forces.R_By), ("O4", forces.R_Cx, forces.R_Cy)):
+        axes[0].plot(t, np.hypot(fx, fy), label=f"|R| at {name}")
+    axes[0].set_xlabel("theta2 [deg]")
+    axes[0].set_ylabel("joint reaction [N]")
+    axes[0].legend(loc="best")
+    axes[1].plot(t, forces.Q)
+    axes[1].set_xlabel("theta2 [deg]")
+    axes[1].set_ylabel("driving moment Q [N m]")
+    return axes
