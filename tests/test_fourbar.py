@@ -569,3 +569,32 @@ def test_plots_draw_the_computed_curves():
     axes = plot_fourbar_forces(f)
     np.testing.assert_array_equal(axes[1].get_lines()[0].get_ydata(), f.Q)
     pyplot().close("all")
+
+
+# --- blocked evaluation of long arrays ----------------------------------------------------------
+
+
+def test_blocked_evaluation_equals_small_calls():
+    """n >= 16384 positions are evaluated in blocks; the numbers must not change."""
+    n = 20000
+    t2 = np.linspace(-np.pi, np.pi, n)
+    a = np.array([[0.1], [0.12]])
+    w2 = 5.0 + np.linspace(0, 1, n)          # per-position crank speed
+    e2 = -3.0
+    big = fourbar(t2, a, B1, C1, D1, w2, e2, -1, coupler_point=(0.1, 0.02))
+    names = ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xA", "yA", "xB",
+             "yB", "xP", "yP", "assembled")
+    for lo in range(0, n, 7000):
+        sl = slice(lo, min(lo + 7000, n))
+        small = fourbar(t2[sl], a, B1, C1, D1, w2[sl], e2, -1, coupler_point=(0.1, 0.02))
+        for name in names:
+            np.testing.assert_array_equal(getattr(big, name)[:, sl], getattr(small, name))
+
+
+def test_blocked_evaluation_reports_assembly_failure():
+    t2 = np.linspace(0, 2 * np.pi, 40000)
+    with pytest.raises(AssemblyError, match="theta2"):
+        fourbar(t2, 0.3, 0.1, 0.25, 0.3)
+    r = fourbar(t2, 0.3, 0.1, 0.25, 0.3, on_fail="nan")
+    f = np.hypot(0.3 - 0.3 * np.cos(t2), 0.3 * np.sin(t2))
+    np.testing.assert_array_equal(r.assembled, (f <= 0.35) & (f >= 0.15))
