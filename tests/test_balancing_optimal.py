@@ -82,3 +82,17 @@ def test_weight_grid_and_errors(mech):
         optimal_balance(mech, (0, 0, 0), n=36)
     with pytest.raises(ParameterError, match="radius bounds"):
         optimal_balance(mech, (1, 0, 0), n=36, radius=(0.0, 0.1))
+
+
+@pytest.mark.parametrize("gravity", [None, (0.3, -9.81)])
+def test_analytic_gradient_matches_finite_differences(mech, gravity):
+    prob = BalancingProblem(mech, n=48, gravity=gravity)
+    x = np.array([2.0, 0.06, 2.9, 3.0, 0.09, -2.5])
+    vals, grad = prob.evaluate_with_gradient(x)
+    np.testing.assert_allclose(vals, prob.evaluate(x), rtol=1e-12)
+    h = 1e-6
+    for j in range(x.size):
+        e = np.zeros_like(x)
+        e[j] = h
+        fd = (np.array(prob.evaluate(x + e)) - np.array(prob.evaluate(x - e))) / (2 * h)
+        np.testing.assert_allclose(grad[:, j], fd, rtol=1e-5, atol=1e-7)

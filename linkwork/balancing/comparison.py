@@ -169,11 +169,11 @@ class BalancingComparison(Result):
             "driving torque RMS [N*m]": {"unbalanced": rms(p, c.Q0), "balanced": rms(p, c.Q1)},
         }
         for name in c.reactions0:
-            out[f"bearing {name} peak [N]"] = {
+            out[f"frame joint {name} peak [N]"] = {
                 "unbalanced": peak(c.reactions0[name]), "static": peak(c.reactions1[name]),
                 "least squares": peak(c.reactions3[name])}
         if "O1" in c.reactions3:
-            out["bearing O1 peak [N]"] = {"least squares": peak(c.reactions3["O1"])}
+            out["frame joint O1 peak [N]"] = {"least squares": peak(c.reactions3["O1"])}
         return out
 
     def increases(self) -> list[str]:

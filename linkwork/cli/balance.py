@@ -1,0 +1,224 @@
+"""``linkwork balance FILE.toml``: paper 001's balancing comparison for a planar mechanism.
+
+Reads a ``type = "planar"`` mechanism file (the engine's schema) and an optional ``[balance]``
+table that only this command reads (it is removed before the mechanism is validated)::
+
+    [balance]
+    links = ["crank", "rocker"]                      # counterweighted frame-hinged links
+    radii = { crank = "50 mm", rocker = "100 mm" }   # counterweight radii
+    angles = [0, 30, 60, 90, 120, 150, 180, 210, 240, 270, 300, 330]   # table [deg]
+    n = 360                                          # positions of the full cycle
+
+Prints the table M, dM1, dM2, dM3 with R2, R3, the counterweights, the moved-axis positions and
+the peak/RMS summary with every quantity that balancing raises, and writes into ``--out``:
+``balance_table.csv/.json``, ``balance_cycle.csv``, ``balance_summary.json``,
+``balancing_moments.png``, ``balancing_force.png``, ``balancing_torque.png`` and, with
+``--pareto``, ``balancing_pareto.png`` and ``balance_pareto.json``.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+from pydantic import Field
+
+from linkwork import files
+from linkwork.errors import FileFormatError, ParameterError
+from linkwork.files import FileModel, Length
+
+__all__ = ["BalanceSection", "load_balance_file", "register", "run_balance"]
+
+
+class BalanceSection(FileModel):
+    """The optional ``[balance]`` table of a planar mechanism file."""
+
+    links: list[str] | None = None
+    radii: dict[str, Length] | Length | None = None
+    angles: list[float] | None = None
+    n: int = Field(default=360, ge=12, le=20000)
+
+
+def _to_mechanism(doc: Any) -> Any:
+    """The engine Mechanism described by a validated planar document."""
+    from linkwork.planar.model import Mechanism
+
+    if isinstance(doc, Mechanism):
+        return doc
+    for name in ("to_mechanism", "mechanism", "build"):
+        attr = getattr(doc, name, None)
+        val = attr() if callable(attr) else attr
+        if isinstance(val, Mechanism):
+            return val
+    raise FileFormatError("file", "type", "the planar document does not provide a mechanism")
+
+
+def load_balance_file(path: str | Path) -> tuple[Any, BalanceSection]:
+    """Read a planar mechanism file and its ``[balance]`` table; return (Mechanism, section)."""
+    raw = files.read_toml(path)
+    section = raw.pop("balance", {})
+    kind = raw.get("type")
+    if kind != "planar":
+        raise FileFormatError(str(path), "type", f"balance needs a 'planar' mechanism file, "
+                              f"got {kind!r}")
+    schema = files.schemas().get("planar")
+    if schema is None:
+        raise FileFormatError(str(path), "type", "no schema for 'planar' files is installed")
+    doc = files.validate(path, raw, schema)
+    if not isinstance(section, dict):
+        raise FileFormatError(str(path), "balance", "must be a table")
+    sec = files.validate(path, {"balance": section}, _Wrapper).balance
+    try:
+        mech = _to_mechanism(doc)
+    except FileFormatError as exc:
+        raise FileFormatError(str(path), exc.key, exc.problem) from None
+    return mech, sec
+
+
+class _Wrapper(FileModel):
+    balance: BalanceSection
+
+
+def _fmt(x: float, nd: int = 3) -> str:
+    v = round(float(x), nd)
+    return f"{(v if v != 0.0 else 0.0):.{nd}f}"
+
+
+def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
+                pareto: bool = False) -> Any:
+    """Run the comparison on ``mech``, print it on ``console``, write the outputs to ``out``.
+
+    Returns the :class:`~linkwork.balancing.comparison.BalancingComparison`.
+    """
+    from rich.markup import escape
+    from rich.table import Table
+
+    from linkwork.balancing import compare_balancing
+    from linkwork.plot import pyplot, save
+    from linkwork.plot.balancing import (
+        plot_force_hodograph,
+        plot_moments,
+        plot_pareto,
+        plot_torques,
+    )
+
+    angles = None if section.angles is None else np.radians(np.asarray(section.angles, float))
+    comp = compare_balancing(mech, angles, links=section.links, radii=section.radii,
+                             n=section.n)
+    t = Table(title="Shaking moment about the crank axis [N·m] (paper 001)")
+    for h in ("φ1 [deg]", "M unbalanced", "ΔM1 static", "ΔM2 1st harmonic", "ΔM3 least sq."):
+        t.add_column(h, justify="right")
+    for i, p in enumerate(np.degrees(comp.phi1)):
+        t.add_row(_fmt(p, 1), _fmt(comp.M[i]), _fmt(comp.dM1[i]), _fmt(comp.dM2[i]),
+                  _fmt(comp.dM3[i]))
+    t.add_row("R_j [%]", "", "", _fmt(comp.R2, 1), _fmt(comp.R3, 1))
+    console.print(t)
+    fb = comp.balance
+    console.print(f"static balancing: {'full' if fb.full else 'PARTIAL'}; RMS shaking force "
+                  f"{fb.force_rms_before:.4g} N -> {fb.force_rms_after:.3g} N")
+    if not fb.full:
+        console.print(escape(f"  not fully balanceable: {fb.reason}"))
+    for cw in comp.counterweights:
+        r = cw.radius if cw.radius is not None else float("nan")
+        console.print(escape(f"  counterweight on {cw.link}: S = {cw.static_moment:.5g} kg*m "
+                             f"at {np.degrees(cw.angle):.2f} deg, r = {r * 1000:.4g} mm, "
+                             f"m = {cw.mass():.4g} kg"))
+    console.print(f"moved crank-counterweight axis O1: first harmonic (x, y) = "
+                  f"({comp.x2 * 1000:.2f}, {comp.y2 * 1000:.2f}) mm; least squares over the "
+                  f"table = ({comp.x3 * 1000:.2f}, {comp.y3 * 1000:.2f}) mm")
+    s = Table(title="Peaks and RMS over the cycle")
+    s.add_column("quantity")
+    s.add_column("values")
+    for q, vals in comp.summary().items():
+        s.add_row(q, ", ".join(f"{k} {v:.4g}" for k, v in vals.items()))
+    console.print(s)
+    inc = comp.increases()
+    if inc:
+        console.print("[bold]balancing raises:[/bold]")
+        for m in inc:
+            console.print(escape(f"  {m}"))
+    out.mkdir(parents=True, exist_ok=True)
+    comp.to_csv(out / "balance_table.csv")
+    comp.to_json(out / "balance_table.json")
+    comp.cycle.to_csv(out / "balance_cycle.csv")
+    summary: dict[str, Any] = {"summary": comp.summary(), "increases": inc,
+                               "R2": comp.R2, "R3": comp.R3,
+                               "axis_first_harmonic": [comp.x2, comp.y2],
+                               "axis_least_squares": [comp.x3, comp.y3],
+                               "counterweights": [
+                                   {"link": w.link, "static_moment": w.static_moment,
+                                    "angle": w.angle, "radius": w.radius, "mass": w.mass()}
+                                   for w in comp.counterweights],
+                               "full_force_balance": fb.full, "reason": fb.reason}
+    (out / "balance_summary.json").write_text(json.dumps(summary, indent=1))
+    plt = pyplot()
+    c = comp.cycle
+    fig, ax = plt.subplots(figsize=(7, 4))
+    plot_moments(c.phi1, {"M unbalanced": c.M, "ΔM1 static": c.dM1,
+                          "ΔM2 first harmonic": c.dM2, "ΔM3 least squares": c.dM3}, ax=ax)
+    save(fig, out / "balancing_moments.png")
+    fig, ax = plt.subplots(figsize=(5, 5))
+    plot_force_hodograph({"unbalanced": c.F0, "static": c.F1}, ax=ax)
+    save(fig, out / "balancing_force.png")
+    fig, ax = plt.subplots(figsize=(7, 4))
+    plot_torques(c.phi1, {"unbalanced": c.Q0, "balanced": c.Q1}, ax=ax)
+    save(fig, out / "balancing_torque.png")
+    if pareto:
+        _pareto(mech, section, comp, out, plot_pareto, save, plt, console)
+    console.print(f"written to {escape(str(out))}")
+    return comp
+
+
+def _pareto(mech: Any, section: BalanceSection, comp: Any, out: Path,
+            plot_pareto: Callable[..., Any], save: Callable[..., Any], plt: Any,
+            console: Any) -> None:
+    from linkwork.balancing import rms
+    from linkwork.balancing.optimal import pareto_set
+
+    p = pareto_set(mech, links=section.links, static_radii=section.radii, n=min(section.n, 180))
+    c = comp.cycle
+    pts = {"unbalanced": p.unbalanced[:2], "static": p.static[:2],
+           "paper 001 (moved axis)": (rms(c.phi1, c.F1), rms(c.phi1, c.dM3))}
+    fig, ax = plt.subplots(figsize=(7, 5))
+    plot_pareto(p.force_rms, p.moment_rms, p.torque_fluct, ax=ax, points=pts)
+    save(fig, out / "balancing_pareto.png")
+    (out / "balance_pareto.json").write_text(json.dumps({
+        "weights": p.weights.tolist(), "force_rms": p.force_rms.tolist(),
+        "moment_rms": p.moment_rms.tolist(), "torque_fluct": p.torque_fluct.tolist(),
+        "dominated": p.dominated.tolist(), "unbalanced": list(p.unbalanced),
+        "static": list(p.static)}, indent=1))
+    console.print(f"Pareto set: {int((~p.dominated).sum())} non-dominated of {len(p.designs)}")
+
+
+def register(app: typer.Typer) -> None:
+    """Add the ``balance`` command to ``app``."""
+
+    @app.command()
+    def balance(
+        file: Annotated[Path, typer.Argument(help="planar mechanism file (TOML)")],
+        out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
+            "linkwork-output"),
+        angles: Annotated[str | None, typer.Option(
+            help="table crank angles, deg, comma-separated (overrides [balance].angles)")
+        ] = None,
+        pareto: Annotated[bool, typer.Option(
+            "--pareto", help="also optimise counterweights and plot the trade-off")] = False,
+    ) -> None:
+        """Balance a planar mechanism: paper 001's table, torque and bearing loads, plots."""
+        from rich.console import Console
+
+        mech, section = load_balance_file(file)
+        if angles is not None:
+            try:
+                vals = [float(a) for a in angles.split(",") if a.strip()]
+            except ValueError:
+                raise ParameterError("--angles", angles,
+                                     "must be comma-separated numbers in degrees") from None
+            if not vals:
+                raise ParameterError("--angles", angles, "must list at least one angle")
+            section = section.model_copy(update={"angles": vals})
+        run_balance(mech, section, out, Console(), pareto=pareto)

@@ -1,0 +1,77 @@
+"""``linkwork balance``: the runner on an engine mechanism, and the command's failure policy."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from rich.console import Console
+
+from linkwork.cli import main
+from linkwork.cli.balance import BalanceSection, run_balance
+from linkwork.planar.model import crank_slider, fourbar
+
+PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.00567),
+             coms=(0.05, 0.15, 0.1), omega1=10.0)
+
+
+def test_run_balance_on_paper_fourbar(tmp_path):
+    mech = fourbar(0.1, 0.3, 0.2, 0.3, **PAPER)
+    con = Console(record=True, width=200)
+    sec = BalanceSection(radii={"crank": 0.05, "rocker": 0.1})
+    comp = run_balance(mech, sec, tmp_path, con)
+    text = con.export_text()
+    assert "R_j [%]" in text and f"{comp.R2:.1f}" in text
+    assert "balancing raises" in text and "frame joint O4 peak" in text
+    for name in ("balance_table.csv", "balance_table.json", "balance_cycle.csv",
+                 "balance_summary.json", "balancing_moments.png", "balancing_force.png",
+                 "balancing_torque.png"):
+        assert (tmp_path / name).stat().st_size > 0, name
+    summary = json.loads((tmp_path / "balance_summary.json").read_text())
+    assert summary["full_force_balance"] is True
+    assert [c["mass"] for c in summary["counterweights"]] == pytest.approx([4.0, 5.0])
+    assert summary["axis_least_squares"] == pytest.approx([comp.x3, comp.y3])
+    rows = (tmp_path / "balance_table.csv").read_text().splitlines()
+    assert len(rows) == 13  # header + 12 positions
+    assert float(rows[1].split(",")[0]) == 0.0
+
+
+def test_run_balance_custom_angles_and_partial_balance(tmp_path):
+    mech = crank_slider(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
+    con = Console(record=True, width=200)
+    comp = run_balance(mech, BalanceSection(angles=[0, 45, 90, 135], n=72), tmp_path, con)
+    np.testing.assert_allclose(np.degrees(comp.phi1), [0, 45, 90, 135])
+    text = con.export_text()
+    assert "PARTIAL" in text
+    assert "slider" in text
+
+
+def test_balance_pareto_option(tmp_path):
+    mech = fourbar(0.1, 0.3, 0.2, 0.3, **PAPER)
+    run_balance(mech, BalanceSection(radii={"crank": 0.05, "rocker": 0.1}, n=72), tmp_path,
+                Console(record=True), pareto=True)
+    data = json.loads((tmp_path / "balance_pareto.json").read_text())
+    assert len(data["weights"]) == 15
+    assert (tmp_path / "balancing_pareto.png").stat().st_size > 0
+
+
+def test_balance_cli_failures(tmp_path, capsys):
+    assert main(["balance", str(tmp_path / "missing.toml")]) == 2
+    assert "not found" in capsys.readouterr().err
+    bad = tmp_path / "bad.toml"
+    bad.write_text('type = "sine_press"\n')
+    assert main(["balance", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert "planar" in err and err.count("\n") == 1
+    broken = tmp_path / "broken.toml"
+    broken.write_text("type = = 'planar'\n")
+    assert main(["balance", str(broken)]) == 2
+    assert "invalid TOML" in capsys.readouterr().err
+
+
+def test_balance_section_validation(tmp_path, capsys):
+    f = tmp_path / "p.toml"
+    f.write_text('type = "planar"\n[balance]\nn = 3\n')
+    assert main(["balance", str(f)]) == 2
+    assert capsys.readouterr().err.startswith("linkwork: error:")
