@@ -183,15 +183,17 @@ def _peaks(comp: np.ndarray) -> np.ndarray:
     return np.concatenate([p, bend[..., None]], axis=-1)
 
 
-def _chunk(draws: np.ndarray, *, model: SpatialModel, geom: SpatialGeometry, r0: np.ndarray,
-           h: np.ndarray, index: np.ndarray) -> np.ndarray:
-    """Peaks for a chunk of samples (module level so that Dask can pickle it)."""
-    onehot = np.zeros((index.shape[0], len(model.joints) * 2 * 6))
-    onehot[np.arange(index.shape[0]), index] = 1.0                # repeated slots add up
-    dev = (draws @ onehot).reshape(draws.shape[0], len(model.joints), 2, 6)
-    dc = misfit(model, geom, dev)                                 # (S, n, m)
-    r = r0 + np.einsum("nij,snj->sni", h, dc)
-    return _peaks(_global(model, _joint_frames(model, geom), r))
+def _chunk(draws: np.ndarray, *, c0: np.ndarray, z: np.ndarray, n_joints: int) -> np.ndarray:
+    """Peaks for a chunk of samples (module level so that Dask can pickle it).
+
+    ``c0`` (n, 6 n_joints): global components without deviations; ``z`` (n, 6 n_joints, n_tol):
+    their derivatives with respect to the sampled deviations; ``draws`` (S, n_tol).
+    """
+    comp = c0[:, :, None] + z @ draws.T                           # (n, 6 nj, S), batched BLAS
+    comp = comp.reshape(comp.shape[0], n_joints, 6, -1)
+    peak = np.max(np.abs(comp), axis=0)                           # (nj, 6, S)
+    bend = np.max(np.hypot(comp[:, :, 3], comp[:, :, 4]), axis=0)  # (nj, S)
+    return np.moveaxis(np.concatenate([peak, bend[:, None, :]], axis=1), -1, 0)
 
 
 def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike,
@@ -245,8 +247,20 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     inf = influence(model, geom, wrenches)
     frames = _joint_frames(model, geom)
     nominal = _peaks(_global(model, frames, inf.r0))
-    func = functools.partial(_chunk, model=model, geom=geom, r0=inf.r0, h=inf.h,
-                             index=np.asarray(index))
+    # everything is affine in the deviations: global components = c0 + Z @ draws, with
+    # Z = P H M (P: unknowns -> global components, H: misfit -> unknowns, M: deviations ->
+    # misfits), computed once per position
+    nj, m1 = len(model.joints), inf.r0.shape[-1]
+    basis = np.zeros((len(index), nj * 2 * 6))
+    basis[np.arange(len(index)), index] = 1.0
+    mis = misfit(model, geom, basis.reshape(len(index), nj, 2, 6))       # (n_tol, n, m)
+    dr = np.einsum("nij,tnj->nit", inf.h, mis)                           # (n, m+1, n_tol)
+    eye = np.broadcast_to(np.eye(m1)[:, None, :], (m1, geom.n, m1))
+    p = _global(model, frames, eye)                                      # (m+1, nj, 6, n)
+    p = p.reshape(m1, nj * 6, geom.n).transpose(2, 1, 0)                # (n, 6 nj, m+1)
+    c0 = np.einsum("nck,nk->nc", p, inf.r0)
+    zmat = p @ dr                                                        # (n, 6 nj, n_tol)
+    func = functools.partial(_chunk, c0=c0, z=zmat, n_joints=nj)
     peaks = evaluate(func, draws, chunk_size=chunk_size, client=client, progress=progress)
     return ToleranceStudy(joints=tuple(names), quantities=PEAK_QUANTITIES, peaks=peaks,
                           nominal=nominal, draws=draws, tolerances=tuple(tolerances), seed=seed)
