@@ -230,7 +230,7 @@ def register(app: typer.Typer) -> None:
     @app.command()
     def reactions(
         file: Annotated[Path, typer.Argument(help="planar mechanism file (TOML) with an "
-                                             "optional [spatial] table")],
+                                             "optional \\[spatial] table")],
         out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
             "linkwork-reactions"),
         angles: Annotated[str, typer.Option(help="driver positions for the table, deg, "
