@@ -30,6 +30,7 @@ def test_run_balance_on_paper_fourbar(tmp_path):
         assert (tmp_path / name).stat().st_size > 0, name
     summary = json.loads((tmp_path / "balance_summary.json").read_text())
     assert summary["full_force_balance"] is True
+    assert summary["harmonics"]["dM2"]["amplitude"][0] < 1e-9
     assert [c["mass"] for c in summary["counterweights"]] == pytest.approx([4.0, 5.0])
     assert summary["axis_least_squares"] == pytest.approx([comp.x3, comp.y3])
     rows = (tmp_path / "balance_table.csv").read_text().splitlines()

@@ -124,3 +124,11 @@ def test_compare_on_crank_slider_partial_force_balance():
     # moving the axis never changes the shaking force
     assert c.summary()["shaking force RMS [N]"]["static"] < c.summary()[
         "shaking force RMS [N]"]["unbalanced"]
+
+
+def test_first_harmonic_method_removes_first_harmonic(comp):
+    h = comp.harmonics(4)
+    assert h["dM2"].amplitude[0] < 1e-9 * h["dM1"].amplitude[0]
+    # higher harmonics are untouched by moving the axis
+    np.testing.assert_allclose(h["dM2"].amplitude[1:], h["dM1"].amplitude[1:], rtol=1e-9)
+    assert abs(h["M"].mean) < 1e-9 * h["M"].amplitude.max()

@@ -167,3 +167,23 @@ def test_add_counterweights_mass_properties():
         add_counterweights(mech, [Counterweight("coupler", 0.1, 0.0, 0.05)])
     with pytest.raises(ParameterError, match="radius"):
         add_counterweights(mech, [Counterweight("crank", 0.1, 0.0)])
+
+
+def test_crank_slider_shaking_force_harmonics_classic_series():
+    """Slider mass only: F_x = m3 a w^2 [cos p + A2 cos 2p - A4 cos 4p + ...] with
+    A2 = l + l^3/4 + 15 l^5/128, A4 = l^3/4 + 3 l^5/16 (l = a/L; series to l^5)."""
+    from linkwork.balancing import harmonics
+
+    a, L, m3, w = 0.05, 0.2, 3.0, 10.0
+    lam = a / L
+    mech = crank_slider(a, L, masses=(0.0, 0.0, m3), omega1=w)
+    phi = cycle(256)
+    sl = shaking_loads(kinematics(mech, phi))
+    h = harmonics(phi, sl.fx, 4)
+    scale = m3 * a * w**2
+    A2 = lam + lam**3 / 4 + 15 * lam**5 / 128
+    A4 = lam**3 / 4 + 3 * lam**5 / 16
+    np.testing.assert_allclose(h.cos / scale, [1.0, A2, 0.0, -A4], atol=5e-5)
+    np.testing.assert_allclose(h.sin / scale, 0.0, atol=1e-12)
+    assert abs(h.mean) < 1e-9 * scale
+    np.testing.assert_allclose(sl.fy, 0.0, atol=1e-9 * scale)

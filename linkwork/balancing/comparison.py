@@ -29,7 +29,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.balancing.loads import peak, rms
+from linkwork.balancing.loads import Harmonics, harmonics, peak, rms
 from linkwork.balancing.mechanism import ForceBalance, cycle, force_balance, frame_hinge
 from linkwork.balancing.partial import (
     counterweight_axis_moment,
@@ -175,6 +175,17 @@ class BalancingComparison(Result):
         if "O1" in c.reactions3:
             out["frame joint O1 peak [N]"] = {"least squares": peak(c.reactions3["O1"])}
         return out
+
+    def harmonics(self, k: int = 4) -> dict[str, Harmonics]:
+        """First k harmonics (in the crank angle) of the cycle quantities.
+
+        Keys: ``"M"``, ``"dM1"``, ``"dM2"``, ``"dM3"``, ``"Fx0"``, ``"Fy0"`` (unbalanced
+        shaking force), ``"Q0"``, ``"Q1"`` (driving torque unbalanced / balanced).
+        """
+        c = self.cycle
+        series = {"M": c.M, "dM1": c.dM1, "dM2": c.dM2, "dM3": c.dM3, "Fx0": c.F0[:, 0],
+                  "Fy0": c.F0[:, 1], "Q0": c.Q0, "Q1": c.Q1}
+        return {name: harmonics(c.phi1, v, k) for name, v in series.items()}
 
     def increases(self) -> list[str]:
         """Plain-language list of quantities whose peak grows through balancing."""

@@ -136,6 +136,15 @@ def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
     for q, vals in comp.summary().items():
         s.add_row(q, ", ".join(f"{k} {v:.4g}" for k, v in vals.items()))
     console.print(s)
+    ht = Table(title="Harmonic amplitudes A_j (f = a0 + sum A_j cos(j*phi1 - psi_j))")
+    ht.add_column("quantity")
+    ht.add_column("mean", justify="right")
+    harm = comp.harmonics(4)
+    for j in range(1, 5):
+        ht.add_column(f"A{j}", justify="right")
+    for name, hv in harm.items():
+        ht.add_row(name, _fmt(hv.mean), *(_fmt(a) for a in hv.amplitude))
+    console.print(ht)
     inc = comp.increases()
     if inc:
         console.print("[bold]balancing raises:[/bold]")
@@ -153,7 +162,11 @@ def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
                                    {"link": w.link, "static_moment": w.static_moment,
                                     "angle": w.angle, "radius": w.radius, "mass": w.mass()}
                                    for w in comp.counterweights],
-                               "full_force_balance": fb.full, "reason": fb.reason}
+                               "full_force_balance": fb.full, "reason": fb.reason,
+                               "harmonics": {n: {"mean": hv.mean,
+                                                 "amplitude": hv.amplitude.tolist(),
+                                                 "phase": hv.phase.tolist()}
+                                             for n, hv in harm.items()}}
     (out / "balance_summary.json").write_text(json.dumps(summary, indent=1))
     plt = pyplot()
     c = comp.cycle
