@@ -252,3 +252,18 @@ def test_phi2_ranges_and_continuity_per_branch():
     # mirror assembly: the rod direction is reflected in the horizontal line through B
     np.testing.assert_allclose(np.sin(down.phi2), np.sin(up.phi2), atol=1e-15)
     np.testing.assert_allclose(np.cos(down.phi2), -np.cos(up.phi2), atol=1e-15)
+
+
+@settings(max_examples=60, deadline=None)
+@given(phi1=st.floats(0, 2 * np.pi), lame=st.floats(-2, 2), extra=st.floats(0.2, 4.0),
+       branch=st.sampled_from([1, -1]))
+def test_property_transfer_functions_are_derivatives(phi1, lame, extra, branch):
+    """Random designs: U21, V_qC, eps_q2, a_qC equal central differences of phi2 and Y_C."""
+    L1, lam2, h = 0.05, abs(lame) + 1.0 + extra, 1e-4
+    r, rp, rm = (offset_crank_slider(phi1 + d, L1, lam2, lame, branch=branch)
+                 for d in (0.0, h, -h))
+    scale = 1.0 + abs(float(r.U21))
+    assert abs(float(r.U21) - float(rp.phi2 - rm.phi2) / (2 * h)) < 1e-6 * scale
+    assert abs(float(r.V_qC) - float(rp.Y_C - rm.Y_C) / (2 * h)) < 1e-6 * L1 * scale
+    assert abs(float(r.eps_q2) - float(rp.U21 - rm.U21) / (2 * h)) < 1e-5 * scale**3
+    assert abs(float(r.a_qC) - float(rp.V_qC - rm.V_qC) / (2 * h)) < 1e-5 * L1 * scale**3

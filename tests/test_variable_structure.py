@@ -7,6 +7,8 @@ import math
 import numpy as np
 import pytest
 from _paper000_geometry import crank_slider_positions, slot_positions
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from linkwork.errors import ParameterError
 from linkwork.models.variable_structure import (
@@ -131,3 +133,23 @@ def test_plot_schedule_marks_switches(mech):
     np.testing.assert_allclose(ax2[0].lines[0].get_ydata(), idle.Y_C * 1e3)
     np.testing.assert_allclose(ax2[2].lines[1].get_ydata(), work.a3)
     pyplot().close("all")
+
+
+@settings(max_examples=25, deadline=None,
+          suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(segs=st.lists(st.tuples(st.sampled_from(["idle", "working"]), st.integers(1, 3),
+                               st.floats(20, 160)), min_size=1, max_size=5),
+       rpm=st.floats(10, 600))
+def test_property_schedule_timing_and_ram_continuity(mech, segs, rpm):
+    w1 = rpm * math.pi / 30
+    sched = [(m, n, math.radians(a) if m == "working" else None) for m, n, a in segs]
+    r = mech.run(sched, w1, samples_per_revolution=24)
+    turns = np.cumsum([n for _, n, _ in sched])[:-1]
+    np.testing.assert_allclose(r.switch_t, turns * 2 * np.pi / w1, rtol=1e-12)
+    idx = np.flatnonzero(r.switch)
+    assert idx.size == len(sched) - 1
+    # the ram's position is continuous through every switch (parked at X3 = 0)
+    np.testing.assert_allclose(r.ram_s[idx], r.ram_s[idx - 1], atol=1e-15)
+    np.testing.assert_allclose(r.switch_ram_dv, r.ram_v[idx] - r.ram_v[idx - 1], atol=1e-14)
+    assert np.all(r.ram_v[r.mode == 0] == 0.0)
+    assert np.all(np.diff(r.t) >= 0)
