@@ -238,3 +238,22 @@ def test_shaking_moment_about_any_point_by_transfer():
         ref += d[:, 0] * Fi[:, 1] - d[:, 1] * Fi[:, 0] - J[i] * eps[i]
     np.testing.assert_allclose(direct, ref, rtol=1e-12)
     np.testing.assert_allclose(moment_about(MO, F, P), ref, rtol=1e-12)
+
+
+def test_myp_for_counterweight_at_any_angle_uses_opposite_direction():
+    """A counterweight at angle alpha on the crank: the paper's phi is theta + alpha - pi."""
+    theta = np.linspace(0, 2 * np.pi, 11)
+    alpha, m, r, omega, eps, x, y = 2.2, 3.0, 0.07, 9.0, 4.0, 0.05, -0.12
+    h = 1e-4
+    t = np.array([-h, 0.0, h])[:, None]
+    th = theta[None, :] + omega * t + 0.5 * eps * t**2
+    res = []
+    for ox, oy in ((x, y), (0.0, 0.0)):
+        px = ox + r * np.cos(th + alpha)
+        py = oy + r * np.sin(th + alpha)
+        ax = (px[2] - 2 * px[1] + px[0]) / h**2
+        ay = (py[2] - 2 * py[1] + py[0]) / h**2
+        res.append(px[1] * (-m * ay) - py[1] * (-m * ax))
+    ref = res[0] - res[1]
+    got = counterweight_axis_moment(theta + alpha - np.pi, x, y, m * r, omega, eps)
+    np.testing.assert_allclose(got, ref, atol=1e-5 * np.abs(ref).max())
