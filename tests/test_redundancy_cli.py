@@ -47,7 +47,7 @@ def test_spatial_table_units_and_defaults():
     assert spec.deviation[0].dz == pytest.approx(1e-5)
     assert spec.tolerance[0].limit == pytest.approx(3e-4)
     assert spec.tolerance[1].limit == pytest.approx(2e-5)
-    assert read_spatial("f.toml", {}).positions == 360
+    assert read_spatial("f.toml", {}).positions is None
 
 
 @pytest.mark.parametrize(("patch", "key"), [
@@ -66,11 +66,10 @@ def test_spatial_table_errors_name_the_key(patch, key):
 
 def test_run_report_matches_library_and_writes_files(tmp_path):
     spec = read_spatial("f.toml", {"spatial": SPATIAL})
-    analysis = {"gravity": (0.0, -9.81), "loads": [BodyTorque("rocker", M_EXT)]}
     console = Console(record=True, width=140)
     angles = np.radians([0.0, 90.0])
-    out = run(_mech(), spec, out=tmp_path, angles=angles, console=console, analysis=analysis,
-              tolerance_study=40, plots=True)
+    out = run(_mech(), spec, out=tmp_path, angles=angles, console=console, gravity=(0.0, -9.81),
+              loads=lambda phi: [BodyTorque("rocker", M_EXT)], tolerance_study=40, plots=True)
     # independent call of the library with the same data written as Python objects
     joints = {"O2": {"e": 0.03, "z": 0.0}, "A": {"e": 0.02, "z": 0.03},
               "B": {"e": 0.03, "z": 0.03},

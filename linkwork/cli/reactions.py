@@ -24,12 +24,12 @@ __all__ = ["load_problem", "register", "run"]
 
 
 def load_problem(path: Path) -> tuple[Any, dict[str, Any], Any]:
-    """Read a mechanism file: (mechanism, analysis keywords, spatial spec).
+    """Read a mechanism file: (mechanism, analysis keywords of :func:`run`, spatial spec).
 
     The mechanism part is validated by the engine's ``planar`` schema (without the ``spatial``
     table), the ``spatial`` table by :func:`linkwork.redundancy.spec.read_spatial`. The
-    keywords are those of :func:`linkwork.redundancy.spatial_reactions` that the file fixes
-    (``gravity``, ``loads``, ``omega1``, ``eps1``).
+    keywords are ``cycle`` (the file's driver positions), ``gravity`` and ``loads`` (a function
+    of the driver positions: loads may act on part of the cycle only).
     """
     from linkwork.redundancy.spec import read_spatial
 
@@ -42,20 +42,10 @@ def load_problem(path: Path) -> tuple[Any, dict[str, Any], Any]:
                               f"engine) for 'linkwork reactions'; got {kind!r}")
     data = {k: v for k, v in raw.items() if k != "spatial"}
     doc = files.validate(path, data, known["planar"])
-    mech, kwargs = _from_planar_doc(doc)
-    return mech, kwargs, spatial
-
-
-def _from_planar_doc(doc: Any) -> tuple[Any, dict[str, Any]]:
-    """Mechanism and analysis keywords from the engine's validated ``planar`` document."""
-    mech = doc.mechanism() if callable(getattr(doc, "mechanism", None)) else doc.build()
-    kwargs: dict[str, Any] = {}
-    for name in ("gravity", "loads", "omega1", "eps1"):
-        fn = getattr(doc, name, None)
-        val = fn() if callable(fn) else fn
-        if val is not None:
-            kwargs[name] = val
-    return mech, kwargs
+    gravity = doc.analysis.gravity
+    kwargs: dict[str, Any] = {"cycle": doc.positions(), "loads": doc.loads,
+                              "gravity": None if gravity is None else tuple(gravity)}
+    return doc.mechanism(), kwargs, spatial
 
 
 def _model_inputs(mech: Any, spec: Any) -> dict[str, Any]:
@@ -76,7 +66,8 @@ def _fmt(v: float) -> str:
 
 
 def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
-        analysis: dict[str, Any] | None = None, method: str = "force",
+        cycle: np.ndarray | None = None, gravity: Any = None, loads: Any = (),
+        method: str = "force",
         tolerance_study: int = 0, seed: int = 0, scheduler: str | None = None,
         chunk_size: int = 500, plots: bool = True) -> dict[str, Any]:
     """Analyse ``mech`` with the spatial data ``spec`` and report; return what was computed.
@@ -88,10 +79,16 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
     out : Path
         Output folder (created).
     angles : ndarray
-        Driver positions for the table [rad].
+        Driver positions for the table [rad, or m for a linear driver].
     console : rich.console.Console
-    analysis : dict, optional
-        ``gravity``, ``loads``, ``omega1``, ``eps1`` for the engine.
+    cycle : ndarray, optional
+        Driver positions of the cycle; default ``spec.positions`` (or 360) over one turn;
+        ``spec.positions``, when set, resamples the cycle's range.
+    gravity : (gx, gy), optional
+        Gravity [m/s^2].
+    loads : sequence or callable
+        External loads of the engine (PointForce, BodyTorque), or a function of the driver
+        positions returning them.
     method : {"force", "displacement"}
     tolerance_study : int
         Number of Monte-Carlo samples (0: none).
@@ -114,16 +111,25 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
     )
     from linkwork.redundancy import tolerance_study as mc
 
-    analysis = dict(analysis or {})
     out.mkdir(parents=True, exist_ok=True)
     inputs = _model_inputs(mech, spec)
-    cycle = np.linspace(0.0, 2 * np.pi, spec.positions, endpoint=False)
-    res = spatial_reactions(mech, cycle, method=method, **analysis, **inputs)
-    at = spatial_reactions(mech, angles, method=method, **analysis, **inputs)
+    if cycle is None:
+        cycle = np.linspace(0.0, 2 * np.pi, spec.positions or 360, endpoint=False)
+    elif spec.positions:
+        cycle = np.linspace(float(cycle[0]), float(cycle[-1]), spec.positions)
+    cycle = np.asarray(cycle, dtype=float)
+
+    def loads_at(phi: np.ndarray) -> Any:
+        return list(loads(phi)) if callable(loads) else list(loads)
+
+    res = spatial_reactions(mech, cycle, method=method, gravity=gravity, loads=loads_at(cycle),
+                            **inputs)
+    at = spatial_reactions(mech, angles, method=method, gravity=gravity,
+                           loads=loads_at(np.asarray(angles, dtype=float)), **inputs)
     model = spatial_model(mech, inputs["joints"], inputs["default"])
-    kin = kinematics(mech, cycle, analysis.get("omega1"), analysis.get("eps1"))
+    kin = kinematics(mech, cycle)
     geom = geometry(mech, kin)
-    count = count_redundancy(model, geom, position=spec.positions // 7)
+    count = count_redundancy(model, geom, position=len(cycle) // 7)
     console.print(f"[bold]{mech.__class__.__name__}[/bold]: {count.summary()}")
 
     for k, phi in enumerate(angles):
@@ -138,7 +144,7 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
         t.caption = f"driving torque Q = {_fmt(at.Q[k])} N·m"
         console.print(t)
     peaks = res.peaks()
-    t = Table(title=f"peaks over the cycle ({spec.positions} positions)")
+    t = Table(title=f"peaks over the cycle ({len(cycle)} positions)")
     for col in ("joint", "|fx| [N]", "|fy| [N]", "|fz| [N]", "|mx| [N·m]", "|my| [N·m]",
                 "bending [N·m]"):
         t.add_column(col, justify="right")
@@ -181,9 +187,8 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
                                      "must be one of the joint's bodies")
             tols.append(Tolerance(tspec.joint, "a" if body == jt.body_a else "b",
                                   tspec.component, tspec.limit, tspec.distribution, tspec.mean))
-        w = body_wrenches(mech, kin, gravity=analysis.get("gravity"),
-                          loads=analysis.get("loads", ()), heights=inputs["heights"],
-                          out_of_plane=inputs["out_of_plane"])
+        w = body_wrenches(mech, kin, gravity=gravity, loads=loads_at(cycle),
+                          heights=inputs["heights"], out_of_plane=inputs["out_of_plane"])
         # systematic deviations of the file are added as fixed means
         fixed = deviation_array(model, inputs["deviations"], mech.frame.name)
         for j, jt in enumerate(model.joints):
@@ -233,8 +238,9 @@ def register(app: typer.Typer) -> None:
                                              "optional \\[spatial] table")],
         out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
             "linkwork-reactions"),
-        angles: Annotated[str, typer.Option(help="driver positions for the table, deg, "
-                                            "comma-separated")] = "0,90,180,270",
+        angles: Annotated[str, typer.Option(help="driver positions for the table, deg (mm for a "
+                                            "linear driver), comma-separated")
+                          ] = "0,90,180,270",
         method: Annotated[str, typer.Option(help="force or displacement")] = "force",
         tolerance_study: Annotated[int, typer.Option(
             "--tolerance-study", help="Monte-Carlo samples of the deviations (0: none)")] = 0,
@@ -253,6 +259,9 @@ def register(app: typer.Typer) -> None:
         if tolerance_study < 0:
             raise ParameterError("--tolerance-study", tolerance_study, "must be >= 0")
         mech, kwargs, spec = load_problem(file)
-        run(mech, spec, out=out, angles=_parse_angles(angles), console=Console(),
-            analysis=kwargs, method=method, tolerance_study=tolerance_study, seed=seed,
-            scheduler=scheduler, chunk_size=chunk_size, plots=plots)
+        table = _parse_angles(angles)
+        if type(mech.driver).__name__ == "Linear":    # positions in mm for a linear driver
+            table = np.degrees(table) * 1e-3
+        run(mech, spec, out=out, angles=table, console=Console(), **kwargs, method=method,
+            tolerance_study=tolerance_study, seed=seed, scheduler=scheduler,
+            chunk_size=chunk_size, plots=plots)

@@ -7,7 +7,7 @@ in an extra table that this module validates (the engine's schema never sees it)
     [spatial]
     k_bearing = "100 N/um"        # default radial bearing stiffness k_b
     axial_ratio = 1.0             # default axial/radial stiffness ratio
-    positions = 360               # positions over the cycle
+    positions = 360               # optional: resample the file's [analysis] range
     default = { e = "30 mm", z = "0 mm" }   # for joints not listed in [spatial.joints]
     heights = { coupler = "30 mm" }          # heights of the centres of mass [m]
 
@@ -142,7 +142,7 @@ class SpatialSpec(FileModel):
 
     k_bearing: Annotated[Stiffness, Field(gt=0)] = DEFAULT_BEARING_STIFFNESS
     axial_ratio: Annotated[float, Field(gt=0)] = 1.0
-    positions: Annotated[int, Field(ge=8, le=100_000)] = 360
+    positions: Annotated[int, Field(ge=8, le=100_000)] | None = None
     default: JointSpec = JointSpec()
     joints: dict[str, JointSpec] = Field(default_factory=dict)
     heights: dict[str, Length] = Field(default_factory=dict)
