@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -12,6 +13,7 @@ from linkwork.cli import main
 from linkwork.cli.balance import BalanceSection, run_balance
 from linkwork.planar.model import crank_slider, fourbar
 
+DATA = Path(__file__).parent / "data"
 PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.00567),
              coms=(0.05, 0.15, 0.1), omega1=10.0)
 
@@ -72,7 +74,40 @@ def test_balance_cli_failures(tmp_path, capsys):
 
 
 def test_balance_section_validation(tmp_path, capsys):
+    pytest.importorskip("linkwork.planar.file")
     f = tmp_path / "p.toml"
-    f.write_text('type = "planar"\n[balance]\nn = 3\n')
+    f.write_text((DATA / "balance_fourbar.toml").read_text() + "n = 3\n")
     assert main(["balance", str(f)]) == 2
-    assert capsys.readouterr().err.startswith("linkwork: error:")
+    err = capsys.readouterr().err
+    assert err.startswith("linkwork: error:") and "balance.n" in err
+
+
+def test_balance_command_on_file_matches_engine_model(tmp_path, capsys):
+    pytest.importorskip("linkwork.planar.file")
+    from linkwork.balancing import compare_balancing
+
+    assert main(["balance", str(DATA / "balance_fourbar.toml"), "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "R_j" in out
+    table = np.loadtxt(tmp_path / "balance_table.csv", delimiter=",", skiprows=1)
+    ref = compare_balancing(fourbar(0.1, 0.3, 0.2, 0.3, **PAPER), radii={"crank": 0.05,
+                                                                         "rocker": 0.1})
+    header = (tmp_path / "balance_table.csv").read_text().splitlines()[0].split(",")
+    cols = [h.split(" [")[0] for h in header]
+    for name in ("M", "dM1", "dM2", "dM3"):
+        np.testing.assert_allclose(table[:, cols.index(name)], getattr(ref, name), atol=1e-9)
+
+
+def test_balance_command_bad_balance_table(tmp_path, capsys):
+    pytest.importorskip("linkwork.planar.file")
+    text = (DATA / "balance_fourbar.toml").read_text()
+    f = tmp_path / "bad.toml"
+    f.write_text(text.replace('links = ["crank", "rocker"]', 'links = ["crank", "coupler"]'))
+    assert main(["balance", str(f), "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert "coupler" in err and "hinged to the frame" in err and err.count("\n") == 1
+    f.write_text(text.replace('radii = { crank = "50 mm"', 'radii = { crank = "50 kg"'))
+    assert main(["balance", str(f), "--out", str(tmp_path)]) == 2
+    assert "balance.radii" in capsys.readouterr().err
+    assert main(["balance", str(DATA / "balance_fourbar.toml"), "--angles", "a,b"]) == 2
+    assert "--angles" in capsys.readouterr().err

@@ -57,8 +57,11 @@ def _to_mechanism(doc: Any) -> Any:
     raise FileFormatError("file", "type", "the planar document does not provide a mechanism")
 
 
-def load_balance_file(path: str | Path) -> tuple[Any, BalanceSection]:
-    """Read a planar mechanism file and its ``[balance]`` table; return (Mechanism, section)."""
+def load_balance_file(path: str | Path) -> tuple[Any, BalanceSection, Any]:
+    """Read a planar mechanism file and its ``[balance]`` table.
+
+    Returns (Mechanism, section, validated planar document).
+    """
     raw = files.read_toml(path)
     section = raw.pop("balance", {})
     kind = raw.get("type")
@@ -66,6 +69,14 @@ def load_balance_file(path: str | Path) -> tuple[Any, BalanceSection]:
         raise FileFormatError(str(path), "type", f"balance needs a 'planar' mechanism file, "
                               f"got {kind!r}")
     schema = files.schemas().get("planar")
+    if schema is None:  # the engine's schema module, in case SCHEMA_MODULES does not list it
+        import importlib
+
+        try:
+            importlib.import_module("linkwork.planar.file")
+        except ImportError:
+            pass
+        schema = files.schemas().get("planar")
     if schema is None:
         raise FileFormatError(str(path), "type", "no schema for 'planar' files is installed")
     doc = files.validate(path, raw, schema)
@@ -76,7 +87,7 @@ def load_balance_file(path: str | Path) -> tuple[Any, BalanceSection]:
         mech = _to_mechanism(doc)
     except FileFormatError as exc:
         raise FileFormatError(str(path), exc.key, exc.problem) from None
-    return mech, sec
+    return mech, sec, doc
 
 
 class _Wrapper(FileModel):
@@ -89,9 +100,10 @@ def _fmt(x: float, nd: int = 3) -> str:
 
 
 def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
-                pareto: bool = False) -> Any:
+                pareto: bool = False, gravity: Any = None) -> Any:
     """Run the comparison on ``mech``, print it on ``console``, write the outputs to ``out``.
 
+    ``gravity`` (gx, gy) [m/s²] enters the driving torque and bearing reactions only.
     Returns the :class:`~linkwork.balancing.comparison.BalancingComparison`.
     """
     from rich.markup import escape
@@ -108,7 +120,7 @@ def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
 
     angles = None if section.angles is None else np.radians(np.asarray(section.angles, float))
     comp = compare_balancing(mech, angles, links=section.links, radii=section.radii,
-                             n=section.n)
+                             n=section.n, gravity=gravity)
     t = Table(title="Shaking moment about the crank axis [N·m] (paper 001)")
     for h in ("φ1 [deg]", "M unbalanced", "ΔM1 static", "ΔM2 1st harmonic", "ΔM3 least sq."):
         t.add_column(h, justify="right")
@@ -224,7 +236,7 @@ def register(app: typer.Typer) -> None:
         """Balance a planar mechanism: paper 001's table, torque and bearing loads, plots."""
         from rich.console import Console
 
-        mech, section = load_balance_file(file)
+        mech, section, doc = load_balance_file(file)
         if angles is not None:
             try:
                 vals = [float(a) for a in angles.split(",") if a.strip()]
@@ -234,4 +246,10 @@ def register(app: typer.Typer) -> None:
             if not vals:
                 raise ParameterError("--angles", angles, "must list at least one angle")
             section = section.model_copy(update={"angles": vals})
-        run_balance(mech, section, out, Console(), pareto=pareto)
+        console = Console()
+        analysis = getattr(doc, "analysis", None)
+        gravity = getattr(analysis, "gravity", None)
+        if getattr(doc, "load", None):
+            console.print("note: the file's external loads are not part of the balancing "
+                          "comparison (inertia forces and gravity only)")
+        run_balance(mech, section, out, console, pareto=pareto, gravity=gravity)
