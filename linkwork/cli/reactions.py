@@ -130,7 +130,7 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
     kin = kinematics(mech, cycle)
     geom = geometry(mech, kin)
     count = count_redundancy(model, geom, position=len(cycle) // 7)
-    console.print(f"[bold]{mech.__class__.__name__}[/bold]: {count.summary()}")
+    console.print(f"[bold]structure in space[/bold]: {count.summary()}")
 
     for k, phi in enumerate(angles):
         t = Table(title=f"reactions at φ1 = {np.degrees(phi):.4g} deg (by body a on body b, "
@@ -202,7 +202,7 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
                        client=scheduler, progress=progress)
         pct = study.percentiles((50.0, 95.0, 99.0))
         t = Table(title=f"tolerance study: peaks over the cycle, N = {tolerance_study}")
-        for col in ("joint", "quantity", "nominal", "p50", "p95", "p99"):
+        for col in ("joint", "quantity", "no deviation", "p50", "p95", "p99"):
             t.add_column(col, justify="right")
         for name in study.joints:
             for qty in ("fz", "bending"):

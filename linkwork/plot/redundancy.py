@@ -103,7 +103,7 @@ def plot_peak_histogram(study: Any, joint: str, quantity: str = "bending", ax: A
         v = float(np.percentile(vals, q))
         out[f"p{q:g}"] = ax.axvline(v, color="C3", lw=1.0, label=f"p{q:g} = {v:.4g}")
     nom = float(study.nominal[study.joints.index(joint), study.quantities.index(quantity)])
-    out["nominal"] = ax.axvline(nom, color="k", ls="--", lw=1.0, label=f"nominal = {nom:.4g}")
+    out["nominal"] = ax.axvline(nom, color="k", ls="--", lw=1.0, label=f"no deviation = {nom:.4g}")
     ax.set_xlabel(f"peak {quantity} at joint {joint} over the cycle "
                   f"[{_UNIT.get(quantity, '')}]")
     ax.set_ylabel(f"samples (N = {study.n_samples})")
