@@ -187,3 +187,50 @@ def test_crank_slider_shaking_force_harmonics_classic_series():
     np.testing.assert_allclose(h.sin / scale, 0.0, atol=1e-12)
     assert abs(h.mean) < 1e-9 * scale
     np.testing.assert_allclose(sl.fy, 0.0, atol=1e-9 * scale)
+
+
+def watt_sixbar():
+    from linkwork.planar.model import Body, Crank, Mechanism, Revolute, bar
+
+    frame = Body("frame", {"O": (0, 0), "C": (0.3, 0), "E": (0.55, 0.25)})
+    crank = bar("crank", "O", "A", 0.1, mass=1.0)
+    coupler = bar("coupler", "A", "B", 0.3, mass=3.0, com=(0.12, 0.03))
+    rocker = Body("rocker", {"C": (0, 0), "B": (0.2, 0), "D": (0.1, 0.12)}, mass=2.5,
+                  com=(0.1, 0.04), inertia=0.01)
+    link4 = bar("link4", "D", "F", 0.3, mass=1.5)
+    output = bar("output", "E", "F", 0.2, mass=1.2)
+    joints = (Revolute("O", "frame", "crank"), Revolute("A", "crank", "coupler"),
+              Revolute("B", "coupler", "rocker"), Revolute("C", "frame", "rocker"),
+              Revolute("D", "rocker", "link4"), Revolute("F", "link4", "output"),
+              Revolute("E", "frame", "output"))
+    return Mechanism(frame, (crank, coupler, rocker, link4, output), joints, Crank("O", 10.0))
+
+
+def test_watt_sixbar_full_force_balance_by_successive_loops():
+    """Watt six-bar: eliminating link4 through loop C-D-F-E and the coupler through loop
+    O-A-B-C (by hand, complex local first moments) gives the three counterweights; the
+    general least squares finds the same and the engine's shaking force vanishes."""
+    mech = watt_sixbar()
+    d_D = 0.1 + 0.12j
+    s2, l2, l3 = 0.12 + 0.03j, 0.3, 0.2
+    q1 = -(1.0 * 0.05 + 3.0 * 0.1 * (1 - s2 / l2))
+    q3 = -(2.5 * (0.1 + 0.04j) + 3.0 * s2 * l3 / l2 + 1.5 * d_D * (1 - 0.15 / 0.3))
+    q5 = -(1.2 * 0.1 + 1.5 * 0.15 * 0.2 / 0.3)
+    fb = force_balance(mech, n=120)
+    assert fb.full
+    got = {c.link: c.first_moment for c in fb.counterweights}
+    for link, q in (("crank", q1), ("rocker", q3), ("output", q5)):
+        assert abs(got[link] - q) < 1e-9
+    phi = cycle(360, 0.01)
+    before = shaking_loads(kinematics(mech, phi))
+    after = shaking_loads(kinematics(fb.mechanism, phi))
+    assert after.force_peak() <= 1e-9 * before.force_peak()
+
+
+def test_sixbar_not_balanceable_without_the_middle_rocker():
+    """Without a counterweight on the rocker the coupler's and link4's first moments keep a
+    part that rotates with the rocker: no full balance; best RMS and the reason are given."""
+    fb = force_balance(watt_sixbar(), links=["crank", "output"], n=120)
+    assert not fb.full
+    assert 0.01 < fb.ratio < 1.0
+    assert "['crank', 'output']" in fb.reason
