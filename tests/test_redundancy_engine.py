@@ -117,3 +117,38 @@ def test_engine_adapter_bad_names():
         spatial_model(mech, {"A": {"kind": "prismatic"}})
     with pytest.raises(ParameterError, match="joint's bodies"):
         spatial_reactions(mech, PHI[:3], deviations=[Deviation("A", "rocker", dz=1e-5)])
+
+
+def test_engine_linear_driver_force_along_the_slide():
+    """A crank-slider driven at the slider (Linear driver): Q is the force along the guide,
+    in-plane parts equal the engine's, both formulations agree, q = 3."""
+    from linkwork.planar import Body, Linear, Mechanism, Prismatic, Revolute, bar
+
+    frame = Body("frame", {"O": (0.0, 0.0), "G": (0.0, 0.0)})
+    crank = bar("crank", "O", "A", 0.05, mass=1.0)
+    rod = bar("rod", "A", "B", 0.2, mass=1.5)
+    slider = Body("slider", {"B": (0.0, 0.0)}, mass=2.0)
+    joints = (Revolute("O", "frame", "crank"), Revolute("A", "crank", "rod"),
+              Revolute("B", "rod", "slider"),
+              Prismatic("G", "frame", "slider", angle=0.0, through="G", point="B"))
+    mech = Mechanism(frame, (crank, rod, slider), joints, Linear("G", v1=-0.3, a1=0.5),
+                     {"A": 1})
+    s1 = np.linspace(0.17, 0.23, 9)
+    loads = [BodyTorque("crank", -3.0)]
+    kw = dict(gravity=(0, -9.81), loads=loads, default={"e": 0.03, "z": 0.01},
+              joints={"G": {"e": 0.08, "z": 0.0}}, heights={"rod": 0.02},
+              deviations=[Deviation("G", "frame", tx=2e-4, dz=1e-5),
+                          Deviation("O", "frame", ty=1e-4)])
+    r = spatial_reactions(mech, s1, **kw)
+    rd = spatial_reactions(mech, s1, method="displacement", **kw)
+    dyn = inverse_dynamics(kinematics(mech, s1), gravity=(0, -9.81), loads=loads)
+    scale = np.max(np.abs(dyn.fx)) + np.max(np.abs(dyn.fy))
+    assert np.max(np.abs(r.fy[:3] - dyn.fy[:3])) < 1e-9 * scale
+    assert np.max(np.abs(r.fx[:3] - dyn.fx[:3])) < 1e-9 * scale
+    assert np.max(np.abs(r.Q - dyn.Q)) < 1e-9 * np.max(np.abs(dyn.Q))
+    # the slider joint: normal force as the engine's, plus the driving force along x
+    assert np.max(np.abs(r.fy[3] - dyn.fy[3])) < 1e-9 * scale
+    assert np.max(np.abs(r.fx[3] - (dyn.fx[3] + dyn.Q))) < 1e-9 * scale
+    assert np.max(np.abs(rd.components() - r.components())) < 1e-9 * np.max(
+        np.abs(r.components()))
+    assert r.redundant == 3 and np.max(np.abs(r.fz)) > 0.01

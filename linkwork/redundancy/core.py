@@ -46,6 +46,7 @@ __all__ = [
     "COMPONENTS",
     "DEFAULT_BEARING_STIFFNESS",
     "JOINT_KINDS",
+    "Influence",
     "RedundancyCount",
     "SpatialGeometry",
     "SpatialJoint",
@@ -490,20 +491,32 @@ def _scales(model: SpatialModel, geom: SpatialGeometry) -> tuple[float, np.ndarr
 
 
 @dataclass(frozen=True)
-class _Influence:
-    """r = r0 + H @ misfit, in physical units; plus the rank and self-stress basis."""
+class Influence:
+    """Reactions without deviations and their influence matrix: ``r = r0 + h @ misfit``.
 
-    r0: np.ndarray          # (n, m+1)
-    h: np.ndarray           # (n, m+1, m)
+    Attributes
+    ----------
+    r0 : ndarray (n, n_unknowns)
+        Unknowns (constrained components, driver last) without deviations [N, N·m].
+    h : ndarray (n, n_unknowns, n_unknowns - 1)
+        Change of the unknowns per unit misfit [N/m, N·m/rad, ...].
+    rank : int
+        Rank of the equilibrium matrix.
+    selfstress : ndarray (n, n_unknowns, q)
+        Self-stress basis (physical units; orthonormal in units scaled by the mechanism size).
+    """
+
+    r0: np.ndarray
+    h: np.ndarray
     rank: int
-    selfstress: np.ndarray  # (n, m+1, q), physical units, columns orthonormal in scaled units
+    selfstress: np.ndarray
 
 
 def _rank(s: np.ndarray, tol: float = 1e-9) -> np.ndarray:
     return np.sum(s > tol * s[..., :1], axis=-1)
 
 
-def influence(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike) -> _Influence:
+def influence(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike) -> Influence:
     r"""Force method: reactions without deviations and their influence matrix for misfits.
 
     The reactions are a particular equilibrium solution plus a combination of the self-stress
@@ -557,7 +570,7 @@ def influence(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike) -
     # back to physical: r = D_c r~; misfit delta~ = D_c delta
     r0 = cols * r0_t
     h = cols[None, :, None] * ht[:, :, :m] * cols[None, None, :m]
-    return _Influence(r0=r0, h=h, rank=rank, selfstress=cols[None, :, None] * sst)
+    return Influence(r0=r0, h=h, rank=rank, selfstress=cols[None, :, None] * sst)
 
 
 def _displacement(model: SpatialModel, geom: SpatialGeometry, w: np.ndarray,
@@ -591,7 +604,9 @@ class SpatialReactions(Result):
 
     Every component array has shape (n_joints, n): the wrench exerted by ``body_a`` on ``body_b``
     of each joint, reduced to the joint centre, global components. ``Q`` is the driving torque
-    [N·m] (force [N] for a prismatic driver), shape (n,).
+    [N·m] (force [N] for a prismatic driver), shape (n,); it is also contained in the driver
+    joint's components (``mz`` of a revolute driver, the force along the slide of a prismatic
+    one), so that every joint's wrench is the whole action of body a on body b.
 
     Attributes
     ----------
