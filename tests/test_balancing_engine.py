@@ -234,3 +234,4 @@ def test_sixbar_not_balanceable_without_the_middle_rocker():
     assert not fb.full
     assert 0.01 < fb.ratio < 1.0
     assert "['crank', 'output']" in fb.reason
+    assert "without a counterweight: ['rocker']" in fb.reason

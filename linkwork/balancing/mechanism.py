@@ -256,6 +256,9 @@ def _not_balanceable(mech: Mechanism, links: Sequence[str]) -> str:
                 sliders.append(b)
     why = (f"the total first moment of mass contains terms that do not rotate rigidly with the "
            f"counterweighted links {list(links)}")
+    others = [b for b in frame_hinged_links(mech) if b not in links]
+    if others:
+        why += f"; frame-hinged links without a counterweight: {others}"
     if sliders:
         why += (f"; {sliders} translate on the frame (reciprocating mass: its first moment "
                 "follows the slide coordinate, with all its harmonics, which no rotating "
