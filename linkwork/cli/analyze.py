@@ -22,6 +22,7 @@ from linkwork.errors import FileFormatError, ParameterError
 #: File type -> "module:function" of its analyser.
 ANALYZERS: dict[str, str] = {
     "sine_press": "linkwork.cli._sine_press:analyze_sine_press",
+    "planar": "linkwork.cli._planar:analyze_planar",
 }
 
 

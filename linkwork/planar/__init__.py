@@ -62,7 +62,14 @@ from linkwork.planar.dynamics import (
     inverse_dynamics,
     kinetic_energy,
 )
-from linkwork.planar.kinematics import Kinematics, PointMotion, kinematics
+from linkwork.planar.kinematics import (
+    DeadCentre,
+    Kinematics,
+    PointMotion,
+    dead_centres,
+    kinematics,
+    transmission_angles,
+)
 from linkwork.planar.model import (
     Body,
     Crank,
@@ -82,6 +89,7 @@ __all__ = [
     "Body",
     "BodyTorque",
     "Crank",
+    "DeadCentre",
     "Dynamics",
     "Group",
     "Joint",
@@ -97,9 +105,11 @@ __all__ = [
     "analyse",
     "bar",
     "crank_slider",
+    "dead_centres",
     "fourbar",
     "inverse_dynamics",
     "kinematics",
     "kinetic_energy",
     "mobility",
+    "transmission_angles",
 ]

@@ -43,7 +43,8 @@ from linkwork.planar.model import (
 from linkwork.planar.structure import Group
 from linkwork.results import Result
 
-__all__ = ["Kinematics", "PointMotion", "kinematics"]
+__all__ = ["DeadCentre", "Kinematics", "PointMotion", "dead_centres", "kinematics",
+           "transmission_angles"]
 
 Arr = np.ndarray
 Vec = tuple[Arr, Arr]
@@ -1053,3 +1054,112 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
                       out["T"], out["VX"], out["VY"], out["W"], out["AX"], out["AY"], out["E"],
                       ~bad, used)
 
+
+
+# ---------------------------------------------------------------------------------------------
+# transmission angles and dead centres
+@dataclass(frozen=True)
+class DeadCentre:
+    """A dead-centre (extreme) position of a group's output body.
+
+    ``phi1`` [rad or m] is where the output body's motion relative to its external joint
+    reverses (angular velocity relative to the neighbour, or sliding speed, crosses zero),
+    linearly interpolated between samples; ``kind`` is ``"min"`` or ``"max"`` of its angle or
+    slide.
+    """
+
+    group: str
+    body: str
+    phi1: float
+    kind: str
+
+
+def _state_of(kin: Kinematics) -> _State:
+    nb, n = kin.x.shape
+    st = _State(nb, n)
+    for i in range(nb):
+        st.X[i], st.Y[i] = kin.x[i], kin.y[i]
+        st.set_angle(i, kin.theta[i])
+        st.VX[i], st.VY[i], st.W[i] = kin.vx[i], kin.vy[i], kin.omega[i]
+        st.AX[i], st.AY[i], st.E[i] = kin.ax[i], kin.ay[i], kin.eps[i]
+    return st
+
+
+def transmission_angles(kin: Kinematics) -> dict[str, tuple[Arr, Arr]]:
+    """Transmission angle ``mu`` and pressure angle ``delta = pi/2 - mu`` of every closed-form
+    group, keyed by the group key [rad].
+
+    ``delta`` is the acute angle between the force that the group's joint J2 (the joint
+    between its bodies; the slot of a one-body group) transmits to the output body (the dyad's
+    second body, or the one body) and the velocity of its point of application as a point of
+    the output body moving about (along) its external joint. The force is taken along the
+    first body's joint line for a link with two revolute joints, normal to the guide for
+    prismatic pairs and slots (no friction, the first body's own loads neglected). ``mu`` = 90
+    deg is the best transmission, 0 the toggle.
+    """
+    mech = kin.mechanism
+    st = _state_of(kin)
+    out: dict[str, tuple[Arr, Arr]] = {}
+    for g in mech.structure.groups:
+        if g.kind in ("driver", "newton"):
+            continue
+        _pars, jc, unk = _group_pars(mech, st, g)
+        out_par = unk[-1]
+        _qa, pb, ang = mech.joint_geometry(jc)
+        P = st.wpt(mech.index[jc.b], pb)
+        if isinstance(jc, Revolute):
+            first = unk[0]
+            if first.rev:
+                fx, fy = P[0] - first.A[0], P[1] - first.A[1]
+            else:
+                fx, fy = -first.u[1], first.u[0]
+        else:
+            ux, uy = st.rot(mech.index[jc.a], (np.cos(ang), np.sin(ang)))
+            fx, fy = -uy, ux
+        vx, vy = out_par.d(P)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            c = np.abs(fx * vx + fy * vy) / (np.hypot(fx, fy) * np.hypot(vx, vy))
+        delta = np.arccos(np.clip(c, 0.0, 1.0))
+        out[g.key] = (np.pi / 2 - delta, delta)
+    return out
+
+
+def dead_centres(kin: Kinematics) -> list[DeadCentre]:
+    """Dead-centre positions of the output body of every closed-form group (see DeadCentre).
+
+    For a crank-rocker four-bar these are the rocker's two extreme positions (crank and
+    coupler collinear); for a crank-slider, the slider's.
+    """
+    mech = kin.mechanism
+    st = _state_of(kin)
+    found: list[DeadCentre] = []
+    q = kin.phi1
+    for g in mech.structure.groups:
+        if g.kind in ("driver", "newton"):
+            continue
+        _pars, _, unk = _group_pars(mech, st, g)
+        p = unk[-1]
+        b = p.b
+        if p.rev:
+            rate = st.W[b] - st.W[p.k]
+        else:
+            # sliding velocity of the output body relative to its neighbour along u
+            r = (st.X[b], st.Y[b])
+            vb, vk = _vel_at(st, b, r), _vel_at(st, p.k, r)
+            rate = (vb[0] - vk[0]) * p.u[0] + (vb[1] - vk[1]) * p.u[1]
+        tiny = 1e-12 * float(np.nanmax(np.abs(rate))) if np.isfinite(rate).any() else 0.0
+        rate = np.where(np.abs(rate) <= tiny, 0.0, rate)
+        sgn = np.sign(rate)
+        name = mech.body_names[b]
+        idx = np.flatnonzero((sgn[:-1] * sgn[1:] < 0) & np.isfinite(rate[:-1] + rate[1:]))
+        for i in idx:
+            t = rate[i] / (rate[i] - rate[i + 1])
+            found.append(DeadCentre(g.key, name, float(q[i] + t * (q[i + 1] - q[i])),
+                                    "max" if rate[i] > 0 else "min"))
+        for i in np.flatnonzero(sgn == 0):  # a sample exactly at the dead centre
+            before = sgn[i - 1] if i > 0 else -sgn[i + 1] if i + 1 < sgn.size else 0
+            after = sgn[i + 1] if i + 1 < sgn.size else -before
+            if before * after < 0:
+                found.append(DeadCentre(g.key, name, float(q[i]), "max" if before > 0 else "min"))
+    found.sort(key=lambda d: (d.group, d.phi1))
+    return found

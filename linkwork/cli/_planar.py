@@ -1,0 +1,166 @@
+"""``linkwork analyze`` for ``type = "planar"`` files: the general engine over a cycle.
+
+Prints the structure (mobility, Assur groups), dead centres, and a table at the requested crank
+angles: driving torque, every joint reaction's magnitude, shaking force and moment, kinetic
+energy, transmission angles. Writes ``planar_kinematics.csv`` (every body's pose, velocity,
+acceleration), ``planar_dynamics.csv`` (every joint's reaction components, driving torque,
+shaking force and moment, kinetic energy), ``planar.json`` (both, with units and the structure)
+and plots (skeleton with point paths, driving torque, reactions, shaking).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from linkwork.planar.dynamics import Dynamics, inverse_dynamics
+from linkwork.planar.file import PlanarFile
+from linkwork.planar.kinematics import (
+    Kinematics,
+    dead_centres,
+    kinematics,
+    transmission_angles,
+)
+from linkwork.planar.model import Crank
+
+__all__ = ["analyze_planar", "named_columns"]
+
+
+def named_columns(kin: Kinematics, dyn: Dynamics) -> dict[str, tuple[np.ndarray, str]]:
+    """Readable per-position columns: name -> (values, unit)."""
+    mech = kin.mechanism
+    crank = isinstance(mech.driver, Crank)
+    cols: dict[str, tuple[np.ndarray, str]] = {
+        "phi1": (kin.phi1, "rad" if crank else "m"),
+        "omega1": (kin.omega1, "rad/s" if crank else "m/s"),
+        "eps1": (kin.eps1, "rad/s^2" if crank else "m/s^2"),
+    }
+    for b in mech.bodies:
+        i = mech.index[b.name]
+        c = kin.point(b.name, "com")
+        for name, arr, unit in (("theta", kin.theta[i], "rad"), ("omega", kin.omega[i], "rad/s"),
+                                ("eps", kin.eps[i], "rad/s^2"), ("xS", c.x, "m"),
+                                ("yS", c.y, "m"), ("vxS", c.vx, "m/s"), ("vyS", c.vy, "m/s"),
+                                ("axS", c.ax, "m/s^2"), ("ayS", c.ay, "m/s^2")):
+            cols[f"{b.name}.{name}"] = (arr, unit)
+    for k, j in enumerate(dyn.joints):
+        cols[f"R_{j}.x"] = (dyn.fx[k], "N")
+        cols[f"R_{j}.y"] = (dyn.fy[k], "N")
+        if np.any(dyn.mz[k] != 0):
+            cols[f"R_{j}.mz"] = (dyn.mz[k], "N*m")
+    cols["Q"] = (dyn.Q, "N*m" if crank else "N")
+    cols["shaking_fx"] = (dyn.shaking_fx, "N")
+    cols["shaking_fy"] = (dyn.shaking_fy, "N")
+    cols["shaking_m"] = (dyn.shaking_m, "N*m")
+    cols["T"] = (dyn.T, "J")
+    for key, (mu, _) in transmission_angles(kin).items():
+        cols[f"mu_{key}"] = (mu, "rad")
+    return cols
+
+
+def _write_csv(path: Path, cols: dict[str, tuple[np.ndarray, str]]) -> Path:
+    with path.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow([f"{k} [{u}]" for k, (_, u) in cols.items()])
+        for row in zip(*(v for v, _ in cols.values()), strict=True):
+            w.writerow([repr(float(x)) for x in row])
+    return path
+
+
+def _solve(doc: PlanarFile, phi: np.ndarray) -> tuple[Kinematics, Dynamics]:
+    mech = doc.mechanism()
+    kin = kinematics(mech, phi)
+    a = doc.analysis
+    dyn = inverse_dynamics(kin, gravity=a.gravity, loads=doc.loads(phi), about=a.about)
+    return kin, dyn
+
+
+def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray, console: Any) -> None:
+    """Analyse a planar mechanism file: table on ``console``, CSV/JSON/PNG into ``out``."""
+    from rich.table import Table
+
+    from linkwork.plot import planar as pplot
+    from linkwork.plot import save
+
+    mech = doc.mechanism()
+    crank = isinstance(mech.driver, Crank)
+    phi = doc.positions()
+    kin, dyn = _solve(doc, phi)
+    s = mech.structure
+    console.print(f"[bold]{doc.name or 'planar mechanism'}[/bold]: mobility W = {s.mobility}; "
+                  f"structure {s.formula()}")
+    dcs = dead_centres(kin)
+    if dcs:
+        unit = "deg" if crank else "mm"
+        conv = np.degrees if crank else (lambda v: v * 1e3)
+        console.print("dead centres: " + ", ".join(
+            f"{d.body} {d.kind} at {conv(d.phi1):.2f} {unit}" for d in dcs))
+    # table at the requested angles (crank) or at 12 evenly spaced positions (linear driver)
+    if crank:
+        tphi = np.asarray(angles, dtype=float)
+    else:
+        tphi = np.linspace(phi[0], phi[-1], 12)
+    tk, td = _solve(doc, tphi)
+    trans = transmission_angles(tk)
+    table = Table(title="driving torque, joint reactions |R| (force of a on b), shaking")
+    table.add_column("φ1 [deg]" if crank else "s1 [mm]", justify="right")
+    table.add_column("Q [N·m]" if crank else "Q [N]", justify="right")
+    for j in td.joints:
+        table.add_column(f"|R {j}| [N]", justify="right")
+    table.add_column("|F_sh| [N]", justify="right")
+    table.add_column("M_sh [N·m]", justify="right")
+    for key in trans:
+        table.add_column(f"μ {key} [deg]", justify="right")
+    for i in range(tk.n):
+        row = [f"{np.degrees(tphi[i]) if crank else tphi[i] * 1e3:.1f}", f"{td.Q[i]:.4g}"]
+        row += [f"{td.reaction_magnitude(j)[i]:.4g}" for j in td.joints]
+        row += [f"{np.hypot(td.shaking_fx[i], td.shaking_fy[i]):.4g}", f"{td.shaking_m[i]:.4g}"]
+        row += [f"{np.degrees(mu[i]):.1f}" for mu, _ in trans.values()]
+        table.add_row(*row)
+    console.print(table)
+    # files
+    cols = named_columns(kin, dyn)
+    kin_cols = {k: v for k, v in cols.items() if not (k.startswith("R_") or k in (
+        "Q", "shaking_fx", "shaking_fy", "shaking_m", "T"))}
+    dyn_cols = {"phi1": cols["phi1"]}
+    dyn_cols.update({k: v for k, v in cols.items() if k.startswith("R_") or k in (
+        "Q", "shaking_fx", "shaking_fy", "shaking_m", "T")})
+    written = [_write_csv(out / "planar_kinematics.csv", kin_cols),
+               _write_csv(out / "planar_dynamics.csv", dyn_cols)]
+    data = {
+        "name": doc.name, "mobility": s.mobility, "structure": s.formula(),
+        "groups": [{"kind": g.kind, "bodies": list(g.bodies), "joints": list(g.joints),
+                    "class": g.cls, "order": g.order, "key": g.key,
+                    "branch": kin.branches.get(g.key, 1)} for g in s.groups],
+        "reaction_sign": "force exerted by joint body a on joint body b, frame axes",
+        "dead_centres": [{"group": d.group, "body": d.body, "phi1": d.phi1, "kind": d.kind}
+                         for d in dcs],
+        "units": {k: u for k, (_, u) in cols.items()},
+        "columns": {k: [None if not np.isfinite(x) else float(x) for x in v]
+                    for k, (v, _) in cols.items()},
+    }
+    p = out / "planar.json"
+    p.write_text(json.dumps(data, indent=1))
+    written.append(p)
+    # plots
+    plt = pplot.pyplot()
+    fig, ax = plt.subplots(figsize=(7, 6))
+    good = np.flatnonzero(kin.assembled)
+    picks = [int(good[k]) for k in np.linspace(0, good.size - 1, 4, endpoint=False).astype(int)]
+    paths = [(b.name, pt) for b in mech.bodies for pt in list(b.points)[1:2]]
+    pplot.plot_skeleton(kin, picks, paths=paths, ax=ax)
+    written.append(save(fig, out / "planar_skeleton.png"))
+    fig, ax = plt.subplots()
+    pplot.plot_driving_torque(dyn, ax=ax)
+    written.append(save(fig, out / "planar_driving_torque.png"))
+    fig, ax = plt.subplots()
+    pplot.plot_reactions(dyn, ax=ax)
+    written.append(save(fig, out / "planar_reactions.png"))
+    fig, axes = plt.subplots(2, 1, sharex=True)
+    pplot.plot_shaking(dyn, axes=axes)
+    written.append(save(fig, out / "planar_shaking.png"))
+    console.print("wrote " + ", ".join(str(w) for w in written))

@@ -1,0 +1,124 @@
+"""Figures of the planar engine's results: skeleton, paths, driving torque, reactions, shaking.
+
+Every function takes ``ax=None`` (a new figure is made) and returns what it drew. Angles are
+shown in degrees, lengths in mm.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from linkwork.plot import pyplot
+
+__all__ = ["plot_driving_torque", "plot_reactions", "plot_shaking", "plot_skeleton"]
+
+
+def _ax(ax: Any) -> Any:
+    if ax is None:
+        _, ax = pyplot().subplots()
+    return ax
+
+
+def _x(kin: Any) -> tuple[np.ndarray, str]:
+    from linkwork.planar.model import Crank
+
+    if isinstance(kin.mechanism.driver, Crank):
+        return np.degrees(kin.phi1), "driver angle φ1 [deg]"
+    return kin.phi1 * 1e3, "driver position s1 [mm]"
+
+
+def plot_skeleton(kin: Any, positions: Sequence[int] | None = None, *,
+                  paths: Sequence[tuple[str, str]] = (), ax: Any = None) -> dict[str, Any]:
+    """Draw the mechanism at some positions (indices into ``kin.phi1``) and point paths.
+
+    Each body is drawn as the polygon of its named points (joint centres); ``paths`` lists
+    (body, point) whose paths over the whole cycle are drawn. Returns ``{"ax", "lines",
+    "paths"}``.
+    """
+    ax = _ax(ax)
+    mech = kin.mechanism
+    if positions is None:
+        good = np.flatnonzero(kin.assembled)
+        positions = [int(good[0])] if good.size else []
+    lines = []
+    colours: dict[str, Any] = {}
+    for k, idx in enumerate(positions):
+        alpha = 1.0 if k == 0 else 0.35
+        for body in mech.bodies:
+            pts = list(body.points.values())
+            if not pts:
+                continue
+            i = mech.index[body.name]
+            c, s = np.cos(kin.theta[i, idx]), np.sin(kin.theta[i, idx])
+            xs = [kin.x[i, idx] + c * p[0] - s * p[1] for p in pts]
+            ys = [kin.y[i, idx] + s * p[0] + c * p[1] for p in pts]
+            if len(pts) > 2:
+                xs.append(xs[0])
+                ys.append(ys[0])
+            kw = {"color": colours[body.name]} if body.name in colours else {}
+            (ln,) = ax.plot(np.array(xs) * 1e3, np.array(ys) * 1e3, "o-", alpha=alpha,
+                            label=body.name if k == 0 else None, **kw)
+            colours.setdefault(body.name, ln.get_color())
+            lines.append(ln)
+    fx = [p[0] * 1e3 for p in mech.frame.points.values()]
+    fy = [p[1] * 1e3 for p in mech.frame.points.values()]
+    ax.plot(fx, fy, "k^", ms=9, label="frame")
+    drawn = []
+    for body, point in paths:
+        pm = kin.point(body, point)
+        (ln,) = ax.plot(pm.x * 1e3, pm.y * 1e3, "--", lw=1, label=f"path {body}.{point}")
+        drawn.append(ln)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+    ax.legend(fontsize="small")
+    return {"ax": ax, "lines": lines, "paths": drawn}
+
+
+def plot_driving_torque(dyn: Any, ax: Any = None) -> dict[str, Any]:
+    """Driving torque (or force) over the cycle, with its mean. Returns ``{"ax", "line"}``."""
+    from linkwork.planar.model import Crank
+
+    ax = _ax(ax)
+    x, label = _x(dyn.kinematics)
+    (ln,) = ax.plot(x, dyn.Q, label="Q")
+    ax.axhline(float(np.nanmean(dyn.Q)), color="k", lw=0.8, ls=":", label="mean")
+    ax.set_xlabel(label)
+    crank = isinstance(dyn.kinematics.mechanism.driver, Crank)
+    ax.set_ylabel("driving torque Q [N·m]" if crank else "driving force Q [N]")
+    ax.legend()
+    return {"ax": ax, "line": ln}
+
+
+def plot_reactions(dyn: Any, joints: Sequence[str] | None = None, ax: Any = None
+                   ) -> dict[str, Any]:
+    """Magnitudes of joint reactions over the cycle. Returns ``{"ax", "lines"}``."""
+    ax = _ax(ax)
+    x, label = _x(dyn.kinematics)
+    lines = []
+    for j in joints or dyn.joints:
+        (ln,) = ax.plot(x, dyn.reaction_magnitude(j), label=j)
+        lines.append(ln)
+    ax.set_xlabel(label)
+    ax.set_ylabel("|R| [N]")
+    ax.legend(fontsize="small", ncol=2)
+    return {"ax": ax, "lines": lines}
+
+
+def plot_shaking(dyn: Any, axes: Any = None) -> dict[str, Any]:
+    """Shaking force components and shaking moment. Returns ``{"axes", "lines"}``."""
+    if axes is None:
+        _, axes = pyplot().subplots(2, 1, sharex=True)
+    x, label = _x(dyn.kinematics)
+    lines = [axes[0].plot(x, dyn.shaking_fx, label="Fx")[0],
+             axes[0].plot(x, dyn.shaking_fy, label="Fy")[0],
+             axes[1].plot(x, dyn.shaking_m, label=f"M about {dyn.about}")[0]]
+    axes[0].set_ylabel("shaking force [N]")
+    axes[1].set_ylabel("shaking moment [N·m]")
+    axes[1].set_xlabel(label)
+    axes[0].legend()
+    axes[1].legend()
+    return {"axes": axes, "lines": lines}
