@@ -152,3 +152,39 @@ def test_engine_linear_driver_force_along_the_slide():
     assert np.max(np.abs(rd.components() - r.components())) < 1e-9 * np.max(
         np.abs(r.components()))
     assert r.redundant == 3 and np.max(np.abs(r.fz)) > 0.01
+
+
+def test_engine_watt_six_bar_q6_and_planar_parts():
+    """A Watt six-bar of the engine (four-bar + dyad on the ternary rocker): q = 6, in-plane
+    reactions and Q as the engine's, both formulations agree."""
+    from linkwork.planar import Body, Crank, Mechanism, Revolute, bar
+
+    frame = Body("frame", {"O": (0.0, 0.0), "C": (0.3, 0.0), "F": (0.55, -0.05)})
+    rocker = Body("rocker", {"C": (0.0, 0.0), "B": (0.2, 0.0), "D": (0.12, -0.09)}, mass=2.0,
+                  com=(0.1, -0.03), inertia=0.01)
+    bodies = (bar("crank", "O", "A", 0.1, mass=1.0), bar("coupler", "A", "B", 0.3, mass=3.0),
+              rocker, bar("link4", "D", "E", 0.25, mass=1.2),
+              bar("link5", "F", "E", 0.2, mass=1.0))
+    pairs = [("O", "frame", "crank"), ("A", "crank", "coupler"), ("B", "coupler", "rocker"),
+             ("C", "frame", "rocker"), ("D", "rocker", "link4"), ("E", "link4", "link5"),
+             ("F", "frame", "link5")]
+    mech = Mechanism(frame, bodies, tuple(Revolute(*p) for p in pairs), Crank("O", 10.0),
+                     {"B": 1, "E": 1})
+    kw = dict(gravity=(0, -9.81), loads=[BodyTorque("link5", 2.0)],
+              joints={n: {"z": 0.01 * i, "e": 0.02 + 0.005 * i} for i, (n, _, _) in
+                      enumerate(pairs)},
+              heights={"link4": 0.03},
+              deviations=[Deviation("F", "frame", tx=2e-4), Deviation("D", "rocker", dz=1e-5)])
+    r = spatial_reactions(mech, PHI, **kw)
+    rd = spatial_reactions(mech, PHI, method="displacement", **kw)
+    dyn = inverse_dynamics(kinematics(mech, PHI), gravity=(0, -9.81),
+                           loads=[BodyTorque("link5", 2.0)])
+    scale = np.max(np.abs(dyn.fx))
+    assert r.redundant == 6
+    assert np.max(np.abs(r.fx - dyn.fx)) < 1e-9 * scale
+    assert np.max(np.abs(r.fy - dyn.fy)) < 1e-9 * scale
+    assert np.max(np.abs(r.Q - dyn.Q)) < 1e-9 * np.max(np.abs(dyn.Q))
+    assert np.max(np.abs(rd.components() - r.components())) < 1e-9 * np.max(
+        np.abs(r.components()))
+    c = count_redundancy(spatial_model(mech), geometry(mech, kinematics(mech, PHI)), 5)
+    assert (c.mobility_formula, c.mobility, c.redundant) == (-5, 1, 6)
