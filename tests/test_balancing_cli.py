@@ -111,3 +111,19 @@ def test_balance_command_bad_balance_table(tmp_path, capsys):
     assert "balance.radii" in capsys.readouterr().err
     assert main(["balance", str(DATA / "balance_fourbar.toml"), "--angles", "a,b"]) == 2
     assert "--angles" in capsys.readouterr().err
+
+
+EXAMPLE = Path(__file__).parents[1] / "examples" / "fourbar_paper001.toml"
+
+
+@pytest.mark.skipif(not EXAMPLE.exists(), reason="bundled example not present")
+def test_balance_bundled_example(tmp_path, capsys):
+    """The bundled paper-001 file has no [balance] table: the default radii (half the distance
+    from the hinge to the link's far joint) are the paper's 50 and 100 mm -> 4 and 5 kg."""
+    pytest.importorskip("linkwork.planar.file")
+    assert main(["balance", str(EXAMPLE), "--out", str(tmp_path)]) == 0
+    summary = json.loads((tmp_path / "balance_summary.json").read_text())
+    assert [c["mass"] for c in summary["counterweights"]] == pytest.approx([4.0, 5.0])
+    assert [c["static_moment"] for c in summary["counterweights"]] == pytest.approx([0.2, 0.5])
+    assert summary["full_force_balance"] is True
+    assert "R_j" in capsys.readouterr().out

@@ -43,8 +43,9 @@ def plot_moments(phi: ArrayLike, curves: Mapping[str, ArrayLike], ax: Any = None
     ax = _ax(ax)
     deg = np.degrees(np.asarray(phi, dtype=float))
     out: dict[str, Any] = {"ax": ax}
-    for label, y in curves.items():
-        (out[label],) = ax.plot(deg, np.asarray(y, dtype=float), label=label)
+    styles = ["-", "--", "-.", ":"]
+    for i, (label, y) in enumerate(curves.items()):
+        (out[label],) = ax.plot(deg, np.asarray(y, dtype=float), styles[i % 4], label=label)
     for label, pts in (markers or {}).items():
         x, y = pts
         (out[label],) = ax.plot(np.asarray(x), np.asarray(y), "o", ms=4, label=label)
