@@ -235,3 +235,14 @@ def test_sixbar_not_balanceable_without_the_middle_rocker():
     assert 0.01 < fb.ratio < 1.0
     assert "['crank', 'output']" in fb.reason
     assert "without a counterweight: ['rocker']" in fb.reason
+
+
+@pytest.mark.parametrize("omega1, eps1", [(3.0, 0.0), (25.0, 80.0), (-7.0, -30.0)])
+def test_force_balance_holds_at_any_speed_and_acceleration(omega1, eps1):
+    """Force balance is a property of the mass distribution (stationary centre of mass), so the
+    counterweights found at 10 rad/s also balance at other speeds and crank accelerations."""
+    fb = force_balance(paper_fourbar(), radii={"crank": 0.05, "rocker": 0.1})
+    phi = cycle(90, 0.2)
+    before = shaking_loads(kinematics(paper_fourbar(), phi, omega1, eps1))
+    after = shaking_loads(kinematics(fb.mechanism, phi, omega1, eps1))
+    assert after.force_peak() <= 1e-9 * before.force_peak()
