@@ -367,3 +367,13 @@ def test_bad_inputs_raise_parameter_errors():
         solve_reactions(m, geometry(PHI), wrenches(PHI), method="magic")
     with pytest.raises(ParameterError, match="wrenches"):
         solve_reactions(m, geometry(PHI), np.zeros((2, 3, 6)))
+
+
+def test_count_crank_slider_round_guide_q2():
+    """A round guide (prismatic_round, class IV: free roll about the slide): W0 = 18 - 19 = -1,
+    W = 1, q = 2."""
+    model, geom = _crank_slider()
+    joints = (*model.joints[:3], SpatialJoint("P", "ground", "slider", kind="prismatic_round",
+                                              e=0.05))
+    c = count_redundancy(SpatialModel(model.bodies, joints, "O"), geom)
+    assert (c.p, c.mobility_formula, c.mobility, c.redundant) == ({5: 3, 4: 1}, -1, 1, 2)

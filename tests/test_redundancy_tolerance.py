@@ -101,3 +101,21 @@ def test_tolerance_bad_input():
         tolerance_study(m, g, w, TOLS, 0)
     with pytest.raises(ParameterError, match=r"tolerance\.joint"):
         tolerance_study(m, g, w, [Tolerance("Z", "a", "tx", 1e-4)], 5)
+
+
+def test_tolerance_percentiles_half_normal_analytic():
+    """No loads, one normal tolerance t ~ N(0, sigma): every reaction is t g(phi), so the peak
+    over the cycle is |t| max|g| and its percentiles are those of a half-normal distribution:
+    p50 = 0.6745 sigma max|g|, p95 = 1.9600 sigma max|g|."""
+    m, g, _ = _setup()
+    w0 = np.zeros((len(PHI), 3, 6))
+    sigma = 1e-4
+    st = tolerance_study(m, g, w0, [Tolerance("C", "a", "tx", 3 * sigma)], 20000, seed=11,
+                         chunk_size=5000)
+    dev = np.zeros((4, 2, 6))
+    dev[3, 0, 3] = 1.0
+    unit = solve_reactions(m, g, w0, dev)          # reactions per radian of tilt
+    gmax = np.max(unit.bending()[2])
+    pc = st.percentiles((50, 95))["B"]["bending"]
+    assert np.isclose(pc["p50"], 0.67449 * sigma * gmax, rtol=0.03)
+    assert np.isclose(pc["p95"], 1.95996 * sigma * gmax, rtol=0.03)
