@@ -285,3 +285,33 @@ def test_paper004_influence_of_redundancy_table():
     base = _influence_ratio(0.01, 0.0)
     for e in (0.005, 0.02, 0.04):
         assert np.isclose(_influence_ratio(e, 0.0) / base, e / 0.01, rtol=5e-3)
+
+
+def test_dropping_redundant_constraints_is_not_unique():
+    """What a multibody code that drops the q = 3 redundant constraints reports depends on which
+    ones it drops: releasing them as R-R-S-C or S-C-R-R joints (both q = 0, statically
+    determinate) gives the same in-plane reactions and Q as the compliant model but different
+    bending moments (docs/redundancy.md, 'Dropping the redundant constraints')."""
+    e = 0.03
+    centres, forces, moments = loads(_PHI72)
+    n = len(_PHI72)
+    p3 = np.concatenate([centres, np.broadcast_to(np.array([0.0, e, 0.0]), (n, 3))[..., None]],
+                        -1)
+    f3 = np.concatenate([forces, np.zeros((n, 3, 1))], -1)
+    m3 = np.zeros((n, 3, 3))
+    m3[..., 2] = moments
+    w = wrench_about_origin(f3, m3, p3)
+    out = {}
+    for kinds in [("revolute",) * 4, ("revolute", "revolute", "spherical", "cylindrical"),
+                  ("spherical", "cylindrical", "revolute", "revolute")]:
+        m = spatial_model(e=(e,) * 4, z=(0.0, e, e, -e), kinds=kinds)
+        out[kinds[0] + kinds[2]] = solve_reactions(m, geometry(_PHI72), w)
+    full, rrsc, scrr = out["revoluterevolute"], out["revolutespherical"], out["sphericalrevolute"]
+    for r in (rrsc, scrr):
+        assert np.allclose(r.fx, full.fx, rtol=1e-9, atol=1e-9)
+        assert np.allclose(r.Q, full.Q, rtol=1e-9, atol=1e-9)
+    peaks = {k: np.round(np.max(v.bending(), axis=1), 2) for k, v in
+             (("full", full), ("rrsc", rrsc), ("scrr", scrr))}
+    assert np.allclose(peaks["full"], [1.62, 1.13, 1.22, 1.89])
+    assert np.allclose(peaks["rrsc"], [2.36, 0.0, 0.0, 2.93])
+    assert np.allclose(peaks["scrr"], [0.0, 2.36, 2.36, 3.30])
