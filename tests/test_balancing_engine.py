@@ -246,3 +246,23 @@ def test_force_balance_holds_at_any_speed_and_acceleration(omega1, eps1):
     before = shaking_loads(kinematics(paper_fourbar(), phi, omega1, eps1))
     after = shaking_loads(kinematics(fb.mechanism, phi, omega1, eps1))
     assert after.force_peak() <= 1e-9 * before.force_peak()
+
+
+@pytest.mark.parametrize("guide_angle, e", [(0.0, 0.0), (np.pi / 2, 0.0)])
+def test_crank_slider_balance_half_fraction_is_best_rms(guide_angle, e):
+    """k = 0.5 of the reciprocating mass is what the general least squares finds (centred
+    crank-slider, any guide direction); k = 0 leaves only the reciprocating force along the
+    guide."""
+    from linkwork.balancing import crank_slider_balance
+
+    mech = crank_slider(0.05, 0.2, e, guide_angle=guide_angle, masses=(1.0, 2.0, 3.0),
+                        omega1=10.0)
+    half = crank_slider_balance(mech, 0.5, radius=0.04)
+    ls = force_balance(mech, radii=0.04, n=360)
+    assert half.body("crank").com == pytest.approx(ls.mechanism.body("crank").com, abs=1e-12)
+    zero = crank_slider_balance(mech, 0.0)
+    phi = cycle(180)
+    sl = shaking_loads(kinematics(zero, phi))
+    u = np.array([np.cos(guide_angle), np.sin(guide_angle)])
+    across = sl.force @ np.array([-u[1], u[0]])
+    assert np.abs(across).max() < 1e-9 * np.abs(sl.force).max()

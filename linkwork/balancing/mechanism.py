@@ -28,6 +28,7 @@ __all__ = [
     "ForceBalance",
     "ShakingLoads",
     "add_counterweights",
+    "crank_slider_balance",
     "cycle",
     "force_balance",
     "frame_hinge",
@@ -339,3 +340,68 @@ def force_balance(mech: Mechanism, links: Sequence[str] | None = None,
         cws.append(Counterweight.from_first_moment(link, qk, r))
     balanced = add_counterweights(mech, [c for c in cws if c.static_moment > 0])
     return ForceBalance(tuple(cws), balanced, bool(full), rms_before, rms_after, ratio, reason)
+
+
+def crank_slider_balance(mech: Mechanism, fraction: float = 0.0,
+                         radius: float | None = None) -> Mechanism:
+    """A crank-slider with its crank counterweight for rotating balance plus a fraction of the
+    reciprocating mass (:func:`~linkwork.balancing.static.crank_slider_counterweight`).
+
+    ``mech`` is a crank-slider of the engine: a driven crank hinged to the frame, a rod
+    joined to the crank and to a slider, the slider on a prismatic joint of the frame (as
+    :func:`linkwork.planar.model.crank_slider` builds it; any guide offset and direction). The
+    rod's and crank's centres may lie off their lines.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    fraction : float
+        Share k in [0, 1] of the reciprocating mass (slider plus the rod's share at B).
+    radius : float, optional
+        Counterweight radius [m]; default half the crank length.
+
+    Returns
+    -------
+    Mechanism
+        The balanced mechanism (a new description).
+    """
+    from linkwork.balancing.comparison import crank_axis
+    from linkwork.balancing.static import crank_slider_counterweight
+
+    crank, _ = crank_axis(mech)
+    fr = mech.frame.name
+    h = np.array(frame_hinge(mech, crank))
+    revs = [j for j in mech.joints if isinstance(j, Revolute) and crank in (j.a, j.b)
+            and fr not in (j.a, j.b)]
+    if len(revs) != 1:
+        raise ParameterError("mechanism", crank, "the crank must be joined to exactly one rod")
+    jA = revs[0]
+    rod = jA.b if jA.a == crank else jA.a
+    A_crank = np.array(mech.body(crank).point(jA.pa if jA.a == crank else jA.pb))
+    A_rod = np.array(mech.body(rod).point(jA.pb if jA.a == crank else jA.pa))
+    others = [j for j in mech.joints if isinstance(j, Revolute) and rod in (j.a, j.b)
+              and j is not jA]
+    if len(others) != 1:
+        raise ParameterError("mechanism", rod, "the rod must join the crank and one slider")
+    jB = others[0]
+    slider = jB.b if jB.a == rod else jB.a
+    B_rod = np.array(mech.body(rod).point(jB.pa if jB.a == rod else jB.pb))
+    if not any(isinstance(j, Prismatic) and {j.a, j.b} == {fr, slider} for j in mech.joints):
+        raise ParameterError("mechanism", slider, "must slide on a prismatic joint of the frame")
+
+    def local(v: np.ndarray, axis: np.ndarray) -> complex:
+        """v in the coordinates of a line with direction ``axis`` (complex)."""
+        z = complex(v[0], v[1]) / complex(axis[0], axis[1]) * abs(complex(axis[0], axis[1]))
+        return z
+
+    ca = A_crank - h
+    l1 = float(np.hypot(*ca))
+    ab = B_rod - A_rod
+    l2 = float(np.hypot(*ab))
+    cb, rb, sb = mech.body(crank), mech.body(rod), mech.body(slider)
+    s1 = local(np.array(cb.com) - h, ca)
+    s2 = local(np.array(rb.com) - A_rod, ab)
+    cw = crank_slider_counterweight(l1, l2, cb.mass, s1, rb.mass, s2, sb.mass, fraction)
+    line = float(np.arctan2(ca[1], ca[0]))  # the crank line's angle in the crank body frame
+    r = 0.5 * l1 if radius is None else float(radius)
+    return add_counterweights(mech, [Counterweight(crank, cw.static_moment, cw.angle + line, r)])
