@@ -598,3 +598,47 @@ def test_blocked_evaluation_reports_assembly_failure():
     r = fourbar(t2, 0.3, 0.1, 0.25, 0.3, on_fail="nan")
     f = np.hypot(0.3 - 0.3 * np.cos(t2), 0.3 * np.sin(t2))
     np.testing.assert_array_equal(r.assembled, (f <= 0.35) & (f >= 0.15))
+
+
+@settings(max_examples=40, deadline=None)
+@given(a=lengths, b=lengths, c=lengths, d=lengths, branch=st.sampled_from([1, -1]),
+       w2=st.floats(-20, 20), e2=st.floats(-50, 50),
+       m=st.tuples(st.floats(0, 5), st.floats(0, 5), st.floats(0, 5)),
+       f=st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
+       mz=st.floats(-10, 10), p=st.floats(-1, 1), q=st.floats(-1, 1))
+def test_property_kinetostatics_power_balance(a, b, c, d, branch, w2, e2, m, f, mz, p, q):
+    t2 = np.linspace(-np.pi, np.pi, 64)
+    fd = np.hypot(d - a * np.cos(t2), a * np.sin(t2))
+    t2 = t2[np.minimum(b + c - fd, fd - abs(b - c)) > 0.05 * (b + c)]   # away from toggles
+    assume(t2.size > 3)
+    com = ((p * a, q * a), (p * b, -q * b), (q * c, p * c))
+    res = fourbar_kinetostatics(t2, a, b, c, d, w2, e2, branch, mass=m,
+                                inertia=(0.1 * m[0], 0.2 * m[1], 0.3 * m[2]), com=com,
+                                gravity=(1.0, -9.81), force=((0, 0), f, (f[1], f[0])),
+                                force_point=((a, 0), (b / 2, q), (c, p)), moment=(mz, -mz, 2 * mz))
+    k = res.kinematics
+    omegas = (w2, k.omega3, k.omega4)
+    alphas = (e2, k.alpha3, k.alpha4)
+    power = res.Q * w2
+    dT = np.zeros_like(power)
+    J = (0.1 * m[0], 0.2 * m[1], 0.3 * m[2])
+    loads = (((0.0, 0.0), (a, 0.0)), (f, (b / 2, q)), ((f[1], f[0]), (c, p)))
+    for i, link in enumerate(("crank", "coupler", "rocker")):
+        _, _, vx, vy, ax, ay = k.point(link, *com[i])
+        dT += m[i] * (vx * ax + vy * ay) + J[i] * omegas[i] * alphas[i]
+        power += m[i] * (1.0 * vx - 9.81 * vy) + (mz, -mz, 2 * mz)[i] * omegas[i]
+        _, _, vx, vy, _, _ = k.point(link, *loads[i][1])
+        power += loads[i][0][0] * vx + loads[i][0][1] * vy
+    scale = np.abs(res.Q * w2).max() + np.abs(dT).max() + 1.0
+    np.testing.assert_allclose(power, dT, rtol=0, atol=1e-9 * scale)
+
+
+def test_results_export_their_columns(tmp_path):
+    r = fourbar(CYCLE, A1, B1, C1, D1, 10.0)
+    data = r.to_dict()
+    np.testing.assert_array_equal(data["columns"]["theta4"], r.theta4)
+    assert data["units"]["omega4"] == "rad/s" and data["branch"] == 1
+    f = fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, 10.0, mass=(1.0, 3.0, 2.0))
+    path = f.to_csv(tmp_path / "forces.csv")
+    header = path.read_text().splitlines()[0]
+    assert "Q [N*m]" in header and "R_Bx [N]" in header
