@@ -35,8 +35,18 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.errors import ParameterError, require_finite
-from linkwork.planar.kinematics import Kinematics, _batched_solve, _rows, _State
-from linkwork.planar.model import Linear, Mechanism, Prismatic, Revolute
+from linkwork.planar.kinematics import (
+    Kinematics,
+    _batched_solve,
+    _closure_rows,
+    _cramer,
+    _group_pars,
+    _length_scale,
+    _Par,
+    _rows,
+    _State,
+)
+from linkwork.planar.model import Joint, Linear, Mechanism, Prismatic, Revolute
 from linkwork.results import Result
 
 __all__ = ["BodyTorque", "Dynamics", "PointForce", "inverse_dynamics", "kinetic_energy"]
@@ -226,57 +236,17 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
             f[:, 3 * i - 1] += _per_pos("mz", ld.mz, n)
         else:
             raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
-    # constraint Jacobian (all joints + driver row)
-    size = 3 * (nb - 1)
-    J = np.zeros((n, size, size))
-    meta: list[tuple[int, str]] = []  # (joint index, row kind)
-    r = 0
-    for ji, j in enumerate(mech.joints):
-        drv = mech.driver if j.name == mech.driver.joint else None
-        rows = _rows(mech, st, j, drv, None, need_gamma=False)
-        ia, ib = mech.index[j.a], mech.index[j.b]
-        for k, row in enumerate(rows):
-            for body, key in ((ia, "ja"), (ib, "jb")):
-                if body > 0:
-                    for comp in range(3):
-                        J[:, r, 3 * body - 3 + comp] += row[key][comp]
-            kind = "drive" if row.get("drive") else (
-                ("x", "y")[k] if isinstance(j, Revolute) else ("n", "t")[k])
-            meta.append((ji, kind))
-            r += 1
-    good = kin.assembled
-    lam = _batched_solve(np.swapaxes(J, 1, 2), f, good)
     nj = len(mech.joints)
-    fxr = np.zeros((nj, n))
-    fyr = np.zeros((nj, n))
-    mzr = np.zeros((nj, n))
     pxr = np.zeros((nj, n))
     pyr = np.zeros((nj, n))
-    Q = np.zeros(n)
     for ji, j in enumerate(mech.joints):
         pb = mech.joint_geometry(j)[1]
         pxr[ji], pyr[ji] = st.wpt(mech.index[j.b], pb)
-    for r, (ji, kind) in enumerate(meta):
-        j = mech.joints[ji]
-        lr = lam[:, r]
-        if kind == "x":
-            fxr[ji] += lr
-        elif kind == "y":
-            fyr[ji] += lr
-        elif kind == "t":
-            mzr[ji] += -lr
-        elif kind == "n" or (kind == "drive" and isinstance(j, Prismatic)):
-            ia = mech.index[j.a]
-            ang = mech.joint_geometry(j)[2]
-            ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
-            ex, ey = (-uy, ux) if kind == "n" else (ux, uy)
-            if kind == "n":
-                fxr[ji] += -lr * ex
-                fyr[ji] += -lr * ey
-            else:
-                Q = -lr
-        else:  # crank drive
-            Q = -lr
+    if any(gr.kind == "newton" for gr in mech.structure.groups):
+        fxr, fyr, mzr, Q = _global_reactions(mech, st, f, kin.assembled)
+    else:
+        with np.errstate(all="ignore"):
+            fxr, fyr, mzr, Q = _group_reactions(mech, st, f)
     # shaking force and moment on the frame
     sfx = np.zeros(n)
     sfy = np.zeros(n)
@@ -303,3 +273,162 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), fxr, fyr, mzr, pxr, pyr,
                     Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]))
 
+
+def _global_reactions(mech: Mechanism, st: _State, f: Arr, good: Arr
+                      ) -> tuple[Arr, Arr, Arr, Arr]:
+    """All multipliers at once: J^T lambda = f with the full constraint Jacobian."""
+    n = st.n
+    nb = len(mech.body_names)
+    size = 3 * (nb - 1)
+    J = np.zeros((n, size, size))
+    meta: list[tuple[int, str]] = []  # (joint index, row kind)
+    r = 0
+    for ji, j in enumerate(mech.joints):
+        drv = mech.driver if j.name == mech.driver.joint else None
+        rows = _rows(mech, st, j, drv, None, need_gamma=False)
+        ia, ib = mech.index[j.a], mech.index[j.b]
+        for k, row in enumerate(rows):
+            for body, key in ((ia, "ja"), (ib, "jb")):
+                if body > 0:
+                    for comp in range(3):
+                        J[:, r, 3 * body - 3 + comp] += row[key][comp]
+            kind = "drive" if row.get("drive") else (
+                ("x", "y")[k] if isinstance(j, Revolute) else ("n", "t")[k])
+            meta.append((ji, kind))
+            r += 1
+    lam = _batched_solve(np.swapaxes(J, 1, 2), f, good)
+    nj = len(mech.joints)
+    fxr = np.zeros((nj, n))
+    fyr = np.zeros((nj, n))
+    mzr = np.zeros((nj, n))
+    Q = np.zeros(n)
+    for r, (ji, kind) in enumerate(meta):
+        j = mech.joints[ji]
+        lr = lam[:, r]
+        if kind == "x":
+            fxr[ji] += lr
+        elif kind == "y":
+            fyr[ji] += lr
+        elif kind == "t":
+            mzr[ji] += -lr
+        elif kind == "n" or (kind == "drive" and isinstance(j, Prismatic)):
+            ia = mech.index[j.a]
+            ang = mech.joint_geometry(j)[2]
+            ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
+            ex, ey = (-uy, ux) if kind == "n" else (ux, uy)
+            if kind == "n":
+                fxr[ji] += -lr * ex
+                fyr[ji] += -lr * ey
+            else:
+                Q = -lr
+        else:  # crank drive
+            Q = -lr
+    return fxr, fyr, mzr, Q
+
+
+def _group_reactions(mech: Mechanism, st: _State, f: Arr) -> tuple[Arr, Arr, Arr, Arr]:
+    """Reactions group by group, last group first (each Assur group is statically determinate).
+
+    For a dyad the virtual motion of each body allowed by its external joint (rotation about
+    the pivot, or sliding along the guide) gives one equation free of that joint's reaction:
+    the transposed velocity-closure system (2 x 2, Cramer) yields the reaction of the joint
+    between the bodies; each body's own balance then gives its external reaction, whose
+    opposite is added to the known body it acts on.
+    """
+    n = st.n
+    nb = len(mech.body_names)
+    jidx = {j.name: k for k, j in enumerate(mech.joints)}
+    nj = len(mech.joints)
+    fxr = np.zeros((nj, n))
+    fyr = np.zeros((nj, n))
+    mzr = np.zeros((nj, n))
+    Q = np.zeros(n)
+    # generalised forces with moments about the world origin
+    Fx = [np.zeros(n)] + [f[:, 3 * i - 3].copy() for i in range(1, nb)]
+    Fy = [np.zeros(n)] + [f[:, 3 * i - 2].copy() for i in range(1, nb)]
+    M0 = [np.zeros(n)] + [f[:, 3 * i - 1] + st.X[i] * f[:, 3 * i - 2] - st.Y[i] * f[:, 3 * i - 3]
+                          for i in range(1, nb)]
+
+    def apply(i: int, fx: Arr, fy: Arr, px: Arr, py: Arr, mz: Arr | float = 0.0) -> None:
+        Fx[i] = Fx[i] + fx
+        Fy[i] = Fy[i] + fy
+        M0[i] = M0[i] + px * fy - py * fx + mz
+
+    def record(j: Joint, on: int, fx: Arr, fy: Arr, mz: Arr | float, px: Arr, py: Arr) -> None:
+        """Store the reaction acting on body ``on``; apply its opposite to the other body."""
+        other = mech.index[j.b] if on == mech.index[j.a] else mech.index[j.a]
+        sgn = 1.0 if on == mech.index[j.b] else -1.0
+        k = jidx[j.name]
+        fxr[k] += sgn * fx
+        fyr[k] += sgn * fy
+        mzr[k] += sgn * mz
+        apply(on, fx, fy, px, py, mz)
+        apply(other, -fx, -fy, px, py, -mz)
+
+    def ext_reaction(par: _Par, j: Joint) -> None:
+        """Balance body par.b with the reaction of its external joint j."""
+        b = par.b
+        if isinstance(j, Revolute):
+            A = par.A
+            record(j, b, -Fx[b], -Fy[b], 0.0, A[0], A[1])
+            return
+        _qa, pb, _ang = mech.joint_geometry(j)
+        P = st.wpt(mech.index[j.b], pb)
+        nx, ny = -par.u[1], par.u[0]
+        N = -(Fx[b] * nx + Fy[b] * ny)
+        m = -(M0[b] - (P[0] * Fy[b] - P[1] * Fx[b]))
+        record(j, b, N * nx, N * ny, m, P[0], P[1])
+
+    for g in reversed(mech.structure.groups):
+        if g.kind == "driver":
+            j = mech.joint(g.joints[0])
+            b = mech.index[g.bodies[0]]
+            sgn = 1.0 if b == mech.index[j.b] else -1.0
+            par = _Par(mech, st, j, b, 0)
+            if isinstance(j, Revolute):
+                A = par.A
+                torque = -(M0[b] - (A[0] * Fy[b] - A[1] * Fx[b]))
+                Q = sgn * torque
+                M0[b] = M0[b] + torque
+                other = mech.index[j.a] if sgn > 0 else mech.index[j.b]
+                M0[other] = M0[other] - torque
+                record(j, b, -Fx[b], -Fy[b], 0.0, A[0], A[1])
+            else:
+                qa, pb, ang = mech.joint_geometry(j)
+                P = st.wpt(mech.index[j.b], pb)
+                ux, uy = par.u
+                drive = -(Fx[b] * ux + Fy[b] * uy)
+                Q = sgn * drive
+                other = mech.index[j.a] if sgn > 0 else mech.index[j.b]
+                apply(b, drive * ux, drive * uy, P[0], P[1])
+                apply(other, -drive * ux, -drive * uy, P[0], P[1])
+                ext_reaction(par, j)
+            continue
+        pars, jc, unk = _group_pars(mech, st, g)
+        rows = _closure_rows(mech, st, jc, pars, len(unk), "v")
+        # transposed system: sum_r C[r][beta] lambda_r = power of beta's forces
+        pw = []
+        for par in unk:
+            b = par.b
+            if par.rev:
+                pw.append(M0[b] - (par.A[0] * Fy[b] - par.A[1] * Fx[b]))
+            else:
+                pw.append(Fx[b] * par.u[0] + Fy[b] * par.u[1])
+        trows = [([rows[r][0][beta] for r in range(len(rows))], pw[beta])
+                 for beta in range(len(unk))]
+        lam = _cramer(st, trows, _length_scale(mech) ** len(unk))
+        _qa, pb, ang = mech.joint_geometry(jc)
+        ib = mech.index[jc.b]
+        P = st.wpt(ib, pb)
+        if isinstance(jc, Revolute):
+            record(jc, ib, lam[0], lam[1], 0.0, P[0], P[1])
+        else:
+            ux, uy = st.rot(mech.index[jc.a], (np.cos(ang), np.sin(ang)))
+            N = -lam[0]
+            m = lam[1] if isinstance(jc, Prismatic) else 0.0
+            record(jc, ib, N * -uy, N * ux, m, P[0], P[1])
+        jext = [mech.joint(g.joints[0])] if len(unk) == 1 else [
+            mech.joint(g.joints[0]), mech.joint(g.joints[2])]
+        for par, j in zip(unk, jext, strict=True):
+            ext_reaction(par, j)
+    return fxr, fyr, mzr, Q
