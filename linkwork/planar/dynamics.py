@@ -394,7 +394,7 @@ def _group_reactions(mech: Mechanism, st: _State, f: Arr) -> tuple[Arr, Arr, Arr
                 M0[other] = M0[other] - torque
                 record(j, b, -Fx[b], -Fy[b], 0.0, A[0], A[1])
             else:
-                qa, pb, ang = mech.joint_geometry(j)
+                pb = mech.joint_geometry(j)[1]
                 P = st.wpt(mech.index[j.b], pb)
                 ux, uy = par.u
                 drive = -(Fx[b] * ux + Fy[b] * uy)
