@@ -14,6 +14,7 @@ with these contenders:
                          (6.18), (7.12) for the four-bar; circle-line intersection for the slider)
 ``engine``               :func:`linkwork.planar.kinematics` on the engine model
 ``engine + reactions``   the same plus :func:`linkwork.planar.inverse_dynamics` (masses on)
+``closed form + reactions`` :func:`linkwork.models.fourbar.fourbar_kinetostatics` (four-bar)
 ``pylinkage (numba)``    ``Linkage.step_fast_with_kinematics`` (numba-compiled loop)
 ``pylinkage (no numba)`` the same with ``NUMBA_DISABLE_JIT=1`` (run in a subprocess)
 
@@ -141,6 +142,12 @@ def fourbar_contenders(n: int, with_engine: bool = True) -> list[Contender]:
 
     out.append(Contender("closed form", lambda: fourbar(t, a, b, c, d, OMEGA), closed_out))
     if with_engine:
+        from linkwork.models.fourbar import fourbar_kinetostatics
+
+        out.append(Contender("closed form + reactions",
+                             lambda: fourbar_kinetostatics(t, a, b, c, d, OMEGA, mass=MASSES,
+                                                           inertia=_rod_inertias()),
+                             lambda f: closed_out(f.kinematics)))
         from linkwork.planar import fourbar as engine_model
         from linkwork.planar import inverse_dynamics, kinematics
 
@@ -155,6 +162,11 @@ def fourbar_contenders(n: int, with_engine: bool = True) -> list[Contender]:
                              lambda: inverse_dynamics(kinematics(mech, t)),
                              lambda dyn: eng_out(dyn.kinematics)))
     return out
+
+
+def _rod_inertias() -> tuple[float, float, float]:
+    """Thin-rod centroidal inertias m l^2 / 12, as the engine's default."""
+    return tuple(m * x * x / 12.0 for m, x in zip(MASSES, FOURBAR[:3], strict=True))  # type: ignore[return-value]
 
 
 def _rocker_point(xb: Any, yb: Any, w4: Any, al4: Any, d: float) -> tuple[np.ndarray, ...]:
@@ -376,7 +388,7 @@ def table(rows: list[dict[str, Any]], markdown: bool = False) -> str:
         lines += ["| mechanism | n | contender | median | x plain NumPy | ns/position |",
                   "|---|---:|---|---:|---:|---:|"]
     else:
-        lines.append(f"{'mechanism':13s} {'n':>7s}  {'contender':22s} {'median':>10s} "
+        lines.append(f"{'mechanism':13s} {'n':>7s}  {'contender':24s} {'median':>10s} "
                      f"{'x NumPy':>8s} {'ns/pos':>9s}")
     for r in rows:
         base = next(x["median_s"] for x in rows if x["mechanism"] == r["mechanism"]
@@ -387,7 +399,7 @@ def table(rows: list[dict[str, Any]], markdown: bool = False) -> str:
             lines.append(f"| {r['mechanism']} | {r['n']} | {r['contender']} | "
                          f"{_fmt_time(r['median_s'])} | {ratio:.2f} | {per:.0f} |")
         else:
-            lines.append(f"{r['mechanism']:13s} {r['n']:7d}  {r['contender']:22s} "
+            lines.append(f"{r['mechanism']:13s} {r['n']:7d}  {r['contender']:24s} "
                          f"{_fmt_time(r['median_s']):>10s} {ratio:8.2f} {per:9.0f}")
     lines.append("")
     lines += summary(rows)
