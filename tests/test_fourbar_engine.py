@@ -10,7 +10,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from linkwork.models.fourbar import fourbar, fourbar_kinetostatics, paper004_planar
+from linkwork.models.fourbar import (
+    fourbar,
+    fourbar_kinetostatics,
+    paper004_eq10,
+    paper004_eq11,
+    paper004_eq12,
+    paper004_eq13,
+    paper004_planar,
+)
 from linkwork.planar import BodyTorque, PointForce, inverse_dynamics, kinematics
 from linkwork.planar import fourbar as engine_fourbar
 
@@ -129,6 +137,15 @@ def test_paper004_eqs8_to_13_against_engine(branch):
     _close(fixed.Q, dyn.Q, np.abs(dyn.Q).max())
     # printed: (8) right; (9) wrong (and so are (10)-(12) downstream of it in y); (13) wrong
     _close(printed.R_Bx, want["R_B"][0], scale)
+    for key in ("R_C", "R_A", "R_0"):      # x rows of (10)-(12) only depend on (8)
+        _close(getattr(printed, key + "x"), want[key][0], scale)
+    # (10)-(12) each, fed with the engine's own reactions, reproduce the engine's
+    rb, ra = want["R_B"], want["R_A"]
+    for got, ref in ((paper004_eq10(F[2], rb), want["R_C"]), (paper004_eq11(F[1], rb), ra),
+                     (paper004_eq12(F[0], ra), want["R_0"])):
+        _close(got[0], ref[0], scale)
+        _close(got[1], ref[1], scale)
+    _close(paper004_eq13(t2, a, ra, F[0], M[0], printed=False), dyn.Q, np.abs(dyn.Q).max())
     assert np.abs(printed.R_By - want["R_B"][1]).max() > 0.05 * scale
     assert np.abs(printed.Q - dyn.Q).max() > 0.05 * np.abs(dyn.Q).max()
 
