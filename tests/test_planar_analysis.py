@@ -1,0 +1,122 @@
+"""Structure analysis, per-position driver speed, dead centres, transmission angles, plots."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from linkwork.planar import (
+    crank_slider,
+    dead_centres,
+    fourbar,
+    inverse_dynamics,
+    kinematics,
+    mobility,
+    transmission_angles,
+)
+
+sys.path.insert(0, str(Path(__file__).parent))
+from test_planar_groups import m_rpr, m_triad
+
+
+def test_structure_classes_orders():
+    s = fourbar(0.1, 0.3, 0.2, 0.3).structure
+    assert (s.n_bodies, s.n_lower, s.n_higher, s.mobility) == (3, 4, 0, 1)
+    assert [(g.kind, g.cls, g.order) for g in s.groups] == [("driver", 1, 1), ("RRR", 2, 2)]
+    assert s.groups[1].joints == ("A", "B", "O4") and s.groups[1].key == "B"
+    mech, _, _ = m_triad()
+    g = mech.structure.groups[-1]
+    assert (g.kind, g.cls, g.order) == ("newton", 3, 3)
+    assert set(g.bodies) == {"l1", "l2", "l3", "tern"}
+    assert mobility(mech) == 1
+    assert mech.structure.formula() == "I(crank) -> III newton(l1, l2, l3, tern)"
+    mech, _, _ = m_rpr()
+    assert mech.structure.groups[-1].kind == "RPR"
+
+
+def test_per_position_driver_speed():
+    """omega1, eps1 given per position = the same positions analysed one by one."""
+    m = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2))
+    phi = np.linspace(0, 2 * np.pi, 9)
+    w = 5 + np.sin(phi)
+    e = np.cos(phi) * 3
+    k = kinematics(m, phi, omega1=w, eps1=e)
+    d = inverse_dynamics(k)
+    for i in range(phi.size):
+        ki = kinematics(m, phi[i:i + 1], omega1=w[i], eps1=e[i])
+        np.testing.assert_allclose(k.eps[:, i], ki.eps[:, 0], rtol=1e-13, atol=1e-13)
+        np.testing.assert_allclose(d.Q[i], inverse_dynamics(ki).Q[0], rtol=1e-12)
+
+
+def test_fourbar_dead_centres_are_crank_coupler_collinear():
+    a, b, c, d = 0.1, 0.3, 0.2, 0.3
+    phi = np.linspace(0, 2 * np.pi, 7201)
+    dcs = dead_centres(kinematics(fourbar(a, b, c, d), phi))
+    assert [x.body for x in dcs] == ["rocker", "rocker"]
+    # independent: |A - O4| = b + a (extended) and b - a (folded) -> law of cosines on O2 O4 B
+    found = sorted(x.phi1 for x in dcs)
+    refs = []
+    for L in (b + a, b - a):
+        # B at distance c from O4 and L from O2, on the branch +1 side (y > 0)
+        xb = (L**2 - c**2 + d**2) / (2 * d)
+        yb = np.sqrt(L**2 - xb**2)
+        ang = np.arctan2(yb, xb)
+        refs.append(ang if L == b + a else np.mod(ang + np.pi, 2 * np.pi))
+    np.testing.assert_allclose(found, sorted(refs), atol=1e-6)
+
+
+def test_crank_slider_dead_centres_and_pressure_angle():
+    r, l, e = 0.1, 0.3, 0.03
+    phi = np.linspace(0, 2 * np.pi, 3601)
+    k = kinematics(crank_slider(r, l, e), phi)
+    dcs = dead_centres(k)
+    np.testing.assert_allclose([x.phi1 for x in dcs],
+                               [np.arcsin(e / (l + r)), np.pi + np.arcsin(e / (l - r))],
+                               atol=1e-7)
+    mu, delta = transmission_angles(k)["B"]
+    # independent: the rod's angle to the guide, sin(delta) = |e - r sin phi| / l
+    np.testing.assert_allclose(np.sin(delta), np.abs(e - r * np.sin(phi)) / l, atol=1e-12)
+    np.testing.assert_allclose(mu + delta, np.pi / 2)
+
+
+def test_fourbar_transmission_angle_cosine_law():
+    a, b, c, d = 0.1, 0.3, 0.2, 0.3
+    phi = np.linspace(0, 2 * np.pi, 361)
+    mu, _ = transmission_angles(kinematics(fourbar(a, b, c, d), phi))["B"]
+    f2 = a**2 + d**2 - 2 * a * d * np.cos(phi)  # |A - O4|^2
+    cos_mu = (b**2 + c**2 - f2) / (2 * b * c)
+    np.testing.assert_allclose(mu, np.arcsin(np.abs(np.sin(np.arccos(cos_mu)))), atol=1e-9)
+    # extremes (Norton): at phi = 0 and pi
+    assert np.degrees(mu.min()) == pytest.approx(np.degrees(np.arccos(
+        (b**2 + c**2 - (d - a) ** 2) / (2 * b * c))), abs=1e-6)
+
+
+def test_plots_return_what_they_drew(tmp_path):
+    from linkwork.plot import planar as pp
+    from linkwork.plot import pyplot, save
+
+    m = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2))
+    k = kinematics(m, np.linspace(0, 2 * np.pi, 73))
+    d = inverse_dynamics(k)
+    out = pp.plot_skeleton(k, [0, 10], paths=[("coupler", "B")])
+    assert len(out["lines"]) == 6 and len(out["paths"]) == 1
+    np.testing.assert_allclose(out["paths"][0].get_xdata(), k.point("coupler", "B").x * 1e3)
+    r = pp.plot_driving_torque(d)
+    np.testing.assert_allclose(r["line"].get_ydata(), d.Q)
+    r = pp.plot_reactions(d, ["O2", "B"])
+    np.testing.assert_allclose(r["lines"][1].get_ydata(), d.reaction_magnitude("B"))
+    r = pp.plot_shaking(d)
+    np.testing.assert_allclose(r["lines"][2].get_ydata(), d.shaking_m)
+    assert save(r["axes"][0].figure, tmp_path / "s.png").stat().st_size > 1000
+    pyplot().close("all")
+
+
+def test_result_exports(tmp_path):
+    k = kinematics(fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2)), np.linspace(0, 1, 5))
+    d = inverse_dynamics(k)
+    data = d.to_dict()
+    assert data["units"]["Q"] == "N*m" and len(data["columns"]["Q"]) == 5
+    assert k.to_csv(tmp_path / "k.csv").read_text().startswith("phi1 [rad]")
