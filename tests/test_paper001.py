@@ -156,3 +156,8 @@ def test_paper001_table_means_not_explained_by_gravity():
     rhs = [M_TABLE.mean() - mean(mech, (0.0, 0.0)), DM1_TABLE.mean() - mean(bal, (0.0, 0.0))]
     g = np.linalg.solve(A, rhs)
     assert np.hypot(*g) == pytest.approx(3.76, abs=0.01)
+
+
+def test_paper001_axis_offset_unpacks_as_xy():
+    x, y = counterweight_axis_offset(np.radians(PHI_DEG), DM1_TABLE, 0.2, OMEGA)
+    assert (round(x, 3), round(y, 3)) == (-0.071, 0.189)

@@ -39,6 +39,7 @@ References
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -92,6 +93,10 @@ class AxisOffset(Result):
     def offset(self) -> tuple[float, float]:
         """``(x, y)`` [m]."""
         return (self.x, self.y)
+
+    def __iter__(self) -> Iterator[float]:
+        """Unpack as ``x, y = counterweight_axis_offset(...)``."""
+        return iter((self.x, self.y))
 
 
 def counterweight_axis_moment(phi: ArrayLike, x: ArrayLike, y: ArrayLike,
