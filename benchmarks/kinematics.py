@@ -27,7 +27,9 @@ Usage::
     python benchmarks/kinematics.py --n 360 --markdown
     python benchmarks/kinematics.py --no-pylinkage  # without the optional dependency
 
-Medians of ``--repeat`` samples; each sample loops long enough to take >= 20 ms.  Ratios are
+Medians of ``--repeat`` samples; each sample loops long enough to take >= 20 ms, and the
+contenders of one case are sampled round-robin (one sample of each per round), so that load
+from other processes hits all of them alike.  Ratios are
 (time of the row) / (time of plain NumPy), and the summary checks the targets of issue 3:
 closed forms within 1.2x of plain NumPy; the engine's four-bar kinematics at 100,000 positions
 no slower than pylinkage with numba and at least 30x faster than pylinkage without numba.
@@ -324,6 +326,28 @@ def time_it(fn: Callable[[], Any], repeat: int, min_time: float = 0.02) -> float
     return statistics.median(samples)
 
 
+def time_interleaved(fns: list[Callable[[], Any]], repeat: int,
+                     min_time: float = 0.02) -> list[float]:
+    """Median time of one call [s] of each function, sampled round-robin.
+
+    Each round takes one sample (>= ``min_time``) of every function in turn, so a burst of load
+    from other processes affects all contenders alike and the ratios stay meaningful.
+    """
+    numbers = []
+    for fn in fns:
+        t0 = time.perf_counter()
+        fn()
+        numbers.append(max(1, int(min_time / max(time.perf_counter() - t0, 1e-7))))
+    samples: list[list[float]] = [[] for _ in fns]
+    for _ in range(repeat):
+        for i, fn in enumerate(fns):
+            t0 = time.perf_counter()
+            for _ in range(numbers[i]):
+                fn()
+            samples[i].append((time.perf_counter() - t0) / numbers[i])
+    return [statistics.median(x) for x in samples]
+
+
 def _no_numba_times(mechanism: str, n: int, repeat: int) -> float:
     """pylinkage with NUMBA_DISABLE_JIT=1, in a subprocess; returns the median time [s]."""
     env = dict(os.environ, NUMBA_DISABLE_JIT="1")
@@ -362,8 +386,8 @@ def run(sizes: tuple[int, ...] = (360, 100_000), repeat: int = 7, pylinkage: boo
                 cons.append(pc)
             ref = cons[0].output(cons[0].run())
             check(cons, ref, f"{mechanism}, n={n}")
-            for con in cons:
-                t = time_it(con.run, repeat)
+            times = time_interleaved([con.run for con in cons], repeat)
+            for con, t in zip(cons, times, strict=True):
                 rows.append({"mechanism": mechanism, "n": n, "contender": con.name,
                              "median_s": t})
             if pylinkage and no_numba:
