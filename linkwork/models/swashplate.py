@@ -126,19 +126,6 @@ def _params(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: Array
     return Rv, rv, lv, av, require_finite("a", a), require_finite("b", b)
 
 
-def _horizontal(phi: np.ndarray, R: np.ndarray, r: np.ndarray, alpha: np.ndarray,
-                a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, ...]:
-    """X, Y of Eq. (5) (rod's horizontal projection A - B) and their first two derivatives."""
-    sp, cp = np.sin(phi), np.cos(phi)
-    p = R - r
-    d = r * np.cos(alpha) - R
-    X = p * sp - a
-    Y = d * cp - b
-    X1, Y1 = p * cp, -d * sp
-    X2, Y2 = -p * sp, -d * cp
-    return X, Y, X1, Y1, X2, Y2
-
-
 def _check_reach(phi: np.ndarray, q: np.ndarray, l: np.ndarray, invalid: Invalid,
                  strict: bool) -> np.ndarray:
     """Mask of positions where the rod cannot reach; raise unless ``invalid == 'nan'``."""
@@ -162,36 +149,48 @@ def _check_reach(phi: np.ndarray, q: np.ndarray, l: np.ndarray, invalid: Invalid
 def _kin(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
          a: ArrayLike, b: ArrayLike, order: int, invalid: Invalid = "raise",
          check: bool = True) -> dict[str, np.ndarray]:
-    """Exact position and derivatives; ``order`` = number of derivatives wanted (0, 1, 2)."""
-    ph = require_finite("phi", phi)
+    """Exact position and derivatives; ``order`` = number of derivatives wanted (0, 1, 2).
+
+    ``check=False`` skips argument validation (internal callers with validated arrays) and
+    the pressure angle ``delta``.
+    """
     if check:
+        ph = require_finite("phi", phi)
         Rv, rv, lv, av, a_, b_ = _params(R, r, l, alpha, a, b)
     else:
+        ph = np.asarray(phi, dtype=float)
         Rv, rv, lv, av, a_, b_ = (np.asarray(x, dtype=float) for x in (R, r, l, alpha, a, b))
-    X, Y, X1, Y1, X2, Y2 = _horizontal(ph, Rv, rv, av, a_, b_)
+    sp, cp = np.sin(ph), np.cos(ph)
+    ca, sa = np.cos(av), np.sin(av)
+    p = Rv - rv
+    d = rv * ca - Rv
+    X = p * sp - a_
+    Y = d * cp - b_
     q = X * X + Y * Y
-    X0, Y0 = (rv - Rv) * 0.0 - a_, (rv * np.cos(av) - Rv) - b_
-    q0 = X0 * X0 + Y0 * Y0
+    Y0 = d - b_
+    q0 = a_ * a_ + Y0 * Y0
     l2 = lv * lv
     bad = _check_reach(ph, q, lv, invalid, strict=order > 0)
     bad0 = _check_reach(np.zeros(()), q0, lv, invalid, strict=False)
-    h = np.sqrt(np.clip(l2 - q, 0.0, None))
-    h0 = np.sqrt(np.clip(l2 - q0, 0.0, None))
-    rs = rv * np.sin(av)
+    h = np.sqrt(np.maximum(l2 - q, 0.0))
+    h0 = np.sqrt(np.maximum(l2 - q0, 0.0))
+    rs = rv * sa
     out: dict[str, np.ndarray] = {"X": X, "Y": Y, "q": q, "h": h, "h0": h0}
-    out["s"] = rs * (1.0 - np.cos(ph)) + h - h0
-    out["delta"] = np.arctan2(np.sqrt(q), h)
+    out["s"] = rs * (1.0 - cp) + h - h0
+    if check:
+        out["delta"] = np.arctan2(np.sqrt(q), h)
     if order >= 1:
+        X1, Y1 = p * cp, -d * sp
         g = X * X1 + Y * Y1  # q'/2
         with np.errstate(divide="ignore", invalid="ignore"):
             h1 = -g / h
         out["g"] = g
-        out["s1"] = rs * np.sin(ph) + h1
+        out["s1"] = rs * sp + h1
         if order >= 2:
-            g1 = X1 * X1 + X * X2 + Y1 * Y1 + Y * Y2  # q''/2
+            g1 = X1 * X1 - X * p * sp + Y1 * Y1 - Y * d * cp  # q''/2
             with np.errstate(divide="ignore", invalid="ignore"):
                 h2 = (-g1 - h1 * h1) / h
-            out["s2"] = rs * np.cos(ph) + h2
+            out["s2"] = rs * cp + h2
     if invalid == "nan":
         nan_mask = np.asarray(bad) | np.asarray(bad0)
         if nan_mask.any():
@@ -422,16 +421,33 @@ def harmonic_error(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
 # extremes and characteristics (vectorised over designs)
 # --------------------------------------------------------------------------------------------
 
-def _bisect(fp: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.ndarray,
-            iters: int = 60) -> np.ndarray:
-    """Vectorised bisection on the sign change of ``fp`` in [lo, hi] (keeps the sign of lo)."""
-    f_lo = np.sign(fp(lo))
+def _root(fp: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.ndarray,
+          iters: int = 40, tol: float = 1e-15) -> tuple[np.ndarray, np.ndarray]:
+    """Vectorised Illinois (modified regula falsi) on a sign change of ``fp`` in [lo, hi].
+
+    Returns ``(x, bracketed)``; where ``fp`` has the same sign at both ends ``bracketed`` is
+    False and ``x`` is meaningless. Converges superlinearly; stops when every bracket is
+    narrower than ``tol`` (relative) or ``fp`` vanishes.
+    """
+    a, b = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    fa, fb = fp(a), fp(b)
+    bracketed = np.sign(fa) * np.sign(fb) <= 0
+    fa = np.where(bracketed, fa, -1.0)
+    fb = np.where(bracketed, fb, 1.0)
     for _ in range(iters):
-        mid = 0.5 * (lo + hi)
-        same = np.sign(fp(mid)) == f_lo
-        lo = np.where(same, mid, lo)
-        hi = np.where(same, hi, mid)
-    return 0.5 * (lo + hi)
+        den = fb - fa
+        x = np.where(den != 0, (a * fb - b * fa) / np.where(den != 0, den, 1.0), 0.5 * (a + b))
+        lo_, hi_ = np.minimum(a, b), np.maximum(a, b)
+        x = np.where((x > lo_) & (x < hi_), x, 0.5 * (a + b))
+        fx = fp(x)
+        fx = np.where(bracketed & np.isfinite(fx), fx, 0.0)
+        flip = np.sign(fx) * np.sign(fb) < 0
+        a = np.where(flip, b, a)
+        fa = np.where(flip, fb, 0.5 * fa)
+        b, fb = x, fx
+        if np.all((np.abs(b - a) <= tol * (1.0 + np.abs(b))) | (fb == 0)):
+            break
+    return b, bracketed
 
 
 def _refined_max(f: Callable[[np.ndarray], np.ndarray], fp: Callable[[np.ndarray], np.ndarray],
@@ -440,7 +456,7 @@ def _refined_max(f: Callable[[np.ndarray], np.ndarray], fp: Callable[[np.ndarray
                  ) -> tuple[np.ndarray, np.ndarray]:
     """Global maximum of ``f`` over the last axis of ``grid`` (values ``vals``), refined.
 
-    The two best grid local maxima are refined by bisection on ``fp`` within their neighbouring
+    The two best grid local maxima are refined by a root of ``fp`` within their neighbouring
     grid points (clipped to [lo_lim, hi_lim] when given); the larger refined value wins.
     Returns (argument, value), shape ``vals.shape[:-1]``.
     """
@@ -471,9 +487,9 @@ def _refined_max(f: Callable[[np.ndarray], np.ndarray], fp: Callable[[np.ndarray
             lo = np.maximum(lo, lo_lim)
         if hi_lim is not None:
             hi = np.minimum(hi, hi_lim)
-        x = _bisect(fp, lo, hi)
+        x, bracketed = _root(fp, lo, hi)
         v = f(x)
-        better = ok & (v > best_v)
+        better = ok & bracketed & (v > best_v)
         best_x = np.where(better, x, best_x)
         best_v = np.where(better, v, best_v)
     return best_x, best_v
@@ -491,16 +507,17 @@ def extremes(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: Arra
 
     Returns a dict with ``phi_min``, ``s_min``, ``phi_max``, ``s_max`` (angles in [0, 2 pi),
     positions [m] with ``s(0) = 0``), broadcast over the design parameters. Found on a grid of
-    :data:`GRID` angles and refined to machine precision by bisection on ``ds/dphi``.
+    :data:`GRID` angles and refined to machine precision by a bracketed root of ``ds/dphi``.
     """
     P = _design(R, r, l, alpha, a, b)
     return _extremes(P, invalid)
 
 
-def _extremes(P: tuple[np.ndarray, ...], invalid: Invalid = "raise") -> dict[str, np.ndarray]:
+def _extremes(P: tuple[np.ndarray, ...], invalid: Invalid = "raise",
+              n_grid: int = GRID) -> dict[str, np.ndarray]:
     Rv, rv, lv, av, a_, b_ = (x[..., None] for x in P)
-    grid = np.broadcast_to(np.linspace(0.0, TWO_PI, GRID, endpoint=False),
-                           (*Rv.shape[:-1], GRID))
+    grid = np.broadcast_to(np.linspace(0.0, TWO_PI, n_grid, endpoint=False),
+                           (*Rv.shape[:-1], n_grid))
     s = _kin(grid, Rv, rv, lv, av, a_, b_, 0, invalid, check=False)["s"]
 
     def ev(key: str, sign: float) -> Callable[[np.ndarray], np.ndarray]:
@@ -655,9 +672,12 @@ def characteristics(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
     return _characteristics(P, invalid)
 
 
-def _characteristics(P: tuple[np.ndarray, ...], invalid: Invalid = "raise") -> Characteristics:
+def _characteristics(P: tuple[np.ndarray, ...], invalid: Invalid = "raise",
+                     n_grid: int = GRID) -> Characteristics:
+    """Characteristics of validated, broadcast parameters; ``n_grid`` angles per revolution
+    locate the extremes before refinement (fewer for fast screening)."""
     Rv, rv, lv, av = P[:4]
-    e = _extremes(P, invalid)
+    e = _extremes(P, invalid, n_grid)
     phi_f = np.mod(e["phi_max"] - e["phi_min"], TWO_PI)
     phi_r = TWO_PI - phi_f
 
@@ -668,7 +688,7 @@ def _characteristics(P: tuple[np.ndarray, ...], invalid: Invalid = "raise") -> C
         return _kp(x, P, 1)["g"]
 
     def max_delta(start: np.ndarray, span: np.ndarray) -> np.ndarray:
-        t = np.linspace(0.0, 1.0, GRID // 2 + 1)
+        t = np.linspace(0.0, 1.0, n_grid // 2 + 1)
         grid = start[..., None] + span[..., None] * t
         q = _kp(grid, tuple(x[..., None] for x in P), 1)["q"]
         q = np.where(np.isnan(q), -np.inf, q)
@@ -682,7 +702,8 @@ def _characteristics(P: tuple[np.ndarray, ...], invalid: Invalid = "raise") -> C
     delta_f = max_delta(start_f, span_f)
     delta_r = max_delta(start_r, TWO_PI - span_f)
 
-    grid = np.broadcast_to(np.linspace(0.0, TWO_PI, GRID, endpoint=False), (*Rv.shape, GRID))
+    grid = np.broadcast_to(np.linspace(0.0, TWO_PI, n_grid, endpoint=False),
+                           (*Rv.shape, n_grid))
     k = _kp(grid, tuple(x[..., None] for x in P), 2)
     s1 = k["s1"]
     abs1 = np.where(np.isnan(s1), -np.inf, np.abs(s1))

@@ -1,0 +1,142 @@
+"""Synthesis of the swash-plate drive: known answers, infeasible requests, feasible-region map."""
+
+import math
+
+import numpy as np
+import pytest
+
+from linkwork.errors import InfeasibleError, ParameterError
+from linkwork.models import swashplate as sw
+from linkwork.synthesis import swashplate as syn
+
+DEG = math.pi / 180
+R = 0.1
+
+
+@pytest.fixture(scope="module")
+def known_4a():
+    d = sw.scheme_4a(R, 0.2, 15 * DEG)
+    return d, d.characteristics()
+
+
+def _check_meets(req, design):
+    """Independent check of every limit with the model's public functions."""
+    c = sw.characteristics(*design.params)
+    assert abs(c.H - req.H) <= req.H_tol + 1e-12
+    assert c.delta_f <= req.delta_f + 1e-12 and c.delta_r <= req.delta_r + 1e-12
+    ph = np.linspace(0, 2 * math.pi, 3601)
+    d = sw.pressure_angle(ph, *design.params)
+    assert d.max() <= max(req.delta_f, req.delta_r) + 1e-12
+    if req.Pi_v_max is not None:
+        assert np.abs(sw.first_transfer(ph, *design.params)).max() <= req.Pi_v_max + 1e-12
+    assert bool(c.unimodal)
+    return c
+
+
+def test_synthesis_4a_known_answer_at_least_as_good(known_4a):
+    _, c0 = known_4a
+    req = syn.Request(scheme="4a", R=R, H=float(c0.H), H_tol=1e-3 * R,
+                      delta_f=float(c0.delta_f) + 1e-12, delta_r=float(c0.delta_r) + 1e-12)
+    res = syn.synthesize(req, n_candidates=512, n_refine=2)
+    best = res.best
+    assert best.scheme == "4a" and best.a == 0 and best.b == 0
+    assert abs(best.r * math.cos(best.alpha) - R) < 1e-15
+    c = _check_meets(req, best)
+    assert c.L <= c0.L + 1e-9
+    # ranked by the objective, table consistent with the designs
+    assert np.all(np.diff(res.table["L"]) >= 0)
+    assert abs(res.table["L"][0] - c.L) < 1e-12
+
+
+def test_synthesis_scheme_1_beats_4a_and_approaches_the_minimax_optimum(known_4a):
+    _, c0 = known_4a
+    req = syn.Request(scheme="1", R=R, H=float(c0.H), H_tol=1e-3 * R,
+                      delta_f=float(c0.delta_f), delta_r=float(c0.delta_r))
+    res = syn.synthesize(req, n_candidates=1024, n_refine=2)
+    c = _check_meets(req, res.best)
+    assert c.L <= c0.L
+    # independent optimum for equal limits: a = b = 0, r = 2R/(1 + cos alpha) balances the
+    # horizontal ellipse of the rod end: rho = R tan^2(alpha/2), l = rho / sin(delta),
+    # with 2 r sin(alpha) ~ H (alpha from the stroke)
+    al = 15 * DEG
+    for _ in range(50):
+        r = 2 * R / (1 + math.cos(al))
+        al = math.asin(c0.H / (2 * r))
+    L_opt = c0.H + R * math.tan(al / 2) ** 2 / math.sin(c0.delta_f)
+    assert c.L <= L_opt * 1.03
+
+
+def test_synthesis_velocity_limit_point_and_phi_f():
+    # a request built from a known asymmetric scheme-1 design (feasible by construction)
+    d = sw.scheme_1(R, 0.1, 0.25, 17 * DEG, 0.02, 0.01)
+    c0 = d.characteristics()
+    s90 = float(d.position(90 * DEG))
+    Pi, u = 600 / 60, 12
+    v_allow = float(sw.max_slide_speed(*d.params, omega=2 * math.pi * Pi / u)) * 1.01
+    lim = float(sw.allowed_first_transfer(v_allow, Pi, u))
+    req = syn.Request(scheme="1", R=R, H=float(c0.H), H_tol=5e-4,
+                      delta_f=float(c0.delta_f) + 0.2 * DEG, delta_r=float(c0.delta_r) + 0.2 * DEG,
+                      Pi_v_max=lim, phi_f=float(c0.phi_f), phi_f_tol=1 * DEG,
+                      point=(90 * DEG, s90), point_tol=5e-4)
+    res = syn.synthesize(req, n_candidates=2048, n_refine=2)
+    c = _check_meets(req, res.best)
+    assert c.L <= c0.L + 1e-9
+    assert abs(c.phi_f - c0.phi_f) <= 1 * DEG + 1e-9
+    assert abs(sw.position(90 * DEG, *res.best.params) - s90) <= 5e-4 + 1e-12
+    assert float(sw.max_slide_speed(*res.best.params, omega=2 * math.pi * Pi / u)) <= v_allow
+
+
+def test_synthesis_infeasible_pressure_angle_names_limit_and_closest():
+    # scheme 2 (alpha = 90 deg): at phi = 0 the rod end is R + b off the slide, at pi R - b:
+    # the rod's horizontal projection reaches R, so delta >= asin(R / l_max) with l_max = 5 R
+    req = syn.Request(scheme="2", R=R, H=0.05, H_tol=1e-3, delta_f=3 * DEG, delta_r=3 * DEG)
+    with pytest.raises(InfeasibleError, match="pressure angle") as ei:
+        syn.synthesize(req, n_candidates=256, n_refine=1)
+    assert ei.value.key in ("delta_f", "delta_r")
+    assert abs(ei.value.closest_value - math.asin(0.2)) < 0.1 * DEG
+
+
+def test_synthesis_infeasible_stroke():
+    # scheme 4a: H = 2 R tan(alpha) <= 2 R tan(60 deg) within the default bounds
+    req = syn.Request(scheme="4a", R=R, H=0.5, H_tol=1e-3, delta_f=30 * DEG,
+                      delta_r=30 * DEG)
+    with pytest.raises(InfeasibleError, match="stroke H") as ei:
+        syn.synthesize(req, n_candidates=256, n_refine=1)
+    assert ei.value.key == "H"
+    assert abs(ei.value.closest_value - 2 * R * math.tan(60 * DEG)) < 1e-6
+
+
+def test_feasible_region_map(known_4a):
+    d0, c0 = known_4a
+    req = syn.Request(scheme="4a", R=R, H=float(c0.H), H_tol=1e-2 * R,
+                      delta_f=2 * DEG, delta_r=2 * DEG)
+    reg = syn.feasible_region(req, d0, "alpha", "l", x_range=(14 * DEG, 16 * DEG), n=25)
+    assert reg.feasible.shape == (25, 25)
+    assert 0 < reg.feasible.mean() < 1
+    # every feasible cell meets the limits by the model's own characteristics
+    j, i = np.argwhere(reg.feasible)[0]
+    d = sw.scheme_4a(R, reg.y[j] * R, reg.x[i])
+    _check_meets(req, d)
+    with pytest.raises(ParameterError, match="free parameter"):
+        syn.feasible_region(req, d0, "b", "l")
+
+
+def test_request_validation():
+    with pytest.raises(ParameterError, match="scheme"):
+        syn.Request(scheme="5", R=R, H=0.05, H_tol=0.0, delta_f=0.1, delta_r=0.1)
+    with pytest.raises(ParameterError, match="delta_f"):
+        syn.Request(scheme="1", R=R, H=0.05, H_tol=0.0, delta_f=0.0, delta_r=0.1)
+    with pytest.raises(ParameterError, match="bounds"):
+        syn.Request(scheme="4a", R=R, H=0.05, H_tol=0.0, delta_f=0.1, delta_r=0.1,
+                    bounds={"a": (0, 1)})
+
+
+def test_evaluate_candidates_vectorised_matches_single():
+    req = syn.Request(scheme="4b", R=R, H=0.05, H_tol=1e-3, delta_f=8 * DEG, delta_r=8 * DEG)
+    X = np.array([[1.0, 2.0, 14 * DEG, 0.05], [1.02, 1.5, 16 * DEG, -0.03]])
+    m = syn.evaluate_candidates(X, req, n_grid=720)
+    for i in range(2):
+        c = sw.characteristics(R, X[i, 0] * R, X[i, 1] * R, X[i, 2], 0.0, X[i, 3] * R)
+        assert abs(m["H"][i] - c.H) < 1e-12 and abs(m["delta_f"][i] - c.delta_f) < 1e-12
+        assert m["feasible"][i] == (abs(c.H - 0.05) <= 1e-3 and c.delta_f <= 8 * DEG
+                                    and c.delta_r <= 8 * DEG and bool(c.unimodal))
