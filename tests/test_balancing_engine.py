@@ -266,3 +266,11 @@ def test_crank_slider_balance_half_fraction_is_best_rms(guide_angle, e):
     u = np.array([np.cos(guide_angle), np.sin(guide_angle)])
     across = sl.force @ np.array([-u[1], u[0]])
     assert np.abs(across).max() < 1e-9 * np.abs(sl.force).max()
+
+
+def test_force_balance_does_not_depend_on_driver_speed():
+    a = force_balance(fourbar(0.1, 0.3, 0.2, 0.3, **{**PAPER, "omega1": 0.0}))
+    b = force_balance(paper_fourbar())
+    assert a.full and b.full
+    for ca, cb in zip(a.counterweights, b.counterweights, strict=True):
+        assert ca.first_moment == pytest.approx(cb.first_moment, abs=1e-12)

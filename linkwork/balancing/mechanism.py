@@ -209,7 +209,7 @@ class ForceBalance(Result):
     full : bool
         True when the shaking force vanishes (residual RMS <= ``tol`` times the unbalanced).
     force_rms_before, force_rms_after : float
-        RMS of |F| over the cycle [N].
+        RMS of |F| over the cycle [N] at the driver's constant speed ``omega1``.
     ratio : float
         force_rms_after / force_rms_before.
     reason : str
@@ -276,7 +276,8 @@ def force_balance(mech: Mechanism, links: Sequence[str] | None = None,
     :math:`q_k = m_k \\rho_k`: a counterweight on link k (hinged to the frame, angle
     :math:`\\theta_k`) adds :math:`(\\omega_k^2 I - \\varepsilon_k J) A(\\theta_k) q_k`. The
     :math:`q_k` minimising the cycle RMS of the total shaking force (weighted linear least
-    squares over ``n`` positions of one turn, at the driver's speed) are returned. When the
+    squares over ``n`` positions of one turn, at constant crank speed; the result does not
+    depend on the speed) are returned. When the
     mechanism can be fully force balanced by counterweights on these links (the method of
     linearly independent vectors succeeds: four-bar, any coupler centre), the residual is zero
     to rounding and this is the classical solution; otherwise (e.g. a slider's reciprocating
@@ -311,17 +312,18 @@ def force_balance(mech: Mechanism, links: Sequence[str] | None = None,
     for link in use:
         frame_hinge(mech, link)
     phi = cycle(n)
-    kin = kinematics(mech, phi)
+    kin = kinematics(mech, phi, 1.0, 0.0)  # unit constant speed: F scales with omega^2
     base = shaking_loads(kin)
     F0 = base.force.reshape(-1)
     w = np.repeat(periodic_weights(phi), 2)
     B = np.concatenate([_cw_force_basis(kin, link).reshape(-1, 2) for link in use], axis=1)
     sw = np.sqrt(w)
     q = np.linalg.lstsq(B * sw[:, None], -F0 * sw, rcond=None)[0]
-    rms_before = base.force_rms()
-    resid = (F0 + B @ q).reshape(-1, 2)
-    rms_after = rms(phi, resid, vector=True)
-    ratio = rms_after / rms_before if rms_before > 0 else 0.0
+    unit_before = base.force_rms()
+    unit_after = rms(phi, (F0 + B @ q).reshape(-1, 2), vector=True)
+    ratio = unit_after / unit_before if unit_before > 0 else 0.0
+    w2 = float(mech.driver.omega1) ** 2  # reported at the driver's speed
+    rms_before, rms_after = unit_before * w2, unit_after * w2
     full = ratio <= tol
     reason = "" if full else _not_balanceable(mech, use)
     if not full and require_full:
