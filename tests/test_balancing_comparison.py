@@ -141,3 +141,8 @@ def test_paper001_shaking_moment_is_not_the_driving_torque(comp):
     c = comp.cycle
     assert np.abs(c.dM1).max() > 2 * np.abs(c.Q1).max()
     assert np.abs(np.abs(c.dM1) - np.abs(c.Q1)).max() > 5.0
+
+
+def test_compare_needs_a_running_crank():
+    with pytest.raises(ParameterError, match="omega1"):
+        compare_balancing(fourbar(0.1, 0.3, 0.2, 0.3, **{**PAPER, "omega1": 0.0}))

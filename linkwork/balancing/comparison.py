@@ -250,6 +250,9 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
     """
     crank, O = crank_axis(mech)
     frame_hinge(mech, crank)
+    if float(mech.driver.omega1) == 0.0:
+        raise ParameterError("driver.omega1", 0.0, "must be non-zero: the comparison is of "
+                             "inertia loads at the crank's speed")
     tab = np.radians(np.arange(0.0, 360.0, 30.0)) if positions is None else np.atleast_1d(
         require_finite("positions", positions))
     fb = force_balance(mech, links, radii, n=n)
