@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from linkwork.balancing import (
     Counterweight,
@@ -146,3 +148,30 @@ def test_paper001_shaking_moment_is_not_the_driving_torque(comp):
 def test_compare_needs_a_running_crank():
     with pytest.raises(ParameterError, match="omega1"):
         compare_balancing(fourbar(0.1, 0.3, 0.2, 0.3, **{**PAPER, "omega1": 0.0}))
+
+
+@settings(max_examples=10, deadline=None)
+@given(st.integers(0, 10_000))
+def test_comparison_invariants_random_fourbars(seed):
+    """Random crank-rockers with off-line centres (crank counterweight not at 180 deg): force
+    balance to 1e-9; dM2 has no first harmonic; dM3 is stationary for the least squares over
+    the table (normal equations); both leave the higher harmonics of dM1 unchanged."""
+    from linkwork.balancing import counterweight_axis_moment, harmonics
+
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(0.05, 0.1)
+    b, c, d = rng.uniform(0.25, 0.4, 3)
+    coms = tuple(tuple(rng.normal(0, 0.06, 2)) for _ in range(3))
+    mech = fourbar(a, b, c, d, masses=tuple(rng.uniform(0.5, 3, 3)), coms=coms, omega1=12.0)
+    comp = compare_balancing(mech, n=120)
+    cyc = comp.cycle
+    assert np.abs(cyc.F1).max() <= 1e-9 * np.abs(cyc.F0).max()
+    h1, h2 = harmonics(cyc.phi1, cyc.dM1, 4), harmonics(cyc.phi1, cyc.dM2, 4)
+    assert h2.amplitude[0] <= 1e-9 * max(h1.amplitude.max(), 1e-12)
+    np.testing.assert_allclose(h2.amplitude[1:], h1.amplitude[1:], rtol=1e-9, atol=1e-12)
+    crank_cw = comp.counterweights[0]
+    p = comp.phi1 + crank_cw.angle - np.pi
+    S = comp.static_moment
+    for dx, dy in ((1.0, 0.0), (0.0, 1.0)):
+        basis = counterweight_axis_moment(p, dx, dy, S, 12.0)
+        assert abs(np.sum(comp.dM3 * basis)) <= 1e-9 * np.sum(np.abs(comp.dM1 * basis)) + 1e-12
