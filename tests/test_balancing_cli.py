@@ -127,3 +127,13 @@ def test_balance_bundled_example(tmp_path, capsys):
     assert [c["static_moment"] for c in summary["counterweights"]] == pytest.approx([0.2, 0.5])
     assert summary["full_force_balance"] is True
     assert "R_j" in capsys.readouterr().out
+
+
+def test_balance_command_with_file_loads(tmp_path, capsys):
+    pytest.importorskip("linkwork.planar.file")
+    text = (DATA / "balance_fourbar.toml").read_text()
+    load = '\n[[load]]\ntype = "torque"\nbody = "rocker"\nmz = "-5 N*m"\n'
+    f = tmp_path / "loaded.toml"
+    f.write_text(text.replace("[balance]", load + "\n[balance]"))
+    assert main(["balance", str(f), "--out", str(tmp_path)]) == 0
+    assert "external loads enter the driving torque" in capsys.readouterr().out

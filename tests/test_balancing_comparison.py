@@ -175,3 +175,17 @@ def test_comparison_invariants_random_fourbars(seed):
     for dx, dy in ((1.0, 0.0), (0.0, 1.0)):
         basis = counterweight_axis_moment(p, dx, dy, S, 12.0)
         assert abs(np.sum(comp.dM3 * basis)) <= 1e-9 * np.sum(np.abs(comp.dM1 * basis)) + 1e-12
+
+
+def test_external_loads_enter_torque_not_table(comp):
+    """A resisting couple of -5 N m on the rocker adds 5*omega3/omega1 to the driving torque
+    (virtual power) and leaves the shaking-moment table unchanged."""
+    from linkwork.planar.dynamics import BodyTorque
+
+    mech = fourbar(0.1, 0.3, 0.2, 0.3, **PAPER)
+    loaded = compare_balancing(mech, radii=RADII,
+                               loads=lambda phi: [BodyTorque("rocker", -5.0)])
+    np.testing.assert_allclose(loaded.dM1, comp.dM1, atol=1e-12)
+    w3 = kinematics(mech, comp.cycle.phi1).omega[3]
+    np.testing.assert_allclose(loaded.cycle.Q0 - comp.cycle.Q0, 5.0 * w3 / 10.0, atol=1e-9)
+    np.testing.assert_allclose(loaded.cycle.Q1 - comp.cycle.Q1, 5.0 * w3 / 10.0, atol=1e-9)

@@ -22,7 +22,7 @@ transmission's own forces, present only when :math:`\\varepsilon_1 \\ne 0`, are 
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import ClassVar
 
@@ -40,7 +40,7 @@ from linkwork.balancing.partial import (
 )
 from linkwork.balancing.static import Counterweight
 from linkwork.errors import ParameterError, require_finite
-from linkwork.planar.dynamics import Dynamics, inverse_dynamics
+from linkwork.planar.dynamics import BodyTorque, Dynamics, PointForce, inverse_dynamics
 from linkwork.planar.kinematics import Kinematics, kinematics
 from linkwork.planar.model import Crank, Mechanism, Revolute
 from linkwork.results import Result
@@ -217,7 +217,9 @@ def _cw_direction(kin: Kinematics, crank: str, cw: Counterweight) -> np.ndarray:
 def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
                       links: Sequence[str] | None = None,
                       radii: float | Mapping[str, float] | None = None, n: int = 360,
-                      gravity: ArrayLike | None = None) -> BalancingComparison:
+                      gravity: ArrayLike | None = None,
+                      loads: Callable[[np.ndarray], Sequence[PointForce | BodyTorque]] | None
+                      = None) -> BalancingComparison:
     """Paper 001's comparison of balancing methods for a crank-driven planar mechanism.
 
     Parameters
@@ -238,6 +240,9 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
     gravity : (gx, gy), optional
         Gravity [m/s²] for the driving torque and bearing reactions (the shaking moment
         columns are always the moments of inertia forces, as in the paper's table).
+    loads : callable, optional
+        ``loads(phi1)`` -> external loads at the cycle positions (e.g. the technological
+        resistance), for the driving torque and bearing reactions only.
 
     Returns
     -------
@@ -265,15 +270,15 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
     bal = fb.mechanism
     phi = cycle(n)
 
-    def loads(m: Mechanism, q: np.ndarray, grav: ArrayLike | None) -> tuple[Kinematics,
+    def solve(m: Mechanism, q: np.ndarray, grav: ArrayLike | None) -> tuple[Kinematics,
                                                                              Dynamics]:
         k = kinematics(m, q)
         return k, inverse_dynamics(k, about=O, gravity=grav)
 
-    k0, d0 = loads(mech, phi, None)
-    k1, d1 = loads(bal, phi, None)
-    _, t0 = loads(mech, tab, None)
-    kt1, t1 = loads(bal, tab, None)
+    k0, d0 = solve(mech, phi, None)
+    k1, d1 = solve(bal, phi, None)
+    _, t0 = solve(mech, tab, None)
+    kt1, t1 = solve(bal, tab, None)
     w = k1.omega1
     e = k1.eps1
     pc = _cw_direction(k1, crank, cw)
@@ -294,9 +299,10 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
     dM2t = shifted(pt, t1.shaking_m, kt1.omega1, kt1.eps1, fh.x, fh.y)
     dM3t = ls.residual
     # driving torque and bearing reactions (with gravity if asked)
-    if gravity is not None:
-        d0g = inverse_dynamics(k0, about=O, gravity=gravity)
-        d1g = inverse_dynamics(k1, about=O, gravity=gravity)
+    if gravity is not None or loads is not None:
+        ext = () if loads is None else tuple(loads(phi))
+        d0g = inverse_dynamics(k0, about=O, gravity=gravity, loads=ext)
+        d1g = inverse_dynamics(k1, about=O, gravity=gravity, loads=ext)
     else:
         d0g, d1g = d0, d1
     r0 = _frame_reactions(d0g, mech)

@@ -100,10 +100,11 @@ def _fmt(x: float, nd: int = 3) -> str:
 
 
 def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
-                pareto: bool = False, gravity: Any = None) -> Any:
+                pareto: bool = False, gravity: Any = None, loads: Any = None) -> Any:
     """Run the comparison on ``mech``, print it on ``console``, write the outputs to ``out``.
 
-    ``gravity`` (gx, gy) [m/s²] enters the driving torque and bearing reactions only.
+    ``gravity`` (gx, gy) [m/s²] and ``loads`` (callable phi1 -> external loads) enter the
+    driving torque and bearing reactions only.
     Returns the :class:`~linkwork.balancing.comparison.BalancingComparison`.
     """
     from rich.markup import escape
@@ -120,7 +121,7 @@ def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
 
     angles = None if section.angles is None else np.radians(np.asarray(section.angles, float))
     comp = compare_balancing(mech, angles, links=section.links, radii=section.radii,
-                             n=section.n, gravity=gravity)
+                             n=section.n, gravity=gravity, loads=loads)
     t = Table(title="Shaking moment about the crank axis [N·m] (paper 001)")
     for h in ("φ1 [deg]", "M unbalanced", "ΔM1 static", "ΔM2 1st harmonic", "ΔM3 least sq."):
         t.add_column(h, justify="right")
@@ -249,7 +250,8 @@ def register(app: typer.Typer) -> None:
         console = Console()
         analysis = getattr(doc, "analysis", None)
         gravity = getattr(analysis, "gravity", None)
-        if getattr(doc, "load", None):
-            console.print("note: the file's external loads are not part of the balancing "
-                          "comparison (inertia forces and gravity only)")
-        run_balance(mech, section, out, console, pareto=pareto, gravity=gravity)
+        loads = doc.loads if getattr(doc, "load", None) else None
+        if loads is not None:
+            console.print("note: the file's external loads enter the driving torque and the "
+                          "bearing reactions, not the shaking-moment table (inertia forces)")
+        run_balance(mech, section, out, console, pareto=pareto, gravity=gravity, loads=loads)
