@@ -111,3 +111,25 @@ def test_counterweight_constructors_and_errors():
         crank_slider_counterweight(0.05, 0.2, 1, 0.02, 2, 0.07, 3, fraction=1.5)
     with pytest.raises(ParameterError, match="l2"):
         fourbar_counterweights(0.1, -0.3, 0.2, 1, 0.05, 3, 0.15, 2, 0.1)
+
+
+def test_point_mass_method_equals_linearly_independent_vectors():
+    from linkwork.balancing.static import (
+        fourbar_counterweights_point_masses,
+        statically_equivalent_masses,
+    )
+
+    mA, mB, dI = statically_equivalent_masses(3.0, 0.3, 0.15)
+    assert (mA, mB) == pytest.approx((1.5, 1.5))
+    assert dI == pytest.approx(-3.0 * 0.15 * 0.15)
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        l1, l2, l3 = rng.uniform(0.05, 0.4, 3)
+        m1, m2, m3 = rng.uniform(0.5, 3, 3)
+        s1, s2, s3 = rng.uniform(-0.3, 1.0) * l1, rng.uniform(0, 1) * l2, rng.uniform(0, 1) * l3
+        a = fourbar_counterweights_point_masses(l1, l2, l3, m1, s1, m2, s2, m3, s3)
+        b = fourbar_counterweights(l1, l2, l3, m1, s1, m2, s2, m3, s3)
+        for x, y in zip(a, b, strict=True):
+            assert abs(x.first_moment - y.first_moment) < 1e-12
+    with pytest.raises(ParameterError, match="com"):
+        statically_equivalent_masses(1.0, 0.3, 0.4)

@@ -52,6 +52,8 @@ from linkwork.balancing.static import (
     Counterweight,
     crank_slider_counterweight,
     fourbar_counterweights,
+    fourbar_counterweights_point_masses,
+    statically_equivalent_masses,
 )
 
 __all__ = [
@@ -74,6 +76,7 @@ __all__ = [
     "first_harmonic_offset",
     "force_balance",
     "fourbar_counterweights",
+    "fourbar_counterweights_point_masses",
     "frame_hinge",
     "frame_hinged_links",
     "harmonics",
@@ -85,4 +88,5 @@ __all__ = [
     "shaking_force",
     "shaking_loads",
     "shaking_moment",
+    "statically_equivalent_masses",
 ]

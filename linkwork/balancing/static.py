@@ -34,6 +34,8 @@ __all__ = [
     "Counterweight",
     "crank_slider_counterweight",
     "fourbar_counterweights",
+    "fourbar_counterweights_point_masses",
+    "statically_equivalent_masses",
 ]
 
 
@@ -213,3 +215,43 @@ def crank_slider_counterweight(l1: float, l2: float, m1: float, s1: complex, m2:
         raise ParameterError("s1/s2", (z1, z2), "must be finite")
     q1 = -(M1 * z1 + M2 * L1 * (1.0 - z2 / L2)) - k * L1 * (M3 + M2 * z2 / L2)
     return Counterweight.from_first_moment("crank", q1)
+
+
+def statically_equivalent_masses(mass: float, length: float, com: float
+                                 ) -> tuple[float, float, float]:
+    """Two point masses at a link's joints statically equivalent to the link.
+
+    A link of mass m whose centre lies on its line at ``com`` = a from the first joint
+    (length l = a + b) is replaced by :math:`m_1 = m b / l` at the first joint and
+    :math:`m_2 = m a / l` at the second (same mass and first moment). Their inertia about the
+    centre is :math:`m a b`; the link is then dynamically equivalent to the pair plus a
+    massless "residual" body of inertia :math:`I_S - m a b` turning with it.
+
+    Returns
+    -------
+    (m1, m2, correction)
+        m1, m2 [kg] and :math:`-m a b` [kg·m²]: the residual inertia is
+        ``I_S + correction``.
+    """
+    m = float(require_positive("mass", mass, allow_zero=True))
+    L = float(require_positive("length", length))
+    a = float(require_in_range("com", com, 0.0, L))
+    return m * (L - a) / L, m * a / L, -m * a * (L - a)
+
+
+def fourbar_counterweights_point_masses(l1: float, l2: float, l3: float, m1: float, s1: float,
+                                        m2: float, s2: float, m3: float, s3: float,
+                                        ) -> tuple[Counterweight, Counterweight]:
+    """Four-bar force balance by statically equivalent point masses (centres on the links).
+
+    The coupler is replaced by point masses at A and B (:func:`statically_equivalent_masses`);
+    the crank counterweight balances the crank and the mass at A about O, the rocker
+    counterweight the rocker and the mass at B about C. Only for centres on the link lines
+    (real s1, s2, s3 measured from O, A, C); :func:`fourbar_counterweights` covers the general
+    case and gives the same result here.
+    """
+    mA, mB, _ = statically_equivalent_masses(m2, l2, s2)
+    S1 = float(require_positive("m1", m1, allow_zero=True)) * float(s1) + mA * float(l1)
+    S3 = float(require_positive("m3", m3, allow_zero=True)) * float(s3) + mB * float(l3)
+    return (Counterweight("crank", abs(S1), float(np.pi) if S1 >= 0 else 0.0),
+            Counterweight("rocker", abs(S3), float(np.pi) if S3 >= 0 else 0.0))
