@@ -274,3 +274,20 @@ def test_force_balance_does_not_depend_on_driver_speed():
     assert a.full and b.full
     for ca, cb in zip(a.counterweights, b.counterweights, strict=True):
         assert ca.first_moment == pytest.approx(cb.first_moment, abs=1e-12)
+
+
+def test_shaking_loads_equal_engine_inverse_dynamics():
+    """Inertia-force sums (shaking_loads) = frame-joint reactions plus motor reaction summed by
+    the engine's inverse dynamics (a different route: Lagrange multipliers)."""
+    from linkwork.planar.dynamics import inverse_dynamics
+
+    for mech in (paper_fourbar(-1), watt_sixbar(),
+                 crank_slider(0.05, 0.2, 0.01, masses=(1.0, 2.0, 3.0), omega1=10.0)):
+        kin = kinematics(mech, cycle(60))
+        P = (0.07, -0.03)
+        sl = shaking_loads(kin, P)
+        d = inverse_dynamics(kin, about=P)
+        scale = np.abs(sl.force).max()
+        np.testing.assert_allclose(sl.fx, d.shaking_fx, atol=1e-9 * scale)
+        np.testing.assert_allclose(sl.fy, d.shaking_fy, atol=1e-9 * scale)
+        np.testing.assert_allclose(sl.moment, d.shaking_m, atol=1e-9 * np.abs(sl.moment).max())
