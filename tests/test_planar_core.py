@@ -139,14 +139,19 @@ def test_crank_slider_power_and_momentum_balance_press_force():
 
 
 def test_fourbar_reactions_newton_euler_by_hand():
-    """Reactions of the four-bar from Newton-Euler equations written out in the test."""
+    """Reactions of the four-bar from Newton-Euler equations written out in the test, with
+    gravity in an oblique direction, a force at a coupler point, a couple on the rocker and
+    eps1 != 0."""
     a, b, c, d = 0.1, 0.3, 0.2, 0.3
     ms = (1.0, 3.0, 2.0)
     Is = (0.002, 0.0225, 0.0067)
     m = fourbar(a, b, c, d, masses=ms, inertias=Is)
-    w, e, g = 10.0, 5.0, (0.0, -9.81)
+    w, e, g = 10.0, 5.0, (2.0, -9.81)
+    Fp, M3 = (30.0, -20.0), 4.0
     k = kinematics(m, PHI, omega1=w, eps1=e)
-    dyn = inverse_dynamics(k, gravity=g)
+    dyn = inverse_dynamics(k, gravity=g, loads=[PointForce("coupler", (0.1, 0.05), *Fp),
+                                                BodyTorque("rocker", M3)])
+    Pc = k.point("coupler", (0.1, 0.05))
     A = k.point("crank", "A")
     B = k.point("coupler", "B")
     c2, c3 = k.point("coupler", "com"), k.point("rocker", "com")
@@ -164,9 +169,10 @@ def test_fourbar_reactions_newton_euler_by_hand():
         rBx, rBy = B.x[i] - c2.x[i], B.y[i] - c2.y[i]
         M[2, 0], M[2, 1] = -rAy, rAx
         M[2, 2], M[2, 3] = rBy, -rBx
-        rhs[0] = ms[1] * (c2.ax[i] - g[0])
-        rhs[1] = ms[1] * (c2.ay[i] - g[1])
-        rhs[2] = Is[1] * e2[i]
+        rhs[0] = ms[1] * (c2.ax[i] - g[0]) - Fp[0]
+        rhs[1] = ms[1] * (c2.ay[i] - g[1]) - Fp[1]
+        rPx, rPy = Pc.x[i] - c2.x[i], Pc.y[i] - c2.y[i]
+        rhs[2] = Is[1] * e2[i] - (rPx * Fp[1] - rPy * Fp[0])
         # rocker: F_B + F_O4 + m3 g = m3 a3
         M[3, 2], M[3, 4] = 1, 1
         M[4, 3], M[4, 5] = 1, 1
@@ -176,7 +182,7 @@ def test_fourbar_reactions_newton_euler_by_hand():
         M[5, 4], M[5, 5] = -rOy, rOx
         rhs[3] = ms[2] * (c3.ax[i] - g[0])
         rhs[4] = ms[2] * (c3.ay[i] - g[1])
-        rhs[5] = Is[2] * e3[i]
+        rhs[5] = Is[2] * e3[i] - M3
         # crank: F_O2 - F_A + m1 g = m1 a1; moments about O2 (fixed point)
         c1 = k.point("crank", "com")
         M[6, 6], M[6, 0] = 1, -1
