@@ -81,6 +81,7 @@ def _solve(doc: PlanarFile, phi: np.ndarray) -> tuple[Kinematics, Dynamics]:
 
 def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray, console: Any) -> None:
     """Analyse a planar mechanism file: table on ``console``, CSV/JSON/PNG into ``out``."""
+    from rich.markup import escape
     from rich.table import Table
 
     from linkwork.plot import planar as pplot
@@ -107,14 +108,11 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray, console: A
     tk, td = _solve(doc, tphi)
     trans = transmission_angles(tk)
     table = Table(title="driving torque, joint reactions |R| (force of a on b), shaking")
-    table.add_column("φ1 [deg]" if crank else "s1 [mm]", justify="right")
-    table.add_column("Q [N·m]" if crank else "Q [N]", justify="right")
-    for j in td.joints:
-        table.add_column(f"|R {j}| [N]", justify="right")
-    table.add_column("|F_sh| [N]", justify="right")
-    table.add_column("M_sh [N·m]", justify="right")
-    for key in trans:
-        table.add_column(f"μ {key} [deg]", justify="right")
+    heads = ["φ1 [deg]" if crank else "s1 [mm]", "Q [N·m]" if crank else "Q [N]"]
+    heads += [f"|R {j}| [N]" for j in td.joints]
+    heads += ["|F_sh| [N]", "M_sh [N·m]"] + [f"μ {key} [deg]" for key in trans]
+    for h in heads:  # escape: "[mm]", "[deg]" would be read as Rich markup
+        table.add_column(escape(h), justify="right", min_width=len(h), no_wrap=True)
     for i in range(tk.n):
         row = [f"{np.degrees(tphi[i]) if crank else tphi[i] * 1e3:.1f}", f"{td.Q[i]:.4g}"]
         row += [f"{td.reaction_magnitude(j)[i]:.4g}" for j in td.joints]
