@@ -103,7 +103,8 @@ def _import_schema_modules() -> None:
 
 
 #: Modules that define and register file schemas.
-SCHEMA_MODULES: tuple[str, ...] = ("linkwork.sine_press_file", "linkwork.planar.file")
+SCHEMA_MODULES: tuple[str, ...] = ("linkwork.sine_press_file", "linkwork.planar.file",
+                                   "linkwork.swashplate_file")
 
 
 def read_toml(path: str | Path) -> dict[str, Any]:

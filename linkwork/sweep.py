@@ -170,14 +170,18 @@ def _evaluate_dask(func: Callable[[Any], Any], candidates: Any, slices: list[sli
 
 
 @contextmanager
-def rich_progress(description: str = "evaluating", *, console: Any = None
-                  ) -> Iterator[Progress]:
-    """A Rich progress bar as a ``progress(done, total)`` callback (context manager)."""
+def rich_progress(description: str = "evaluating", *, console: Any = None,
+                  transient: bool = False) -> Iterator[Progress]:
+    """A Rich progress bar as a ``progress(done, total)`` callback (context manager).
+
+    ``transient=True`` erases the bar when done (keeps a failing command's stderr to its
+    one error line).
+    """
     from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
 
     with Progress("[progress.description]{task.description}", BarColumn(),
                   MofNCompleteColumn(), TimeElapsedColumn(), console=console,
-                  transient=False) as bar:
+                  transient=transient) as bar:
         task = bar.add_task(description, total=None)
 
         def update(done: int, total: int) -> None:

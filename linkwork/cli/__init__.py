@@ -27,7 +27,7 @@ app = typer.Typer(
 )
 
 #: Modules of linkwork.cli that define commands (each has ``register(app)``).
-COMMAND_MODULES: tuple[str, ...] = ("analyze", "balance", "reactions")
+COMMAND_MODULES: tuple[str, ...] = ("analyze", "balance", "reactions", "swashplate")
 
 
 

@@ -23,6 +23,7 @@ from linkwork.errors import FileFormatError, ParameterError
 ANALYZERS: dict[str, str] = {
     "sine_press": "linkwork.cli._sine_press:analyze_sine_press",
     "planar": "linkwork.cli._planar:analyze_planar",
+    "swashplate": "linkwork.cli.swashplate:analyze_swashplate",
 }
 
 

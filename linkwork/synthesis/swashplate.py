@@ -456,7 +456,7 @@ def _relax(req: Request, key: str) -> dict[str, Any]:
 
 
 def _project(X: np.ndarray, req: Request, bounds: list[tuple[float, float]],
-             iters: int = 6) -> np.ndarray:
+             iters: int = 6, lengthen_rod: bool = True) -> np.ndarray:
     """Repair candidates: lengthen too short rods and move each onto the wanted stroke.
 
     The rod's horizontal projection ``rho = l sin(delta_z)`` does not depend on ``l``, so the
@@ -478,7 +478,8 @@ def _project(X: np.ndarray, req: Request, bounds: list[tuple[float, float]],
         lv = P[2] / req.R
         l_min = np.maximum(lv * np.sin(c.delta_f) / math.sin(req.delta_f),
                            lv * np.sin(c.delta_r) / math.sin(req.delta_r)) * (1 + 1e-9)
-        X[:, jl] = np.where(ok, np.maximum(lv, l_min), X[:, jl])
+        if lengthen_rod:
+            X[:, jl] = np.where(ok, np.maximum(lv, l_min), X[:, jl])
         ratio = np.where(ok & (c.H > 0), req.H / np.where(ok & (c.H > 0), c.H, 1.0), 1.0)
         ratio = np.clip(ratio, 0.2, 5.0)
         if req.scheme in ("1", "4b"):
@@ -710,8 +711,11 @@ def feasible_region(req: Request, base: sw.Design, x_name: str, y_name: str, *,
                     n: int = 60) -> FeasibleRegion:
     """Map which ``(x, y)`` values of two free parameters meet every limit of ``req``.
 
-    The other free parameters stay at their values in ``base``. Ranges default to the search
-    bounds; lengths are relative (over ``R``), ``alpha`` in rad.
+    The other free parameters stay at their values in ``base``, except the scheme's stroke
+    parameter (``alpha`` in schemes 1, 4a, 4b; ``r`` in 2; ``(a, b)`` in 3), which -- unless it
+    is ``x`` or ``y`` -- is adjusted at each point to give the wanted stroke (otherwise the
+    stroke equality leaves only a line in the map). Ranges default to the search bounds;
+    lengths are relative (over ``R``), ``alpha`` in rad.
     """
     free = list(req.free)
     for name in (x_name, y_name):
@@ -731,6 +735,10 @@ def feasible_region(req: Request, base: sw.Design, x_name: str, y_name: str, *,
     X = np.tile(x0, (XX.size, 1))
     X[:, free.index(x_name)] = XX.ravel()
     X[:, free.index(y_name)] = YY.ravel()
+    stroke_par = {"1": ("alpha",), "4a": ("alpha",), "4b": ("alpha",), "2": ("r",),
+                  "3": ("a", "b")}[req.scheme]
+    if not set(stroke_par) & {x_name, y_name}:
+        X = _project(X, req, req.search_bounds(), lengthen_rod=False)
     m = evaluate(functools.partial(_chunk_eval, req=replace(req), n_grid=120), X,
                  chunk_size=4096)
     viol = {k: np.asarray(m[f"g_{k}"]).reshape(XX.shape) for k in CONSTRAINTS

@@ -1,0 +1,110 @@
+"""Figures of the swash-plate (inclined-disk) drive of rotor machines (paper 003).
+
+Every function takes ``axes=None`` (or ``ax=None``), draws, and returns what it drew; figures are
+created through :func:`linkwork.plot.pyplot` only when no axes are given. Lengths in mm, angles in
+degrees on the figures; the models stay in SI.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from linkwork.models.swashplate import DriveForces, KinematicsResult
+from linkwork.plot import pyplot
+
+__all__ = ["plot_drive_forces", "plot_feasible_region", "plot_kinematics"]
+
+
+def plot_kinematics(res: KinematicsResult, axes: Any = None, label: str | None = None) -> Any:
+    """Position ``s``, pressure angle ``delta_z`` and first transfer function ``Pi_v`` against
+    the rotor angle, with the extremes and the allowed pressure angle marked if given.
+
+    Returns
+    -------
+    axes : array of 3 matplotlib Axes (s [mm], delta_z [deg], Pi_v [mm/rad]).
+    """
+    if axes is None:
+        _, axes = pyplot().subplots(3, 1, figsize=(8, 8.5), sharex=True)
+    deg = np.degrees(res.phi)
+    c = res.characteristics
+    lab = label or f"scheme {res.design.scheme}"
+    axes[0].plot(deg, res.s * 1e3, label=lab)
+    for phi_e, s_e, name in ((c.phi_min, c.s_min, "min"), (c.phi_max, c.s_max, "max")):
+        axes[0].plot(math.degrees(float(phi_e)), float(s_e) * 1e3, "o", ms=4)
+        axes[0].annotate(name, (math.degrees(float(phi_e)), float(s_e) * 1e3), fontsize=8,
+                         xytext=(4, 4), textcoords="offset points")
+    axes[1].plot(deg, np.degrees(res.delta_z), label=lab)
+    axes[2].plot(deg, res.Pi_v * 1e3, label=lab)
+    for a_, ylab in zip(axes, ("s [mm]", "δz [deg]", "Πv = ds/dφ [mm/rad]"), strict=True):
+        a_.set_ylabel(ylab)
+        a_.grid(True, alpha=0.3)
+        a_.legend(loc="best", fontsize=8)
+    axes[2].axhline(0.0, color="0.6", lw=0.6)
+    axes[-1].set_xlabel("rotor angle φ [deg] (from −y0, counter-clockwise)")
+    axes[-1].set_xticks(np.arange(0, 361, 45))
+    H = float(c.H) * 1e3
+    axes[0].set_title(f"H = {H:.4g} mm, φf = {math.degrees(float(c.phi_f)):.4g}°, "
+                      f"max δz fwd/ret = {math.degrees(float(c.delta_f)):.3g}°/"
+                      f"{math.degrees(float(c.delta_r)):.3g}°", fontsize=9)
+    return axes
+
+
+def plot_drive_forces(f: DriveForces, ax: Any = None) -> Any:
+    """Load on one slide, rod force and the drive torque (one slide and all ``u`` slides)."""
+    if ax is None:
+        _, ax = pyplot().subplots(2, 1, figsize=(8, 6), sharex=True)
+    deg = np.degrees(f.phi)
+    ax[0].plot(deg, f.F * 1e-3, label="technological force F [kN]")
+    ax[0].plot(deg, f.S * 1e-3, label="rod force S [kN]")
+    ax[1].plot(deg, f.M, label="torque, one slide [N·m]")
+    ax[1].plot(deg, f.M_total, label=f"torque, {f.u} slides [N·m]")
+    for a_ in ax:
+        a_.grid(True, alpha=0.3)
+        a_.legend(loc="best", fontsize=8)
+    eff = f"{f.efficiency:.3f}" if math.isfinite(f.efficiency) else "n/a"
+    ax[0].set_title(f"efficiency over a cycle: {eff}", fontsize=9)
+    ax[1].set_xlabel("rotor angle φ [deg]")
+    return ax
+
+
+def _label(name: str) -> tuple[str, float]:
+    if name == "alpha":
+        return "α [deg]", 180 / math.pi
+    return f"{name} / R", 1.0
+
+
+def plot_feasible_region(region: Any, ax: Any = None, best: Any = None) -> Any:
+    """The feasible set of a :class:`~linkwork.synthesis.swashplate.FeasibleRegion` over its two
+    parameters (shaded), objective contours inside it, the failing constraint elsewhere, and
+    the ``best`` design (a Design) if given."""
+    if ax is None:
+        _, ax = pyplot().subplots(figsize=(7, 5.5))
+    xl, xs = _label(region.x_name)
+    yl, ys = _label(region.y_name)
+    X, Y = np.meshgrid(region.x * xs, region.y * ys)
+    ax.contourf(X, Y, region.feasible.astype(float), levels=[0.5, 1.5], colors=["#9fd39f"])
+    obj = np.where(region.feasible, region.objective, np.nan)
+    if np.isfinite(obj).any():
+        cs = ax.contour(X, Y, obj, levels=8, colors="k", linewidths=0.6)
+        ax.clabel(cs, fontsize=7)
+    for key, v in region.violations.items():
+        if key in ("reach", "unimodal"):
+            continue
+        vv = np.where(np.isfinite(v), v, np.nan)
+        if np.nanmin(vv) < 0 < np.nanmax(vv):
+            ax.contour(X, Y, vv, levels=[0.0], linewidths=1.0, linestyles="--")
+            j, i = np.unravel_index(np.nanargmin(np.abs(vv)), vv.shape)
+            ax.annotate(key, (X[j, i], Y[j, i]), fontsize=7, color="C3")
+    if best is not None:
+        rel = best.relative()
+        ax.plot(rel[region.x_name] * xs, rel[region.y_name] * ys, "r*", ms=12, label="best")
+        ax.legend(loc="best", fontsize=8)
+    ax.set_xlabel(xl)
+    ax.set_ylabel(yl)
+    obj_name = "L / R" if region.request.objective == "L" else "peak torque / (F R)"
+    ax.set_title(f"feasible region (green), contours: {obj_name}; dashed: constraint limits",
+                 fontsize=9)
+    return ax
