@@ -642,3 +642,12 @@ def test_results_export_their_columns(tmp_path):
     path = f.to_csv(tmp_path / "forces.csv")
     header = path.read_text().splitlines()[0]
     assert "Q [N*m]" in header and "R_Bx [N]" in header
+
+
+def test_fast_result_construction_sets_every_field():
+    import dataclasses
+
+    r = fourbar(CYCLE, A1, B1, C1, D1, coupler_point=(0.1, 0.0))
+    assert set(vars(r)) == {f.name for f in dataclasses.fields(FourbarResult)}
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.theta3 = r.theta4  # type: ignore[misc]

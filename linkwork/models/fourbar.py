@@ -164,6 +164,16 @@ class FourbarResult(Result):
     }
     position_field: ClassVar[str] = "theta2"
 
+    @classmethod
+    def _fast(cls, **fields: Any) -> FourbarResult:
+        """Build without the per-field ``object.__setattr__`` of a frozen dataclass (~4 us).
+
+        Only for :func:`fourbar`, which always passes every field.
+        """
+        obj = object.__new__(cls)
+        obj.__dict__.update(fields)
+        return obj
+
     @property
     def transmission_angle(self) -> np.ndarray:
         """Angle ABO4 between the coupler and the rocker at B, in [0, pi] [rad]."""
@@ -331,13 +341,13 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
         res = _chunked(t2, a_, b_, c_, d_, w2, e2, br, p, q)
     else:
         res = _kernel(t2, a_, b_, c_, d_, w2, e2, br, p, q, None)
-    th3, th4, w3, w4, al3, al4, ax, ay, xb, yb, xp, yp, ok = res
-    if not ok.all():
+    th3, th4, w3, w4, al3, al4, ax, ay, xb, yb, xp, yp, ok, clean = res
+    if not clean and not ok.all():
         if np.isnan(t2).any() or np.isinf(t2).any():
             require_finite("theta2", t2)
         if on_fail == "raise":
             raise _fail(t2, ok, a_, b_, c_, d_)
-    return FourbarResult(
+    return FourbarResult._fast(
         theta2=t2, theta3=th3, theta4=th4, omega3=w3, omega4=w4, alpha3=al3, alpha4=al4,
         xA=ax, yA=ay, xB=xb, yB=yb, xP=xp, yP=yp, assembled=ok,
         a=a_, b=b_, c=c_, d=d_, omega2=w2, alpha2=e2, branch=int(br),
@@ -371,58 +381,101 @@ def _chunked(t2: np.ndarray, a_: Any, b_: Any, c_: Any, d_: Any, w2: Any, e2: An
         o = tuple(None if x is None else x[..., sl] for x in outs)
         _kernel(part(t2, sl), part(a_, sl), part(b_, sl), part(c_, sl), part(d_, sl),
                 part(w2, sl), part(e2, sl), br, part(p, sl), part(q, sl), o)
-    return tuple(outs)
+    return (*outs, False)
+
+
+_TRUE: dict[tuple[int, ...], np.ndarray] = {}
+
+
+def _all_true(shape: tuple[int, ...]) -> np.ndarray:
+    """A shared, read-only all-True mask of ``shape`` (the ``assembled`` field when clean)."""
+    arr = _TRUE.get(shape)
+    if arr is None:
+        if len(_TRUE) > 64:
+            _TRUE.clear()
+        arr = np.ones(shape, dtype=bool)
+        arr.flags.writeable = False
+        _TRUE[shape] = arr
+    return arr
 
 
 def _kernel(t2: np.ndarray, a_: Any, b_: Any, c_: Any, d_: Any, w2: Any, e2: Any, br: float,
             p: Any, q: Any, out: tuple[Any, ...] | None) -> tuple[Any, ...]:
-    """The closed form itself; writes into ``out`` (13 arrays or None) when given."""
+    """The closed form itself; writes into ``out`` (13 arrays or None) when given.
+
+    Returns the 13 results and ``clean``: True when every position assembles away from a toggle
+    (then no division by zero or square root of a negative number can occur, and the floating
+    point error state need not be touched).
+    """
     o: tuple[Any, ...] = out if out is not None else (None,) * 13
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        ax = np.multiply(a_, np.cos(t2), out=o[6])
-        ay = np.multiply(a_, np.sin(t2), out=o[7])
-        sx = d_ - ax          # s = O4 - A
-        sy = -ay
-        f2 = sx * sx + sy * sy
-        bb = b_ * b_
-        k = (bb - c_ * c_ + f2) / (2.0 * f2)
-        h2 = bb / f2 - k * k
-        ok = np.greater_equal(h2, 0.0, out=o[12])
-        h = np.sqrt(h2)
-        if br < 0.0:
-            h = -h
-        ux = k * sx - h * sy  # u = B - A
-        uy = k * sy + h * sx
-        vx = ux - sx          # v = B - O4
-        vy = np.subtract(uy, sy, out=o[9])
-        den = ux * vy - uy * vx
-        # omega
-        w3 = np.divide(vx * ay - vy * ax, den, out=o[2])
-        w4 = np.divide(ux * ay - uy * ax, den, out=o[3])
-        if type(w2) is not float or w2 != 1.0:
-            w3 = np.multiply(w3, w2, out=o[2])
-            w4 = np.multiply(w4, w2, out=o[3])
-        # K = alpha2 A + j(omega2^2 A + omega3^2 u - omega4^2 v)
-        w22 = w2 * w2
-        w33 = w3 * w3
-        w44 = w4 * w4
-        gx = w22 * ax + w33 * ux - w44 * vx
-        gy = w22 * ay + w33 * uy - w44 * vy
-        kx = -gy
-        ky = gx
-        if type(e2) is not float or e2 != 0.0:
-            kx = kx + e2 * ax
-            ky = ky + e2 * ay
-        al3 = np.divide(ky * vx - kx * vy, den, out=o[4])
-        al4 = np.divide(ky * ux - kx * uy, den, out=o[5])
-        th3 = np.arctan2(uy, ux, out=o[0])
-        th4 = np.arctan2(vy, vx, out=o[1])
-        xb = np.add(vx, d_, out=o[8])
-        xp = yp = None
-        if p is not None:
-            xp = np.add(ax, (p * ux - q * uy) / b_, out=o[10])
-            yp = np.add(ay, (p * uy + q * ux) / b_, out=o[11])
-    return th3, th4, w3, w4, al3, al4, ax, ay, xb, vy, xp, yp, ok
+    ax = np.multiply(a_, np.cos(t2), out=o[6])
+    ay = np.multiply(a_, np.sin(t2), out=o[7])
+    sx = d_ - ax          # s = O4 - A
+    sy = -ay
+    f2 = sx * sx + sy * sy
+    bb = b_ * b_
+    qq = f2 + (bb - c_ * c_)
+    # H = 4 f^4 (b^2/f^2 - k^2) = 16 (area of the triangle b, c, f)^2; assembles iff H >= 0
+    hh = f2 * (4.0 * bb) - qq * qq
+    if o[12] is not None:
+        ok = np.greater_equal(hh, 0.0, out=o[12])
+        clean = False
+    elif hh.min() > 0.0:             # the usual case: one reduction, no mask to build
+        ok = _all_true(np.shape(hh))
+        clean = True
+    else:
+        ok = hh >= 0.0               # (NaN also lands here)
+        clean = False
+    if clean:
+        res = _kernel_tail(ax, ay, sx, sy, f2, qq, hh, b_, d_, w2, e2, br, p, q, o)
+    else:
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            res = _kernel_tail(ax, ay, sx, sy, f2, qq, hh, b_, d_, w2, e2, br, p, q, o)
+    return (*res, ok, clean)
+
+
+def _kernel_tail(ax: Any, ay: Any, sx: Any, sy: Any, f2: Any, qq: Any, hh: Any, b_: Any,
+                 d_: Any, w2: Any, e2: Any, br: float, p: Any, q: Any,
+                 o: tuple[Any, ...]) -> tuple[Any, ...]:
+    inv = 0.5 / f2
+    k = qq * inv
+    root = np.sqrt(hh)
+    h = root * inv if br > 0.0 else root * -inv
+    ux = k * sx - h * sy  # u = B - A
+    uy = k * sy + h * sx
+    vx = ux - sx          # v = B - O4
+    vy = np.subtract(uy, sy, out=o[9])
+    den = root * (0.5 * br)          # u x v = h f^2
+    # omega: n3 = -(A x v), n4 = -(A x u)
+    n3 = vx * ay - vy * ax
+    n4 = ux * ay - uy * ax
+    w3 = np.divide(n3, den, out=o[2])
+    w4 = np.divide(n4, den, out=o[3])
+    if type(w2) is not float or w2 != 1.0:
+        w3 = np.multiply(w3, w2, out=o[2])
+        w4 = np.multiply(w4, w2, out=o[3])
+    # alpha: with K = alpha2 A + jG, G = omega2^2 A + omega3^2 u - omega4^2 v,
+    # -(K x v) = G.v + alpha2 n3 and -(K x u) = G.u + alpha2 n4
+    w22 = w2 * w2
+    w33 = w3 * w3
+    w44 = w4 * w4
+    gx = w22 * ax + w33 * ux - w44 * vx
+    gy = w22 * ay + w33 * uy - w44 * vy
+    num3 = gx * vx + gy * vy
+    num4 = gx * ux + gy * uy
+    if type(e2) is not float or e2 != 0.0:
+        num3 = num3 + e2 * n3
+        num4 = num4 + e2 * n4
+    al3 = np.divide(num3, den, out=o[4])
+    al4 = np.divide(num4, den, out=o[5])
+    th3 = np.arctan2(uy, ux, out=o[0])
+    th4 = np.arctan2(vy, vx, out=o[1])
+    xb = np.add(vx, d_, out=o[8])
+    xp = yp = None
+    if p is not None:
+        xp = np.add(ax, (p * ux - q * uy) / b_, out=o[10])
+        yp = np.add(ay, (p * uy + q * ux) / b_, out=o[11])
+    return th3, th4, w3, w4, al3, al4, ax, ay, xb, vy, xp, yp
 
 
 # ---------------------------------------------------------------------------------------------
