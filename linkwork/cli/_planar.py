@@ -92,8 +92,8 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray, console: A
     phi = doc.positions()
     kin, dyn = _solve(doc, phi)
     s = mech.structure
-    console.print(f"[bold]{doc.name or 'planar mechanism'}[/bold]: mobility W = {s.mobility}; "
-                  f"structure {s.formula()}")
+    title = escape(doc.name or "planar mechanism")
+    console.print(f"[bold]{title}[/bold]: mobility W = {s.mobility}; structure {s.formula()}")
     dcs = dead_centres(kin)
     if dcs:
         unit = "deg" if crank else "mm"

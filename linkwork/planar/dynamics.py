@@ -45,6 +45,7 @@ from linkwork.planar.kinematics import (
     _Par,
     _rows,
     _State,
+    _state_of,
 )
 from linkwork.planar.model import Joint, Linear, Mechanism, Prismatic, Revolute
 from linkwork.results import Result
@@ -147,14 +148,7 @@ class Dynamics(Result):
 
 
 def _state_from(kin: Kinematics) -> _State:
-    nb, n = kin.x.shape
-    st = _State(nb, n)
-    for i in range(nb):
-        st.X[i], st.Y[i] = kin.x[i], kin.y[i]
-        st.set_angle(i, kin.theta[i])
-        st.VX[i], st.VY[i], st.W[i] = kin.vx[i], kin.vy[i], kin.omega[i]
-        st.AX[i], st.AY[i], st.E[i] = kin.ax[i], kin.ay[i], kin.eps[i]
-    return st
+    return _state_of(kin)
 
 
 def kinetic_energy(kin: Kinematics) -> Arr:

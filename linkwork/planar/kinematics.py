@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any, ClassVar, Literal
 
 import numpy as np
@@ -182,6 +183,10 @@ class Kinematics(Result):
         "vx": "m/s", "vy": "m/s", "omega": "rad/s", "ax": "m/s^2", "ay": "m/s^2",
         "eps": "rad/s^2", "assembled": ""}
 
+    @cached_property
+    def _cos_sin(self) -> tuple[Arr, Arr]:
+        return np.cos(self.theta), np.sin(self.theta)
+
     @property
     def n(self) -> int:
         """Number of positions."""
@@ -199,7 +204,7 @@ class Kinematics(Result):
         i = self._row(body)
         p = self.mechanism.body(body).point(point) if isinstance(point, str) else (
             float(point[0]), float(point[1]))
-        c, s = np.cos(self.theta[i]), np.sin(self.theta[i])
+        c, s = self._cos_sin[0][i], self._cos_sin[1][i]
         rx, ry = c * p[0] - s * p[1], s * p[0] + c * p[1]
         w, e = self.omega[i], self.eps[i]
         return PointMotion(self.phi1, self.x[i] + rx, self.y[i] + ry,
@@ -1077,9 +1082,10 @@ class DeadCentre:
 def _state_of(kin: Kinematics) -> _State:
     nb, n = kin.x.shape
     st = _State(nb, n)
+    cos, sin = kin._cos_sin
     for i in range(nb):
         st.X[i], st.Y[i] = kin.x[i], kin.y[i]
-        st.set_angle(i, kin.theta[i])
+        st.set_angle(i, kin.theta[i], cos[i], sin[i])
         st.VX[i], st.VY[i], st.W[i] = kin.vx[i], kin.vy[i], kin.omega[i]
         st.AX[i], st.AY[i], st.E[i] = kin.ax[i], kin.ay[i], kin.eps[i]
     return st
