@@ -120,3 +120,17 @@ def test_result_exports(tmp_path):
     data = d.to_dict()
     assert data["units"]["Q"] == "N*m" and len(data["columns"]["Q"]) == 5
     assert k.to_csv(tmp_path / "k.csv").read_text().startswith("phi1 [rad]")
+
+
+def test_newton_group_long_arrays_match_continuation():
+    """Batched Newton (n > 100) = the one-by-one continuation; closure holds."""
+    mech, phi, _ = m_triad()
+    long = np.linspace(phi[0], phi[-1], 301)
+    k_long = kinematics(mech, long)
+    k_seq = kinematics(mech, long[:100])
+    np.testing.assert_allclose(k_long.theta[:, :100], k_seq.theta, atol=1e-10)
+    np.testing.assert_allclose(k_long.eps[:, :100], k_seq.eps, rtol=1e-8, atol=1e-8)
+    P = k_long.point("l3", "P3")
+    Q = k_long.point("tern", "P3")
+    np.testing.assert_allclose(P.x, Q.x, atol=1e-12)
+    np.testing.assert_allclose(P.vy, Q.vy, atol=1e-10)

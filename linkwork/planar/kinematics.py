@@ -609,45 +609,95 @@ def _known_part(mech: Mechanism, st: _State, g: Group, rows: list[tuple[int, int
     return out
 
 
+def _newton_state(mech: Mechanism, st: _State, members: list[int], pos: Arr) -> _State:
+    """A state holding the known bodies at positions ``pos`` (group members to be set)."""
+    sub = _State(len(mech.body_names), pos.shape[0])
+    for bi in range(len(mech.body_names)):
+        if bi not in members:
+            sub.X[bi], sub.Y[bi] = st.X[bi][pos], st.Y[bi][pos]
+            sub.set_angle(bi, st.T[bi][pos], st.C[bi][pos], st.S[bi][pos])
+    return sub
+
+
+def _newton_iterate(mech: Mechanism, sub: _State, g: Group, members: list[int], q: Arr,
+                    z: Arr, tol: float, max_iter: int) -> tuple[Arr, Arr]:
+    """Newton on all positions of ``sub`` at once from ``z`` (n, k, 3); returns (z, converged)."""
+    n = sub.n
+    done = np.zeros(n, dtype=bool)
+    z = z.copy()
+    for _ in range(max_iter):
+        for k, bi in enumerate(members):
+            sub.X[bi], sub.Y[bi] = z[:, k, 0], z[:, k, 1]
+            sub.set_angle(bi, z[:, k, 2])
+        rows = _group_rows(mech, sub, g, need_gamma=False)
+        J, _ = _assemble(mech, sub, g, rows)
+        res = np.stack([r["res"] - (q if r.get("drive") else 0.0) for _, _, r in rows], axis=1)
+        with np.errstate(invalid="ignore"):
+            done = np.max(np.abs(res), axis=1) < tol
+        todo = ~done & np.isfinite(res).all(axis=1)
+        if not todo.any():
+            break
+        with np.errstate(all="ignore"):
+            det = np.linalg.det(J[todo])
+            ok = np.abs(det) > 1e-300
+            dz = np.full((int(todo.sum()), res.shape[1]), np.nan)
+            if ok.any():
+                dz[ok] = np.linalg.solve(J[todo][ok], -res[todo][ok][..., None])[..., 0]
+        z[todo] = z[todo] + dz.reshape(-1, *z.shape[1:])
+    return z, done
+
+
 def _solve_newton(mech: Mechanism, st: _State, g: Group, q: Arr, tol: float = 1e-12,
-                  max_iter: int = 50) -> None:
+                  max_iter: int = 30) -> None:
+    """Newton for a general group, continued over the positions.
+
+    Up to 100 positions are solved one after the other, each from the previous solution (the
+    first from the bodies' ``guess`` poses). For longer arrays a coarse subset of about 100
+    positions is continued that way, then every position is solved at once (batched Newton)
+    starting from the coarse solution just before it; positions that still fail are retried
+    one by one from their predecessor.
+    """
     members = [mech.index[b] for b in g.bodies]
     n = st.n
-    z = np.empty((len(members), 3))
+    nm = len(members)
+    tol = tol * _length_scale(mech)
+    z0 = np.empty((nm, 3))
     for k, bname in enumerate(g.bodies):
         gs = mech.body(bname).guess
-        z[k] = gs if gs is not None else (0.0, 0.0, 0.0)
-    sol = np.full((n, len(members), 3), np.nan)
-    scale = _length_scale(mech)
-    for i in range(n):
-        sub = _State(len(mech.body_names), 1)
-        for bi in range(len(mech.body_names)):
-            if bi in members:
-                continue
-            sub.X[bi], sub.Y[bi] = st.X[bi][i:i + 1], st.Y[bi][i:i + 1]
-            sub.set_angle(bi, st.T[bi][i:i + 1])
-        ok = False
-        for _ in range(max_iter):
-            for k, bi in enumerate(members):
-                sub.X[bi], sub.Y[bi] = z[k, 0:1], z[k, 1:2]
-                sub.set_angle(bi, z[k, 2:3])
-            rows = _group_rows(mech, sub, g, need_gamma=False)
-            J, _ = _assemble(mech, sub, g, rows)
-            res = np.array([float(r["res"][0]) - (float(q[i]) if r.get("drive") else 0.0)
-                            for _, _, r in rows])
-            if np.max(np.abs(res)) < tol * scale:
-                ok = True
-                break
-            try:
-                dz = np.linalg.solve(J[0], -res)
-            except np.linalg.LinAlgError:
-                break
-            z = z + dz.reshape(z.shape)
-        if ok:
-            sol[i] = z
+        z0[k] = gs if gs is not None else (0.0, 0.0, 0.0)
+
+    def sequential(pos: Arr, start: Arr) -> tuple[Arr, Arr]:
+        out = np.full((pos.shape[0], nm, 3), np.nan)
+        okk = np.zeros(pos.shape[0], dtype=bool)
+        z = start
+        for t, i in enumerate(pos):
+            sub = _newton_state(mech, st, members, np.array([i]))
+            zi, conv = _newton_iterate(mech, sub, g, members, q[i:i + 1], z[None], tol,
+                                       max_iter)
+            if conv[0]:
+                out[t], okk[t] = zi[0], True
+                z = zi[0]
+        return out, okk
+
+    if n <= 100:
+        sol, good = sequential(np.arange(n), z0)
+    else:
+        idx = np.unique(np.r_[np.arange(0, n, int(np.ceil(n / 100))), n - 1])
+        zc, okc = sequential(idx, z0)
+        idx, zc = idx[okc], zc[okc]
+        if idx.size == 0:
+            sol, good = np.full((n, nm, 3), np.nan), np.zeros(n, dtype=bool)
         else:
-            st.bad[i] = True
-            z = sol[i - 1] if i > 0 and np.isfinite(sol[i - 1]).all() else z
+            j = np.clip(np.searchsorted(idx, np.arange(n), side="right") - 1, 0, None)
+            sub = _newton_state(mech, st, members, np.arange(n))
+            sol, good = _newton_iterate(mech, sub, g, members, q, zc[j], tol, max_iter)
+            for i in np.flatnonzero(~good):
+                if i > 0 and good[i - 1]:
+                    zi, conv = sequential(np.array([i]), sol[i - 1])
+                    if conv[0]:
+                        sol[i], good[i] = zi[0], True
+    sol[~good] = np.nan
+    st.bad |= ~good
     for k, bi in enumerate(members):
         st.X[bi], st.Y[bi] = sol[:, k, 0], sol[:, k, 1]
         st.set_angle(bi, sol[:, k, 2])
