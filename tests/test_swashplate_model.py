@@ -318,3 +318,16 @@ def test_drive_forces_jams():
     d = sw.Design(0.1, 0.2, 0.12, 30 * DEG)
     with pytest.raises(AssemblyError, match="jams"):
         sw.drive_forces(d, 100.0, rho_guide=60 * DEG)
+
+
+def test_characteristics_batch_equals_one_by_one():
+    # regression: a root hit exactly in one design must not disturb the others' refinement
+    rng = np.random.default_rng(3)
+    n = 40
+    p = (0.1, rng.uniform(0.06, 0.15, n), rng.uniform(0.25, 0.4, n), rng.uniform(0.05, 0.7, n),
+         rng.uniform(-0.03, 0.03, n), rng.uniform(-0.03, 0.03, n))
+    c = sw.characteristics(*p)
+    for i in range(n):
+        ci = sw.characteristics(0.1, *(x[i] for x in p[1:]))
+        for key in ("H", "phi_min", "phi_max", "delta_f", "delta_r", "Pi_v_max"):
+            assert abs(getattr(c, key)[i] - getattr(ci, key)) < 1e-11, (key, i)

@@ -434,19 +434,25 @@ def _root(fp: Callable[[np.ndarray], np.ndarray], lo: np.ndarray, hi: np.ndarray
     bracketed = np.sign(fa) * np.sign(fb) <= 0
     fa = np.where(bracketed, fa, -1.0)
     fb = np.where(bracketed, fb, 1.0)
+    done = ~bracketed | (fb == 0)
+    b = np.where(fa == 0, a, b)
+    done |= fa == 0
     for _ in range(iters):
+        if np.all(done):
+            break
         den = fb - fa
         x = np.where(den != 0, (a * fb - b * fa) / np.where(den != 0, den, 1.0), 0.5 * (a + b))
         lo_, hi_ = np.minimum(a, b), np.maximum(a, b)
         x = np.where((x > lo_) & (x < hi_), x, 0.5 * (a + b))
         fx = fp(x)
-        fx = np.where(bracketed & np.isfinite(fx), fx, 0.0)
+        fx = np.where(np.isfinite(fx), fx, 0.0)
         flip = np.sign(fx) * np.sign(fb) < 0
-        a = np.where(flip, b, a)
-        fa = np.where(flip, fb, 0.5 * fa)
-        b, fb = x, fx
-        if np.all((np.abs(b - a) <= tol * (1.0 + np.abs(b))) | (fb == 0)):
-            break
+        # converged entries are frozen (a root hit exactly, or a bracket at machine precision)
+        a = np.where(done, a, np.where(flip, b, a))
+        fa = np.where(done, fa, np.where(flip, fb, 0.5 * fa))
+        b = np.where(done, b, x)
+        fb = np.where(done, fb, fx)
+        done |= (np.abs(b - a) <= tol * (1.0 + np.abs(b))) | (fb == 0)
     return b, bracketed
 
 
