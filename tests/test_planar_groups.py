@@ -282,3 +282,45 @@ def test_slide_derivatives_by_finite_differences():
     sm = kinematics(mech, phi - h).slide("S")[0]
     np.testing.assert_allclose(sd, (sp - sm) / (2 * h), atol=1e-8)
     np.testing.assert_allclose(sdd, (sp - 2 * s + sm) / h**2, atol=1e-4)
+
+
+def test_inverted_joint_roles_give_the_same_motion():
+    """A prismatic joint whose line is on the moving slider (frame point on it), a rotated
+    slider frame (rel_angle), and a driver joint listed as (crank, frame): same mechanism."""
+    base = crank_slider(0.1, 0.35, 0.03, guide_angle=0.5, masses=(1, 2, 3))
+    phi = np.linspace(0, 2 * np.pi, 37)
+    k0 = kinematics(base, phi, omega1=3.0, eps1=1.0)
+    d0 = inverse_dynamics(k0, gravity=(0.0, -9.81))
+    rel = 0.3
+    # slider frame rotated by rel about B; the guide line lies in the slider, through B,
+    # at angle -rel in its frame (= 0.5 in the world); the frame's point G stays on it
+    slider = Body("slider", {"B": (0.0, 0.0)}, mass=3.0)
+    frame = Body("frame", {"O": (0.0, 0.0), "G": (-0.03 * np.sin(0.5), 0.03 * np.cos(0.5))})
+    b = {x.name: x for x in base.bodies}
+    joints = (Revolute("O", "crank", "frame"), Revolute("A", "crank", "rod"),
+              Revolute("B", "rod", "slider"),
+              Prismatic("G", "slider", "frame", angle=0.5 - (0.5 + rel), through="B",
+                        point="G", rel_angle=-(0.5 + rel)))
+    mech = Mechanism(frame, (b["crank"], b["rod"], slider), joints, Crank("O"), {"B": 1})
+    k1 = kinematics(mech, -phi, omega1=-3.0, eps1=-1.0)
+    np.testing.assert_allclose(k1.angle("crank"), k0.angle("crank"), atol=1e-12)
+    _check_joints(k1)
+    B0, B1 = k0.point("slider", "B"), k1.point("slider", "B")
+    for f in ("x", "y", "vx", "vy", "ax", "ay"):
+        np.testing.assert_allclose(getattr(B1, f), getattr(B0, f), atol=1e-11)
+    np.testing.assert_allclose(k1.angle("slider"), 0.5 + rel, atol=1e-12)
+    d1 = inverse_dynamics(k1, gravity=(0.0, -9.81))
+    # the driver joint is (crank, frame): Q is the torque on the frame through the crank
+    np.testing.assert_allclose(d1.Q, -d0.Q, atol=1e-9 * np.max(np.abs(d0.Q)))
+    np.testing.assert_allclose(d1.reaction("O")[0], -d0.reaction("O")[0], atol=1e-9)
+    np.testing.assert_allclose(d1.shaking_fx, d0.shaking_fx, atol=1e-9)
+    np.testing.assert_allclose(d1.shaking_m, d0.shaking_m, atol=1e-9)
+    # joint G is now (slider, frame): its reaction is the force of the slider on the frame
+    np.testing.assert_allclose(d1.reaction("G")[0], -d0.reaction("G")[0], atol=1e-9)
+    np.testing.assert_allclose(d1.reaction("G")[1], -d0.reaction("G")[1], atol=1e-9)
+    # ... applied at the frame's point G (on the line), not at B: the couple makes up the
+    # difference of the moment: m1 = m0 + (B - G) x F0
+    F0x, F0y = d0.reaction("G")
+    i = d0.joints.index("G")
+    arm = (d0.px[i] - d1.px[i]) * F0y - (d0.py[i] - d1.py[i]) * F0x
+    np.testing.assert_allclose(-d1.mz[i], d0.mz[i] + arm, atol=1e-9)
