@@ -525,14 +525,19 @@ def test_kinetostatics_statics_of_a_weightless_linkage():
 
 
 def test_kinetostatics_paper001_example_without_loads_is_inertial_only():
-    """Paper 001's linkage (masses 1/3/2 kg at midpoints, omega=10 1/s): Q = dT/dt / omega."""
+    """Paper 001's linkage (masses 1/3/2 kg at midpoints, omega=10 1/s): Q = dT/dt / omega.
+
+    Inertias default to thin rods, m l^2/12, included in T here.
+    """
     m = (1.0, 3.0, 2.0)
     res = fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, 10.0, mass=m)
     k = res.kinematics
     T = np.zeros_like(CYCLE)
     for li, link in enumerate(("crank", "coupler", "rocker")):
-        _, _, vx, vy, _, _ = k.point(link, (A1, B1, C1)[li] / 2)
-        T = T + 0.5 * m[li] * (vx * vx + vy * vy)
+        length = (A1, B1, C1)[li]
+        _, _, vx, vy, _, _ = k.point(link, length / 2)
+        w = (10.0, k.omega3, k.omega4)[li]
+        T = T + 0.5 * m[li] * (vx * vx + vy * vy) + 0.5 * m[li] * length**2 / 12 * w * w
     dT = np.gradient(T, CYCLE) * 10.0  # dT/dt = dT/dtheta2 * omega2
     np.testing.assert_allclose(res.Q[1:-1] * 10.0, dT[1:-1], atol=2e-3 * np.abs(dT).max())
 
@@ -651,3 +656,13 @@ def test_fast_result_construction_sets_every_field():
     assert set(vars(r)) == {f.name for f in dataclasses.fields(FourbarResult)}
     with pytest.raises(dataclasses.FrozenInstanceError):
         r.theta3 = r.theta4  # type: ignore[misc]
+
+
+def test_kinetostatics_scalar_points_mean_points_on_the_link_line():
+    kw = {"mass": MASS, "inertia": INERTIA, "gravity": GRAV, "moment": MOMENT}
+    r1 = fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, 10.0, com=(0.03, 0.2, 0.05),
+                               force=FORCE, force_point=(0.1, 0.0, 0.2), **kw)
+    r2 = fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, 10.0, com=((0.03, 0), (0.2, 0), (0.05, 0)),
+                               force=FORCE, force_point=((0.1, 0), (0.0, 0), (0.2, 0)), **kw)
+    np.testing.assert_array_equal(r1.Q, r2.Q)
+    np.testing.assert_array_equal(r1.R_By, r2.R_By)

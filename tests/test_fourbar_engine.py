@@ -170,3 +170,16 @@ def test_fourbar_assembly_failure_matches_engine(branch):
     i4 = kin.bodies.index("rocker")
     _close(r.omega4[good], kin.omega[i4][good], np.abs(kin.omega[i4][good]).max())
     _close(r.alpha4[good], kin.eps[i4][good], np.abs(kin.eps[i4][good]).max())
+
+
+def test_fourbar_kinetostatics_defaults_equal_engine_defaults():
+    """Masses only: thin-rod inertias and midpoint centres of mass on both sides; gravity."""
+    design = DESIGNS["crank-rocker (paper 001)"]
+    t2 = np.linspace(0.0, 2 * np.pi, 361)
+    kin = kinematics(engine_fourbar(*design, masses=MASS, omega1=W2, eps1=E2), t2)
+    dyn = inverse_dynamics(kin, gravity=GRAV)
+    res = fourbar_kinetostatics(t2, *design, W2, E2, mass=MASS, gravity=GRAV)
+    _close(res.Q, dyn.Q, np.abs(dyn.Q).max())
+    fx, fy = dyn.reaction("A")
+    _close(res.R_Ax, fx, np.abs(dyn.fx).max())
+    _close(res.R_Ay, fy, np.abs(dyn.fy).max())

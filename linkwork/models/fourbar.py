@@ -808,15 +808,23 @@ def _vec(name: str, x: Any) -> tuple[Any, Any]:
     return _finite(name + "[0]", x[0]), _finite(name + "[1]", x[1])
 
 
+def _local_point(name: str, x: Any) -> tuple[Any, Any]:
+    """A point in a link's frame: a pair (p, q), or a float p meaning (p, 0)."""
+    if isinstance(x, int | float | np.floating | np.integer) or (
+            isinstance(x, np.ndarray) and x.ndim == 0):
+        return _finite(name, float(x)), 0.0
+    return _vec(name, x)
+
+
 def fourbar_kinetostatics(
     theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
     omega2: ArrayLike = 1.0, alpha2: ArrayLike = 0.0, branch: int = +1, *,
     mass: tuple[ArrayLike, ArrayLike, ArrayLike] = (0.0, 0.0, 0.0),
-    inertia: tuple[ArrayLike, ArrayLike, ArrayLike] = (0.0, 0.0, 0.0),
-    com: tuple[tuple[ArrayLike, ArrayLike], ...] | None = None,
+    inertia: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None] = (None, None, None),
+    com: tuple[Any, Any, Any] | None = None,
     gravity: tuple[ArrayLike, ArrayLike] = (0.0, 0.0),
     force: tuple[tuple[ArrayLike, ArrayLike], ...] | None = None,
-    force_point: tuple[tuple[ArrayLike, ArrayLike], ...] | None = None,
+    force_point: tuple[Any, Any, Any] | None = None,
     moment: tuple[ArrayLike, ArrayLike, ArrayLike] = (0.0, 0.0, 0.0),
     on_fail: str = "raise",
 ) -> FourbarForces:
@@ -832,20 +840,23 @@ def fourbar_kinetostatics(
         As in :func:`fourbar`.
     mass : 3 floats, optional
         Link masses [kg] (default 0).
-    inertia : 3 floats, optional
-        Centroidal moments of inertia [kg m^2] (default 0).
-    com : 3 pairs (p, q), optional
+    inertia : 3 floats or None, optional
+        Centroidal moments of inertia [kg m^2]; ``None`` (the default) is a thin uniform rod,
+        ``m l^2 / 12`` with the link's length l (as :func:`linkwork.planar.fourbar`); give 0
+        for none.
+    com : 3 pairs (p, q) or 3 floats, optional
         Centre of mass of each link in its own frame [m] (see :meth:`FourbarResult.point`:
-        origin at O2, A, O4; x along O2 -> A, A -> B, O4 -> B); default: link midpoints
+        origin at O2, A, O4; x along O2 -> A, A -> B, O4 -> B); a float p means ``(p, 0)``, a
+        point on the link's line at distance p from its first joint.  Default: link midpoints
         ``(a/2, 0), (b/2, 0), (c/2, 0)`` as in paper 004.
     gravity : (gx, gy), optional
         Gravitational acceleration in the frame axes [m/s^2]; default ``(0, 0)`` (off); e.g.
         ``(0, -9.81)`` when the frame line is horizontal and y points up.
     force : 3 pairs (Fx, Fy), optional
         External force on each link, in the frame axes [N] (default none).
-    force_point : 3 pairs (p, q), optional
-        Point of application of each external force, in the link's own frame [m]; default: the
-        centre of mass.
+    force_point : 3 pairs (p, q) or 3 floats, optional
+        Point of application of each external force, in the link's own frame [m] (a float p
+        means ``(p, 0)``); default: the centre of mass.
     moment : 3 floats, optional
         External moment (couple) on each link [N m], counter-clockwise positive.
     on_fail : {"raise", "nan"}
@@ -875,18 +886,20 @@ def fourbar_kinetostatics(
     """
     kin = fourbar(theta2, a, b, c, d, omega2, alpha2, branch, on_fail=on_fail)
     m2, m3, m4 = (_finite(f"mass[{i}]", x) for i, x in enumerate(_triple("mass", mass, None)))
-    j2, j3, j4 = (_finite(f"inertia[{i}]", x)
+    lengths = (kin.a, kin.b, kin.c)
+    j2, j3, j4 = (_finite(f"inertia[{i}]", x) if x is not None
+                  else (m2, m3, m4)[i] * lengths[i] * lengths[i] / 12.0
                   for i, x in enumerate(_triple("inertia", inertia, None)))
     for nm, mm in (("mass", (m2, m3, m4)), ("inertia", (j2, j3, j4))):
         for i, x in enumerate(mm):
             if np.any(np.asarray(x) < 0):
                 raise ParameterError(f"{nm}[{i}]", np.min(x), "must be >= 0")
     com_ = _triple("com", com, ((kin.a / 2, 0.0), (kin.b / 2, 0.0), (kin.c / 2, 0.0)))
-    coms = [_vec(f"com[{i}]", x) for i, x in enumerate(com_)]
+    coms = [_local_point(f"com[{i}]", x) for i, x in enumerate(com_)]
     frc = [_vec(f"force[{i}]", x)
            for i, x in enumerate(_triple("force", force, ((0.0, 0.0),) * 3))]
     fpt_ = _triple("force_point", force_point, com_)
-    fpts = [_vec(f"force_point[{i}]", x) for i, x in enumerate(fpt_)]
+    fpts = [_local_point(f"force_point[{i}]", x) for i, x in enumerate(fpt_)]
     mom = [_finite(f"moment[{i}]", x) for i, x in enumerate(_triple("moment", moment, None))]
     gx, gy = _vec("gravity", gravity)
 
