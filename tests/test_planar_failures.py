@@ -128,3 +128,14 @@ def test_bad_inputs_name_parameter():
         inverse_dynamics(k, loads=[PointForce("crank", "A", [1.0, 2.0, 3.0], 0.0)])
     with pytest.raises(ParameterError, match="gravity"):
         inverse_dynamics(k, gravity=(0.0, -9.81, 0.0))
+
+
+def test_change_point_toggle_is_reported():
+    """a + b = c + d: at phi1 = 0 coupler and rocker are collinear, velocities undefined."""
+    mech = fourbar(0.1, 0.3, 0.2, 0.2)
+    phi = np.linspace(0, 2 * np.pi, 13)
+    with pytest.raises(AssemblyError, match=r"singular \(toggle\).*\[0, 0 deg\], \[360, 360"):
+        kinematics(mech, phi)
+    k = kinematics(mech, phi, on_fail="nan")
+    np.testing.assert_array_equal(k.assembled, [False] + [True] * 11 + [False])
+    assert np.isnan(k.omega[3][0]) and np.isfinite(k.omega[3][1:-1]).all()

@@ -920,17 +920,24 @@ def _closure_rows(mech: Mechanism, st: _State, j: Joint, pars: dict[int, _Par], 
 
 def _cramer(st: _State, rows: list[tuple[list[Arr | float], Arr]], scale: Arr | float
             ) -> list[Arr]:
-    """Solve 1x1 or 2x2 systems position by position; singular -> NaN, flagged."""
+    """Solve 1x1 or 2x2 systems position by position; singular -> NaN.
+
+    A 2 x 2 system is singular (a toggle) where ``|det|`` is below 1e-7 times the product of its
+    column norms (the sine of the angle between the columns); a 1 x 1 one where the coefficient
+    is below 1e-7 ``scale`` (a length). Near a toggle rounding alone leaves that sine near
+    1e-8, so such positions would otherwise give arbitrary finite rates.
+    """
     with np.errstate(invalid="ignore", divide="ignore"):
         if len(rows) == 1:
             (a,), r = rows[0]
             a = np.asarray(a) + np.zeros(st.n)
-            sing = ~(np.abs(a) > 1e-10 * np.asarray(scale))
+            sing = ~(np.abs(a) > 1e-7 * np.asarray(scale))
             return [np.where(sing, np.nan, r / np.where(sing, 1.0, a))]
         (a11, a12), r1 = rows[0]
         (a21, a22), r2 = rows[1]
         det = np.asarray(a11 * a22 - a12 * a21) + np.zeros(st.n)
-        sing = ~(np.abs(det) > 1e-10 * np.asarray(scale))
+        norm = np.hypot(a11, a21) * np.hypot(a12, a22)
+        sing = ~(np.abs(det) > 1e-7 * norm)
         inv = 1.0 / np.where(sing, np.nan, det)
         return [(r1 * a22 - r2 * a12) * inv, (a11 * r2 - a21 * r1) * inv]
 
