@@ -666,3 +666,21 @@ def test_kinetostatics_scalar_points_mean_points_on_the_link_line():
                                force=FORCE, force_point=((0.1, 0), (0.0, 0), (0.2, 0)), **kw)
     np.testing.assert_array_equal(r1.Q, r2.Q)
     np.testing.assert_array_equal(r1.R_By, r2.R_By)
+
+
+def test_blocked_kinetostatics_equals_small_calls():
+    n = 20000
+    t2 = np.linspace(-np.pi, np.pi, n)
+    press = -100.0 * (1 + np.sin(t2))                  # a force given per position
+    kw = {"mass": MASS, "inertia": INERTIA, "com": COM, "gravity": GRAV, "moment": MOMENT,
+          "force_point": FPOINT}
+    big = fourbar_kinetostatics(t2, A1, B1, C1, D1, 10.0, -30.0, -1,
+                                force=((0, 0), (0, 0), (0.0, press)), **kw)
+    for lo in range(0, n, 6000):
+        sl = slice(lo, min(lo + 6000, n))
+        small = fourbar_kinetostatics(t2[sl], A1, B1, C1, D1, 10.0, -30.0, -1,
+                                      force=((0, 0), (0, 0), (0.0, press[sl])), **kw)
+        for name in ("R_Ox", "R_Oy", "R_Ax", "R_Ay", "R_Bx", "R_By", "R_Cx", "R_Cy", "Q",
+                     "shaking_force_x", "shaking_force_y", "shaking_moment"):
+            np.testing.assert_allclose(getattr(big, name)[sl], getattr(small, name),
+                                       rtol=1e-14, atol=1e-12)

@@ -371,16 +371,11 @@ def _chunked(t2: np.ndarray, a_: Any, b_: Any, c_: Any, d_: Any, w2: Any, e2: An
         outs += [None, None]
     outs.append(np.empty(shape, dtype=bool))
 
-    def part(x: Any, sl: slice) -> Any:
-        if x is None or type(x) is float or np.ndim(x) == 0 or np.shape(x)[-1] == 1:
-            return x
-        return x[..., sl]
-
     for lo in range(0, n, _CHUNK):
         sl = slice(lo, min(lo + _CHUNK, n))
         o = tuple(None if x is None else x[..., sl] for x in outs)
-        _kernel(part(t2, sl), part(a_, sl), part(b_, sl), part(c_, sl), part(d_, sl),
-                part(w2, sl), part(e2, sl), br, part(p, sl), part(q, sl), o)
+        _kernel(_part(t2, sl), _part(a_, sl), _part(b_, sl), _part(c_, sl), _part(d_, sl),
+                _part(w2, sl), _part(e2, sl), br, _part(p, sl), _part(q, sl), o)
     return (*outs, False)
 
 
@@ -904,17 +899,57 @@ def fourbar_kinetostatics(
     gx, gy = _vec("gravity", gravity)
 
     k = kin
-    w2, e2 = k.omega2, k.alpha2
-    ux, uy = k.xB - k.xA, k.yB - k.yA
-    vx, vy = k.xB - k.d, k.yB
+    flat_loads = (m2, m3, m4, j2, j3, j4, *coms[0], *coms[1], *coms[2], *fpts[0], *fpts[1],
+                  *fpts[2], *frc[0], *frc[1], *frc[2], *mom, gx, gy)
+    kin_arrays = (k.xA, k.yA, k.xB, k.yB, k.omega3, k.omega4, k.alpha3, k.alpha4, k.a, k.b, k.c,
+                  k.d, k.omega2, k.alpha2)
+    shape = np.broadcast_shapes(*(np.shape(x) for x in (*kin_arrays, *flat_loads)))
+    n = shape[-1] if shape else 1
+    if n >= 2 * _CHUNK:   # blocks keep the temporaries in the cache (see fourbar())
+        outs = [np.empty(shape) for _ in range(12)]
+        for lo in range(0, n, _CHUNK):
+            sl = slice(lo, min(lo + _CHUNK, n))
+            vals = _reactions(*(_part(x, sl) for x in kin_arrays),
+                              *(_part(x, sl) for x in flat_loads))
+            for o, v in zip(outs, vals, strict=True):
+                o[..., sl] = v
+    else:
+        outs = [np.broadcast_to(np.asarray(v, dtype=float), shape)
+                for v in _reactions(*kin_arrays, *flat_loads)]
+    rox, roy, rax, ray, rbx, rby, rcx, rcy, q_drive, sfx, sfy, smz = outs
+    return FourbarForces(
+        theta2=k.theta2, R_Ox=rox, R_Oy=roy, R_Ax=rax, R_Ay=ray, R_Bx=rbx, R_By=rby, R_Cx=rcx,
+        R_Cy=rcy, Q=q_drive, shaking_force_x=sfx, shaking_force_y=sfy, shaking_moment=smz,
+        kinematics=kin,
+    )
+
+
+def _part(x: Any, sl: slice) -> Any:
+    """``x[..., sl]`` for arrays running over the positions; scalars and (m, 1) as they are."""
+    if x is None or type(x) is float or np.ndim(x) == 0 or np.shape(x)[-1] == 1:
+        return x
+    return x[..., sl]
+
+
+def _reactions(xa: Any, ya: Any, xb: Any, yb: Any, w3: Any, w4: Any, al3: Any, al4: Any,
+               a: Any, b: Any, c: Any, d: Any, w2: Any, e2: Any,
+               *loads: Any) -> tuple[Any, ...]:
+    """The kinetostatic closed form on (a block of) positions; see fourbar_kinetostatics."""
+    masses, inertias = loads[0:3], loads[3:6]
+    coms = (loads[6:8], loads[8:10], loads[10:12])
+    fpts = (loads[12:14], loads[14:16], loads[16:18])
+    frc = (loads[18:20], loads[20:22], loads[22:24])
+    mom = loads[24:27]
+    gx, gy = loads[27], loads[28]
+    ux, uy = xb - xa, yb - ya
+    vx, vy = xb - d, yb
     den = ux * vy - uy * vx
     # unit vectors of the links' own x axes
-    frames = ((k.xA / k.a, k.yA / k.a), (ux / k.b, uy / k.b), (vx / k.c, vy / k.c))
-    omegas = (w2, k.omega3, k.omega4)
-    alphas = (e2, k.alpha3, k.alpha4)
+    frames = ((xa / a, ya / a), (ux / b, uy / b), (vx / c, vy / c))
+    omegas = (w2, w3, w4)
+    alphas = (e2, al3, al4)
     # acceleration of each link's reference joint: O2, A, O4
-    a_ref = ((0.0, 0.0), (-e2 * k.yA - w2 * w2 * k.xA, e2 * k.xA - w2 * w2 * k.yA), (0.0, 0.0))
-    masses, inertias = (m2, m3, m4), (j2, j3, j4)
+    a_ref = ((0.0, 0.0), (-e2 * ya - w2 * w2 * xa, e2 * xa - w2 * w2 * ya), (0.0, 0.0))
     phi: list[tuple[Any, Any]] = []
     torque: list[Any] = []
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -936,18 +971,9 @@ def fourbar_kinetostatics(
     rcx, rcy = -phi[2][0] - rbx, -phi[2][1] - rby
     rax, ray = rbx - phi[1][0], rby - phi[1][1]
     rox, roy = rax - phi[0][0], ray - phi[0][1]
-    q_drive = k.xA * ray - k.yA * rax - torque[0]
-    shape = np.broadcast_shapes(np.shape(rbx), np.shape(q_drive))
-
-    def arr(x: Any) -> np.ndarray:
-        return np.broadcast_to(np.asarray(x, dtype=float), shape)
-
-    return FourbarForces(
-        theta2=k.theta2, R_Ox=arr(rox), R_Oy=arr(roy), R_Ax=arr(rax), R_Ay=arr(ray),
-        R_Bx=arr(rbx), R_By=arr(rby), R_Cx=arr(rcx), R_Cy=arr(rcy), Q=arr(q_drive),
-        shaking_force_x=arr(-(rox + rcx)), shaking_force_y=arr(-(roy + rcy)),
-        shaking_moment=arr(-q_drive - k.d * rcy), kinematics=kin,
-    )
+    q_drive = xa * ray - ya * rax - torque[0]
+    return (rox, roy, rax, ray, rbx, rby, rcx, rcy, q_drive, -(rox + rcx), -(roy + rcy),
+            -q_drive - d * rcy)
 
 
 # ---------------------------------------------------------------------------------------------
