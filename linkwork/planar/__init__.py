@@ -49,6 +49,12 @@ Conventions
 * Shaking force/moment = resultant of the forces (and couples, the motor reaction included)
   exerted by the moving bodies on the frame; moment about ``about``.
 
+Also: ``transmission_angles(kin)`` -> {group key: (mu, delta)} [rad]; ``dead_centres(kin)`` ->
+[DeadCentre(group, body, phi1, kind)]; ``mech.structure`` -> Structure(mobility, groups with
+kind, class, order, key); ``kin.slide(joint)`` -> slide coordinate and its rates; files of
+``type = "planar"`` load with ``linkwork.files.load`` (``doc.mechanism()``, ``doc.positions()``,
+``doc.loads(phi1)``) and run with ``linkwork analyze``.
+
 Failures: a wrong structure raises :class:`~linkwork.errors.StructureError` (locked,
 under-driven, unsolvable group, naming bodies and joints); positions that cannot be assembled
 raise :class:`~linkwork.errors.AssemblyError` with the driver ranges, or give NaN and
