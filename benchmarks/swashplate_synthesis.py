@@ -32,12 +32,12 @@ from linkwork.sweep import evaluate
 from linkwork.synthesis import swashplate as syn
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--n", type=int, default=16384, help="candidates (vectorised contenders)")
     ap.add_argument("--loop-n", type=int, default=200, help="candidates for the plain loop")
     ap.add_argument("--no-dask", action="store_true")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
 
     req = syn.Request(scheme="1", R=0.1, H=0.06, H_tol=5e-4, delta_f=8 * math.pi / 180,
                       delta_r=8 * math.pi / 180)

@@ -140,3 +140,35 @@ def test_evaluate_candidates_vectorised_matches_single():
         assert abs(m["H"][i] - c.H) < 1e-12 and abs(m["delta_f"][i] - c.delta_f) < 1e-12
         assert m["feasible"][i] == (abs(c.H - 0.05) <= 1e-3 and c.delta_f <= 8 * DEG
                                     and c.delta_r <= 8 * DEG and bool(c.unimodal))
+
+
+def test_torque_objective_equals_peak_drive_torque_of_the_kinetostatics():
+    # objective "torque": peak |sum of F Pi_v| over u slides, unit force against each slide's
+    # forward stroke; compare with drive_forces (frictionless) on the same designs
+    req = syn.Request(scheme="4b", R=R, H=0.05, H_tol=1e-3, delta_f=8 * DEG, delta_r=8 * DEG,
+                      objective="torque", u=5)
+    X = np.array([[1.0, 2.0, 14 * DEG, 0.05], [1.02, 1.5, 16 * DEG, -0.03]])
+    m = syn.evaluate_candidates(X, req, n_grid=720)
+    for i in range(2):
+        d = sw.Design(R, X[i, 0] * R, X[i, 1] * R, X[i, 2], 0.0, X[i, 3] * R)
+        c = d.characteristics()
+
+        def load(phi, c=c):
+            return np.where(np.mod(phi - c.phi_min, 2 * math.pi) < c.phi_f, 1.0, 0.0)
+
+        f = sw.drive_forces(d, load, u=5, phi=np.linspace(0, 2 * math.pi, 180, endpoint=False))
+        assert abs(m["objective"][i] - np.max(np.abs(f.M_total)) / R) < 1e-9
+
+
+def test_benchmark_script_runs_tiny(capsys):
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    path = Path(__file__).resolve().parents[1] / "benchmarks" / "swashplate_synthesis.py"
+    spec = importlib.util.spec_from_file_location("linkwork_bench_swashplate", path)
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    mod.main(["--n", "64", "--loop-n", "5", "--no-dask"])
+    assert "candidates/s" in capsys.readouterr().out
