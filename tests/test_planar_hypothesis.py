@@ -70,3 +70,31 @@ def test_random_crank_slider_closure_and_fd(r, l, e, ang, branch):
     s = np.cos(ang) * B.x + np.sin(ang) * B.y
     sa = np.cos(ang) * A.x + np.sin(ang) * A.y
     assert np.all(np.sign(s - sa) == branch)
+
+
+@settings(max_examples=40, deadline=None)
+@given(t=st.floats(0.05, 0.95), b=length, c=length, d=length,
+       masses=st.tuples(*[st.floats(0.1, 10.0)] * 3), gdir=st.floats(-np.pi, np.pi),
+       eps1=st.floats(-20.0, 20.0))
+def test_random_fourbar_power_and_momentum(t, b, c, d, masses, gdir, eps1):
+    from linkwork.planar import inverse_dynamics
+
+    m = 0.02 * (b + c + d)
+    a_max = min(b + c - d, d - abs(b - c)) - m
+    assume(a_max > 0.02)
+    mech = fourbar(t * a_max, b, c, d, masses=masses)
+    g = (9.81 * np.cos(gdir), 9.81 * np.sin(gdir))
+    k = kinematics(mech, PHI, omega1=3.0, eps1=eps1)
+    dyn = inverse_dynamics(k, gravity=g)
+    dT, P, px, py = (np.zeros(k.n) for _ in range(4))
+    for body in mech.bodies:
+        i = mech.index[body.name]
+        cm = k.point(body.name, "com")
+        dT += body.mass * (cm.vx * cm.ax + cm.vy * cm.ay) + body.inertia * k.omega[i] * k.eps[i]
+        P += body.mass * (g[0] * cm.vx + g[1] * cm.vy)
+        px += body.mass * (cm.ax - g[0])
+        py += body.mass * (cm.ay - g[1])
+    np.testing.assert_allclose(dyn.Q * 3.0, dT - P,
+                               atol=1e-9 * (np.max(np.abs(dT)) + np.max(np.abs(P))))
+    np.testing.assert_allclose(dyn.shaking_fx, -px, atol=1e-9 * np.max(np.abs(px) + 1e-300))
+    np.testing.assert_allclose(dyn.shaking_fy, -py, atol=1e-9 * np.max(np.abs(py) + 1e-300))

@@ -20,7 +20,9 @@ once the bodies before it are known. Group kinds:
   the slider block removed): ``"RS"`` (revolute + slot), ``"PS"`` (prismatic + slot); closed
   form.
 * anything else (class III and higher, groups with several slots): ``"newton"``, solved by
-  Newton's method continued from the previous position.
+  Newton's method continued from the previous position. A driver placed on a joint between two
+  moving bodies ends up inside such a group (it is then not an Assur group; its class is
+  nominal).
 
 Each group has a ``key`` for its assembly branch (``Mechanism.branches``): the joint between the
 two bodies of a dyad, the slot joint of an ``RS``/``PS`` group, the first body's name for a
