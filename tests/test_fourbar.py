@@ -573,6 +573,9 @@ def test_plots_draw_the_computed_curves():
     f = fourbar_kinetostatics(CYCLE, A1, B1, C1, D1, 10.0, mass=(1.0, 3.0, 2.0))
     axes = plot_fourbar_forces(f)
     np.testing.assert_array_equal(axes[1].get_lines()[0].get_ydata(), f.Q)
+    # the result objects delegate to the same functions
+    assert r.plot().get_lines()[-1].get_label() == "coupler curve P"
+    np.testing.assert_array_equal(f.plot()[1].get_lines()[0].get_ydata(), f.Q)
     pyplot().close("all")
 
 
@@ -684,3 +687,16 @@ def test_blocked_kinetostatics_equals_small_calls():
                      "shaking_force_x", "shaking_force_y", "shaking_moment"):
             np.testing.assert_allclose(getattr(big, name)[sl], getattr(small, name),
                                        rtol=1e-14, atol=1e-12)
+
+
+def test_limit_positions_absent_where_the_geometry_forbids_them():
+    # double-crank: crank and coupler never collinear, coupler and rocker never collinear
+    lim = limit_positions(0.3, 0.2, 0.3, 0.1)
+    assert np.isnan([lim.theta2_rocker_extended, lim.theta2_rocker_folded,
+                     lim.theta2_toggle_extended, lim.theta2_toggle_folded]).all()
+    r = fourbar(np.linspace(0, 2 * np.pi, 3601), 0.3, 0.2, 0.3, 0.1)
+    assert (np.abs(r.omega4) > 1e-3).all()          # the output never stops
+    # vectorised over designs
+    lims = limit_positions(np.array([0.1, 0.3]), np.array([0.3, 0.2]), np.array([0.2, 0.3]),
+                           np.array([0.3, 0.1]))
+    assert np.isfinite(lims.theta4_rocker_extended[0]) and np.isnan(lims.theta4_rocker_extended[1])

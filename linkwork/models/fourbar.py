@@ -174,6 +174,12 @@ class FourbarResult(Result):
         obj.__dict__.update(fields)
         return obj
 
+    def plot(self, ax: Any = None) -> Any:
+        """Draw the linkage and the path of B (and P); see :mod:`linkwork.plot.fourbar`."""
+        from linkwork.plot.fourbar import plot_fourbar_linkage
+
+        return plot_fourbar_linkage(self, ax=ax)
+
     @property
     def transmission_angle(self) -> np.ndarray:
         """Angle ABO4 between the coupler and the rocker at B, in [0, pi] [rad]."""
@@ -776,6 +782,12 @@ class FourbarForces(Result):
     shaking_force_y: np.ndarray
     shaking_moment: np.ndarray
     kinematics: FourbarResult
+
+    def plot(self, axes: Any = None) -> Any:
+        """Joint reactions and driving moment over theta2; see :mod:`linkwork.plot.fourbar`."""
+        from linkwork.plot.fourbar import plot_fourbar_forces
+
+        return plot_fourbar_forces(self, axes=axes)
 
     units: ClassVar[dict[str, str]] = {
         "theta2": "rad", "R_Ox": "N", "R_Oy": "N", "R_Ax": "N", "R_Ay": "N", "R_Bx": "N",
