@@ -700,3 +700,13 @@ def test_limit_positions_absent_where_the_geometry_forbids_them():
     lims = limit_positions(np.array([0.1, 0.3]), np.array([0.3, 0.2]), np.array([0.2, 0.3]),
                            np.array([0.3, 0.1]))
     assert np.isfinite(lims.theta4_rocker_extended[0]) and np.isnan(lims.theta4_rocker_extended[1])
+
+
+def test_assembly_error_with_angles_per_design():
+    t2 = np.array([[0.0, 1.0, 2.0], [0.5, 1.5, 3.0]])
+    with pytest.raises(AssemblyError, match="theta2") as info:
+        fourbar(t2, np.array([[0.3], [0.3]]), 0.1, 0.25, 0.3)
+    assert info.value.ranges
+    r = fourbar(t2, np.array([[0.3], [0.3]]), 0.1, 0.25, 0.3, on_fail="nan")
+    f = np.hypot(0.3 - 0.3 * np.cos(t2), 0.3 * np.sin(t2))
+    np.testing.assert_array_equal(r.assembled, (f <= 0.35) & (f >= 0.15))

@@ -245,8 +245,11 @@ def _fail(theta2: Any, ok: np.ndarray, a: Any, b: Any, c: Any, d: Any) -> Assemb
     bad = ~ok
     if t.ndim == 0:
         ranges = [(float(t), float(t))]
-    else:
+    elif t.ndim == 1:
         ranges = angle_ranges(t, bad)
+    else:  # angles given per design: runs in the flattened order
+        tb, mb = np.broadcast_arrays(t, bad)
+        ranges = angle_ranges(tb.ravel(), mb.ravel())
     return AssemblyError(
         "four-bar cannot be assembled: |A O4| leaves [|b - c|, b + c] "
         f"(a={_show(a)}, b={_show(b)}, c={_show(c)}, d={_show(d)} m)",
