@@ -918,7 +918,8 @@ def fourbar_kinetostatics(
                   *fpts[2], *frc[0], *frc[1], *frc[2], *mom, gx, gy)
     kin_arrays = (k.xA, k.yA, k.xB, k.yB, k.omega3, k.omega4, k.alpha3, k.alpha4, k.a, k.b, k.c,
                   k.d, k.omega2, k.alpha2)
-    shape = np.broadcast_shapes(*(np.shape(x) for x in (*kin_arrays, *flat_loads)))
+    shape = np.broadcast_shapes(*(np.shape(x) for x in (*kin_arrays, *flat_loads)
+                                  if type(x) is not float))
     n = shape[-1] if shape else 1
     if n >= 2 * _CHUNK:   # blocks keep the temporaries in the cache (see fourbar())
         outs = [np.empty(shape) for _ in range(12)]
@@ -929,7 +930,8 @@ def fourbar_kinetostatics(
             for o, v in zip(outs, vals, strict=True):
                 o[..., sl] = v
     else:
-        outs = [np.broadcast_to(np.asarray(v, dtype=float), shape)
+        outs = [v if type(v) is np.ndarray and v.shape == shape
+                else np.broadcast_to(np.asarray(v, dtype=float), shape)
                 for v in _reactions(*kin_arrays, *flat_loads)]
     rox, roy, rax, ray, rbx, rby, rcx, rcy, q_drive, sfx, sfy, smz = outs
     return FourbarForces(
