@@ -710,3 +710,26 @@ def test_assembly_error_with_angles_per_design():
     r = fourbar(t2, np.array([[0.3], [0.3]]), 0.1, 0.25, 0.3, on_fail="nan")
     f = np.hypot(0.3 - 0.3 * np.cos(t2), 0.3 * np.sin(t2))
     np.testing.assert_array_equal(r.assembled, (f <= 0.35) & (f >= 0.15))
+
+
+@settings(max_examples=50, deadline=None)
+@given(a=lengths, b=lengths, c=lengths, d=lengths, branch=st.sampled_from([1, -1]))
+def test_property_rocker_limits_are_stationary_points_of_theta4(a, b, c, d, branch):
+    lim = limit_positions(a, b, c, d, branch)
+    for t2l, t4l in ((lim.theta2_rocker_extended, lim.theta4_rocker_extended),
+                     (lim.theta2_rocker_folded, lim.theta4_rocker_folded)):
+        if np.isnan(t2l):
+            continue
+        r = fourbar(t2l, a, b, c, d, branch=branch, on_fail="nan")
+        f = math.hypot(d - a * math.cos(t2l), a * math.sin(t2l))
+        assume(min(b + c - f, f - abs(b - c)) > 1e-6 * (b + c))   # not also an input toggle
+        assert bool(r.assembled)
+        assert abs(float(r.omega4)) < 1e-8 * (1 + a / c)
+        assert abs(wrap(float(r.theta4) - t4l)) < 1e-9
+    # crank-rockers: the sampled theta4 range lies within the limits and reaches them
+    g = grashof(a, b, c, d)
+    if g.motion == "crank-rocker":
+        t2 = np.linspace(-np.pi, np.pi, 20001)
+        t4 = np.unwrap(fourbar(t2, a, b, c, d, branch=branch).theta4)
+        assert t4.max() - t4.min() <= lim.rocker_swing + 1e-9
+        assert t4.max() - t4.min() >= lim.rocker_swing - 1e-5
