@@ -65,7 +65,7 @@ def test_points_satisfy_rod_length_and_match_reference():
         np.testing.assert_allclose(A[i] - B[i], Aref - Bref, atol=1e-12)
 
 
-@given(R=st.floats(0.05, 0.3), rr=st.floats(0.3, 1.6), ll=st.floats(1.5, 4.0),
+@given(R=st.floats(0.05, 0.3), rr=st.floats(0.3, 1.6), ll=st.floats(2.0, 4.0),
        alpha=st.floats(0.0, math.pi / 2), aa=st.floats(-0.3, 0.3), bb=st.floats(-0.3, 0.3),
        phi=st.floats(0.0, 2 * math.pi))
 @settings(max_examples=60, deadline=None)
@@ -331,3 +331,16 @@ def test_characteristics_batch_equals_one_by_one():
         ci = sw.characteristics(0.1, *(x[i] for x in p[1:]))
         for key in ("H", "phi_min", "phi_max", "delta_f", "delta_r", "Pi_v_max"):
             assert abs(getattr(c, key)[i] - getattr(ci, key)) < 1e-11, (key, i)
+
+
+@given(R=st.floats(0.05, 0.3), rr=st.floats(0.5, 1.5), ll=st.floats(2.5, 4.0),
+       alpha=st.floats(0.02, 1.2), aa=st.floats(-0.2, 0.2), bb=st.floats(-0.2, 0.2),
+       u=st.integers(1, 8), F0=st.floats(-5e3, 5e3))
+@settings(max_examples=40, deadline=None)
+def test_property_drive_power_balance(R, rr, ll, alpha, aa, bb, u, F0):
+    d = sw.Design(R, rr * R, ll * R, alpha, aa * R, bb * R)
+    f = sw.drive_forces(d, lambda ph: F0 * (1.0 + 0.5 * np.sin(ph)), u=u, n=91)
+    ph = f.phi
+    total = sum((F0 * (1 + 0.5 * np.sin(ph + 2 * math.pi * k / u)))
+                * d.first_transfer(ph + 2 * math.pi * k / u) for k in range(u))
+    np.testing.assert_allclose(f.M_total, total, atol=1e-9 * max(1.0, abs(F0)) * R)

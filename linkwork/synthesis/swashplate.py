@@ -241,7 +241,7 @@ def evaluate_candidates(X: np.ndarray, req: Request, n_grid: int = 120) -> dict[
     if req.objective == "L":
         obj = c.L / R
     else:
-        obj = _peak_torque(P, c, req) / R
+        obj = _peak_torque(P, c.phi_min, c.phi_f, req) / R
     out["objective"] = obj
     feasible = ~reach_bad
     for k, v in g.items():
@@ -253,9 +253,13 @@ def evaluate_candidates(X: np.ndarray, req: Request, n_grid: int = 120) -> dict[
     return out
 
 
-def _peak_torque(P: tuple[np.ndarray, ...], c: sw.Characteristics, req: Request,
-                 n: int = 180) -> np.ndarray:
-    """Peak |sum over u slides of F(phi_k) Pi_v(phi_k)| [N m] over a revolution (frictionless)."""
+def _peak_torque(P: tuple[np.ndarray, ...], phi_min: np.ndarray, phi_f: np.ndarray,
+                 req: Request, n: int = 180, smooth: float | None = None) -> np.ndarray:
+    """Peak |sum over u slides of F(phi_k) Pi_v(phi_k)| [N m] over a revolution (frictionless).
+
+    ``smooth=p`` returns the p-mean ``(mean |M|^p)^(1/p)`` instead of the maximum (a smooth
+    lower bound used by the SLSQP refinement, where the place of the peak jumps).
+    """
     u = int(req.u)
     ph = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
     shifts = 2 * math.pi * np.arange(u) / u
@@ -263,13 +267,17 @@ def _peak_torque(P: tuple[np.ndarray, ...], c: sw.Characteristics, req: Request,
     Pg = tuple(p[:, None, None] for p in P)
     s1 = sw._kp(grid, Pg, 1)["s1"]
     if req.load is None:
-        start = c.phi_min[:, None, None]
-        F = np.where(np.mod(grid - start, 2 * math.pi) < c.phi_f[:, None, None], 1.0, 0.0)
+        start = phi_min[:, None, None]
+        F = np.where(np.mod(grid - start, 2 * math.pi) < phi_f[:, None, None], 1.0, 0.0)
     else:
         F = np.broadcast_to(np.asarray(req.load(np.broadcast_to(grid, s1.shape)), float),
                             s1.shape)
-    M = np.sum(F * s1, axis=-1)
-    return np.max(np.abs(M), axis=-1)
+    M = np.abs(np.sum(F * s1, axis=-1))
+    peak = np.max(M, axis=-1)
+    if smooth is None:
+        return peak
+    scale = np.where(peak > 0, peak, 1.0)[:, None]
+    return np.mean((M / scale) ** smooth, axis=-1) ** (1.0 / smooth) * scale[:, 0]
 
 
 def _chunk_eval(X: np.ndarray, req: Request, n_grid: int) -> dict[str, np.ndarray]:
@@ -338,14 +346,15 @@ def _smooth_constraints(X: np.ndarray, req: Request) -> tuple[np.ndarray, np.nda
     """
     P = tuple(np.asarray(p, dtype=float) for p in _full_params(req, X))
     R = req.R
-    c = sw._characteristics(P, "nan", 120)
+    e = sw._extremes(P, "nan", 120)
+    phi_f = np.mod(e["phi_max"] - e["phi_min"], 2 * math.pi)
     ph = np.linspace(0.0, 2 * math.pi, _N_SIP, endpoint=False)
     k = sw._kp(ph[None, :], tuple(p[:, None] for p in P), 1)
-    fwd = np.mod(ph[None, :] - c.phi_min[:, None], 2 * math.pi) <= c.phi_f[:, None]
+    fwd = np.mod(ph[None, :] - e["phi_min"][:, None], 2 * math.pi) <= phi_f[:, None]
     lim = np.where(fwd, math.sin(req.delta_f), math.sin(req.delta_r)) * (1 - _MARGIN)
     lv = P[2][:, None]
     cons = [((lv * lim) ** 2 - k["q"]) / R**2]
-    H = np.nan_to_num(c.H, nan=0.0)
+    H = np.nan_to_num(e["s_max"] - e["s_min"], nan=0.0)
     cons.append(np.stack([(H - req.H + req.H_tol) / R, (req.H + req.H_tol - H) / R], axis=1))
     if req.Pi_v_max is not None:
         cons.append(((req.Pi_v_max * (1 - _MARGIN)) ** 2 - k["s1"] ** 2) / R**2)
@@ -354,12 +363,15 @@ def _smooth_constraints(X: np.ndarray, req: Request) -> tuple[np.ndarray, np.nda
         cons.append(np.stack([(sp - req.point[1] + req.point_tol) / R,
                               (req.point[1] + req.point_tol - sp) / R], axis=1))
     if req.phi_f is not None:
-        d = np.mod(c.phi_f - req.phi_f + math.pi, 2 * math.pi) - math.pi
+        d = np.mod(phi_f - req.phi_f + math.pi, 2 * math.pi) - math.pi
         cons.append(np.stack([d + req.phi_f_tol, req.phi_f_tol - d], axis=1))
     C = np.concatenate([np.atleast_2d(x.T).T if x.ndim == 2 else x[:, None] for x in cons],
                        axis=1)
     C = np.where(np.isfinite(C), C, -10.0)
-    obj = c.L / R if req.objective == "L" else _peak_torque(P, c, req) / R
+    if req.objective == "L":
+        obj = sw.axial_size(P[1], P[2], P[3]) / R
+    else:
+        obj = _peak_torque(P, e["phi_min"], phi_f, req, smooth=16.0) / R
     return np.where(np.isfinite(obj), obj, 1e3), C
 
 
