@@ -355,16 +355,19 @@ def _smooth_constraints(X: np.ndarray, req: Request) -> tuple[np.ndarray, np.nda
     lv = P[2][:, None]
     cons = [((lv * lim) ** 2 - k["q"]) / R**2]
     H = np.nan_to_num(e["s_max"] - e["s_min"], nan=0.0)
-    cons.append(np.stack([(H - req.H + req.H_tol) / R, (req.H + req.H_tol - H) / R], axis=1))
+    tol = req.H_tol * (1 - _MARGIN)
+    cons.append(np.stack([(H - req.H + tol) / R, (req.H + tol - H) / R], axis=1))
     if req.Pi_v_max is not None:
         cons.append(((req.Pi_v_max * (1 - _MARGIN)) ** 2 - k["s1"] ** 2) / R**2)
     if req.point is not None:
         sp = sw._kp(np.asarray(req.point[0], dtype=float), P, 0)["s"]
-        cons.append(np.stack([(sp - req.point[1] + req.point_tol) / R,
-                              (req.point[1] + req.point_tol - sp) / R], axis=1))
+        ptol = req.point_tol * (1 - _MARGIN)
+        cons.append(np.stack([(sp - req.point[1] + ptol) / R,
+                              (req.point[1] + ptol - sp) / R], axis=1))
     if req.phi_f is not None:
         d = np.mod(phi_f - req.phi_f + math.pi, 2 * math.pi) - math.pi
-        cons.append(np.stack([d + req.phi_f_tol, req.phi_f_tol - d], axis=1))
+        ftol = req.phi_f_tol * (1 - _MARGIN)
+        cons.append(np.stack([d + ftol, ftol - d], axis=1))
     C = np.concatenate([np.atleast_2d(x.T).T if x.ndim == 2 else x[:, None] for x in cons],
                        axis=1)
     C = np.where(np.isfinite(C), C, -10.0)
