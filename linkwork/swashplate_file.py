@@ -22,6 +22,8 @@ Example (``examples/swashplate_4a.toml``)::
     angles = ["0 deg", "90 deg", "180 deg", "270 deg"]
     forces = ["0 kN", "20 kN", "0 kN", "0 kN"]
     rho_guide = "5 deg"      # friction angle of the slide in its guide
+    guide_length = "80 mm"   # optional: slide's bearing length in the guide
+    overhang = "30 mm"       # optional: rod joint below the guided length
 
     [output]
     samples = 361
@@ -105,13 +107,16 @@ class OperationSection(FileModel):
 
 class LoadSection(FileModel):
     """``[load]``: load diagram of one slide (``angles`` [rad] and ``forces`` [N], periodic
-    linear interpolation; or a constant ``force`` on the forward stroke) and the guide
-    friction angle ``rho_guide`` [rad]."""
+    linear interpolation; or a constant ``force`` on the forward stroke), the guide friction
+    angle ``rho_guide`` [rad] and, optionally, the slide's ``guide_length`` and the rod joint's
+    ``overhang`` [m] (two-point guide, see :func:`linkwork.models.swashplate.drive_forces`)."""
 
     angles: list[Angle] | None = None
     forces: list[Force] | None = None
     force: Force | None = None
     rho_guide: Annotated[Angle, Field(ge=0, lt=1.5707963267948966)] = 0.0
+    guide_length: Annotated[Length, Field(gt=0)] | None = None
+    overhang: Annotated[Length, Field(ge=0)] = 0.0
 
     @model_validator(mode="after")
     def _diagram(self) -> LoadSection:
@@ -126,6 +131,8 @@ class LoadSection(FileModel):
                                           "(>= 2)")
         elif self.force is None:
             raise PydanticCustomError("load", "needs 'angles' + 'forces' or 'force'")
+        if self.overhang and self.guide_length is None:
+            raise PydanticCustomError("load", "'overhang' needs 'guide_length'")
         return self
 
 

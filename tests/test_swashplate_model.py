@@ -344,3 +344,31 @@ def test_property_drive_power_balance(R, rr, ll, alpha, aa, bb, u, F0):
     total = sum((F0 * (1 + 0.5 * np.sin(ph + 2 * math.pi * k / u)))
                 * d.first_transfer(ph + 2 * math.pi * k / u) for k in range(u))
     np.testing.assert_allclose(f.M_total, total, atol=1e-9 * max(1.0, abs(F0)) * R)
+
+
+def test_drive_forces_two_point_guide_by_slide_equilibrium():
+    # independent: the slide's planar equilibrium (rod plane) with two guide contacts at the
+    # ends of the guided length b, rod joint A at overhang e below the nearer one; unknowns
+    # S, N1, N2 (normal reactions, signs from the lateral push), friction mu*|N| against the
+    # motion; solved as a linear system per position and compared with drive_forces
+    d = sw.Design(0.1, 0.09, 0.2, 20 * DEG, 0.02, -0.01)
+    b_g, e, rho = 0.08, 0.03, 8 * DEG
+    mu = math.tan(rho)
+    phi = np.radians([30.0, 100.0, 150.0, 250.0])
+    F = 1000.0
+    f = sw.drive_forces(d, F, rho_guide=rho, guide_length=b_g, overhang=e, phi=phi)
+    delta = d.pressure_angle(phi)
+    v = d.first_transfer(phi)
+    for i in range(phi.size):
+        sd, cd = math.sin(delta[i]), math.cos(delta[i])
+        sv = math.copysign(1.0, F * v[i])
+        # lateral push S sd at A (x = 0 along the axis); contacts at z = e and z = e + b;
+        # near contact pushes back N1, far contact pulls the other way N2 (tilting couple)
+        # lateral:  S sd - N1 + N2 = 0 ; moment about A: -N1 e + N2 (e + b) = 0
+        # axial:    S cd - F - sv mu (N1 + N2) = 0
+        A = np.array([[sd, -1.0, 1.0], [0.0, -e, e + b_g], [cd, -sv * mu, -sv * mu]])
+        S, N1, N2 = np.linalg.solve(A, [0.0, 0.0, F])
+        assert N1 > 0 and N2 > 0
+        assert abs(f.S[i] - S) < 1e-9 * abs(S)
+    with pytest.raises(ParameterError, match="overhang"):
+        sw.drive_forces(d, F, overhang=0.01)

@@ -106,6 +106,7 @@ def analyze_swashplate(doc: Any, out: Path, angles: np.ndarray, console: Any) ->
         load: Any = ((np.array(ld.angles), np.array(ld.forces)) if ld.angles is not None
                      else _forward_force(c, float(ld.force or 0.0)))
         f = sw.drive_forces(d, load, u=op.positions, rho_guide=ld.rho_guide,
+                            guide_length=ld.guide_length, overhang=ld.overhang,
                             n=doc.output.samples)
         f.to_csv(out / "forces.csv")
         f.to_json(out / "forces.json")

@@ -981,7 +981,8 @@ def _single_slide(phi: np.ndarray, P: tuple[float, float, float, float, float, f
     denom = cd - mu * sd * sgn
     if np.any(denom <= 0):
         bad = denom <= 0
-        raise AssemblyError("the drive jams: pressure angle + guide friction angle >= 90 deg",
+        raise AssemblyError("the drive jams: pressure angle + (effective) guide friction "
+                            "angle >= 90 deg",
                             angle_ranges(phi, bad), driver="phi")
     S = F / denom
     # rod unit vector e = (A - B)/l; force on the slide S e, on the disk -S e.
@@ -999,6 +1000,7 @@ def _single_slide(phi: np.ndarray, P: tuple[float, float, float, float, float, f
 
 
 def drive_forces(design: Design, load: Load, *, u: int = 1, rho_guide: float = 0.0,
+                 guide_length: float | None = None, overhang: float = 0.0,
                  phi: ArrayLike | None = None, n: int = 721) -> DriveForces:
     r"""Rod force, guide reaction and drive torques under a technological load (kinetostatics).
 
@@ -1008,7 +1010,16 @@ def drive_forces(design: Design, load: Load, *, u: int = 1, rho_guide: float = 0
 
     .. math::
 
-        S\,(\cos\delta_z - \operatorname{sgn}(F\,\Pi_v)\tan\rho\,\sin\delta_z) = F.
+        S\,(\cos\delta_z - \operatorname{sgn}(F\,\Pi_v)\,k\tan\rho\,\sin\delta_z) = F,
+        \qquad k = 1 + 2e/b.
+
+    ``k = 1`` is a slide pressed against its guide at one point. With ``guide_length`` ``b``
+    (distance between the two places where the slide bears in its guide) and ``overhang``
+    ``e`` (axial distance from the rod joint A to the nearer of them, A outside the guided
+    length) the lateral force ``N = S sin(delta_z)`` tilts the slide: the guide pushes back
+    with ``N (1 + e/b)`` at the nearer and ``N e/b`` at the farther place, and friction acts on
+    both, hence ``k = 1 + 2 e/b``; the drive jams where
+    ``tan(delta_z) >= 1 / (k tan(rho))``.
 
     The torques are the moments of the rod force about the disk axis (disk) and of the guide
     reaction about the rotor axis (rotor); both shafts turn at the same speed (gear ratio 1),
@@ -1028,6 +1039,11 @@ def drive_forces(design: Design, load: Load, *, u: int = 1, rho_guide: float = 0
         Number of slides on the rotor.
     rho_guide : float
         Friction angle of the slide in its guide [rad], in [0, pi/2).
+    guide_length : float, optional
+        Distance between the slide's two bearing places in the guide [m], > 0. ``None``: a
+        single contact (``k = 1``).
+    overhang : float
+        Axial distance from the rod joint A to the nearer bearing place [m], >= 0.
     phi : array_like, optional
         Rotor angles [rad]; default ``n`` angles over a revolution (used for the cycle
         integrals, so keep them covering [0, 2 pi] evenly).
@@ -1039,7 +1055,8 @@ def drive_forces(design: Design, load: Load, *, u: int = 1, rho_guide: float = 0
     Raises
     ------
     AssemblyError
-        The drive jams (``delta_z + rho_guide >= 90 deg``) or the rod cannot reach.
+        The drive jams (``delta_z + atan(k tan(rho_guide)) >= 90 deg``) or the rod cannot
+        reach.
     """
     uu = int(u)
     if uu < 1:
@@ -1047,6 +1064,12 @@ def drive_forces(design: Design, load: Load, *, u: int = 1, rho_guide: float = 0
     rho = float(require_in_range("rho_guide", rho_guide, 0.0, math.pi / 2, hi_open=True,
                                  unit="deg", scale=180 / math.pi))
     mu = math.tan(rho)
+    if guide_length is not None:
+        bg = float(require_positive("guide_length", guide_length))
+        e = float(require_positive("overhang", overhang, allow_zero=True))
+        mu *= 1.0 + 2.0 * e / bg
+    elif overhang:
+        raise ParameterError("overhang", overhang, "needs guide_length")
     ph = (np.linspace(0.0, TWO_PI, n) if phi is None
           else require_finite("phi", phi).reshape(-1))
     Ffn = _load_fn(load)
