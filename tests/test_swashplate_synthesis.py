@@ -184,3 +184,13 @@ def test_synthesis_on_in_process_dask_cluster_matches_in_process():
         dist = syn.synthesize(req, n_candidates=256, n_refine=1, chunk_size=64, client=client)
     assert dist.n_feasible == local.n_feasible
     np.testing.assert_allclose(dist.table["L"], local.table["L"], rtol=1e-12)
+
+
+def test_general_scheme_never_worse_than_its_special_cases():
+    # scheme 1 contains 4a and 4b (a = 0): for the same request its best L is not larger
+    reqs = {s: syn.Request(scheme=s, R=R, H=0.05, H_tol=5e-4, delta_f=5 * DEG,
+                           delta_r=5 * DEG) for s in ("1", "4a", "4b")}
+    best = {s: float(syn.synthesize(q, n_candidates=512, n_refine=2).table["L"][0])
+            for s, q in reqs.items()}
+    assert best["1"] <= best["4b"] * (1 + 1e-3) and best["4b"] <= best["4a"] * (1 + 1e-6)
+    assert best["1"] <= best["4a"]
