@@ -25,6 +25,13 @@ With a cluster (``func`` must then be picklable: a module-level function or a
         y = evaluate(my_model, candidates, client=client)
     y = evaluate(my_model, candidates, client="tcp://scheduler:8786")  # connects and closes
 
+Monte-Carlo samples made chunk by chunk (never all in memory)::
+
+    def make(start, stop):
+        rng = np.random.default_rng([42, start])
+        return rng.normal(size=(stop - start, 3))
+    stats = evaluate(model, Generated(10**8, make), combine=merge_stats)
+
 A progress bar::
 
     with rich_progress("designs") as progress:
@@ -33,6 +40,7 @@ A progress bar::
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from typing import Any
@@ -41,7 +49,7 @@ import numpy as np
 
 from linkwork.errors import ParameterError
 
-__all__ = ["chunk_slices", "evaluate", "rich_progress"]
+__all__ = ["Generated", "chunk_slices", "evaluate", "rich_progress"]
 
 #: A progress callback: called as ``progress(done, total)`` with numbers of candidates.
 Progress = Callable[[int, int], None]
@@ -57,7 +65,34 @@ def chunk_slices(n: int, chunk_size: int) -> list[slice]:
     return [slice(i, min(i + cs, int(n))) for i in range(0, int(n), cs)]
 
 
+class Generated:
+    """Candidates made chunk by chunk: ``make(start, stop)`` returns candidates
+    ``start .. stop-1`` (an array or a dict of arrays, first axis over them), ``n`` in all.
+
+    For Monte-Carlo studies too large to hold as one array: only one chunk exists at a time
+    (on a cluster, it is made on the worker). Derive random streams from ``start`` (e.g.
+    ``np.random.default_rng([seed, start])``) so the result does not depend on the chunking
+    order.
+    """
+
+    def __init__(self, n: int, make: Callable[[int, int], Any]) -> None:
+        if int(n) < 0:
+            raise ParameterError("n", n, "must be >= 0")
+        self.n = int(n)
+        self.make = make
+
+    def __len__(self) -> int:
+        return self.n
+
+
+def _make_and_call(func: Callable[[Any], Any], make: Callable[[int, int], Any], start: int,
+                   stop: int) -> Any:
+    return func(make(start, stop))
+
+
 def _length(candidates: Any) -> int:
+    if isinstance(candidates, Generated):
+        return candidates.n
     if isinstance(candidates, Mapping):
         lengths = {k: len(np.asarray(v)) for k, v in candidates.items()}
         if not lengths:
@@ -73,6 +108,8 @@ def _length(candidates: Any) -> int:
 
 
 def _take(candidates: Any, sl: slice) -> Any:
+    if isinstance(candidates, Generated):
+        return candidates.make(sl.start, sl.stop)
     if isinstance(candidates, Mapping):
         return {k: np.asarray(v)[sl] for k, v in candidates.items()}
     return np.asarray(candidates)[sl]
@@ -100,9 +137,9 @@ def evaluate(func: Callable[[Any], Any], candidates: Any, *, chunk_size: int = 1
         Takes one chunk of ``candidates`` (same type: an array slice, or a dict of array
         slices) and returns an array, a tuple of arrays or a dict of arrays whose first axis
         runs over the chunk's candidates.
-    candidates : ndarray or mapping of str to ndarray
+    candidates : ndarray, mapping of str to ndarray, or Generated
         ``N`` candidates along the first axis (e.g. an ``(N, k)`` parameter matrix, or
-        ``{"r": (N,), "l": (N,)}``).
+        ``{"r": (N,), "l": (N,)}``), or a :class:`Generated` that makes each chunk on demand.
     chunk_size : int
         Candidates per call of ``func``; bounds the memory ``func`` uses.
     client : dask.distributed.Client or str, optional
@@ -147,8 +184,13 @@ def _evaluate_dask(func: Callable[[Any], Any], candidates: Any, slices: list[sli
     own = isinstance(client, str)
     cl = Client(client) if own else client
     try:
-        chunks = [_take(candidates, sl) for sl in slices]
-        futures = cl.map(func, chunks, pure=False)
+        if isinstance(candidates, Generated):  # make each chunk on its worker
+            futures = cl.map(functools.partial(_make_and_call, func, candidates.make),
+                             [sl.start for sl in slices], [sl.stop for sl in slices],
+                             pure=False)
+        else:
+            chunks = [_take(candidates, sl) for sl in slices]
+            futures = cl.map(func, chunks, pure=False)
         index = {f.key: i for i, f in enumerate(futures)}
         results: list[Any] = [None] * len(futures)
         done = 0

@@ -77,3 +77,26 @@ def test_rich_progress_callback(capsys):
     with rich_progress("test", console=Console(file=None, force_terminal=False)) as cb:
         out = evaluate(np.square, np.arange(50.0), chunk_size=7, progress=cb)
     np.testing.assert_array_equal(out, np.arange(50.0) ** 2)
+
+
+def _make(start, stop):
+    return np.random.default_rng([7, start]).normal(size=(stop - start, 3))
+
+
+def test_generated_candidates_in_process_and_on_dask():
+    from dask.distributed import Client
+
+    from linkwork.sweep import Generated
+
+    gen = Generated(1000, _make)
+    made = []
+    local = evaluate(lambda c: (made.append(len(c)), _model(c))[1], gen, chunk_size=250)
+    assert made == [250] * 4
+    direct = np.concatenate([_make(s, s + 250) for s in range(0, 1000, 250)])
+    np.testing.assert_array_equal(local["sum"], direct.sum(axis=1))
+    with Client(processes=False, dashboard_address=None, n_workers=1,
+                threads_per_worker=2) as client:
+        dist = evaluate(_model, gen, chunk_size=250, client=client)
+    np.testing.assert_array_equal(dist["sum"], local["sum"])
+    with pytest.raises(ParameterError, match="n = -1"):
+        Generated(-1, _make)
