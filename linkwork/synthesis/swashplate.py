@@ -302,7 +302,8 @@ class SynthesisResult(Result):
     candidates: dict[str, np.ndarray] = field(repr=False)
 
     units: ClassVar[dict[str, str]] = {
-        "r": "m", "l": "m", "alpha": "rad", "a": "m", "b": "m", "H": "m", "delta_f": "rad",
+        "r": "m", "l": "m", "alpha": "rad", "a": "m", "b": "m", "H": "m", "phi_min": "rad",
+        "phi_max": "rad", "delta_f": "rad",
         "delta_r": "rad", "Pi_v_max": "m/rad", "phi_f": "rad", "phi_r": "rad", "L": "m",
         "L_exact": "m", "objective": "1"}
     position_field: ClassVar[str] = "objective"
@@ -319,8 +320,8 @@ class SynthesisResult(Result):
         return self.designs[0]
 
 
-TABLE_KEYS = ("r", "l", "alpha", "a", "b", "H", "delta_f", "delta_r", "Pi_v_max", "phi_f",
-              "phi_r", "L", "L_exact", "objective")
+TABLE_KEYS = ("r", "l", "alpha", "a", "b", "H", "phi_min", "phi_max", "delta_f", "delta_r",
+              "Pi_v_max", "phi_f", "phi_r", "L", "L_exact", "objective")
 
 
 def _violation(m: dict[str, np.ndarray]) -> np.ndarray:
