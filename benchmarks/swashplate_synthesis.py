@@ -83,7 +83,7 @@ def main(argv: list[str] | None = None) -> None:
     if not args.no_dask:
         from dask.distributed import Client
 
-        with Client(processes=False, dashboard_address=None, n_workers=1,
+        with Client(processes=False, dashboard_address=":0", n_workers=1,
                     threads_per_worker=2) as client:
             t = time.perf_counter()
             evaluate(functools.partial(syn.evaluate_candidates, req=req), X, chunk_size=2048,

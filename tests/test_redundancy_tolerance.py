@@ -75,7 +75,7 @@ def test_tolerance_study_dask_client_same_result():
     m, g, w = _setup()
     local = tolerance_study(m, g, w, TOLS, 30, seed=5, chunk_size=10)
     with distributed.Client(processes=False, n_workers=1, threads_per_worker=1,
-                            dashboard_address=None) as client:
+                            dashboard_address=":0") as client:
         remote = tolerance_study(m, g, w, TOLS, 30, seed=5, chunk_size=10, client=client)
     assert np.allclose(local.peaks, remote.peaks, rtol=1e-12, atol=0)
 

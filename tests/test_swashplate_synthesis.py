@@ -179,7 +179,7 @@ def test_synthesis_on_in_process_dask_cluster_matches_in_process():
 
     req = syn.Request(scheme="4a", R=R, H=0.05, H_tol=5e-4, delta_f=3 * DEG, delta_r=3 * DEG)
     local = syn.synthesize(req, n_candidates=256, n_refine=1, chunk_size=64)
-    with Client(processes=False, dashboard_address=None, n_workers=1,
+    with Client(processes=False, dashboard_address=":0", n_workers=1,
                 threads_per_worker=1) as client:
         dist = syn.synthesize(req, n_candidates=256, n_refine=1, chunk_size=64, client=client)
     assert dist.n_feasible == local.n_feasible

@@ -57,7 +57,7 @@ def test_dask_in_process_cluster_gives_the_same_result():
 
     x = np.random.default_rng(1).normal(size=(500, 3))
     calls = []
-    with Client(processes=False, dashboard_address=None, n_workers=1,
+    with Client(processes=False, dashboard_address=":0", n_workers=1,
                 threads_per_worker=2) as client:
         out = evaluate(functools.partial(_model, scale=2.0), x, chunk_size=64, client=client,
                        progress=lambda d, t: calls.append(d))
@@ -94,7 +94,7 @@ def test_generated_candidates_in_process_and_on_dask():
     assert made == [250] * 4
     direct = np.concatenate([_make(s, s + 250) for s in range(0, 1000, 250)])
     np.testing.assert_array_equal(local["sum"], direct.sum(axis=1))
-    with Client(processes=False, dashboard_address=None, n_workers=1,
+    with Client(processes=False, dashboard_address=":0", n_workers=1,
                 threads_per_worker=2) as client:
         dist = evaluate(_model, gen, chunk_size=250, client=client)
     np.testing.assert_array_equal(dist["sum"], local["sum"])
