@@ -14,6 +14,8 @@ with these contenders:
                          (6.18), (7.12) for the four-bar; circle-line intersection for the slider)
 ``plain NumPy, vector form``  four-bar only: the algorithm of ``fourbar()`` written flat (no
                          checks, no blocks, no result object): the library's own overhead
+``plain NumPy, same outputs``  crank-slider only: every output of ``offset_crank_slider``
+                         (14 arrays against the textbook version's 6) written flat, likewise
 ``engine``               :func:`linkwork.planar.kinematics` on the engine model
 ``engine + reactions``   the same plus :func:`linkwork.planar.inverse_dynamics` (masses on)
 ``closed form + reactions`` :func:`linkwork.models.fourbar.fourbar_kinetostatics` (four-bar)
@@ -132,6 +134,30 @@ def numpy_slider(t: np.ndarray, r: float, l: float, e: float,
     return y, v, acc, th, om, al
 
 
+def numpy_slider_same_outputs(t: np.ndarray, r: float, l: float, e: float,
+                              w: float) -> tuple[np.ndarray, ...]:
+    """Every output of ``offset_crank_slider`` (pin and slider positions, rod angle, transfer
+    functions, velocities, accelerations, pressure angle), written flat: no argument checks, no
+    assembly check, no result object.  Measures the library's own overhead."""
+    lam2, lame = l / r, e / r
+    c1, s1 = np.cos(t), np.sin(t)
+    s2 = (lame - c1) / lam2
+    c2 = np.sqrt(1.0 - s2 * s2)
+    phi2 = np.arcsin(s2)
+    xb, yb = r * c1, r * s1
+    yc = yb + l * c2
+    xc = np.full(t.shape, e)
+    inv = 1.0 / (lam2 * c2)
+    u21 = s1 * inv
+    u21sq = u21 * u21
+    ls2 = l * s2
+    vq = xb - ls2 * u21
+    eq2 = (c1 + lam2 * s2 * u21sq) * inv
+    aq = -(yb + l * c2 * u21sq + ls2 * eq2)
+    return (xb, yb, xc, yc, phi2, u21, vq, eq2, aq, u21 * w, eq2 * (w * w), vq * w,
+            aq * (w * w), np.abs(phi2))
+
+
 # ---------------------------------------------------------------------------------------------
 # contenders: each returns (position, velocity, acceleration) of the output point for checking
 # ---------------------------------------------------------------------------------------------
@@ -212,6 +238,12 @@ def slider_contenders(n: int, with_engine: bool = True) -> list[Contender]:
         return zero + e, y, zero, v, zero, acc
 
     out.append(Contender("plain NumPy", lambda: numpy_slider(t, r, l, e, OMEGA), plain_out))
+
+    def same_out(res: Any) -> tuple[np.ndarray, ...]:
+        return res[2], res[3], zero, res[11], zero, res[12]
+
+    out.append(Contender("plain NumPy, same outputs",
+                         lambda: numpy_slider_same_outputs(t, r, l, e, OMEGA), same_out))
     try:
         from linkwork.models.crank_slider import offset_crank_slider
     except ImportError:  # the closed form is written by another helper
@@ -466,7 +498,8 @@ def summary(rows: list[dict[str, Any]]) -> list[str]:
     out = ["targets:"]
     for r in rows:
         if r["contender"] == "closed form":
-            for base_name in ("plain NumPy", "plain NumPy, vector form"):
+            for base_name in ("plain NumPy", "plain NumPy, vector form",
+                              "plain NumPy, same outputs"):
                 base = get(r["mechanism"], r["n"], base_name)
                 if base is None:
                     continue

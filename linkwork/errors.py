@@ -11,6 +11,7 @@ instead of ``assert`` or ad-hoc ``if`` blocks.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -133,15 +134,21 @@ def _fmt(value: Any) -> str:
 
 def require_finite(name: str, value: ArrayLike) -> np.ndarray:
     """Return ``value`` as a float array, or raise :class:`ParameterError` if any is NaN/inf."""
+    if isinstance(value, float | int):  # plain numbers: the common case, checked without NumPy
+        if math.isfinite(value):
+            return np.asarray(value, dtype=float)
+        raise ParameterError(name, value, "must be finite")
     arr = np.asarray(value, dtype=float)
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        raise ParameterError(name, arr[bad].flat[0], "must be finite")
+    if not np.isfinite(arr).all():
+        raise ParameterError(name, arr[~np.isfinite(arr)].flat[0], "must be finite")
     return arr
 
 
 def require_positive(name: str, value: ArrayLike, *, allow_zero: bool = False) -> np.ndarray:
     """Return ``value`` as a float array, or raise if any element is not > 0 (>= 0)."""
+    if isinstance(value, float | int) and math.isfinite(value) and (
+            value > 0 or (allow_zero and value == 0)):
+        return np.asarray(value, dtype=float)
     arr = require_finite(name, value)
     bad = arr < 0 if allow_zero else arr <= 0
     if bad.any():

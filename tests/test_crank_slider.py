@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from _paper000_geometry import crank_slider_positions, time_derivatives, unwrap_pair
+from _strategies import reals
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import minimize_scalar
@@ -105,7 +106,7 @@ def test_scalar_input_gives_scalar_shaped_result():
 
 
 @settings(max_examples=80, deadline=None)
-@given(phi1=st.floats(-10, 10), L1=st.floats(1e-3, 2.0), lame=st.floats(-3, 3),
+@given(phi1=reals(-10, 10), L1=st.floats(1e-3, 2.0), lame=reals(-3, 3),
        extra=st.floats(0.01, 5.0), branch=st.sampled_from([1, -1]))
 def test_property_loop_closure(phi1, L1, lame, extra, branch):
     lam2 = abs(lame) + 1.0 + extra
@@ -120,8 +121,8 @@ def test_property_loop_closure(phi1, L1, lame, extra, branch):
 
 
 @settings(max_examples=60, deadline=None)
-@given(phi1=st.floats(0, 2 * np.pi), lame=st.floats(-2, 2), extra=st.floats(0.05, 4.0),
-       w1=st.floats(-30, 30), e1=st.floats(-100, 100))
+@given(phi1=reals(0, 2 * np.pi), lame=reals(-2, 2), extra=st.floats(0.05, 4.0),
+       w1=reals(-30, 30), e1=reals(-100, 100))
 def test_property_velocity_is_chain_rule_of_transfer_function(phi1, lame, extra, w1, e1):
     """Velocity closure: d/dt (B + BC) has zero X component and Y component V_C."""
     L1, lam2 = 0.07, abs(lame) + 1.0 + extra
@@ -255,7 +256,7 @@ def test_phi2_ranges_and_continuity_per_branch():
 
 
 @settings(max_examples=60, deadline=None)
-@given(phi1=st.floats(0, 2 * np.pi), lame=st.floats(-2, 2), extra=st.floats(0.2, 4.0),
+@given(phi1=reals(0, 2 * np.pi), lame=reals(-2, 2), extra=st.floats(0.2, 4.0),
        branch=st.sampled_from([1, -1]))
 def test_property_transfer_functions_are_derivatives(phi1, lame, extra, branch):
     """Random designs: U21, V_qC, eps_q2, a_qC equal central differences of phi2 and Y_C."""

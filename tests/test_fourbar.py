@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 import pytest
+from _strategies import reals
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
 from scipy.optimize import brentq, fsolve
@@ -207,8 +208,8 @@ lengths = st.floats(0.2, 5.0)
 
 
 @settings(max_examples=80, deadline=None, suppress_health_check=[HealthCheck.filter_too_much])
-@given(a=lengths, b=lengths, c=lengths, d=lengths, t2=st.floats(-np.pi, np.pi),
-       branch=st.sampled_from([1, -1]), w2=st.floats(-20, 20), e2=st.floats(-50, 50))
+@given(a=lengths, b=lengths, c=lengths, d=lengths, t2=reals(-np.pi, np.pi),
+       branch=st.sampled_from([1, -1]), w2=reals(-20, 20), e2=reals(-50, 50))
 def test_property_loop_closure_and_velocity_loop(a, b, c, d, t2, branch, w2, e2):
     r = fourbar(t2, a, b, c, d, w2, e2, branch, on_fail="nan")
     assume(bool(r.assembled))
@@ -618,10 +619,10 @@ def test_blocked_evaluation_reports_assembly_failure():
 
 @settings(max_examples=40, deadline=None)
 @given(a=lengths, b=lengths, c=lengths, d=lengths, branch=st.sampled_from([1, -1]),
-       w2=st.floats(-20, 20), e2=st.floats(-50, 50),
-       m=st.tuples(st.floats(0, 5), st.floats(0, 5), st.floats(0, 5)),
-       f=st.tuples(st.floats(-50, 50), st.floats(-50, 50)),
-       mz=st.floats(-10, 10), p=st.floats(-1, 1), q=st.floats(-1, 1))
+       w2=reals(-20, 20), e2=reals(-50, 50),
+       m=st.tuples(reals(0, 5), reals(0, 5), reals(0, 5)),
+       f=st.tuples(reals(-50, 50), reals(-50, 50)),
+       mz=reals(-10, 10), p=reals(-1, 1), q=reals(-1, 1))
 def test_property_kinetostatics_power_balance(a, b, c, d, branch, w2, e2, m, f, mz, p, q):
     t2 = np.linspace(-np.pi, np.pi, 64)
     fd = np.hypot(d - a * np.cos(t2), a * np.sin(t2))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from _strategies import reals
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
@@ -58,7 +59,7 @@ def test_random_fourbar_closure_and_fd(t, b, c, d, branch):
 
 
 @settings(max_examples=60, deadline=None)
-@given(r=length, l=length, e=st.floats(-0.5, 0.5), ang=st.floats(-3.0, 3.0),
+@given(r=length, l=length, e=reals(-0.5, 0.5), ang=reals(-3.0, 3.0),
        branch=st.sampled_from([1, -1]))
 def test_random_crank_slider_closure_and_fd(r, l, e, ang, branch):
     assume(l - r - abs(e) > 0.02 * (r + l))
@@ -74,8 +75,8 @@ def test_random_crank_slider_closure_and_fd(r, l, e, ang, branch):
 
 @settings(max_examples=40, deadline=None)
 @given(t=st.floats(0.05, 0.95), b=length, c=length, d=length,
-       masses=st.tuples(*[st.floats(0.1, 10.0)] * 3), gdir=st.floats(-np.pi, np.pi),
-       eps1=st.floats(-20.0, 20.0))
+       masses=st.tuples(*[st.floats(0.1, 10.0)] * 3), gdir=reals(-np.pi, np.pi),
+       eps1=reals(-20.0, 20.0))
 def test_random_fourbar_power_and_momentum(t, b, c, d, masses, gdir, eps1):
     from linkwork.planar import inverse_dynamics
 

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 from _paper000_geometry import slot_positions, time_derivatives
+from _strategies import reals
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy.optimize import minimize_scalar
@@ -73,7 +74,7 @@ def test_transfer_functions_match_finite_differences_of_position_functions(L1, a
 
 
 @settings(max_examples=80, deadline=None)
-@given(phi1=st.floats(-10, 10), L1=st.floats(1e-3, 2.0), alpha=st.floats(0.05, math.pi - 0.05))
+@given(phi1=reals(-10, 10), L1=st.floats(1e-3, 2.0), alpha=st.floats(0.05, math.pi - 0.05))
 def test_property_loop_closure_pin_on_slot(phi1, L1, alpha):
     """The pin B equals slider point P(x) + X32 * slot direction, with x_P = L1 - X3."""
     r = inclined_slot(phi1, L1, alpha)
@@ -84,8 +85,8 @@ def test_property_loop_closure_pin_on_slot(phi1, L1, alpha):
 
 
 @settings(max_examples=60, deadline=None)
-@given(phi1=st.floats(0, 2 * np.pi), alpha=st.floats(0.05, math.pi - 0.05),
-       w1=st.floats(-30, 30), e1=st.floats(-100, 100))
+@given(phi1=reals(0, 2 * np.pi), alpha=st.floats(0.05, math.pi - 0.05),
+       w1=reals(-30, 30), e1=reals(-100, 100))
 def test_property_velocity_closure(phi1, alpha, w1, e1):
     """v_B = v_slider + v_rel: (-V3, 0) + V32 * d equals the pin velocity; same for accel."""
     L1 = 0.05

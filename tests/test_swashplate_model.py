@@ -5,6 +5,7 @@ import math
 
 import numpy as np
 import pytest
+from _strategies import reals
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from test_swashplate_reference import (
@@ -66,8 +67,8 @@ def test_points_satisfy_rod_length_and_match_reference():
 
 
 @given(R=st.floats(0.05, 0.3), rr=st.floats(0.3, 1.6), ll=st.floats(2.0, 4.0),
-       alpha=st.floats(0.0, math.pi / 2), aa=st.floats(-0.3, 0.3), bb=st.floats(-0.3, 0.3),
-       phi=st.floats(0.0, 2 * math.pi))
+       alpha=reals(0.0, math.pi / 2), aa=reals(-0.3, 0.3), bb=reals(-0.3, 0.3),
+       phi=reals(0.0, 2 * math.pi))
 @settings(max_examples=60, deadline=None)
 def test_property_derivatives_consistent(R, rr, ll, alpha, aa, bb, phi):
     p = (R, rr * R, ll * R, alpha, aa * R, bb * R)
@@ -334,8 +335,8 @@ def test_characteristics_batch_equals_one_by_one():
 
 
 @given(R=st.floats(0.05, 0.3), rr=st.floats(0.5, 1.5), ll=st.floats(2.5, 4.0),
-       alpha=st.floats(0.02, 1.2), aa=st.floats(-0.2, 0.2), bb=st.floats(-0.2, 0.2),
-       u=st.integers(1, 8), F0=st.floats(-5e3, 5e3))
+       alpha=st.floats(0.02, 1.2), aa=reals(-0.2, 0.2), bb=reals(-0.2, 0.2),
+       u=st.integers(1, 8), F0=reals(-5e3, 5e3))
 @settings(max_examples=40, deadline=None)
 def test_property_drive_power_balance(R, rr, ll, alpha, aa, bb, u, F0):
     d = sw.Design(R, rr * R, ll * R, alpha, aa * R, bb * R)

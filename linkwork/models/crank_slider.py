@@ -236,11 +236,19 @@ def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lamb
     lame = require_finite("lambda_e", lambda_e)
     w1 = require_finite("omega1", omega1)
     e1 = require_finite("eps1", eps1)
-    phi1_b, L1_b, lam2_b, lame_b, w1_b, e1_b = np.broadcast_arrays(phi1_a, L1_a, lam2, lame, w1, e1)
+    # Every output below depends on phi1, so broadcasting phi1 alone to the common shape makes
+    # every output that shape; the parameters broadcast in the arithmetic (no copies).
+    if L1_a.ndim == lam2.ndim == lame.ndim == w1.ndim == e1.ndim == 0:
+        shape = phi1_a.shape
+        phi1_b = phi1_a
+    else:
+        shape = np.broadcast_shapes(phi1_a.shape, L1_a.shape, lam2.shape, lame.shape, w1.shape,
+                                    e1.shape)
+        phi1_b = phi1_a if phi1_a.shape == shape else np.broadcast_to(phi1_a, shape)
 
     c1 = np.cos(phi1_b)
     s1 = np.sin(phi1_b)
-    s2 = (lame_b - c1) / lam2_b
+    s2 = (lame - c1) / lam2
     c2sq = 1.0 - s2 * s2
     bad = c2sq <= COS_PHI2_MIN**2
     if bad.any():
@@ -248,24 +256,36 @@ def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lamb
             _raise_assembly(phi1_a, bad, lam2, lame)
         s2 = np.where(bad, np.nan, s2)
         c2sq = np.where(bad, np.nan, c2sq)
-    c2 = branch * np.sqrt(c2sq)
-
-    phi2 = np.arcsin(s2) if branch == 1 else np.pi - np.arcsin(s2)
-    Y_B = L1_b * s1
-    X_B = L1_b * c1
-    Y_C = L1_b * (s1 + lam2_b * c2)
-    X_C = L1_b * lame_b
-    U21 = s1 / (lam2_b * c2)
-    cos12 = c1 * c2 - s1 * s2  # cos(phi1 + phi2)
-    sin12 = s1 * c2 + c1 * s2  # sin(phi1 + phi2)
-    V_qC = L1_b * cos12 / c2
-    eps_q2 = (c1 + lam2_b * s2 * U21 * U21) / (lam2_b * c2)
-    a_qC = -L1_b / c2 * (sin12 + s1 * s1 / (lam2_b * c2 * c2))
-    omega2 = U21 * w1_b
-    eps2 = U21 * e1_b + eps_q2 * w1_b * w1_b
-    V_C = V_qC * w1_b
-    a_C = V_qC * e1_b + a_qC * w1_b * w1_b
-    mu = np.arcsin(np.abs(s2))
+    c2 = np.sqrt(c2sq)
+    phi2 = np.arcsin(s2)
+    if branch == -1:
+        c2 = -c2
+        phi2 = np.pi - phi2
+    # The transfer functions are evaluated as the derivatives of Y_C = L1 sin(phi1) + L2 c2,
+    # X_C - X_B = L2 s2 (algebraically the paper's Eqs. (6), (8), (11) and corrected (13), see
+    # the Notes; fewer array operations).
+    L2 = L1_a * lam2
+    X_B = L1_a * c1
+    Y_B = L1_a * s1
+    Y_C = Y_B + L2 * c2
+    X_C = np.full(shape, L1_a * lame)
+    inv = 1.0 / (lam2 * c2)
+    U21 = s1 * inv
+    U21sq = U21 * U21
+    L2s2 = L2 * s2
+    V_qC = X_B - L2s2 * U21                          # L1 cos(phi1+phi2) / c2
+    eps_q2 = (c1 + lam2 * s2 * U21sq) * inv
+    a_qC = -(Y_B + L2 * c2 * U21sq + L2s2 * eps_q2)  # d V_qC / d phi1
+    w1sq = w1 * w1
+    omega2 = U21 * w1
+    V_C = V_qC * w1
+    if e1.ndim == 0 and e1 == 0.0:
+        eps2 = eps_q2 * w1sq
+        a_C = a_qC * w1sq
+    else:
+        eps2 = U21 * e1 + eps_q2 * w1sq
+        a_C = V_qC * e1 + a_qC * w1sq
+    mu = np.abs(phi2) if branch == 1 else np.abs(np.pi - phi2)  # arcsin|s2|, one arcsin less
 
     return CrankSliderResult(
         phi1=phi1_b, L1=L1_a, lambda2=lam2, lambda_e=lame, omega1=w1, eps1=e1, branch=branch,
