@@ -194,3 +194,14 @@ def test_general_scheme_never_worse_than_its_special_cases():
             for s, q in reqs.items()}
     assert best["1"] <= best["4b"] * (1 + 1e-3) and best["4b"] <= best["4a"] * (1 + 1e-6)
     assert best["1"] <= best["4a"]
+
+
+def test_rank_breaks_near_ties_of_the_objective_by_axial_size():
+    m = {"objective": np.array([0.30, 0.2, 0.2 * (1 + 1e-6), 0.2 * (1 + 1e-2)]),
+         "L": np.array([0.01, 0.5, 0.1, 0.05])}
+    mask = np.array([True, True, True, True])
+    order = syn._rank(m, mask)
+    # 0.2 and 0.2 (1 + 1e-6) tie: the shorter drive first; a 1 % worse objective comes after
+    # both however short it is
+    assert list(order) == [2, 1, 3, 0]
+    assert list(syn._rank(m, np.array([True, False, False, True]))) == [1, 0]

@@ -56,7 +56,7 @@ def register(app: typer.Typer) -> None:
                           ] = "0,30,60,90,120,150,180,210,240,270,300,330",
     ) -> None:
         """Analyse a mechanism over a cycle: table, CSV/JSON and plots in an output folder."""
-        from rich.console import Console
+        from linkwork.cli._console import console as make_console
 
         doc = files.load(file)
         kind = files.read_toml(file)["type"]
@@ -65,4 +65,4 @@ def register(app: typer.Typer) -> None:
                                   f"analysable: {sorted(ANALYZERS)}")
         table_angles = parse_angles(angles)
         out.mkdir(parents=True, exist_ok=True)
-        _resolve(ANALYZERS[kind])(doc, out=out, angles=table_angles, console=Console())
+        _resolve(ANALYZERS[kind])(doc, out=out, angles=table_angles, console=make_console())

@@ -235,7 +235,7 @@ def register(app: typer.Typer) -> None:
             "--pareto", help="also optimise counterweights and plot the trade-off")] = False,
     ) -> None:
         """Balance a planar mechanism: paper 001's table, torque and bearing loads, plots."""
-        from rich.console import Console
+        from linkwork.cli._console import console as make_console
 
         mech, section, doc = load_balance_file(file)
         if angles is not None:
@@ -247,7 +247,7 @@ def register(app: typer.Typer) -> None:
             if not vals:
                 raise ParameterError("--angles", angles, "must list at least one angle")
             section = section.model_copy(update={"angles": vals})
-        console = Console()
+        console = make_console()
         analysis = getattr(doc, "analysis", None)
         gravity = getattr(analysis, "gravity", None)
         loads = doc.loads if getattr(doc, "load", None) else None

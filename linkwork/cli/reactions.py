@@ -252,7 +252,7 @@ def register(app: typer.Typer) -> None:
                          ] = True,
     ) -> None:
         """Spatial joint reactions (axial forces, bending moments) with redundant constraints."""
-        from rich.console import Console
+        from linkwork.cli._console import console as make_console
 
         if method not in ("force", "displacement"):
             raise ParameterError("--method", method, "must be 'force' or 'displacement'")
@@ -262,6 +262,6 @@ def register(app: typer.Typer) -> None:
         table = _parse_angles(angles)
         if type(mech.driver).__name__ == "Linear":    # positions in mm for a linear driver
             table = np.degrees(table) * 1e-3
-        run(mech, spec, out=out, angles=table, console=Console(), **kwargs, method=method,
+        run(mech, spec, out=out, angles=table, console=make_console(), **kwargs, method=method,
             tolerance_study=tolerance_study, seed=seed, scheduler=scheduler,
             chunk_size=chunk_size, plots=plots)

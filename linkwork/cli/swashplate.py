@@ -151,9 +151,8 @@ def analyze_cmd(
                       ] = "0,30,60,90,120,150,180,210,240,270,300,330",
 ) -> None:
     """Analyse a swash-plate drive file: table, characteristics, CSV/JSON and plots."""
-    from rich.console import Console
-
     from linkwork import files
+    from linkwork.cli._console import console as make_console
     from linkwork.cli.analyze import parse_angles
     from linkwork.errors import FileFormatError
 
@@ -162,7 +161,7 @@ def analyze_cmd(
         raise FileFormatError(str(file), "type", f"is {doc.type!r}, expected 'swashplate'")
     table_angles = parse_angles(angles)
     out.mkdir(parents=True, exist_ok=True)
-    analyze_swashplate(doc, out=out, angles=table_angles, console=Console())
+    analyze_swashplate(doc, out=out, angles=table_angles, console=make_console())
 
 
 @sub.command("synthesize")
@@ -208,10 +207,10 @@ def synthesize_cmd(
         "linkwork-output"),
 ) -> None:
     """Find designs of a scheme meeting the stroke, pressure-angle and speed limits (ranked)."""
-    from rich.console import Console
     from rich.markup import escape
     from rich.table import Table
 
+    from linkwork.cli._console import console as make_console
     from linkwork.models import swashplate as sw
     from linkwork.plot import save
     from linkwork.plot.swashplate import plot_feasible_region
@@ -253,8 +252,8 @@ def synthesize_cmd(
     if len(names) != 2 or any(n not in free for n in names) or names[0] == names[1]:
         raise ParameterError("--map", region, f"must name two free parameters of scheme "
                              f"{scheme}: {', '.join(free)}")
-    console = Console()
-    err_console = Console(stderr=True)
+    console = make_console()
+    err_console = make_console(stderr=True)
     if err_console.is_terminal:  # a live bar, erased afterwards: stderr keeps one error line
         with rich_progress("screening candidates", console=err_console,
                            transient=True) as progress:
@@ -266,14 +265,20 @@ def synthesize_cmd(
     tab = res.table
     t = Table(title=escape(f"scheme {scheme}: {len(res.designs)} best of {res.n_feasible} "
                            f"feasible / {res.n_evaluated} screened (objective {objective})"))
-    for col in ("#", "r [mm]", "l [mm]", "α [deg]", "a [mm]", "b [mm]", "H [mm]",
-                "δf [deg]", "δr [deg]", "max Πv [mm/rad]", "φf [deg]", "L [mm]", "objective"):
+    cols = ["#", "r [mm]", "l [mm]", "α [deg]", "a [mm]", "b [mm]", "H [mm]", "δf [deg]",
+            "δr [deg]", "max Πv [mm/rad]", "φf [deg]", "L [mm]"]
+    if objective != "L":  # the objective column would repeat L
+        cols.append("peak M / (F R)")  # the torque objective: peak drive torque per unit load
+    for col in cols:
         t.add_column(escape(col), justify="right")
     for i in range(len(res.designs)):
-        t.add_row(str(i + 1), _mm(tab["r"][i]), _mm(tab["l"][i]), _deg(tab["alpha"][i]),
-                  _mm(tab["a"][i]), _mm(tab["b"][i]), _mm(tab["H"][i]),
-                  _deg(tab["delta_f"][i]), _deg(tab["delta_r"][i]), _mm(tab["Pi_v_max"][i]),
-                  _deg(tab["phi_f"][i]), _mm(tab["L"][i]), f"{tab['objective'][i]:.5g}")
+        row = [str(i + 1), _mm(tab["r"][i]), _mm(tab["l"][i]), _deg(tab["alpha"][i]),
+               _mm(tab["a"][i]), _mm(tab["b"][i]), _mm(tab["H"][i]),
+               _deg(tab["delta_f"][i]), _deg(tab["delta_r"][i]), _mm(tab["Pi_v_max"][i]),
+               _deg(tab["phi_f"][i]), _mm(tab["L"][i])]
+        if objective != "L":
+            row.append(f"{tab['objective'][i]:.5g}")
+        t.add_row(*row)
     console.print(t)
     out.mkdir(parents=True, exist_ok=True)
     res.to_csv(out / "synthesis.csv")

@@ -568,10 +568,10 @@ def synthesize(req: Request, *, n_candidates: int = 16384, n_best: int = 5, n_re
                    chunk_size=chunk_size, client=client, progress=progress)
     X = np.asarray(res["X"])
     feas = np.asarray(res["feasible"], dtype=bool)
-    pool = [X[feas][np.argsort(res["objective"][feas])][: 4 * n_best]]
+    order = np.flatnonzero(feas)[_rank(res, feas)]
+    pool = [X[order[: 4 * n_best]]]
     starts_x: list[np.ndarray] = []
     if feas.any():
-        order = np.flatnonzero(feas)[np.argsort(res["objective"][feas])]
         starts_x = [X[i] for i in _distinct(X, order, hi - lo, max(n_refine, 1))]
     # phase 1 from the least violating infeasible candidates (ranked by violation, then by
     # objective): reduce the violations, keep those that become feasible
@@ -592,7 +592,7 @@ def synthesize(req: Request, *, n_candidates: int = 16384, n_best: int = 5, n_re
     fp = np.asarray(mp["feasible"], dtype=bool)
     if not fp.any():
         raise _infeasible(req, X, res, bounds)
-    idx = np.flatnonzero(fp)[np.argsort(mp["objective"][fp])]
+    idx = np.flatnonzero(fp)[_rank(mp, fp)]
     idx = _distinct(Xp, idx, hi - lo, n_best)
     designs = tuple(_design(req, Xp[i]) for i in idx)
     table = {key: np.asarray(mp[key])[idx] for key in TABLE_KEYS}
@@ -600,6 +600,20 @@ def synthesize(req: Request, *, n_candidates: int = 16384, n_best: int = 5, n_re
                            n_feasible=int(feas.sum()),
                            candidates={"X": X, "feasible": feas,
                                        "objective": np.asarray(res["objective"])})
+
+
+#: Objective values within this fraction of the best count as equal when ranking; the axial size
+#: ``L`` decides between them (the peak-torque objective hardly depends on the rod length).
+RANK_TIE = 1e-4
+
+
+def _rank(m: dict[str, np.ndarray], mask: np.ndarray) -> np.ndarray:
+    """Order of the ``mask``-ed designs: by objective, near-ties (:data:`RANK_TIE`) by ``L``."""
+    obj = np.asarray(m["objective"])[mask]
+    if obj.size == 0:
+        return np.zeros(0, dtype=int)
+    step = RANK_TIE * max(float(np.min(np.abs(obj))), 1e-300)
+    return np.lexsort((np.asarray(m["L"])[mask], np.floor(obj / step)))
 
 
 def _distinct(X: np.ndarray, idx: np.ndarray, span: np.ndarray, n: int) -> np.ndarray:
