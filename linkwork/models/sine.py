@@ -303,11 +303,19 @@ def working_range(f_slot: ArrayLike, f_guide: ArrayLike) -> tuple[np.ndarray, np
         ``rho1 + rho2 >= pi/2`` (``f_slot * f_guide >= 1``): the mechanism jams at every slot
         angle.
     """
-    rho = friction_angle(f_slot, "f_slot") + friction_angle(f_guide, "f_guide")
-    if np.any(rho >= np.pi / 2):
+    f1 = require_positive("f_slot", f_slot, allow_zero=True)
+    f2 = require_positive("f_guide", f_guide, allow_zero=True)
+    rho = np.arctan(f1) + np.arctan(f2)
+    bad = np.broadcast_to(rho >= np.pi / 2, np.shape(rho))
+    if np.any(bad):
+        i = np.unravel_index(np.argmax(bad), bad.shape)
+        v1 = float(np.broadcast_to(f1, bad.shape)[i])
+        v2 = float(np.broadcast_to(f2, bad.shape)[i])
         raise InfeasibleError("a slot angle free of jamming", "none",
-                              f"f_slot*f_guide = {float(np.max(np.tan(rho))):.6g} >= 1: friction "
-                              "angles add to >= 90 deg")
+                              f"f_slot = {v1:.6g}, f_guide = {v2:.6g}: f_slot*f_guide = "
+                              f"{v1 * v2:.6g} must be < 1 (friction angles "
+                              f"{np.degrees(np.arctan(v1)):.4g} + {np.degrees(np.arctan(v2)):.4g}"
+                              " deg add to >= 90 deg, the slider jams at every slot angle)")
     return rho, np.pi - rho
 
 
