@@ -402,7 +402,8 @@ def harmonic_error(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
     """Error of the harmonic form (6) against the exact position over a cycle [m].
 
     Returns a dict with ``max`` (largest ``|s_approx - s|``), ``rms`` (root mean square over
-    ``n`` equally spaced angles) and ``relative_max`` (``max`` over the exact stroke ``H``), each
+    ``n`` equally spaced angles) and ``relative_max`` (``max`` over the exact stroke ``H``; for a
+    slide that does not move, ``H = 0``, it is 0 if the error is 0 and ``inf`` otherwise), each
     broadcast over the design parameters. The approximation neglects terms of order
     ``l * sin(delta_z)**4``; it is good where the pressure angle stays small.
     """
@@ -413,8 +414,9 @@ def harmonic_error(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
     err = approx - exact
     emax = np.max(np.abs(err), axis=-1)
     H = stroke(R, r, l, alpha, a, b)
-    return {"max": emax, "rms": np.sqrt(np.mean(err * err, axis=-1)),
-            "relative_max": emax / H}
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rel = np.where(H > 0, emax / np.where(H > 0, H, 1.0), np.where(emax > 0, np.inf, 0.0))
+    return {"max": emax, "rms": np.sqrt(np.mean(err * err, axis=-1)), "relative_max": rel}
 
 
 # --------------------------------------------------------------------------------------------
@@ -1058,9 +1060,9 @@ def drive_forces(design: Design, load: Load, *, u: int = 1, rho_guide: float = 0
         The drive jams (``delta_z + atan(k tan(rho_guide)) >= 90 deg``) or the rod cannot
         reach.
     """
-    uu = int(u)
-    if uu < 1:
+    if isinstance(u, bool) or not float(u).is_integer() or u < 1:
         raise ParameterError("u", u, "must be an integer >= 1")
+    uu = int(u)
     rho = float(require_in_range("rho_guide", rho_guide, 0.0, math.pi / 2, hi_open=True,
                                  unit="deg", scale=180 / math.pi))
     mu = math.tan(rho)
