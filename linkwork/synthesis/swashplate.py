@@ -43,7 +43,13 @@ from typing import Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import InfeasibleError, ParameterError, require_in_range, require_positive
+from linkwork.errors import (
+    InfeasibleError,
+    ParameterError,
+    require_finite,
+    require_in_range,
+    require_positive,
+)
 from linkwork.models import swashplate as sw
 from linkwork.results import Result
 from linkwork.sweep import Progress, evaluate
@@ -148,8 +154,15 @@ class Request:
             require_positive("Pi_v_max", self.Pi_v_max)
         if self.objective not in ("L", "torque"):
             raise ParameterError("objective", self.objective, "must be 'L' or 'torque'")
-        if int(self.u) < 1:
+        if isinstance(self.u, bool) or int(self.u) != self.u or self.u < 1:
             raise ParameterError("u", self.u, "must be an integer >= 1")
+        if self.point is not None:
+            if len(self.point) != 2:
+                raise ParameterError("point", self.point, "must be (phi_p [rad], s_p [m])")
+            require_finite("point angle phi_p", self.point[0])
+            require_finite("point position s_p", self.point[1])
+        require_positive("point_tol", self.point_tol, allow_zero=True)
+        require_positive("phi_f_tol", self.phi_f_tol, allow_zero=True)
         free = sw.SCHEMES[self.scheme].free
         for k, (lo, hi) in self.bounds.items():
             if k not in free:
@@ -305,7 +318,7 @@ class SynthesisResult(Result):
         "r": "m", "l": "m", "alpha": "rad", "a": "m", "b": "m", "H": "m", "phi_min": "rad",
         "phi_max": "rad", "delta_f": "rad",
         "delta_r": "rad", "Pi_v_max": "m/rad", "phi_f": "rad", "phi_r": "rad", "L": "m",
-        "L_exact": "m", "objective": "1"}
+        "L_exact": "m", "objective": "1", "s_point": "m"}
     position_field: ClassVar[str] = "objective"
 
     def columns(self) -> dict[str, np.ndarray]:
@@ -558,6 +571,10 @@ def synthesize(req: Request, *, n_candidates: int = 16384, n_best: int = 5, n_re
     """
     from scipy.stats import qmc
 
+    for name, val, least in (("n_candidates", n_candidates, 1), ("n_best", n_best, 1),
+                             ("n_refine", n_refine, 0)):
+        if isinstance(val, bool) or int(val) != val or val < least:
+            raise ParameterError(name, val, f"must be an integer >= {least}")
     bounds = req.search_bounds()
     k = len(bounds)
     lo = np.array([b[0] for b in bounds])
@@ -596,6 +613,8 @@ def synthesize(req: Request, *, n_candidates: int = 16384, n_best: int = 5, n_re
     idx = _distinct(Xp, idx, hi - lo, n_best)
     designs = tuple(_design(req, Xp[i]) for i in idx)
     table = {key: np.asarray(mp[key])[idx] for key in TABLE_KEYS}
+    if req.point is not None:  # the position at the requested point, to compare with s_p
+        table["s_point"] = np.asarray(mp["s_point"])[idx]
     return SynthesisResult(request=req, designs=designs, table=table, n_evaluated=len(X),
                            n_feasible=int(feas.sum()),
                            candidates={"X": X, "feasible": feas,
