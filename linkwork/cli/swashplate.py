@@ -221,6 +221,10 @@ def synthesize_cmd(
         raise ParameterError("--scheme", scheme, f"must be one of {', '.join(sw.SCHEMES)}")
     if objective not in ("L", "torque"):
         raise ParameterError("--objective", objective, "must be 'L' or 'torque'")
+    for opt, val, least in (("--positions", positions, 1), ("--candidates", candidates, 1),
+                            ("--best", best, 1), ("--refine", refine, 0)):
+        if val < least:
+            raise ParameterError(opt, val, f"must be an integer >= {least}")
     R = to_si(rotor_radius, "length", "--rotor-radius")
     H = to_si(stroke, "length", "--stroke")
     H_tol = _q(stroke_tol, "length", "--stroke-tol")
@@ -230,8 +234,12 @@ def synthesize_cmd(
         raise ParameterError("--speed", speed, "give --speed or --productivity, not both")
     if speed is not None:
         omega = to_si(speed, "angular_velocity", "--speed")
+        if not omega > 0:
+            raise ParameterError("--speed", speed, "must be > 0")
     elif productivity is not None:
         P = to_si(productivity, "frequency", "--productivity")
+        if not P > 0:
+            raise ParameterError("--productivity", productivity, "must be > 0")
         omega = 2 * math.pi * P / positions
     lim = _q(pi_v_max, "length", "--pi-v-max")
     if v_allow is not None:
@@ -241,8 +249,9 @@ def synthesize_cmd(
         lim = lv if lim is None else min(lim, lv)
     req = syn.Request(
         scheme=scheme, R=R, H=H, H_tol=0.005 * H if H_tol is None else H_tol,
-        delta_f=_q(delta_f, "angle", "--delta-f") or d_all,
-        delta_r=_q(delta_r, "angle", "--delta-r") or d_all, Pi_v_max=lim,
+        delta_f=d_all if delta_f is None else to_si(delta_f, "angle", "--delta-f"),
+        delta_r=d_all if delta_r is None else to_si(delta_r, "angle", "--delta-r"),
+        Pi_v_max=lim,
         point=None if point is None else _pair(point, "--point"),
         point_tol=to_si(point_tol, "length", "--point-tol"),
         phi_f=_q(phi_f, "angle", "--phi-f"), phi_f_tol=to_si(phi_f_tol, "angle", "--phi-f-tol"),
@@ -267,6 +276,8 @@ def synthesize_cmd(
                            f"feasible / {res.n_evaluated} screened (objective {objective})"))
     cols = ["#", "r [mm]", "l [mm]", "α [deg]", "a [mm]", "b [mm]", "H [mm]", "δf [deg]",
             "δr [deg]", "max Πv [mm/rad]", "φf [deg]", "L [mm]"]
+    if req.point is not None:
+        cols.insert(-1, f"s({_deg(req.point[0])}°) [mm]")
     if objective != "L":  # the objective column would repeat L
         cols.append("peak M / (F R)")  # the torque objective: peak drive torque per unit load
     for col in cols:
@@ -276,6 +287,8 @@ def synthesize_cmd(
                _mm(tab["a"][i]), _mm(tab["b"][i]), _mm(tab["H"][i]),
                _deg(tab["delta_f"][i]), _deg(tab["delta_r"][i]), _mm(tab["Pi_v_max"][i]),
                _deg(tab["phi_f"][i]), _mm(tab["L"][i])]
+        if req.point is not None:
+            row.insert(-1, _mm(tab["s_point"][i]))
         if objective != "L":
             row.append(f"{tab['objective'][i]:.5g}")
         t.add_row(*row)
