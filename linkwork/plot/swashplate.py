@@ -66,7 +66,10 @@ def plot_drive_forces(f: DriveForces, ax: Any = None) -> Any:
         a_.legend(loc="best", fontsize=8)
     eff = f"{f.efficiency:.3f}" if math.isfinite(f.efficiency) else "n/a"
     ax[0].set_title(f"efficiency over a cycle: {eff}", fontsize=9)
+    ax[0].set_ylabel("force [kN]")
+    ax[1].set_ylabel("drive torque [N·m]")
     ax[1].set_xlabel("rotor angle φ [deg]")
+    ax[1].set_xticks(np.arange(0, 361, 45))
     return ax
 
 
@@ -90,21 +93,38 @@ def plot_feasible_region(region: Any, ax: Any = None, best: Any = None) -> Any:
     if np.isfinite(obj).any():
         cs = ax.contour(X, Y, obj, levels=8, colors="k", linewidths=0.6)
         ax.clabel(cs, fontsize=7)
+    from matplotlib.lines import Line2D
+
+    handles = []
+    colours = {"H": "C0", "delta_f": "C1", "delta_r": "C4", "Pi_v": "C3", "point": "C5",
+               "phi_f": "C6"}
     for key, v in region.violations.items():
         if key in ("reach", "unimodal"):
             continue
         vv = np.where(np.isfinite(v), v, np.nan)
-        if np.nanmin(vv) < 0 < np.nanmax(vv):
-            ax.contour(X, Y, vv, levels=[0.0], linewidths=1.0, linestyles="--")
-            j, i = np.unravel_index(np.nanargmin(np.abs(vv)), vv.shape)
-            ax.annotate(key, (X[j, i], Y[j, i]), fontsize=7, color="C3")
+        if np.isfinite(vv).any() and np.nanmin(vv) < 0 < np.nanmax(vv):
+            col = colours.get(key, "0.3")
+            ax.contour(X, Y, vv, levels=[0.0], colors=[col], linewidths=1.2, linestyles="--")
+            handles.append(Line2D([], [], color=col, ls="--", lw=1.2,
+                                  label=f"limit: {_CONSTRAINT_LABEL.get(key, key)}"))
     if best is not None:
         rel = best.relative()
-        ax.plot(rel[region.x_name] * xs, rel[region.y_name] * ys, "r*", ms=12, label="best")
-        ax.legend(loc="best", fontsize=8)
+        (star,) = ax.plot(rel[region.x_name] * xs, rel[region.y_name] * ys, "r*", ms=12,
+                          label="best design")
+        handles.append(star)
+    if handles:
+        ax.legend(handles=handles, loc="best", fontsize=7)
     ax.set_xlabel(xl)
     ax.set_ylabel(yl)
     obj_name = "L / R" if region.request.objective == "L" else "peak torque / (F R)"
-    ax.set_title(f"feasible region (green), contours: {obj_name}; dashed: constraint limits",
-                 fontsize=9)
+    title = f"feasible region (green), contours: {obj_name}; dashed: constraint limits"
+    if not np.any(region.feasible):
+        title += ("\nno feasible grid point in this slice: the feasible set is narrower than "
+                  "the grid step here")
+    ax.set_title(title, fontsize=9)
     return ax
+
+
+_CONSTRAINT_LABEL = {"H": "stroke H", "delta_f": "δz on the forward stroke",
+                     "delta_r": "δz on the return stroke", "Pi_v": "max |Πv|",
+                     "point": "s(φp) = sp", "phi_f": "forward-stroke angle φf"}
