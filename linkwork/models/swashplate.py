@@ -226,10 +226,17 @@ def position(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: Ar
     l : array_like
         Rod length [m], > 0.
     alpha : array_like
-        Tilt of the disk axis to the rotor axis [rad], in [0, pi/2].
+        Tilt of the disk axis to the rotor axis [rad], in the closed range [0, pi/2]: the
+        general functions accept the limiting schemes 3 (``alpha = 0``) and 2
+        (``alpha = 90 deg``); the constructors :func:`scheme_4a` and :func:`scheme_4b` require
+        the open range (0, 90 deg) of the paper's table.
     a, b : array_like
-        Horizontal coordinates of the disk centre O1 along ``x0`` and ``y0`` [m] (``b > 0``: away
-        from the slide at ``phi = 0``), the paper's offsets in the sense of its Eq. (5).
+        Horizontal coordinates of the disk centre O1 [m], the paper's offsets in the sense of
+        its Eq. (5). ``a`` is along ``x0``: ``a > 0`` points in the direction in which the slide
+        at ``phi = 0`` moves as the rotor turns (this physical meaning holds whichever side
+        "counter-clockwise" is seen from). ``b`` is along ``y0``: ``b > 0`` points away from
+        the slide at ``phi = 0`` (towards the slide at ``phi = pi``). ``a != 0`` makes the
+        axes of rotor and disk skew (scheme 1); with ``a = 0`` they intersect.
     invalid : {"raise", "nan"}
         Where the rod cannot reach (``|sin delta_z| > 1``): raise :class:`AssemblyError` listing
         the rotor-angle ranges (default), or return NaN there.
@@ -547,9 +554,11 @@ def stroke(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: ArrayL
            b: ArrayLike = 0.0, *, invalid: Invalid = "raise") -> np.ndarray:
     """Stroke ``H = max s - min s`` [m] over a revolution, from the true extremes.
 
-    Not ``s(pi) - s(0)``: with ``a != 0`` (schemes 1 and 3) the extremes are not at 0 and pi,
-    and with large offsets ``b`` the position function may not be unimodal. Parameters as in
-    :func:`position`.
+    Not ``s(pi) - s(0)``: with ``a != 0`` (schemes 1 and 3) the extremes are not at 0 and pi.
+    Even with ``a = 0`` a large offset ``b`` can give two maxima per revolution (``s`` not
+    unimodal, see :func:`unimodal`), and then ``s(pi) - s(0)`` is wrong as well, e.g.
+    ``R, r, l, alpha, a, b = 0.1, 0.05, 0.15, 20 deg, 0, -0.045``: ``s(pi) - s(0) = -2.04 mm``
+    against ``H = 3.47 mm``. Parameters as in :func:`position`.
     """
     e = extremes(R, r, l, alpha, a, b, invalid=invalid)
     return e["s_max"] - e["s_min"]
@@ -888,8 +897,15 @@ def scheme_2(R: float, r: float, l: float, b: float = 0.0) -> Design:
 def scheme_3(R: float, r: float, l: float, a: float = 0.0, b: float = 0.0) -> Design:
     """Scheme 3 (cylindrical gear, parallel axes): ``alpha = 0``; free ``r, l, a, b``.
 
-    The stroke comes only from the change of the rod's tilt; it needs ``(a, b) != 0`` and
-    ``r != R``.
+    Interpretation: the OCR of the paper's table gives the fixed value of scheme 3 as
+    "a = 0"; linkwork reads it as ``alpha = 0`` (a cylindrical gear couples parallel axes, and
+    the text calls scheme 3 symmetric only after shifting the origin of ``phi``, which fits
+    ``alpha = 0`` with an offset in any direction, not ``a = 0``).
+
+    The stroke comes only from the change of the rod's tilt. Rejecting ``a = b = 0`` is a
+    package rule, not the paper's: with ``alpha = 0`` and the disk centre on the rotor axis the
+    rod keeps its length projection and the slide does not move (``H = 0``). The general
+    functions accept that case.
     """
     if a == 0.0 and b == 0.0:
         raise ParameterError("a, b", (a, b), "scheme 3 needs a disk-centre offset (a, b) != 0; "
@@ -908,6 +924,10 @@ def scheme_4a(R: float, l: float, alpha: float) -> Design:
 def scheme_4b(R: float, r: float, l: float, alpha: float, b: float) -> Design:
     """Scheme 4b (non-orthogonal bevel gear, disk centre off the axis): ``a = 0``, ``b != 0``;
     free ``r, l, alpha`` (0 < alpha < 90 deg) and ``b``.
+
+    Interpretation: the table's row for 4b is OCR-damaged; linkwork reads it as leaving ``r``
+    free (the row lists ``r~`` among the independent parameters), i.e. scheme 4a's
+    ``R = r cos(alpha)`` is *not* imposed.
     """
     al = _alpha_open(alpha)
     if b == 0.0:
