@@ -749,6 +749,8 @@ def test_cli_analyze_and_synthesize_run(capsys, tmp_path):
     assert main([*EX4A, "--out", str(tmp_path / "a")]) == 0
     out = capsys.readouterr().out
     assert "53.59 mm" in out and "1.011 / 1.011 deg" in out
+    # the acceleration column must not read like the offset a of the title ("a = 0 mm")
+    assert "slide acc. [m/s²]" in out and "a [m/s²]" not in out.replace("acc. [m/s²]", "")
     rc = main(["swashplate", "synthesize", "-R", "100 mm", "-H", "53.59 mm", "--scheme", "4a",
                "--delta", "1.1 deg", "--candidates", "256", "--refine", "1", "--best", "2",
                "--out", str(tmp_path / "s")])

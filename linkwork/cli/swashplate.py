@@ -53,7 +53,7 @@ def analyze_swashplate(doc: Any, out: Path, angles: np.ndarray, console: Any) ->
                            f" l = {_mm(d.l)} mm, alpha = {_deg(d.alpha)} deg, a = {_mm(d.a)} mm,"
                            f" b = {_mm(d.b)} mm"))
     for col in ("φ [deg]", "s [mm]", "δz [deg]", "Πv [mm/rad]", "d²s/dφ² [mm/rad²]",
-                "v [m/s]", "a [m/s²]"):
+                "slide v [m/s]", "slide acc. [m/s²]"):
         t.add_column(escape(col), justify="right")
     for i, p in enumerate(angles):
         t.add_row(_deg(p), f"{res_t.s[i] * 1e3:.4f}", f"{math.degrees(res_t.delta_z[i]):.4f}",
