@@ -24,6 +24,7 @@ from linkwork.models import sine
 from linkwork.models.variable_structure import VariableStructureMechanism
 
 RTOL = 1e-6
+DEV: dict[str, float] = {}
 
 
 # ------------------------------------------------------------------------------------------
@@ -70,9 +71,10 @@ def _close(actual, expected, scale, name):
     expected = np.asarray(expected, dtype=float)
     err = np.abs(actual - expected)
     lim = RTOL * np.abs(expected) + 1e-9 * scale
-    assert np.all(err <= lim), (name, actual, expected, float(np.max(err / (np.abs(expected)
-                                                                            + 1e-300))))
-    return float(np.max(err / np.maximum(np.abs(expected), 1e-9 * scale)))
+    rel = float(np.max(err / np.maximum(np.abs(expected), 1e-9 * scale)))
+    DEV[name] = max(DEV.get(name, 0.0), rel)
+    assert np.all(err <= lim), (name, actual, expected, rel)
+    return rel
 
 
 # ------------------------------------------------------------------------------------------
@@ -107,7 +109,7 @@ def _cs_reference(L1, lam2, lame, w1, e1, branch, phi10):
         # phi2 as the paper defines it: from +Y towards +X -> pi/2 - psi
         return np.array([q[1], np.pi / 2 - q[0]])
 
-    (yc, phi2), (vc, w2), (ac, e2) = _motion(position)
+    (yc, phi2), (vc, w2), (ac, e2) = _motion(position, hd=2e-3 / max(abs(w1), 1.0))
     return dict(Y_C=yc, phi2=phi2, V_C=vc, omega2=w2, a_C=ac, eps2=e2)
 
 
@@ -221,7 +223,7 @@ def _sine_reference(L1, alpha, w1, e1, phi10):
         # X3: ram displacement from its phi1 = 0 position, towards the crank axis (-x)
         return np.array([xs0 - q[0], q[1]])
 
-    (x3, x32), (v3, v32), (a3, a32) = _motion(position)
+    (x3, x32), (v3, v32), (a3, a32) = _motion(position, hd=2e-3 / max(abs(w1), 1.0))
     return dict(X3=x3, X32=x32, V3=v3, V32=v32, a3=a3, a32=a32)
 
 
@@ -410,3 +412,9 @@ def test_assembly_error_lists_the_ranges():
     r = cs.offset_crank_slider(phi, 0.05, 1.4, 0.5, on_failure="nan")
     assert np.array_equal(~r.valid, np.abs(0.5 - np.cos(phi)) >= 1.4)
     assert np.all(np.isfinite(r.Y_C[r.valid]))
+
+
+def test_zz_report_deviations():
+    """Print the largest relative deviation per quantity (run with -s to see it)."""
+    for k, v in sorted(DEV.items()):
+        print(f"issue2 max rel. deviation {k:24s} {v:.2e}")
