@@ -471,7 +471,7 @@ def ref_check(design, req):
     phi_f = (xmax - xmin) % (2 * math.pi)
     df = ref_max_on(lambda t: ref_delta(t, *p), xmin, xmin + phi_f, n=200)
     dr = ref_max_on(lambda t: ref_delta(t, *p), xmax, xmax + 2 * math.pi - phi_f, n=200)
-    assert df <= req.delta_f * (1 + 1e-6) and dr <= req.delta_r * (1 + 1e-6)
+    assert df <= req.delta_f * (1 + 1e-12) and dr <= req.delta_r * (1 + 1e-12)
     if req.Pi_v_max is not None:
         vmax = ref_max_on(lambda t: abs(fd1(lambda x: ref_s(x, *p), t)), 0, 2 * math.pi, n=360)
         assert vmax <= req.Pi_v_max * (1 + 1e-6)
@@ -488,14 +488,15 @@ def test_synthesis_known_answer_4a_at_least_as_good():
     H = known.stroke()
     delta = float(np.max([ref_delta(t, *known.params) for t in (math.pi / 2, 3 * math.pi / 2)]))
     L_known = 2 * known.r * math.sin(known.alpha) + known.l
-    req = syn.Request(scheme="4a", R=0.1, H=H, H_tol=1e-4, delta_f=delta * (1 + 1e-9),
-                      delta_r=delta * (1 + 1e-9))
+    req = syn.Request(scheme="4a", R=0.1, H=H, H_tol=1e-13, delta_f=delta, delta_r=delta)
     res = syn.synthesize(req, n_candidates=1024, n_best=3, n_refine=2)
     best = res.best
     assert best.scheme == "4a"
     ref_check(best, req)
     L = 2 * best.r * math.sin(best.alpha) + best.l
-    assert L <= L_known * (1 + 1e-6)
+    # the optimum is the known design itself (alpha fixed by H, l by delta): "at least as good"
+    # to 1e-11 (the rod-repair margin was 1e-9 relative: L came out 2e-10 m longer)
+    assert L <= L_known * (1 + 1e-11)
     assert float(res.table["L"][0]) == pytest.approx(L, rel=1e-12)
 
 

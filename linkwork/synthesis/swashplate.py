@@ -506,7 +506,7 @@ def _project(X: np.ndarray, req: Request, bounds: list[tuple[float, float]],
         ok = np.isfinite(c.H)
         lv = P[2] / req.R
         l_min = np.maximum(lv * np.sin(c.delta_f) / math.sin(req.delta_f),
-                           lv * np.sin(c.delta_r) / math.sin(req.delta_r)) * (1 + 1e-9)
+                           lv * np.sin(c.delta_r) / math.sin(req.delta_r)) * (1 + 1e-12)
         if lengthen_rod:
             X[:, jl] = np.where(ok, np.maximum(lv, l_min), X[:, jl])
         ratio = np.where(ok & (c.H > 0), req.H / np.where(ok & (c.H > 0), c.H, 1.0), 1.0)
