@@ -455,6 +455,12 @@ def test_kinetostatics_with_friction_losses_and_efficiency(guide):
         assert float(f.M[i]) - float(f0.M[i]) >= -1e-9
     assert 0.0 < f.efficiency < 1.0
     assert f.work_input > f0.work_input > 0
+    # instantaneous efficiency of one slide: one value per angle (was (u, n), garbage rows)
+    assert f.eta_inst.shape == ph.shape
+    i = 30
+    F = float(np.interp(ph[i], ang, Fs))
+    assert float(f.eta_inst[i]) == pytest.approx(F * fd1(lambda x: ref_s(x, *d.params), ph[i])
+                                                 / float(f.M[i]), rel=1e-7)
     assert f0.efficiency == pytest.approx(1.0, abs=1e-9)
 
 

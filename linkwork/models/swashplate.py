@@ -1103,7 +1103,7 @@ def drive_forces(design: Design, load: Load, *, u: int = 1, rho_guide: float = 0
     M_k = res["M_disk"] + res["M_rotor"]
     useful_k = Fk * res["s1"]
     with np.errstate(divide="ignore", invalid="ignore"):
-        eta = np.where(M_k != 0, useful_k[0] / M_k[0], np.nan)
+        eta = np.where(M_k[0] != 0, useful_k[0] / M_k[0], np.nan)
     # cycle integrals by the trapezoidal rule over the given angles (per revolution)
     W_use = float(np.trapezoid(useful_k.sum(0), ph))
     W_in = float(np.trapezoid(M_k.sum(0), ph))
