@@ -1082,6 +1082,11 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
             raise ParameterError(f"branches.{k_}", v_, "must be +1 or -1")
     structure = mech.structure
     nb = len(mech.body_names)
+    group_keys = [g.key for g in structure.groups if g.kind != "driver"]
+    unknown = sorted(set(br) - set(group_keys))
+    if unknown:  # a misspelt key would silently leave that group on branch +1
+        raise ParameterError("branches", unknown[0],
+                             f"no assembly group has this key; known: {group_keys}")
     used = {g.key: int(br.get(g.key, 1)) for g in structure.groups}
     keys = ("X", "Y", "T", "VX", "VY", "W", "AX", "AY", "E")
     block = np.empty((len(keys), nb, n))  # one allocation: much faster than nine
