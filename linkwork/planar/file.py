@@ -250,5 +250,24 @@ class PlanarFile(FileModel):
         return np.linspace(lo, hi, self.analysis.n)
 
     def loads(self, phi1: np.ndarray) -> list[PointForce | BodyTorque]:
-        """External loads evaluated at the driver positions ``phi1``."""
+        """External loads evaluated at the driver positions ``phi1``.
+
+        Raises
+        ------
+        ParameterError
+            A load names no moving body (``load.<i>.body``) or no point of its body
+            (``load.<i>.point``).
+        """
+        moving = {b.name: b for b in self.body}
+        for i, ld in enumerate(self.load):
+            if ld.body not in moving:
+                why = ("loads act on moving bodies, not on the frame"
+                       if ld.body == self.frame.name else "no such moving body")
+                raise ParameterError(f"load.{i}.body", ld.body, f"{why}; known: {list(moving)}")
+            if isinstance(ld.point, str) and ld.point != "com":
+                known = list(moving[ld.body].build().points)
+                if ld.point not in known:
+                    raise ParameterError(f"load.{i}.point", ld.point,
+                                         f"no such point of body {ld.body!r}; known: "
+                                         f"{[*known, 'com']}")
         return [ld.build(phi1) for ld in self.load]
