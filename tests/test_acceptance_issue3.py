@@ -295,7 +295,7 @@ def _rot(th, p):
     return np.array([c * p[0] - s * p[1], s * p[0] + c * p[1]])
 
 
-def _pose_reference(mech, kin, k, w1, e1):
+def _pose_reference(mech, kin, k, w1, e1, step=2e-3):
     """Poses and their rates of all moving bodies at position k, from the raw constraints."""
     names = mech.body_names
     idx = {n: i for i, n in enumerate(names)}
@@ -336,7 +336,7 @@ def _pose_reference(mech, kin, k, w1, e1):
     def position(t):
         return _newton(residual, q0, np.asarray(t, dtype=complex))
 
-    return _motion(position, hd=2e-3 / max(abs(w1), 1.0))
+    return _motion(position, hd=step / max(abs(w1), 1.0))
 
 
 def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
@@ -449,12 +449,12 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
     return dict(fx=fx, fy=fy, mz=mz, Q=Q, sf=sf, sm=sm, T=T)
 
 
-def _check_engine(mech, phi, w1, e1, gravity, loads, about=(0.0, 0.0), label=""):
+def _check_engine(mech, phi, w1, e1, gravity, loads, about=(0.0, 0.0), label="", step=2e-3):
     kin = kinematics(mech, phi, w1, e1)
     dyn = inverse_dynamics(kin, gravity=gravity, loads=loads, about=about)
     L = max(max(abs(v) for p in b.points.values() for v in p) for b in mech.bodies) + 1e-3
     for k in range(len(phi)):
-        q, v, acc = _pose_reference(mech, kin, k, w1, e1)
+        q, v, acc = _pose_reference(mech, kin, k, w1, e1, step)
         nb = len(mech.bodies)
         for i in range(1, nb + 1):
             _close(kin.x[i, k], q[3 * i - 3], L, label + "engine x,y")
@@ -532,6 +532,35 @@ def test_engine_sixbar_example_file():
     phi = PHI7
     _check_engine(mech, phi, 9.0, 20.0, (0.0, -9.81), [BodyTorque(mech.bodies[-1].name, 5.0)],
                   label="six-bar ")
+
+
+def test_engine_class_three_group_by_newton():
+    """A crank driving a class-III Assur group (triad: ternary body c and three binary links,
+    two of them pivoted in the frame), solved by the engine's Newton continuation.  The triad
+    locks near phi1 = 0.164 rad (checked with an independent continuation), so 7 positions in
+    [-0.5, 0.12] rad; a finer reference step near that singular position."""
+    P, R = np.array([0.7, -0.1]), np.array([0.3, 0.6])
+    A, X = np.array([0.1, 0.0]), np.array([0.35, 0.25])
+    Y, Z = np.array([0.55, 0.2]), np.array([0.45, 0.45])
+
+    def link(name, s, e, S, E):
+        d = E - S
+        ln = float(np.hypot(*d))
+        return Body(name, {s: (0.0, 0.0), e: (ln, 0.0)}, mass=1.0, com=(ln / 2, 0.0),
+                    inertia=0.01, guess=(S[0], S[1], math.atan2(d[1], d[0])))
+    frame = Body("frame", {"O": (0.0, 0.0), "P": tuple(P), "R": tuple(R)})
+    bodies = (bar("crank", "O", "A", 0.1, mass=1.0), link("l1", "A", "X", A, X),
+              link("l2", "P", "Y", P, Y), link("l3", "R", "Z", R, Z),
+              Body("c", {"X": (0, 0), "Y": tuple(Y - X), "Z": tuple(Z - X)}, mass=2.0,
+                   com=(0.1, 0.05), inertia=0.02, guess=(X[0], X[1], 0.0)))
+    joints = (Revolute("O", "frame", "crank"), Revolute("A", "crank", "l1"),
+              Revolute("X", "l1", "c"), Revolute("Y", "c", "l2"), Revolute("P", "frame", "l2"),
+              Revolute("Z", "c", "l3"), Revolute("R", "frame", "l3"))
+    mech = Mechanism(frame, bodies, joints, Crank("O"))
+    assert [g.cls for g in mech.structure.groups] == [1, 3]
+    loads = [PointForce("c", "Z", fx=10.0, fy=3.0), BodyTorque("l2", 1.0)]
+    _check_engine(mech, np.linspace(-0.5, 0.12, 7), 5.0, 10.0, (0.0, -9.81), loads,
+                  label="class III ", step=1e-4)
 
 
 # ------------------------------------------------------------------------------------------
