@@ -418,3 +418,92 @@ def test_zz_report_deviations():
     """Print the largest relative deviation per quantity (run with -s to see it)."""
     for k, v in sorted(DEV.items()):
         print(f"issue2 max rel. deviation {k:24s} {v:.2e}")
+
+
+# ------------------------------------------------------------------------------------------
+# broken sine-press files to `linkwork analyze`: one line on stderr, exit code 2
+# ------------------------------------------------------------------------------------------
+
+SP_BROKEN = [
+    ('L1 = "50 mm"', 'L1 = "50 mm', ["invalid toml"]),
+    ('type = "sine_press"', 'type = "sine_pres"', ["type", "sine_pres"]),
+    ('type = "sine_press"', '', ["type", "missing"]),
+    ('L1 = "50 mm"', 'L1 = "100 kg"', ["crank.L1", "100 kg", "length"]),
+    ('L1 = "50 mm"', 'L1 = "-50 mm"', ["crank.L1", "-50 mm"]),
+    ('L1 = "50 mm"', '', ["crank.L1", "missing"]),
+    ('L1 = "50 mm"', 'L1 = nan', ["crank.L1", "nan"]),
+    ('L1 = "50 mm"', 'L1 = "fifty mm"', ["crank.L1", "fifty"]),
+    ('speed = "120 rpm"', 'speed = "120 mm"', ["crank.speed", "120 mm"]),
+    ('lambda2 = 4.0', 'lambda2 = 1.2', ["idle.lambda2", "1.2", "1.5"]),
+    ('alpha = "60 deg"', 'alpha = "5 deg"', ["working.alpha", "5 deg", "12.55"]),
+    ('alpha = "60 deg"', 'alpha = "200 deg"', ["working.alpha", "200"]),
+    ('alpha = "45 deg"', 'alpha = "175 deg"', ["schedule", "175 deg", "167.4"]),
+    ('lambda_e = 0.5', 'lambda_e = 0.5\nfoo = 1', ["idle.foo", "unknown key"]),
+    ('branch = 1', 'branch = 0', ["idle.branch", "0"]),
+    ('revolutions = 5', 'revolutions = 0', ["schedule.0.revolutions", "0"]),
+    ('revolutions = 5', 'revolutions = 2.5', ["schedule.0.revolutions", "2.5"]),
+    ('mode = "idle"', 'mode = "sleep"', ["schedule.0.mode", "sleep"]),
+    ('f_slot = 0.12', 'f_slot = -0.12', ["working.f_slot", "-0.12"]),
+    ('f_slot = 0.12', 'f_slot = 5.0', ["working.alpha", "84.4"]),
+    ('samples_per_revolution = 360', 'samples_per_revolution = 3',
+     ["output.samples_per_revolution", "3"]),
+]
+
+
+@pytest.mark.parametrize("old,new,words", SP_BROKEN)
+def test_cli_broken_sine_press_files_one_line_exit_2(old, new, words, tmp_path, capsys):
+    from pathlib import Path
+
+    from linkwork.cli import main
+    text = (Path(__file__).resolve().parents[1] / "examples" / "sine_press.toml").read_text()
+    assert old in text
+    p = tmp_path / "press.toml"
+    p.write_text(text.replace(old, new, 1))
+    rc = main(["analyze", str(p), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert len(err.strip().splitlines()) == 1, err
+    assert "Traceback" not in err and "press.toml" in err
+    for w in words:
+        assert w.lower() in err.lower(), (w, err)
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_cli_missing_file(tmp_path, capsys):
+    from linkwork.cli import main
+    assert main(["analyze", str(tmp_path / "none.toml")]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "none.toml" in err
+
+
+def test_cli_sine_press_outputs_match_the_functions(tmp_path, capsys, monkeypatch):
+    """The CSV written by `linkwork analyze` carries the same numbers as the public functions
+    (SI columns), for both modes, and the schedule switches at 5 T, 8 T, 10 T."""
+    import csv
+    import json
+    from pathlib import Path
+
+    from linkwork.cli import main
+    monkeypatch.setenv("COLUMNS", "250")
+    src = Path(__file__).resolve().parents[1] / "examples" / "sine_press.toml"
+    out = tmp_path / "out"
+    assert main(["analyze", str(src), "--out", str(out)]) == 0
+    capsys.readouterr()
+    with (out / "idle_cycle.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    phi = np.array([float(r["phi1 [rad]"]) for r in rows])
+    w1 = 120 * 2 * np.pi / 60
+    ref = cs.offset_crank_slider(phi, 0.05, 4.0, 0.5, w1)
+    np.testing.assert_allclose([float(r["a_C [m/s^2]"]) for r in rows], ref.a_C, rtol=1e-12)
+    with (out / "working_cycle.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    phi = np.array([float(r["phi1 [rad]"]) for r in rows])
+    ref2 = sine.inclined_slot(phi, 0.05, math.radians(60), w1)
+    np.testing.assert_allclose([float(r["X3 [m]"]) for r in rows], ref2.X3, rtol=1e-12,
+                               atol=1e-15)
+    data = json.loads((out / "schedule.json").read_text())
+    T = 2 * np.pi / w1
+    np.testing.assert_allclose([s["t"] for s in data["switches"]], [5 * T, 8 * T, 10 * T],
+                               rtol=1e-12)
+    for png in ("kinematics.png", "schedule.png", "working_range.png"):
+        assert (out / png).stat().st_size > 10_000
