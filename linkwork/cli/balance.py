@@ -124,7 +124,7 @@ def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
                              n=section.n, gravity=gravity, loads=loads)
     t = Table(title="Shaking moment about the crank axis [N·m] (paper 001)")
     for h in ("φ1 [deg]", "M unbalanced", "ΔM1 static", "ΔM2 1st harmonic", "ΔM3 least sq."):
-        t.add_column(h, justify="right")
+        t.add_column(escape(h), justify="right")  # "[deg]" would be read as Rich markup
     for i, p in enumerate(np.degrees(comp.phi1)):
         t.add_row(_fmt(p, 1), _fmt(comp.M[i]), _fmt(comp.dM1[i]), _fmt(comp.dM2[i]),
                   _fmt(comp.dM3[i]))
