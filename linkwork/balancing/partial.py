@@ -163,6 +163,9 @@ def _check(phi: ArrayLike, moment: ArrayLike, static_moment: float, omega: Array
     S = float(require_positive("static_moment", static_moment))
     w = np.broadcast_to(require_finite("omega", omega), p.shape).astype(float)
     e = np.broadcast_to(require_finite("eps", eps), p.shape).astype(float)
+    if p.size and not (np.any(w != 0.0) or np.any(e != 0.0)):
+        raise ParameterError("omega", 0.0, "must be non-zero (or eps non-zero): a counterweight "
+                             "that does not move adds no moment, whatever its axis")
     return p, m, S, w, e
 
 
@@ -228,9 +231,10 @@ def counterweight_axis_offset(phi: ArrayLike, moment: ArrayLike, static_moment: 
     else:
         wt = np.broadcast_to(require_positive("weights", weights, allow_zero=True), p.shape)
     if method == "paper":
-        if np.any(e != 0.0) or np.ptp(w) > 0.0:
+        if np.any(e != 0.0) or np.ptp(w) > 0.0 or w[0] == 0.0:
             raise ParameterError("method", "paper",
-                                 "formula (1) assumes eps = 0 and constant omega; use 'lsq'")
+                                 "formula (1) assumes eps = 0 and a constant omega != 0; "
+                                 "use 'lsq'")
         s, c = np.sin(p), np.cos(p)
         ss, cc = np.sum(wt * s * s), np.sum(wt * c * c)
         if ss == 0.0 or cc == 0.0:
