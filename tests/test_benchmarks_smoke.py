@@ -52,3 +52,36 @@ def test_benchmark_plain_numpy_fourbar_is_the_open_branch(bench):
     np.testing.assert_allclose(np.angle(np.exp(1j * (plain[0] - r.theta3))), 0, atol=1e-12)
     np.testing.assert_allclose(plain[2], r.omega3, rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(plain[4], r.alpha3, rtol=1e-9, atol=1e-9)
+
+
+def test_tolerance_study_benchmark_runs_tiny_and_its_checks_bite():
+    """benchmarks/tolerance_study.py (issue 6): tiny sizes, no dask, no timing assertions; every
+    contender agrees with the plain NumPy re-solve, and the checks catch a 1e-6 change."""
+    path = PATH.parent / "tolerance_study.py"
+    spec = importlib.util.spec_from_file_location("linkwork_bench_tolerance_study", path)
+    assert spec is not None and spec.loader is not None
+    tol = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = tol
+    spec.loader.exec_module(tol)
+    result = tol.run(sizes=(20, 60), positions=24, repeat=1, resolve_n=3, dask_n=0)
+    names = {(r["contender"], r["samples"]) for r in result["rows"]}
+    assert {("force method", 0), ("displacement method", 0), ("plain NumPy re-solve", 3),
+            ("plain NumPy, factorised once", 3), ("tolerance_study", 20),
+            ("tolerance_study", 60)} <= names
+    assert len(result["agreement"]) == 7
+    assert all(v <= 1e-9 for v in result["agreement"].values())
+    assert "speed-up vs plain re-solve" in tol.table(result, markdown=True)
+    prob = tol.load_problem(24)
+    cyc = tol.cycle_contenders(prob)
+    out = [c.output(c.run()) for c in cyc]
+    out[1] = out[1].copy()
+    out[1][7] *= 1 + 1e-6                     # fy of joint A (row 6 + 1) at every position
+    with pytest.raises(AssertionError, match="displacement method disagrees"):
+        tol.check_cycle(out, [c.name for c in cyc], len(prob.model.joints))
+    cons, resolve = tol.study_contenders(prob, (20,), 3, 0)
+    results, _ = tol._first_calls(cons)
+    key = f"{cons[-1].name}#{len(cons) - 1}"
+    peaks, draws = results[key]
+    results[key] = (peaks * (1 + 1e-6), draws)
+    with pytest.raises(AssertionError, match=r"tolerance_study \(N=20\) disagrees"):
+        tol.check_study(results, cons, 3, resolve)

@@ -1,0 +1,583 @@
+"""Spatial reactions with redundant constraints: one-cycle solves and the Monte-Carlo study.
+
+The loom four-bar of papers 001/004 as ``examples/loom_fourbar_spatial.toml`` describes it (four
+revolute joints, axes of 30 mm, stacked links, gravity, a 4 N·m moment on the rocker, three
+systematic deviations and six toleranced ones), over ``--positions`` crank positions (360).
+
+Case "one cycle": :func:`linkwork.redundancy.solve_reactions` with the file's deviations,
+
+``force method``         self-stress states from a batched SVD + compatibility (the default);
+``displacement method``  assembled joint stiffness, batched ``numpy.linalg.solve``.
+
+Case "tolerance study": peaks over the cycle of every reaction component and of the bending
+moment of every joint, for Monte-Carlo samples of the deviations (the file's six tolerances plus
+its three systematic deviations as fixed means, as ``linkwork reactions --tolerance-study``
+does),
+
+``tolerance_study``      :func:`linkwork.redundancy.tolerance_study` at each ``--n`` samples,
+                         in-process (the affine map deviations -> reactions is built once per
+                         position; each chunk of samples is one batched matrix product);
+``... dask``             the same at ``--dask-n`` samples on an in-process dask.distributed
+                         cluster (``processes=False``, 2 workers x 1 thread);
+``plain NumPy re-solve`` the reference: for ``--resolve-n`` samples, one straightforward
+                         re-solve of the whole compliance problem per sample, written out in
+                         this file (stiffness ``A K A^T`` assembled from the joint geometry and
+                         the bearing stiffnesses, scaled batched ``numpy.linalg.solve`` over
+                         the positions, reactions, peaks);
+``plain NumPy, factorised once``  the same with the inverse stiffness of every position computed
+                         once before the loop (only the misfit, the right-hand side and three
+                         batched mat-vecs per sample): the best a per-sample loop can do;
+``solve_reactions per sample`` (force / displacement): the library's one-cycle solver called
+                         once per sample.
+
+Per-sample contenders are timed on ``--resolve-n`` samples and reported per sample; the ratios
+compare the time per sample, i.e. the same number of samples.
+
+Before timing, the force and displacement methods are compared (every component of every joint
+and Q, relative to the largest value of its kind, 1e-9), and the peaks of every timed contender
+are compared with the plain NumPy re-solve of the same samples (relative to the largest peak of
+the same quantity, 1e-9); the dask run must equal the in-process run of the same size to 1e-12.
+A disagreement aborts.
+
+Usage::
+
+    .venv/bin/python benchmarks/tolerance_study.py                 # plain table on stdout
+    .venv/bin/python benchmarks/tolerance_study.py --markdown --json out.json
+    .venv/bin/python benchmarks/tolerance_study.py --n 1000 10000 --no-dask --repeat 3
+
+Medians of ``--repeat`` samples, the contenders of a case sampled round-robin (one sample of each
+per round, each sample looping >= 20 ms), so that load from other processes hits all alike.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import statistics
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "loom_fourbar_spatial.toml"
+RTOL = 1e-9
+RTOL_DASK = 1e-12
+_COMPS = ("dx", "dy", "dz", "tx", "ty", "tz")
+
+
+# ---------------------------------------------------------------------------------------------
+# the problem
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Problem:
+    """The loom four-bar in space over one cycle, with its tolerances."""
+
+    model: Any                 # linkwork.redundancy.SpatialModel
+    geom: Any                  # linkwork.redundancy.SpatialGeometry
+    wrenches: np.ndarray       # (n, n_bodies, 6)
+    deviations: np.ndarray     # systematic, (n_joints, 2, 6)
+    tolerances: tuple[Any, ...]
+    slots: np.ndarray          # (n_tol, 3): joint, side, component of each tolerance
+
+
+def load_problem(positions: int = 360, path: Path = EXAMPLE) -> Problem:
+    """Read the example file and build the model, geometry and body wrenches of one cycle."""
+    from linkwork.cli.reactions import _model_inputs
+    from linkwork.cli.reactions import load_problem as read
+    from linkwork.planar import kinematics
+    from linkwork.redundancy import (
+        Tolerance,
+        body_wrenches,
+        deviation_array,
+        geometry,
+        spatial_model,
+    )
+
+    mech, kw, spec = read(path)
+    inputs = _model_inputs(mech, spec)
+    cycle = np.linspace(0.0, 2 * math.pi, positions, endpoint=False)
+    kin = kinematics(mech, cycle)
+    model = spatial_model(mech, inputs["joints"], inputs["default"])
+    loads = kw["loads"](cycle) if callable(kw["loads"]) else kw["loads"]
+    w = body_wrenches(mech, kin, gravity=kw["gravity"], loads=list(loads),
+                      heights=inputs["heights"], out_of_plane=inputs["out_of_plane"])
+    dev = deviation_array(model, inputs["deviations"], mech.frame.name)
+    tols = []
+    for t in spec.tolerance:
+        jt = next(j for j in model.joints if j.name == t.joint)
+        body = "ground" if t.body == mech.frame.name else t.body
+        tols.append(Tolerance(t.joint, "a" if body == jt.body_a else "b", t.component, t.limit,
+                              t.distribution, t.mean))
+    for j, jt in enumerate(model.joints):          # systematic deviations: fixed means
+        for side in (0, 1):
+            for c in range(6):
+                if dev[j, side, c] != 0.0:
+                    tols.append(Tolerance(jt.name, "ab"[side], _COMPS[c], 0.0, "uniform",
+                                          float(dev[j, side, c])))
+    names = [j.name for j in model.joints]
+    slots = np.array([(names.index(t.joint), "ab".index(t.side), _COMPS.index(t.component))
+                      for t in tols])
+    return Problem(model, geometry(mech, kin), w, dev, tuple(tols), slots)
+
+
+def deviations_of(prob: Problem, draws: np.ndarray) -> np.ndarray:
+    """Deviation arrays (S, n_joints, 2, 6) of sampled tolerance values (S, n_tol)."""
+    out = np.zeros((draws.shape[0], len(prob.model.joints), 2, 6))
+    for k, (j, side, c) in enumerate(prob.slots):
+        out[:, j, side, c] += draws[:, k]
+    return out
+
+
+def peaks_of(comp: np.ndarray) -> np.ndarray:
+    """Global components (n_joints, 6, n) -> (n_joints, 7): peak |.| and peak bending."""
+    p = np.max(np.abs(comp), axis=-1)
+    bend = np.max(np.hypot(comp[:, 3], comp[:, 4]), axis=-1)
+    return np.concatenate([p, bend[:, None]], axis=-1)
+
+
+# ---------------------------------------------------------------------------------------------
+# the plain NumPy reference: displacement method written out, one sample at a time
+# ---------------------------------------------------------------------------------------------
+
+
+class PlainNumpy:
+    """The compliance problem of a planar mechanism with revolute joints, written out.
+
+    Unknowns: the translation (at the global origin) and the rotation of every moving body,
+    6 per body. A revolute joint at ``p = (x, y, z)`` joining body a to body b is five springs
+    (fx, fy, fz, mx, my) of stiffness ``k_b, k_b, axial_ratio k_b, k_b e²/12, k_b e²/12`` (or the
+    joint's explicit ones); the driver is a torsion spring about z. The stretch of joint j is
+    ``s = B_j u + delta_j`` with ``B_j`` = (motion of b at p) - (motion of a at p) and the
+    misfit ``delta_j = R(theta_b) d_b - R(theta_a) d_a``; its reaction on b is ``-K s``.
+    Equilibrium ``sum B^T K (B u + delta) = w`` is solved per position (lengths scaled by the
+    mechanism size, Jacobi-scaled). The reactions do not depend on the driver spring's value
+    (the in-plane problem is determinate).
+    """
+
+    def __init__(self, prob: Problem) -> None:
+        model, geom = prob.model, prob.geom
+        if any(j.kind != "revolute" for j in model.joints):
+            raise ValueError("the plain NumPy reference handles revolute joints only")
+        n, nb = geom.n, model.n_bodies
+        self.prob = prob
+        length = float(max(np.max(np.abs(geom.points)), max(abs(j.z) for j in model.joints)))
+        self.length = length
+        # B: (n, 5 nj + 1, 6 nb) in scaled units (rotations times L)
+        rows = []
+        kvec = []
+        for j, jt in enumerate(model.joints):
+            x, y = geom.points[:, j, 0], geom.points[:, j, 1]
+            z = np.full(n, jt.z)
+            bj = np.zeros((n, 5, 6 * nb))
+            for body, sign in ((jt.body_b, 1.0), (jt.body_a, -1.0)):
+                if body == "ground":
+                    continue
+                i = 6 * model.body_index(body)
+                # translation at p of a body with origin translation t, rotation r: t + r x p
+                bj[:, 0, i], bj[:, 1, i + 1], bj[:, 2, i + 2] = sign, sign, sign
+                bj[:, 0, i + 4], bj[:, 0, i + 5] = sign * z / length, -sign * y / length
+                bj[:, 1, i + 3], bj[:, 1, i + 5] = -sign * z / length, sign * x / length
+                bj[:, 2, i + 3], bj[:, 2, i + 4] = sign * y / length, -sign * x / length
+                bj[:, 3, i + 3], bj[:, 4, i + 4] = sign, sign
+            rows.append(bj)
+            if jt.stiffness is None:
+                kb, kt = jt.k_bearing, jt.k_bearing * jt.e ** 2 / 12.0
+                kj = [kb, kb, jt.axial_ratio * kb, kt, kt]
+            else:
+                kj = list(jt.stiffness[:5])
+            kvec += [*kj[:3], kj[3] / length ** 2, kj[4] / length ** 2]
+        drv = model.joints[model.driver_index]
+        bd = np.zeros((n, 1, 6 * nb))
+        for body, sign in ((drv.body_b, 1.0), (drv.body_a, -1.0)):
+            if body != "ground":
+                bd[:, 0, 6 * model.body_index(body) + 5] = sign
+        rows.append(bd)
+        self.B = np.concatenate(rows, axis=1)                      # (n, m + 1, 6 nb)
+        self.Bt = np.ascontiguousarray(np.swapaxes(self.B, 1, 2))
+        kvec.append(float(np.exp(np.mean(np.log(kvec)))))          # driver spring
+        self.k = np.array(kvec)
+        w = prob.wrenches.reshape(n, nb, 2, 3).copy()
+        w[:, :, 1] /= length                                       # moments in scaled units
+        self.w = w.reshape(n, 6 * nb)
+        self.angles = np.concatenate([geom.body_angles, np.zeros((n, 1))], axis=1)
+        self.cos, self.sin = np.cos(self.angles), np.sin(self.angles)
+        self.ab = [(model.body_index(j.body_a), model.body_index(j.body_b))
+                   for j in model.joints]
+        self.inverse: np.ndarray | None = None
+
+    def stiffness(self) -> tuple[np.ndarray, np.ndarray]:
+        """Jacobi-scaled ``B^T K B`` of every position and its diagonal scaling."""
+        s = self.Bt @ (self.k[:, None] * self.B)
+        d = 1.0 / np.sqrt(np.einsum("nii->ni", s))
+        return d[:, :, None] * s * d[:, None, :], d
+
+    def factorise(self) -> None:
+        """Invert the scaled stiffness of every position once (for the per-sample loop)."""
+        s, d = self.stiffness()
+        self.inverse = d[:, :, None] * np.linalg.inv(s) * d[:, None, :]
+
+    def misfit(self, dev: np.ndarray) -> np.ndarray:
+        """Scaled misfit of every spring (n, m + 1) for one deviation array (nj, 2, 6)."""
+        n = self.B.shape[0]
+        out = np.zeros((n, self.B.shape[1]))
+        for j, (ia, ib) in enumerate(self.ab):
+            glob = np.zeros((n, 6))
+            for side, body in ((1, ib), (0, ia)):
+                sign = 1.0 if side == 1 else -1.0
+                c, s = self.cos[:, body], self.sin[:, body]
+                d = dev[j, side]
+                for o in (0, 3):                 # rotate (x, y) of offsets and of tilts
+                    glob[:, o] += sign * (c * d[o] - s * d[o + 1])
+                    glob[:, o + 1] += sign * (s * d[o] + c * d[o + 1])
+                    glob[:, o + 2] += sign * d[o + 2]
+            out[:, 5 * j:5 * j + 3] = glob[:, :3]
+            out[:, 5 * j + 3:5 * j + 5] = glob[:, 3:5] * self.length
+        return out
+
+    def reactions(self, dev: np.ndarray) -> np.ndarray:
+        """Global reaction components (n_joints, 6, n) for one deviation array; Q in mz of the
+        driver joint."""
+        delta = self.misfit(dev)
+        kd = self.k * delta
+        rhs = self.w - np.einsum("nki,nk->ni", self.B, kd)
+        if self.inverse is None:
+            s, d = self.stiffness()
+            u = d * np.linalg.solve(s, (d * rhs)[..., None])[..., 0]
+        else:
+            u = np.einsum("nij,nj->ni", self.inverse, rhs)
+        r = -self.k * (np.einsum("nki,ni->nk", self.B, u) + delta)     # (n, m + 1), scaled
+        nj = len(self.ab)
+        comp = np.zeros((nj, 6, r.shape[0]))
+        for j in range(nj):
+            comp[j, :3] = r[:, 5 * j:5 * j + 3].T
+            comp[j, 3:5] = r[:, 5 * j + 3:5 * j + 5].T * self.length
+        comp[self.prob.model.driver_index, 5] = r[:, -1] * self.length
+        return comp
+
+
+# ---------------------------------------------------------------------------------------------
+# contenders
+# ---------------------------------------------------------------------------------------------
+
+
+@dataclass
+class Contender:
+    name: str
+    samples: int                       # samples per call (0: one-cycle case)
+    run: Callable[[], Any]
+    output: Callable[[Any], Any]        # result -> what the checks compare
+
+
+def cycle_contenders(prob: Problem) -> list[Contender]:
+    """Force and displacement method over one cycle; output: components (nj, 6, n) and Q."""
+    from linkwork.redundancy import solve_reactions
+
+    def out(r: Any) -> np.ndarray:
+        return np.concatenate([r.components().reshape(-1, r.Q.size), r.Q[None, :]])
+
+    def solver(m: str) -> Callable[[], Any]:
+        return lambda: solve_reactions(prob.model, prob.geom, prob.wrenches, prob.deviations,
+                                       method=m)
+
+    return [Contender(f"{m} method", 0, solver(m), out) for m in ("force", "displacement")]
+
+
+def study_contenders(prob: Problem, sizes: tuple[int, ...], resolve_n: int, dask_n: int,
+                     client: Any = None, seed: int = 1, chunk_size: int = 500
+                     ) -> tuple[list[Contender], Callable[[np.ndarray], np.ndarray]]:
+    """The Monte-Carlo contenders, and the plain NumPy re-solve ``draws -> peaks`` that checks
+    them. Per-sample contenders run on ``resolve_n`` samples of the smallest study."""
+    from linkwork.redundancy import solve_reactions, tolerance_study
+
+    n0 = min(sizes)
+    ref_study = tolerance_study(prob.model, prob.geom, prob.wrenches, prob.tolerances, n0,
+                                seed=seed, chunk_size=chunk_size)
+    idx = _spread(n0, resolve_n)
+    draws = ref_study.draws[idx]
+    devs = deviations_of(prob, draws)
+    plain = PlainNumpy(prob)
+    plain_f = PlainNumpy(prob)
+    plain_f.factorise()
+    cons: list[Contender] = []
+
+    def per_sample(solve: Callable[[np.ndarray], np.ndarray]) -> Callable[[], np.ndarray]:
+        return lambda: np.stack([peaks_of(solve(d)) for d in devs])
+
+    def ident(x: Any) -> tuple[np.ndarray, None]:
+        return np.asarray(x), None
+
+    def of_study(st: Any) -> tuple[np.ndarray, np.ndarray]:
+        return st.peaks, st.draws
+
+    cons.append(Contender("plain NumPy re-solve", len(idx), per_sample(plain.reactions), ident))
+    cons.append(Contender("plain NumPy, factorised once", len(idx),
+                          per_sample(plain_f.reactions), ident))
+    def library(m: str) -> Callable[[np.ndarray], np.ndarray]:
+        return lambda d: solve_reactions(prob.model, prob.geom, prob.wrenches, d,
+                                         method=m).components()
+
+    for m in ("force", "displacement"):
+        cons.append(Contender(f"solve_reactions per sample ({m})", len(idx),
+                              per_sample(library(m)), ident))
+
+    def study(n: int, cl: Any = None) -> Callable[[], Any]:
+        return lambda: tolerance_study(prob.model, prob.geom, prob.wrenches, prob.tolerances, n,
+                                       seed=seed, chunk_size=chunk_size, client=cl)
+
+    for n in sizes:
+        cons.append(Contender("tolerance_study", n, study(n), of_study))
+    if dask_n and client is not None:
+        cons.append(Contender("tolerance_study, dask (2 workers x 1 thread)", dask_n,
+                              study(dask_n, client), of_study))
+    def resolve(dr: np.ndarray) -> np.ndarray:
+        return np.stack([peaks_of(plain.reactions(d)) for d in deviations_of(prob, dr)])
+
+    return cons, resolve
+
+
+# ---------------------------------------------------------------------------------------------
+# checking and timing
+# ---------------------------------------------------------------------------------------------
+
+
+def _rel(got: np.ndarray, ref: np.ndarray, scale: np.ndarray) -> float:
+    return float(np.max(np.abs(got - ref) / scale))
+
+
+def check_cycle(results: list[np.ndarray], names: list[str], nj: int) -> float:
+    """Every component of every joint and Q of each method against the first, relative to the
+    largest |value| of its kind (forces; moments and Q); returns the largest difference."""
+    ref = results[0]
+    kind = np.zeros(ref.shape[0], dtype=int)
+    kind[:-1] = (np.arange(nj * 6) % 6 >= 3)
+    kind[-1] = 1
+    scale = np.array([np.max(np.abs(ref[kind == k])) for k in (0, 1)])[kind][:, None]
+    worst = 0.0
+    for name, got in zip(names[1:], results[1:], strict=True):
+        err = _rel(got, ref, scale)
+        worst = max(worst, err)
+        if not err <= RTOL:
+            raise AssertionError(f"one cycle: {name} disagrees with {names[0]}: max relative "
+                                 f"difference {err:.3g} > {RTOL:g}")
+    return worst
+
+
+def check_study(results: dict[str, Any], cons: list[Contender], resolve_n: int,
+                resolve: Callable[[np.ndarray], np.ndarray]) -> dict[str, float]:
+    """Peaks of every contender against the plain NumPy re-solve of the same samples, relative
+    to the largest peak of the same quantity; the dask study against the in-process one.
+
+    Per-sample contenders ran on the reference samples (the plain NumPy re-solve's); every
+    study is checked on ``resolve_n`` of its own samples spread over its N, re-solved by
+    ``resolve(draws) -> peaks``.
+    """
+    ref = results[cons[0].name + "#0"][0]
+    scale = np.max(np.abs(ref), axis=(0, 1))                   # (7,) per quantity
+    scale = np.maximum(scale, 1e-6 * np.max(scale))
+    out: dict[str, float] = {}
+    inproc: dict[int, np.ndarray] = {}
+    for i, con in enumerate(cons):
+        got, draws = results[f"{con.name}#{i}"]
+        want = ref
+        if draws is not None:                                   # a study: its own samples
+            if "dask" in con.name and con.samples in inproc:
+                same = inproc[con.samples]
+                err = float(np.max(np.abs(got - same)) / np.max(np.abs(same)))
+                out[f"{con.name}, N={con.samples} vs in-process"] = err
+                if not err <= RTOL_DASK:
+                    raise AssertionError(f"{con.name} differs from the in-process study: "
+                                         f"{err:.3g} > {RTOL_DASK:g}")
+            elif "dask" not in con.name:
+                inproc[con.samples] = got
+            idx = _spread(con.samples, resolve_n)
+            got, want = got[idx], resolve(draws[idx])
+        err = _rel(got, want, scale)
+        out[f"{con.name}, N={con.samples}"] = err
+        if not err <= RTOL:
+            raise AssertionError(f"tolerance study: {con.name} (N={con.samples}) disagrees "
+                                 f"with the plain NumPy re-solve: {err:.3g} > {RTOL:g}")
+    return out
+
+
+def _spread(n: int, k: int) -> np.ndarray:
+    """Up to ``k`` sample indices spread evenly over ``range(n)``."""
+    return np.unique(np.linspace(0, n - 1, k).round().astype(int))
+
+
+def time_interleaved(fns: list[Callable[[], Any]], repeat: int, min_time: float = 0.02,
+                     first: list[float] | None = None) -> list[float]:
+    """Median time of one call [s] of each function, sampled round-robin.
+
+    Each round takes one sample (>= ``min_time``) of every function in turn, so that a burst
+    of load from other processes affects all contenders alike. ``first``: the time of a call
+    already made (for the number of calls per sample); otherwise one call is made for it.
+    """
+    numbers = []
+    for i, fn in enumerate(fns):
+        if first is None:
+            t0 = time.perf_counter()
+            fn()
+            single = time.perf_counter() - t0
+        else:
+            single = first[i]
+        numbers.append(max(1, int(min_time / max(single, 1e-7))))
+    samples: list[list[float]] = [[] for _ in fns]
+    for _ in range(repeat):
+        for i, fn in enumerate(fns):
+            t0 = time.perf_counter()
+            for _ in range(numbers[i]):
+                fn()
+            samples[i].append((time.perf_counter() - t0) / numbers[i])
+    return [statistics.median(x) for x in samples]
+
+
+def _first_calls(cons: list[Contender]) -> tuple[dict[str, Any], list[float]]:
+    """One call of each contender (warm-up, agreement check, calibration of the sampling)."""
+    results: dict[str, Any] = {}
+    firsts = []
+    for i, con in enumerate(cons):
+        t0 = time.perf_counter()
+        res = con.run()
+        firsts.append(time.perf_counter() - t0)
+        results[f"{con.name}#{i}"] = con.output(res)
+    return results, firsts
+
+
+def run(sizes: tuple[int, ...] = (1_000, 10_000, 100_000), positions: int = 360,
+        repeat: int = 5, resolve_n: int = 10, dask_n: int = 100_000, seed: int = 1,
+        chunk_size: int = 500) -> dict[str, Any]:
+    """Check and time every contender; return rows and the agreement reached."""
+    prob = load_problem(positions)
+    nj = len(prob.model.joints)
+    rows: list[dict[str, Any]] = []
+    # one cycle
+    cyc = cycle_contenders(prob)
+    res_c, first_c = _first_calls(cyc)
+    cycle_err = check_cycle([res_c[f"{c.name}#{i}"] for i, c in enumerate(cyc)],
+                            [c.name for c in cyc], nj)
+    for con, t in zip(cyc, time_interleaved([c.run for c in cyc], repeat, first=first_c),
+                      strict=True):
+        rows.append({"case": "one cycle", "contender": con.name, "samples": 0,
+                     "positions": positions, "median_s": t})
+    # tolerance study
+    client = None
+    if dask_n:
+        from dask.distributed import Client
+
+        client = Client(processes=False, dashboard_address=":0", n_workers=2,
+                        threads_per_worker=1)
+    try:
+        cons, resolve = study_contenders(prob, tuple(sizes), resolve_n, dask_n, client, seed,
+                                         chunk_size)
+        res_s, first_s = _first_calls(cons)
+        study_err = check_study(res_s, cons, resolve_n, resolve)
+        del res_s
+        times = time_interleaved([c.run for c in cons], repeat, first=first_s)
+    finally:
+        if client is not None:
+            client.close()
+    for con, t in zip(cons, times, strict=True):
+        rows.append({"case": "tolerance study", "contender": con.name, "samples": con.samples,
+                     "positions": positions, "median_s": t, "per_sample_s": t / con.samples})
+    return {"rows": rows, "agreement": {"force vs displacement (one cycle)": cycle_err,
+                                        **study_err},
+            "tolerances": len(prob.tolerances), "resolve_samples": cons[0].samples}
+
+
+def _fmt_time(s: float) -> str:
+    if s < 1e-3:
+        return f"{s * 1e6:.1f} us"
+    if s < 1.0:
+        return f"{s * 1e3:.2f} ms"
+    return f"{s:.2f} s"
+
+
+def table(result: dict[str, Any], markdown: bool = False) -> str:
+    """The two cases as tables, with ratios."""
+    rows = result["rows"]
+    lines: list[str] = []
+    cyc = [r for r in rows if r["case"] == "one cycle"]
+    base = next(r["median_s"] for r in cyc if r["contender"] == "displacement method")
+    if markdown:
+        lines += ["| one cycle | positions | median | x displacement method |",
+                  "|---|---:|---:|---:|"]
+    else:
+        lines.append(f"{'one cycle':34s} {'positions':>9s} {'median':>10s} {'x displ.':>9s}")
+    for r in cyc:
+        ratio = r["median_s"] / base
+        if markdown:
+            lines.append(f"| {r['contender']} | {r['positions']} | {_fmt_time(r['median_s'])} | "
+                         f"{ratio:.2f} |")
+        else:
+            lines.append(f"{r['contender']:34s} {r['positions']:9d} "
+                         f"{_fmt_time(r['median_s']):>10s} {ratio:9.2f}")
+    lines.append("")
+    st = [r for r in rows if r["case"] == "tolerance study"]
+    plain = next(r["per_sample_s"] for r in st if r["contender"] == "plain NumPy re-solve")
+    fact = next(r["per_sample_s"] for r in st
+                if r["contender"] == "plain NumPy, factorised once")
+    if markdown:
+        lines += ["| tolerance study | samples | median | per sample | speed-up vs plain "
+                  "re-solve | vs factorised once |", "|---|---:|---:|---:|---:|---:|"]
+    else:
+        lines.append(f"{'tolerance study':44s} {'samples':>7s} {'median':>10s} "
+                     f"{'/sample':>10s} {'x re-solve':>10s} {'x factor.':>9s}")
+    for r in st:
+        per = r["per_sample_s"]
+        if markdown:
+            lines.append(f"| {r['contender']} | {r['samples']} | {_fmt_time(r['median_s'])} | "
+                         f"{_fmt_time(per)} | {plain / per:.1f} | {fact / per:.1f} |")
+        else:
+            lines.append(f"{r['contender']:44s} {r['samples']:7d} "
+                         f"{_fmt_time(r['median_s']):>10s} {_fmt_time(per):>10s} "
+                         f"{plain / per:10.1f} {fact / per:9.1f}")
+    lines.append("")
+    lines.append("agreement (max relative difference, checked before timing):")
+    for k, v in result["agreement"].items():
+        lines.append(f"  {k}: {v:.2g}")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=(__doc__ or "").split("\n")[0])
+    ap.add_argument("--n", type=int, nargs="+", default=[1_000, 10_000, 100_000],
+                    help="Monte-Carlo samples of the in-process tolerance study")
+    ap.add_argument("--dask-n", type=int, default=100_000,
+                    help="samples of the dask run (0: none)")
+    ap.add_argument("--no-dask", action="store_true", help="skip the dask run")
+    ap.add_argument("--resolve-n", type=int, default=10,
+                    help="samples of the per-sample contenders")
+    ap.add_argument("--positions", type=int, default=360, help="crank positions of the cycle")
+    ap.add_argument("--repeat", type=int, default=5, help="samples per median")
+    ap.add_argument("--chunk-size", type=int, default=500,
+                    help="samples per chunk of tolerance_study (the library's default)")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--markdown", action="store_true", help="print Markdown tables")
+    ap.add_argument("--json", help="also write the rows to this JSON file")
+    args = ap.parse_args(argv)
+    t0 = time.perf_counter()
+    load0 = os.getloadavg()[0]
+    result = run(tuple(args.n), args.positions, args.repeat, args.resolve_n,
+                 0 if args.no_dask else args.dask_n, args.seed, args.chunk_size)
+    load1 = os.getloadavg()[0]
+    print(f"numpy {np.__version__}, python {sys.version.split()[0]}, {os.cpu_count()} CPUs; "
+          f"medians of {args.repeat} samples; {result['tolerances']} toleranced deviations; "
+          f"load average {load0:.2f} before, {load1:.2f} after; "
+          f"run {time.perf_counter() - t0:.0f} s")
+    print(table(result, markdown=args.markdown))
+    if args.json:
+        with open(args.json, "w") as fh:
+            json.dump({**result, "load_average": [load0, load1]}, fh, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
