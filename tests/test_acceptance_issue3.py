@@ -846,3 +846,22 @@ def test_cli_examples_write_reactions_and_torque(example, tmp_path, capsys, monk
                            about=doc.analysis.about)
     q_csv = np.array([float(r["Q [N*m]"]) for r in rows])
     np.testing.assert_allclose(q_csv, dyn.Q, rtol=1e-12, atol=1e-12)
+
+
+def test_fourbar_singular_position_is_never_silent_nan():
+    """a = d, b = c (a kite): at theta2 = 0 the crank pin A lies on O4 and B is undetermined.
+    The closed form returned NaN there with ``assembled`` True and no error."""
+    t = np.array([0.0, 1.0, np.pi])
+    with pytest.raises(AssemblyError) as ei:
+        fb.fourbar(t, 0.1, 0.2, 0.2, 0.1)
+    assert "singular" in str(ei.value) and ei.value.ranges == [(0.0, 0.0)]
+    r = fb.fourbar(t, 0.1, 0.2, 0.2, 0.1, on_fail="nan", coupler_point=(0.1, 0.02))
+    assert list(r.assembled) == [False, True, True]
+    for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xB", "yB", "xP"):
+        v = getattr(r, name)
+        assert np.isnan(v[0]) and np.all(np.isfinite(v[1:])), name
+    with pytest.raises(AssemblyError):
+        fb.fourbar_kinetostatics(0.0, 0.1, 0.2, 0.2, 0.1, mass=(1, 1, 1))
+    # the engine agrees: the same position is refused
+    with pytest.raises(AssemblyError):
+        kinematics(engine_fourbar(0.1, 0.2, 0.2, 0.1), t)

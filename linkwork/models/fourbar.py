@@ -240,7 +240,8 @@ class FourbarResult(Result):
         return tuple(np.asarray(t) for t in (x, y, vx, vy, ax, ay))
 
 
-def _fail(theta2: Any, ok: np.ndarray, a: Any, b: Any, c: Any, d: Any) -> AssemblyError:
+def _fail(theta2: Any, ok: np.ndarray, a: Any, b: Any, c: Any, d: Any,
+          singular: bool = False) -> AssemblyError:
     t = np.asarray(theta2, dtype=float)
     bad = ~ok
     if t.ndim == 0:
@@ -250,9 +251,11 @@ def _fail(theta2: Any, ok: np.ndarray, a: Any, b: Any, c: Any, d: Any) -> Assemb
     else:  # angles given per design: runs in the flattened order
         tb, mb = np.broadcast_arrays(t, bad)
         ranges = angle_ranges(tb.ravel(), mb.ravel())
+    what = ("four-bar is at a singular position (coupler and rocker collinear, or A on O4): "
+            "velocities and accelerations are unbounded" if singular else
+            "four-bar cannot be assembled: |A O4| leaves [|b - c|, b + c]")
     return AssemblyError(
-        "four-bar cannot be assembled: |A O4| leaves [|b - c|, b + c] "
-        f"(a={_show(a)}, b={_show(b)}, c={_show(c)}, d={_show(d)} m)",
+        f"{what} (a={_show(a)}, b={_show(b)}, c={_show(c)}, d={_show(d)} m)",
         ranges,
         driver="theta2",
     )
@@ -319,8 +322,10 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     where :math:`K = \alpha_2 A + j(\omega_2^2 A + \omega_3^2 u - \omega_4^2 v)`, ``j`` turns a
     vector 90 deg counter-clockwise and ``x`` is the planar cross product.  They are the same
     as Norton's Eqs. (6.18) and (7.12) [1]_, written without trigonometric functions of
-    theta3 and theta4.  At a toggle (``u x v = 0``) velocities are infinite (inf/NaN, no
-    warning).  Long position arrays (>= 16384) are evaluated in blocks of 8192 positions so
+    theta3 and theta4.  Exactly at a toggle (``u x v = 0``) or with A on O4 the rates are
+    unbounded: such positions count as not assembled (AssemblyError, or NaN with ``assembled``
+    False), as in the planar engine; close to a toggle they are large but finite.  Long
+    position arrays (>= 16384) are evaluated in blocks of 8192 positions so
     that the temporaries stay in the cache; the numbers are the same.
 
     Raises
@@ -351,10 +356,24 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     else:
         res = _kernel(t2, a_, b_, c_, d_, w2, e2, br, p, q, None)
     th3, th4, w3, w4, al3, al4, ax, ay, xb, yb, xp, yp, ok, clean = res
+    if not clean:
+        # exactly at a toggle (u x v = 0) or with A on O4 the position "assembles" but the
+        # rates divide by zero: never report such non-finite values as assembled
+        sing = ok & ~(np.isfinite(w3) & np.isfinite(w4) & np.isfinite(al3)
+                      & np.isfinite(al4) & np.isfinite(th3))
+        if sing.any():
+            ok = ok & ~sing
+            if on_fail == "nan":
+                th3, th4, w3, w4, al3, al4, xb, yb = (
+                    np.where(sing, np.nan, x) for x in (th3, th4, w3, w4, al3, al4, xb, yb))
+                if xp is not None:
+                    xp, yp = np.where(sing, np.nan, xp), np.where(sing, np.nan, yp)
     if not clean and not ok.all():
         if np.isnan(t2).any() or np.isinf(t2).any():
             require_finite("theta2", t2)
         if on_fail == "raise":
+            if sing.any():
+                raise _fail(t2, ~sing, a_, b_, c_, d_, singular=True)
             raise _fail(t2, ok, a_, b_, c_, d_)
     return FourbarResult._fast(
         theta2=t2, theta3=th3, theta4=th4, omega3=w3, omega4=w4, alpha3=al3, alpha4=al4,
