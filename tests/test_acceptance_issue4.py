@@ -233,12 +233,12 @@ def test_axis_offset_exact_least_squares_for_any_positions():
         assert np.allclose([x, y], normal_equations(phi, M, S, w), rtol=1e-9, atol=1e-12)
         # and it is the minimum: no neighbour of (x, y) does better
 
-        def I(xx, yy, phi=phi, M=M, S=S, w=w):
+        def cost(xx, yy, phi=phi, M=M, S=S, w=w):
             return np.sum((M + S * w**2 * (yy * np.cos(phi) - xx * np.sin(phi))) ** 2)
 
-        best = I(x, y)
+        best = cost(x, y)
         for dx, dy in itertools.product((-1e-4, 0, 1e-4), repeat=2):
-            assert I(x + dx, y + dy) >= best - 1e-12 * max(best, 1.0)
+            assert cost(x + dx, y + dy) >= best - 1e-12 * max(best, 1.0)
 
 
 def test_paper_formula_1_holds_only_when_sum_sin_cos_vanishes():
@@ -269,7 +269,7 @@ def test_paper001_axis_offset_and_efficiency_from_the_printed_table():
     assert round(bal.efficiency(TABLE[:, 2], TABLE[:, 3]), 1) == 36.9
     assert round(bal.efficiency(TABLE[:, 2], TABLE[:, 4]), 1) == 53.9
     # the printed formula (max|dM1| + max|dM2|)/max|dMj| does not give the printed numbers
-    p1, p2, p3 = (np.max(np.abs(TABLE[:, k])) for k in (2, 3, 4))
+    p1, p2 = (np.max(np.abs(TABLE[:, k])) for k in (2, 3))
     assert abs((p1 + p2) / p2 * 100 - 36.9) > 100
 
 
@@ -283,11 +283,11 @@ def test_moved_axis_moment_with_angular_acceleration_by_finite_differences():
     for w, e in ((10.0, 0.0), (10.0, 35.0), (-6.0, -80.0)):
         h = 1e-4
 
-        def centre(t, ox, oy):
+        def centre(t, ox, oy, w=w, e=e):
             p = phi0 + w * t + 0.5 * e * t * t
             return ox - r * np.cos(p), oy - r * np.sin(p)
 
-        def moment(ox, oy):
+        def moment(ox, oy, h=h):
             (xm, ym), (x0, y0), (xp, yp) = (centre(t, ox, oy) for t in (-h, 0.0, h))
             fx = -m_cw * (xp - 2 * x0 + xm) / h**2
             fy = -m_cw * (yp - 2 * y0 + ym) / h**2
@@ -531,3 +531,22 @@ def test_axis_offset_at_zero_speed_names_omega():
     # eps alone determines the axis: accepted
     r = bal.counterweight_axis_offset([0.0, 1.0, 2.0], [1.0, 2.0, 3.0], 0.2, 0.0, 5.0)
     assert np.all(np.isfinite(r.offset))
+
+
+@pytest.mark.parametrize("radii, words", [
+    ("{ crank = '50 kg' }", ["balance.radii", "crank", "length"]),
+    ("'0 mm'", ["balance.radii", "> 0"]),
+    ("{ crank = '-5 mm', rocker = 0.1 }", ["balance.radii", "crank", "> 0"]),
+    ("true", ["balance.radii", "length"]),
+])
+def test_cli_balance_bad_radii_named_plainly(tmp_path, capsys, radii, words):
+    """The error named pydantic's internal union types
+    ('balance.radii.dict[str,function-before[convert(), float]].crank'), a zero radius was
+    reported without the file or key ('radius = 0 is invalid'), 'true' was taken as 1 m."""
+    text = EXAMPLE.read_text() + f"\n[balance]\nradii = {radii}\n"
+    rc = main(["balance", str(_write(tmp_path, text)), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and len(err.strip().splitlines()) == 1, err
+    assert "function-before" not in err and "dict[" not in err
+    for w in words:
+        assert w in err

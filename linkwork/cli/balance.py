@@ -25,11 +25,11 @@ from typing import Annotated, Any
 
 import numpy as np
 import typer
-from pydantic import Field
+from pydantic import Field, field_validator
 
 from linkwork import files
-from linkwork.errors import FileFormatError, ParameterError
-from linkwork.files import FileModel, Length
+from linkwork.errors import FileFormatError, LinkworkError, ParameterError
+from linkwork.files import FileModel
 
 __all__ = ["BalanceSection", "load_balance_file", "register", "run_balance"]
 
@@ -38,9 +38,37 @@ class BalanceSection(FileModel):
     """The optional ``[balance]`` table of a planar mechanism file."""
 
     links: list[str] | None = None
-    radii: dict[str, Length] | Length | None = None
+    radii: dict[str, float] | float | None = None
     angles: list[float] | None = None
     n: int = Field(default=360, ge=12, le=20000)
+
+    @field_validator("radii", mode="before")
+    @classmethod
+    def _radii(cls, v: Any) -> dict[str, float] | float | None:
+        """One length for every link or a table link -> length, each > 0 [m].
+
+        Validated here rather than by a union of pydantic types, whose error locations named
+        the union's internal types (``balance.radii.dict[str,function-before[...]].crank``).
+        """
+        from linkwork.units import to_si
+
+        def one(key: str, x: Any) -> float:
+            got = "" if key == "radius" else f" (got {x!r})"  # the file's value is quoted after
+            if isinstance(x, bool) or not isinstance(x, (int, float, str)):
+                raise ValueError(f"{key} must be a length, e.g. '50 mm'{got}")
+            try:
+                r = to_si(x, "length", key)
+            except LinkworkError as exc:
+                raise ValueError(f"{key}: {getattr(exc, 'limit', exc)}{got}") from None
+            if not (np.isfinite(r) and r > 0.0):
+                raise ValueError(f"{key} must be > 0{got}")
+            return r
+
+        if v is None:
+            return None
+        if isinstance(v, dict):
+            return {str(k): one(f"radius of {k}", x) for k, x in v.items()}
+        return one("radius", v)
 
 
 def _to_mechanism(doc: Any) -> Any:
