@@ -550,3 +550,13 @@ def test_cli_balance_bad_radii_named_plainly(tmp_path, capsys, radii, words):
     assert "function-before" not in err and "dict[" not in err
     for w in words:
         assert w in err
+
+
+@pytest.mark.parametrize("angles", ["90", "30,210"])
+def test_cli_balance_table_positions_that_cannot_fit_the_axis(tmp_path, capsys, angles):
+    """One table angle (or two half a turn apart) cannot determine (x, y): the error named
+    'phi = 1 positions', a parameter the user never gave; now it names the positions."""
+    rc = main(["balance", str(EXAMPLE), "--angles", angles, "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and len(err.strip().splitlines()) == 1, err
+    assert "positions" in err and "phi =" not in err

@@ -288,7 +288,14 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
     fh = first_harmonic_offset(pcs, d1.shaking_m[order], S, w[order], e[order])
     rm = rms_offset(pcs, d1.shaking_m[order], S, w[order], e[order])
     pt = _cw_direction(kt1, crank, cw)
-    ls = counterweight_axis_offset(pt, t1.shaking_m, S, kt1.omega1, kt1.eps1)
+    try:
+        ls = counterweight_axis_offset(pt, t1.shaking_m, S, kt1.omega1, kt1.eps1)
+    except ParameterError as exc:
+        if exc.parameter != "phi":
+            raise
+        raise ParameterError("positions", f"{np.round(np.degrees(tab), 6).tolist()} deg",
+                             "the least-squares axis (method 3) needs at least two table "
+                             "positions that are not 0 or 180 deg apart") from None
 
     def shifted(p: np.ndarray, m: np.ndarray, ww: np.ndarray, ee: np.ndarray, x: float,
                 y: float) -> np.ndarray:
