@@ -560,3 +560,25 @@ def test_cli_balance_table_positions_that_cannot_fit_the_axis(tmp_path, capsys, 
     err = capsys.readouterr().err
     assert rc == 2 and len(err.strip().splitlines()) == 1, err
     assert "positions" in err and "phi =" not in err
+
+
+def test_force_hodograph_shows_the_balanced_variant_and_closes_the_cycle():
+    """The statically balanced hodograph (|F| ~ 1e-14 N) was a line of zero length: listed in
+    the legend, invisible on the plot; the unbalanced one had a gap between the last sample
+    and the first."""
+    from linkwork.plot.balancing import plot_force_hodograph
+
+    phi = np.linspace(0, 2 * np.pi, 90, endpoint=False)
+    F0 = np.stack([40 * np.cos(phi), 20 * np.sin(phi)], -1)
+    F1 = 1e-14 * F0
+    out = plot_force_hodograph({"unbalanced": F0, "static": F1})
+    ax = out["ax"]
+    ends = {(tuple(np.round(ln.get_xydata()[0], 9)), tuple(np.round(ln.get_xydata()[-1], 9)))
+            for ln in ax.get_lines()}
+    assert ((tuple(np.round(F0[-1], 9)), tuple(np.round(F0[0], 9)))) in ends
+    line = out["static"]
+    assert line.get_marker() not in ("None", "", None, " ")
+    assert "static" in line.get_label()
+    import matplotlib.pyplot as plt
+
+    plt.close(out["ax"].figure)

@@ -73,9 +73,19 @@ def plot_force_hodograph(forces: Mapping[str, ArrayLike], ax: Any = None) -> dic
     """
     ax = _ax(ax)
     out: dict[str, Any] = {"ax": ax}
-    for label, F in forces.items():
-        f = np.asarray(F, dtype=float)
+    arrays = {label: np.asarray(F, dtype=float) for label, F in forces.items()}
+    largest = max((float(np.max(np.abs(f))) for f in arrays.values() if f.size), default=0.0)
+    for label, f in arrays.items():
+        size = float(np.max(np.abs(f))) if f.size else 0.0
+        if size <= 1e-6 * largest:
+            # a balanced variant: its hodograph is a dot at the origin, invisible as a line
+            (out[label],) = ax.plot(f[:, 0], f[:, 1], "o", ms=7, markerfacecolor="none",
+                                    markevery=[0], label=f"{label} (|F| ≤ {size:.1g} N)")
+            continue
         (out[label],) = ax.plot(f[:, 0], f[:, 1], label=label)
+        # one cycle: join the last sample to the first (no gap in the closed curve)
+        ax.plot(f[[-1, 0], 0], f[[-1, 0], 1], color=out[label].get_color(), lw=out[
+            label].get_linewidth())
     ax.plot([0], [0], "k+")
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("Fx [N]")
