@@ -24,6 +24,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _strategies import reals
+from hypothesis import assume, given, settings
 from scipy.optimize import brentq, minimize_scalar
 
 from linkwork.cli import main
@@ -179,6 +181,23 @@ def test_transfer_functions_against_finite_differences(name):
     pa_ref = np.array([fd2(lambda x: ref_s(x, *p), t) for t in ph])
     np.testing.assert_allclose(pv, pv_ref, rtol=1e-7, atol=1e-9 * np.max(np.abs(pv_ref)))
     np.testing.assert_allclose(pa, pa_ref, rtol=1e-6, atol=1e-8 * np.max(np.abs(pa_ref)))
+
+
+@settings(max_examples=25, deadline=None)
+@given(r=reals(0.04, 0.16), l=reals(0.08, 0.5), alpha=reals(0.0, math.pi / 2),
+       a=reals(-0.05, 0.05), b=reals(-0.05, 0.05), phi=reals(-7.0, 7.0))
+def test_property_random_designs_against_3d_construction(r, l, alpha, a, b, phi):
+    p = (0.1, r, l, alpha, a, b)
+    # keep the rod clear of 90 deg to the axis everywhere (horizontal reach < 0.95 l)
+    reach = max(math.hypot((0.1 - r) * math.sin(t) - a, (r * math.cos(alpha) - 0.1)
+                           * math.cos(t) - b) for t in np.linspace(0, 2 * math.pi, 361))
+    assume(reach < 0.95 * l)
+    assert float(sw.position(phi, *p)) == pytest.approx(ref_s(phi, *p), abs=1e-13)
+    assert float(sw.pressure_angle(phi, *p)) == pytest.approx(ref_delta(phi, *p), abs=1e-12)
+    pv_ref = fd1(lambda x: ref_s(x, *p), phi)
+    assert float(sw.first_transfer(phi, *p)) == pytest.approx(pv_ref, abs=1e-9 * l)
+    _, smin, _, smax = ref_extremes(p, n=360)
+    assert float(sw.stroke(*p)) == pytest.approx(smax - smin, rel=1e-9, abs=1e-13)
 
 
 def test_broadcasting_designs_by_angles():
@@ -444,7 +463,7 @@ def test_kinetostatics_with_friction_losses_and_efficiency(guide):
     Fs = np.array([0.0, 5e3, 10e3, 0.0, -4e3, 0.0, 0.0])
     f = sw.drive_forces(d, (ang, Fs), u=3, rho_guide=rho, phi=ph, **kw)
     f0 = sw.drive_forces(d, (ang, Fs), u=3, phi=ph)
-    for i in (10, 30, 45, 90, 110, 120):
+    for i in (10, 30, 45, 74, 76, 90, 110, 120):  # 74, 76: the load aids the return stroke
         t = ph[i]
         F = float(np.interp(t, ang, Fs))
         S, N, _P_disk, _P_rotor, v = ref_slide_statics(t, d.params, F, mu_eff)
