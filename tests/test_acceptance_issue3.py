@@ -865,3 +865,25 @@ def test_fourbar_singular_position_is_never_silent_nan():
     # the engine agrees: the same position is refused
     with pytest.raises(AssemblyError):
         kinematics(engine_fourbar(0.1, 0.2, 0.2, 0.1), t)
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_engine_dead_centres_are_exact(branch):
+    """The engine's dead centres were linearly interpolated between samples (6e-6 rad off at
+    1 deg sampling); they must agree with the closed forms' limit positions."""
+    from linkwork.models import crank_slider as cs
+    from linkwork.planar import dead_centres
+    lim = fb.limit_positions(0.1, 0.3, 0.2, 0.3, branch)
+    kin = kinematics(engine_fourbar(0.1, 0.3, 0.2, 0.3, branch=branch),
+                     np.linspace(0, 2 * np.pi, 361))
+    got = sorted(d.phi1 for d in dead_centres(kin))
+    want = sorted(float(np.mod(x, 2 * np.pi)) for x in (lim.theta2_rocker_extended,
+                                                        lim.theta2_rocker_folded))
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-10)
+    # crank-slider with the guide along +y at x = e (paper 000's idle mode)
+    mech = engine_crank_slider(0.05, 0.2, -0.025, guide_angle=math.radians(90), branch=branch)
+    kin = kinematics(mech, np.linspace(0, 2 * np.pi, 361))
+    dc = cs.dead_centres(4.0, 0.5, branch)
+    got = {d.kind: d.phi1 for d in dead_centres(kin)}
+    np.testing.assert_allclose([got["max"], got["min"]],
+                               [float(dc.phi1_top), float(dc.phi1_bottom)], rtol=0, atol=1e-10)

@@ -1083,7 +1083,8 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     structure = mech.structure
     nb = len(mech.body_names)
     group_keys = [g.key for g in structure.groups if g.kind != "driver"]
-    unknown = sorted(set(br) - set(group_keys))
+    # (the driver's key is accepted too: Kinematics.branches lists every group)
+    unknown = sorted(set(br) - {g.key for g in structure.groups})
     if unknown:  # a misspelt key would silently leave that group on branch +1
         raise ParameterError("branches", unknown[0],
                              f"no assembly group has this key; known: {group_keys}")
@@ -1131,8 +1132,8 @@ class DeadCentre:
 
     ``phi1`` [rad or m] is where the output body's motion relative to its external joint
     reverses (angular velocity relative to the neighbour, or sliding speed, crosses zero),
-    linearly interpolated between samples; ``kind`` is ``"min"`` or ``"max"`` of its angle or
-    slide.
+    located between the samples to ~1e-13 (see :func:`dead_centres`); ``kind`` is ``"min"`` or
+    ``"max"`` of its angle or slide.
     """
 
     group: str
@@ -1192,29 +1193,64 @@ def transmission_angles(kin: Kinematics) -> dict[str, tuple[Arr, Arr]]:
     return out
 
 
+def _group_rate(mech: Mechanism, st: _State, g: Group) -> tuple[int, Arr]:
+    """Output body of a closed-form group and its rate relative to its external neighbour:
+    angular velocity (revolute) or sliding speed along the guide (prismatic)."""
+    _pars, _, unk = _group_pars(mech, st, g)
+    p = unk[-1]
+    b = p.b
+    if p.rev:
+        return b, st.W[b] - st.W[p.k]
+    # sliding velocity of the output body relative to its neighbour along u
+    r = (st.X[b], st.Y[b])
+    vb, vk = _vel_at(st, b, r), _vel_at(st, p.k, r)
+    return b, (vb[0] - vk[0]) * p.u[0] + (vb[1] - vk[1]) * p.u[1]
+
+
+def _refine_dead_centre(kin: Kinematics, g: Group, lo: float, hi: float, guess: float) -> float:
+    """The zero of the group's rate between driver positions lo and hi, to ~1e-13 [rad or m]:
+    Brent's method on single-position analyses (unit driver speed, no acceleration), falling
+    back to ``guess`` (linear interpolation) where that is not possible."""
+    from scipy.optimize import brentq
+
+    mech = kin.mechanism
+    br = dict(kin.branches)
+
+    def rate(x: float) -> float:
+        k1 = kinematics(mech, [x], 1.0, 0.0, branches=br, on_fail="nan")
+        return float(_group_rate(mech, _state_of(k1), g)[1][0])
+
+    try:
+        f_lo, f_hi = rate(lo), rate(hi)
+        if not (np.isfinite(f_lo) and np.isfinite(f_hi)) or f_lo * f_hi > 0:
+            return guess
+        if f_lo == 0.0:
+            return lo
+        if f_hi == 0.0:
+            return hi
+        scale = max(abs(lo), abs(hi), 1.0)
+        return float(brentq(rate, lo, hi, xtol=1e-14 * scale, rtol=1e-15, maxiter=60))
+    except (ValueError, RuntimeError):  # every linkwork error is one of these
+        return guess
+
+
 def dead_centres(kin: Kinematics) -> list[DeadCentre]:
     """Dead-centre positions of the output body of every closed-form group (see DeadCentre).
 
     For a crank-rocker four-bar these are the rocker's two extreme positions (crank and
-    coupler collinear); for a crank-slider, the slider's.
+    coupler collinear); for a crank-slider, the slider's.  Each sign change of the output's
+    rate between two samples is located to ~1e-13 by Brent's method on single-position
+    analyses (for mechanisms without Newton-solved groups; with them, linearly interpolated).
     """
     mech = kin.mechanism
     st = _state_of(kin)
     found: list[DeadCentre] = []
     q = kin.phi1
+    refine = not any(g.kind == "newton" for g in mech.structure.groups)
     for g in mech.structure.groups:
         if g.kind in ("driver", "newton"):
             continue
-        _pars, _, unk = _group_pars(mech, st, g)
-        p = unk[-1]
-        b = p.b
-        if p.rev:
-            rate = st.W[b] - st.W[p.k]
-        else:
-            # sliding velocity of the output body relative to its neighbour along u
-            r = (st.X[b], st.Y[b])
-            vb, vk = _vel_at(st, b, r), _vel_at(st, p.k, r)
-            rate = (vb[0] - vk[0]) * p.u[0] + (vb[1] - vk[1]) * p.u[1]
+        b, rate = _group_rate(mech, st, g)
         tiny = 1e-12 * float(np.nanmax(np.abs(rate))) if np.isfinite(rate).any() else 0.0
         rate = np.where(np.abs(rate) <= tiny, 0.0, rate)
         sgn = np.sign(rate)
@@ -1222,8 +1258,10 @@ def dead_centres(kin: Kinematics) -> list[DeadCentre]:
         idx = np.flatnonzero((sgn[:-1] * sgn[1:] < 0) & np.isfinite(rate[:-1] + rate[1:]))
         for i in idx:
             t = rate[i] / (rate[i] - rate[i + 1])
-            found.append(DeadCentre(g.key, name, float(q[i] + t * (q[i + 1] - q[i])),
-                                    "max" if rate[i] > 0 else "min"))
+            at = float(q[i] + t * (q[i + 1] - q[i]))
+            if refine:
+                at = _refine_dead_centre(kin, g, float(q[i]), float(q[i + 1]), at)
+            found.append(DeadCentre(g.key, name, at, "max" if rate[i] > 0 else "min"))
         for i in np.flatnonzero(sgn == 0):  # a sample exactly at the dead centre
             before = sgn[i - 1] if i > 0 else -sgn[i + 1] if i + 1 < sgn.size else 0
             after = sgn[i + 1] if i + 1 < sgn.size else -before
