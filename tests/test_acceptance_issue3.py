@@ -887,3 +887,22 @@ def test_engine_dead_centres_are_exact(branch):
     got = {d.kind: d.phi1 for d in dead_centres(kin)}
     np.testing.assert_allclose([got["max"], got["min"]],
                                [float(dc.phi1_top), float(dc.phi1_bottom)], rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_engine_transmission_angle_full_precision(branch):
+    """mu from the law of cosines (closed form) and the engine's mu, delta agree to 1e-14 over
+    the cycle; the engine's arccos lost half the digits near mu = 90 deg (1.5e-8 rad)."""
+    phi = np.linspace(0, 2 * np.pi, 37)
+    kin = kinematics(engine_fourbar(0.1, 0.3, 0.2, 0.3, branch=branch), phi)
+    from linkwork.planar import transmission_angles
+    mu, delta = transmission_angles(kin)["B"]
+    # independent: angle at B between B->A and B->O4, from the engine's own points
+    A = kin.point("coupler", "A")
+    B = kin.point("coupler", "B")
+    ux, uy = A.x - B.x, A.y - B.y
+    vx, vy = 0.3 - B.x, -B.y
+    ang = np.arctan2(np.abs(ux * vy - uy * vx), ux * vx + uy * vy)
+    ref = np.minimum(ang, np.pi - ang)
+    np.testing.assert_allclose(mu, ref, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(delta, np.pi / 2 - ref, rtol=0, atol=1e-14)

@@ -1186,9 +1186,10 @@ def transmission_angles(kin: Kinematics) -> dict[str, tuple[Arr, Arr]]:
             ux, uy = st.rot(mech.index[jc.a], (np.cos(ang), np.sin(ang)))
             fx, fy = -uy, ux
         vx, vy = out_par.d(P)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            c = np.abs(fx * vx + fy * vy) / (np.hypot(fx, fy) * np.hypot(vx, vy))
-        delta = np.arccos(np.clip(c, 0.0, 1.0))
+        # atan2(|f x v|, |f . v|): full precision also near 0 and 90 deg (arccos of the
+        # cosine loses half the digits near delta = 0)
+        cr, dt = np.abs(fx * vy - fy * vx), np.abs(fx * vx + fy * vy)
+        delta = np.where((cr == 0) & (dt == 0), np.nan, np.arctan2(cr, dt))  # NaN: undefined
         out[g.key] = (np.pi / 2 - delta, delta)
     return out
 
