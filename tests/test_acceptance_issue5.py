@@ -18,6 +18,7 @@ Every expected value is computed here, independently of ``linkwork.models.swashp
 
 from __future__ import annotations
 
+import json
 import math
 import re
 from pathlib import Path
@@ -769,6 +770,26 @@ def test_cli_broken_files_one_line_exit_2(text, capsys, tmp_path):
     assert rc == 2, cap.out + cap.err
     assert cap.err.count("\n") == 1 and cap.err.strip(), repr(cap.err)
     assert "Traceback" not in cap.err
+
+
+def test_example_scheme_1_is_asymmetric_as_its_comment_says(tmp_path, capsys):
+    # the example claims a lower pressure angle on the forward than on the return stroke, and a
+    # stroke different from s(pi) - s(0); it had r = R, for which the offset a changes nothing
+    text = (EXAMPLES / "swashplate_1.toml").read_text()
+    assert main(["swashplate", "analyze", str(EXAMPLES / "swashplate_1.toml"), "--out",
+                 str(tmp_path)]) == 0
+    capsys.readouterr()
+    data = json.loads((tmp_path / "characteristics.json").read_text())
+    p = tuple(data["design"][k] for k in ("R", "r", "l", "alpha", "a", "b"))
+    xmin, smin, xmax, smax = ref_extremes(p, n=720)
+    phi_f = (xmax - xmin) % (2 * math.pi)
+    df = ref_max_on(lambda t: ref_delta(t, *p), xmin, xmin + phi_f)
+    dr = ref_max_on(lambda t: ref_delta(t, *p), xmax, xmax + 2 * math.pi - phi_f)
+    assert dr - df > 1.5 * DEG
+    assert f"{math.degrees(df):.3g} deg against {math.degrees(dr):.4g} deg" in text
+    assert f"{(smax - smin) * 1e3:.4g} mm" in text
+    assert f"{(ref_s(math.pi, *p) - ref_s(0.0, *p)) * 1e3:.4g} mm" in text
+    assert f"({math.degrees(phi_f):.4g} deg)" in text
 
 
 def test_cli_analyze_and_synthesize_run(capsys, tmp_path):
