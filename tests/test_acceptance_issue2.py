@@ -507,3 +507,13 @@ def test_cli_sine_press_outputs_match_the_functions(tmp_path, capsys, monkeypatc
                                rtol=1e-12)
     for png in ("kinematics.png", "schedule.png", "working_range.png"):
         assert (out / png).stat().st_size > 10_000
+
+
+def test_non_broadcasting_inputs_name_the_shapes():
+    """Designs that do not broadcast against the angles gave NumPy's bare broadcast error."""
+    with pytest.raises(ParameterError, match=r"shapes.*'L1': \(3,\)"):
+        cs.offset_crank_slider([0.1, 0.2], [0.05, 0.06, 0.07], 4.0, 0.5)
+    with pytest.raises(ParameterError, match=r"shapes.*'L1': \(3,\)"):
+        sine.inclined_slot([0.1, 0.2], [0.05, 0.06, 0.07], 1.0)
+    assert cs.offset_crank_slider([], 0.05, 4.0, 0.5).Y_C.shape == (0,)
+    assert sine.inclined_slot([], 0.05, 1.0).X3.shape == (0,)

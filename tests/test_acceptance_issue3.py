@@ -906,3 +906,14 @@ def test_engine_transmission_angle_full_precision(branch):
     ref = np.minimum(ang, np.pi - ang)
     np.testing.assert_allclose(mu, ref, rtol=0, atol=1e-14)
     np.testing.assert_allclose(delta, np.pi / 2 - ref, rtol=0, atol=1e-14)
+
+
+def test_fourbar_empty_and_non_broadcasting_inputs():
+    """An empty theta2 raised NumPy's 'zero-size array to reduction operation'; lengths that
+    do not broadcast against the angles raised NumPy's broadcast error."""
+    r = fb.fourbar(np.array([]), 0.1, 0.3, 0.2, 0.3)
+    assert r.theta3.shape == (0,) and r.assembled.shape == (0,)
+    assert fb.fourbar_kinetostatics(np.array([]), 0.1, 0.3, 0.2, 0.3).Q.shape == (0,)
+    for n in (2, 20000):
+        with pytest.raises(ParameterError, match=r"shapes.*'a': \(3,\)"):
+            fb.fourbar(np.zeros(n), np.array([0.1, 0.2, 0.3]), 0.3, 0.2, 0.3)

@@ -242,8 +242,15 @@ def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lamb
         shape = phi1_a.shape
         phi1_b = phi1_a
     else:
-        shape = np.broadcast_shapes(phi1_a.shape, L1_a.shape, lam2.shape, lame.shape, w1.shape,
-                                    e1.shape)
+        try:
+            shape = np.broadcast_shapes(phi1_a.shape, L1_a.shape, lam2.shape, lame.shape,
+                                        w1.shape, e1.shape)
+        except ValueError:
+            raise ParameterError("shapes", {
+                "phi1": phi1_a.shape, "L1": L1_a.shape, "lambda2": lam2.shape,
+                "lambda_e": lame.shape, "omega1": w1.shape, "eps1": e1.shape},
+                "must broadcast against each other (designs (m, 1) against crank angles "
+                "(n,))") from None
         phi1_b = phi1_a if phi1_a.shape == shape else np.broadcast_to(phi1_a, shape)
 
     c1 = np.cos(phi1_b)

@@ -351,10 +351,16 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     else:
         p = q = None
     n = t2.shape[-1] if t2.ndim else 1
-    if n >= 2 * _CHUNK:
-        res = _chunked(t2, a_, b_, c_, d_, w2, e2, br, p, q)
-    else:
-        res = _kernel(t2, a_, b_, c_, d_, w2, e2, br, p, q, None)
+    try:
+        if n >= 2 * _CHUNK:
+            res = _chunked(t2, a_, b_, c_, d_, w2, e2, br, p, q)
+        else:
+            res = _kernel(t2, a_, b_, c_, d_, w2, e2, br, p, q, None)
+    except ValueError as exc:  # operands that do not broadcast (no cost when they do)
+        shapes = {k: np.shape(v) for k, v in (("theta2", t2), ("a", a_), ("b", b_), ("c", c_),
+                                               ("d", d_), ("omega2", w2), ("alpha2", e2))}
+        raise ParameterError("shapes", shapes, "must broadcast against each other (designs "
+                             "(m, 1) against crank angles (n,))") from exc
     th3, th4, w3, w4, al3, al4, ax, ay, xb, yb, xp, yp, ok, clean = res
     if not clean:
         # exactly at a toggle (u x v = 0) or with A on O4 the position "assembles" but the
@@ -443,7 +449,7 @@ def _kernel(t2: np.ndarray, a_: Any, b_: Any, c_: Any, d_: Any, w2: Any, e2: Any
     if o[12] is not None:
         ok = np.greater_equal(hh, 0.0, out=o[12])
         clean = False
-    elif hh.min() > 0.0:             # the usual case: one reduction, no mask to build
+    elif hh.size and hh.min() > 0.0:  # the usual case: one reduction, no mask to build
         ok = _all_true(np.shape(hh))
         clean = True
     else:

@@ -185,7 +185,13 @@ def inclined_slot(phi1: ArrayLike, L1: ArrayLike, alpha: ArrayLike, omega1: Arra
     al = _check_alpha_open(alpha)
     w1 = require_finite("omega1", omega1)
     e1 = require_finite("eps1", eps1)
-    phi1_b, L1_b, al_b, w1_b, e1_b = np.broadcast_arrays(phi1_a, L1_a, al, w1, e1)
+    try:
+        phi1_b, L1_b, al_b, w1_b, e1_b = np.broadcast_arrays(phi1_a, L1_a, al, w1, e1)
+    except ValueError:
+        raise ParameterError("shapes", {
+            "phi1": phi1_a.shape, "L1": L1_a.shape, "alpha": al.shape, "omega1": w1.shape,
+            "eps1": e1.shape}, "must broadcast against each other (designs (m, 1) against "
+            "crank angles (n,))") from None
 
     c1, s1 = np.cos(phi1_b), np.sin(phi1_b)
     cot = np.cos(al_b) / np.sin(al_b)
