@@ -172,6 +172,8 @@ class SpatialJoint:
         _kind(self.kind)
         require_positive(f"{self.name}.e", self.e)
         require_finite(f"{self.name}.z", self.z)
+        require_positive(f"{self.name}.k_bearing", self.k_bearing)
+        require_positive(f"{self.name}.axial_ratio", self.axial_ratio)
         if self.body_a == self.body_b:
             raise ParameterError(f"{self.name}.body_b", self.body_b, "must differ from body_a")
         if self.stiffness is not None:
