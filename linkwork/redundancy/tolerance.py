@@ -225,8 +225,10 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     """
     from linkwork.sweep import evaluate
 
-    if int(n_samples) < 1:
+    if isinstance(n_samples, bool) or int(n_samples) != n_samples or int(n_samples) < 1:
         raise ParameterError("n_samples", n_samples, "must be an integer >= 1")
+    if seed is not None and (isinstance(seed, bool) or int(seed) != seed or int(seed) < 0):
+        raise ParameterError("seed", seed, "must be None or an integer >= 0")
     if not tolerances:
         raise ParameterError("tolerances", "[]", "must list at least one tolerance")
     names = [j.name for j in model.joints]
