@@ -242,8 +242,8 @@ def register(app: typer.Typer) -> None:
                                             "linear driver), comma-separated")
                           ] = "0,90,180,270",
         method: Annotated[str, typer.Option(help="force or displacement")] = "force",
-        tolerance_study: Annotated[int, typer.Option(
-            "--tolerance-study", help="Monte-Carlo samples of the deviations (0: none)")] = 0,
+        tolerance_study: Annotated[int | None, typer.Option(
+            "--tolerance-study", help="Monte-Carlo samples of the deviations (N >= 1)")] = None,
         seed: Annotated[int, typer.Option(help="random seed of the tolerance study")] = 0,
         scheduler: Annotated[str | None, typer.Option(
             help="dask.distributed scheduler address for the tolerance study")] = None,
@@ -256,12 +256,18 @@ def register(app: typer.Typer) -> None:
 
         if method not in ("force", "displacement"):
             raise ParameterError("--method", method, "must be 'force' or 'displacement'")
-        if tolerance_study < 0:
-            raise ParameterError("--tolerance-study", tolerance_study, "must be >= 0")
+        if tolerance_study is not None and tolerance_study < 1:
+            raise ParameterError("--tolerance-study", tolerance_study,
+                                 "must be a number of samples >= 1 (leave the option out for "
+                                 "no study)")
+        if chunk_size < 1:
+            raise ParameterError("--chunk-size", chunk_size, "must be >= 1")
+        if seed < 0:
+            raise ParameterError("--seed", seed, "must be >= 0")
         mech, kwargs, spec = load_problem(file)
         table = _parse_angles(angles)
         if type(mech.driver).__name__ == "Linear":    # positions in mm for a linear driver
             table = np.degrees(table) * 1e-3
         run(mech, spec, out=out, angles=table, console=make_console(), **kwargs, method=method,
-            tolerance_study=tolerance_study, seed=seed, scheduler=scheduler,
+            tolerance_study=tolerance_study or 0, seed=seed, scheduler=scheduler,
             chunk_size=chunk_size, plots=plots)
