@@ -488,7 +488,9 @@ def test_cli_sine_press_outputs_match_the_functions(tmp_path, capsys, monkeypatc
     src = Path(__file__).resolve().parents[1] / "examples" / "sine_press.toml"
     out = tmp_path / "out"
     assert main(["analyze", str(src), "--out", str(out)]) == 0
-    capsys.readouterr()
+    table = capsys.readouterr().out
+    # the switch instants say which mode is entered (was "duration, switches: 6, 2.5 s, ...")
+    assert "2.5 (→ working), 4 (→ idle), 5 (→ working)" in table
     with (out / "idle_cycle.csv").open() as fh:
         rows = list(csv.DictReader(fh))
     phi = np.array([float(r["phi1 [rad]"]) for r in rows])

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from linkwork.models import crank_slider, sine
-from linkwork.models.variable_structure import VariableStructureMechanism
+from linkwork.models.variable_structure import MODES, VariableStructureMechanism
 from linkwork.sine_press_file import SinePressFile
 
 __all__ = ["analyze_sine_press"]
@@ -137,8 +137,10 @@ def analyze_sine_press(doc: SinePressFile, out: Path, angles: np.ndarray, consol
             "duration_s": float(sched.t[-1]),
             "switches": sched.to_dict()["switches"],
         }
-        add("schedule: duration [s], switches",
-                  f"{sched.t[-1]:.4g}, " + ", ".join(f"{x:.4g} s" for x in sched.switch_t))
+        add("schedule: duration [s]", f"{sched.t[-1]:.4g}")
+        add("schedule: switches [s] (→ mode entered)", ", ".join(
+            f"{x:.4g} (→ {MODES[int(m)]})" for x, m in zip(sched.switch_t, sched.switch_to,
+                                                            strict=True)))
     (out / "summary.json").write_text(json.dumps(summary, indent=1))
     written.append(out / "summary.json")
     pyplot().close("all")
