@@ -442,7 +442,7 @@ def _write(tmp_path, text):
 
 BROKEN = {
     "unknown_spatial_key": ("[spatial]\nstiff = 1\n", "spatial.stiff"),
-    "unknown_joint": ("[spatial.joints.Z]\ne = '30 mm'\n", "Z"),
+    "unknown_joint": ("[spatial.joints.Z]\ne = '30 mm'\n", "spatial.joints.Z"),
     "e_units": ("[spatial.joints.A]\ne = '30 kg'\n", "spatial.joints.A.e"),
     "e_negative": ("[spatial.joints.A]\ne = '-30 mm'\n", "spatial.joints.A.e"),
     "kind": ("[spatial.joints.A]\nkind = 'ball'\n", "spatial.joints.A.kind"),
@@ -458,12 +458,15 @@ BROKEN = {
     "positions": ("[spatial]\npositions = 3\n", "spatial.positions"),
     "dev_missing_joint": ("[[spatial.deviation]]\nbody = 'frame'\ntx = '1 mrad'\n",
                           "spatial.deviation.0.joint"),
-    "dev_unknown_joint": ("[[spatial.deviation]]\njoint = 'Z'\nbody = 'frame'\n", "Z"),
-    "dev_wrong_body": ("[[spatial.deviation]]\njoint = 'A'\nbody = 'frame'\n", "frame"),
+    "dev_unknown_joint": ("[[spatial.deviation]]\njoint = 'Z'\nbody = 'frame'\n",
+                          "spatial.deviation.0.joint"),
+    "dev_wrong_body": ("[[spatial.deviation]]\njoint = 'A'\nbody = 'frame'\n",
+                       "spatial.deviation.0.body"),
     "dev_units": ("[[spatial.deviation]]\njoint = 'C'\nbody = 'frame'\ntx = '1 mm'\n",
                   "spatial.deviation.0.tx"),
-    "heights_body": ("[spatial]\nheights = { nope = '1 mm' }\n", "nope"),
-    "oop_body": ("[[spatial.out_of_plane]]\nbody = 'nope'\nfz = '1 N'\n", "nope"),
+    "heights_body": ("[spatial]\nheights = { nope = '1 mm' }\n", "spatial.heights.nope"),
+    "oop_body": ("[[spatial.out_of_plane]]\nbody = 'nope'\nfz = '1 N'\n",
+                 "spatial.out_of_plane.0.body"),
     "tol_limit": ("[[spatial.tolerance]]\njoint = 'C'\nbody = 'frame'\ncomponent = 'tx'\n"
                   "limit = '-1 mrad'\n", "spatial.tolerance.0.limit"),
     "tol_component": ("[[spatial.tolerance]]\njoint = 'C'\nbody = 'frame'\n"
@@ -471,9 +474,9 @@ BROKEN = {
     "tol_units": ("[[spatial.tolerance]]\njoint = 'C'\nbody = 'frame'\ncomponent = 'tx'\n"
                   "limit = '1 mm'\n", "spatial.tolerance.0.limit"),
     "tol_joint": ("[[spatial.tolerance]]\njoint = 'Z'\nbody = 'frame'\ncomponent = 'tx'\n"
-                  "limit = '1 mrad'\n", "Z"),
+                  "limit = '1 mrad'\n", "spatial.tolerance.0.joint"),
     "tol_body": ("[[spatial.tolerance]]\njoint = 'A'\nbody = 'frame'\ncomponent = 'tx'\n"
-                 "limit = '1 mrad'\n", "frame"),
+                 "limit = '1 mrad'\n", "spatial.tolerance.0.body"),
     "spatial_not_table": ("spatial = 3\n", "spatial"),
 }
 
@@ -484,6 +487,8 @@ def test_cli_reactions_broken_files_one_line_exit_2(tmp_path, capsys, case):
     extra, word = BROKEN[case]
     text = EXAMPLE.read_text()
     text = text[:text.index("\n[spatial]\n") + 1] + extra
+    if case == "spatial_not_table":  # a top-level key must come before the first table
+        text = extra + text[:-len(extra)]
     rc = main(["reactions", str(_write(tmp_path, text)), "--out", str(tmp_path / "o"),
                "--no-plots", "--tolerance-study", "5"])
     err = capsys.readouterr().err

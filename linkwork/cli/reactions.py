@@ -45,7 +45,39 @@ def load_problem(path: Path) -> tuple[Any, dict[str, Any], Any]:
     gravity = doc.analysis.gravity
     kwargs: dict[str, Any] = {"cycle": doc.positions(), "loads": doc.loads,
                               "gravity": None if gravity is None else tuple(gravity)}
-    return doc.mechanism(), kwargs, spatial
+    mech = doc.mechanism()
+    _check_names(path, mech, spatial)
+    return mech, kwargs, spatial
+
+
+def _check_names(path: Path, mech: Any, spec: Any) -> None:
+    """Every joint and body the ``[spatial]`` table names exists in the mechanism.
+
+    Raises FileFormatError naming the file, the dotted key, the unknown name and the known ones
+    (the model layer would name only its own parameter, e.g. ``joints = Z``).
+    """
+    joints = {j.name: j for j in mech.joints}
+    moving = [b.name for b in mech.bodies]
+
+    def known_joint(key: str, name: str) -> Any:
+        if name not in joints:
+            raise FileFormatError(str(path), key, f"no joint {name!r}; known: {list(joints)}")
+        return joints[name]
+
+    for name in spec.joints:
+        known_joint(f"spatial.joints.{name}", name)
+    for key, body in [*((f"spatial.heights.{b}", b) for b in spec.heights),
+                      *((f"spatial.out_of_plane.{i}.body", o.body)
+                        for i, o in enumerate(spec.out_of_plane))]:
+        if body not in moving:
+            raise FileFormatError(str(path), key, f"no moving body {body!r}; known: {moving}")
+    for table, items in (("deviation", spec.deviation), ("tolerance", spec.tolerance)):
+        for i, item in enumerate(items):
+            j = known_joint(f"spatial.{table}.{i}.joint", item.joint)
+            if item.body not in (j.a, j.b):
+                raise FileFormatError(str(path), f"spatial.{table}.{i}.body",
+                                      f"{item.body!r} is not a body of joint {item.joint!r}: "
+                                      f"must be {j.a!r} or {j.b!r}")
 
 
 def _model_inputs(mech: Any, spec: Any) -> dict[str, Any]:
