@@ -53,8 +53,9 @@ Usage::
     .venv/bin/python benchmarks/tolerance_study.py --markdown --json out.json
     .venv/bin/python benchmarks/tolerance_study.py --n 1000 10000 --no-dask --repeat 3
 
-Medians of ``--repeat`` samples, the contenders of a case sampled round-robin (one sample of each
-per round, each sample looping >= 20 ms), so that load from other processes hits all alike.
+Medians of ``--repeat`` samples (``--long-repeat`` for calls longer than 1 s, to keep the run
+under 3 minutes), the contenders of a case sampled round-robin (one sample of each per round,
+each sample looping >= 20 ms), so that load from other processes hits all alike.
 """
 
 from __future__ import annotations
@@ -477,12 +478,15 @@ def _spread(n: int, k: int) -> np.ndarray:
 
 
 def time_interleaved(fns: list[Callable[[], Any]], repeat: int, min_time: float = 0.02,
-                     first: list[float] | None = None) -> list[float]:
+                     first: list[float] | None = None, long_repeat: int | None = None,
+                     long_call: float = 1.0) -> list[float]:
     """Median time of one call [s] of each function, sampled round-robin.
 
     Each round takes one sample (>= ``min_time``) of every function in turn, so that a burst
     of load from other processes affects all contenders alike. ``first``: the time of a call
     already made (for the number of calls per sample); otherwise one call is made for it.
+    Functions whose call took longer than ``long_call`` [s] are sampled in the first
+    ``long_repeat`` rounds only (default ``repeat``), to bound the run time.
     """
     numbers = []
     for i, fn in enumerate(fns):
@@ -493,9 +497,14 @@ def time_interleaved(fns: list[Callable[[], Any]], repeat: int, min_time: float 
         else:
             single = first[i]
         numbers.append(max(1, int(min_time / max(single, 1e-7))))
+    singles = first if first is not None else [min_time / n for n in numbers]
+    rounds = [min(repeat, long_repeat) if long_repeat is not None and t > long_call
+              else repeat for t in singles]
     samples: list[list[float]] = [[] for _ in fns]
-    for _ in range(repeat):
+    for k in range(repeat):
         for i, fn in enumerate(fns):
+            if k >= rounds[i]:
+                continue
             t0 = time.perf_counter()
             for _ in range(numbers[i]):
                 fn()
@@ -517,7 +526,7 @@ def _first_calls(cons: list[Contender]) -> tuple[dict[str, Any], list[float]]:
 
 def run(sizes: tuple[int, ...] = (1_000, 10_000, 100_000), positions: int = 360,
         repeat: int = 5, resolve_n: int = 10, dask_n: int = 100_000, seed: int = 1,
-        chunk_size: int = 500) -> dict[str, Any]:
+        chunk_size: int = 500, long_repeat: int = 3) -> dict[str, Any]:
     """Check and time every contender; return rows and the agreement reached."""
     prob = load_problem(positions)
     nj = len(prob.model.joints)
@@ -544,7 +553,8 @@ def run(sizes: tuple[int, ...] = (1_000, 10_000, 100_000), positions: int = 360,
         res_s, first_s = _first_calls(cons)
         study_err = check_study(res_s, cons, resolve_n, resolve)
         del res_s
-        times = time_interleaved([c.run for c in cons], repeat, first=first_s)
+        times = time_interleaved([c.run for c in cons], repeat, first=first_s,
+                                 long_repeat=long_repeat)
     finally:
         if client is not None:
             client.close()
@@ -621,6 +631,8 @@ def main(argv: list[str] | None = None) -> int:
                     help="samples of the per-sample contenders")
     ap.add_argument("--positions", type=int, default=360, help="crank positions of the cycle")
     ap.add_argument("--repeat", type=int, default=5, help="samples per median")
+    ap.add_argument("--long-repeat", type=int, default=3,
+                    help="samples per median of calls longer than 1 s")
     ap.add_argument("--chunk-size", type=int, default=500,
                     help="samples per chunk of tolerance_study (the library's default)")
     ap.add_argument("--seed", type=int, default=1)
@@ -630,10 +642,12 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.perf_counter()
     load0 = os.getloadavg()[0]
     result = run(tuple(args.n), args.positions, args.repeat, args.resolve_n,
-                 0 if args.no_dask else args.dask_n, args.seed, args.chunk_size)
+                 0 if args.no_dask else args.dask_n, args.seed, args.chunk_size,
+                 args.long_repeat)
     load1 = os.getloadavg()[0]
     print(f"numpy {np.__version__}, python {sys.version.split()[0]}, {os.cpu_count()} CPUs; "
-          f"medians of {args.repeat} samples; {result['tolerances']} toleranced deviations; "
+          f"medians of {args.repeat} samples ({args.long_repeat} for calls > 1 s); "
+          f"{result['tolerances']} toleranced deviations; "
           f"load average {load0:.2f} before, {load1:.2f} after; "
           f"run {time.perf_counter() - t0:.0f} s")
     print(table(result, markdown=args.markdown))
