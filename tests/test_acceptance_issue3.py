@@ -762,7 +762,7 @@ PLANAR_BROKEN = [
      'length = "30 mm"\nmass = "3 kg"', ["assembled", "deg"]),
     ("fourbar_paper001.toml", "[driver]",
      '[[joint]]\nname = "X"\ntype = "revolute"\na = "frame"\nb = "coupler"\npoint_a = "C"\n'
-     'point_b = "B"\n\n[driver]', ["locked"]),
+     'point_b = "B"\n\n[driver]', ["locked", "[[joint]] as written is invalid"]),
     ("fourbar_paper001.toml", 'about = [0, 0]',
      'about = [0, 0]\n\n[[load]]\ntype = "force"\nbody = "rokker"\npoint = "B"\nfx = 1\nfy = 0',
      ["load.0.body", "rokker"]),

@@ -226,7 +226,8 @@ class PlanarFile(FileModel):
         try:
             mech.validate()
         except LinkworkError as exc:
-            raise ParameterError("structure", "", str(exc)) from None
+            raise ParameterError("structure", "[[body]] and [[joint]] as written",
+                                 str(exc)) from None
         self.positions()
         return self
 
