@@ -523,3 +523,23 @@ def test_cli_tolerance_study_without_tolerances(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 2 and len(err.strip().splitlines()) == 1, err
     assert "tolerance" in err
+
+
+def test_tolerance_histogram_and_table_tell_the_lines_apart(tmp_path, capsys):
+    """p50/p95/p99 were three lines of one colour; the samples are drawn around the file's
+    systematic deviations but only the 'no deviation' peak was shown, so the whole histogram
+    looked shifted by the tolerances alone."""
+    from linkwork.plot import pyplot
+    from linkwork.plot.redundancy import plot_peak_histogram
+
+    model, geom, w = _problem(24)
+    st = rd.tolerance_study(model, geom, w, TOLS, 40, seed=1)
+    out = plot_peak_histogram(st, "B", reference={"file's deviations": 1.0})
+    styles = {(out[k].get_color(), out[k].get_linestyle()) for k in ("p50", "p95", "p99")}
+    assert len(styles) == 3
+    assert out["file's deviations"].get_xdata()[0] == 1.0
+    pyplot().close("all")
+    rc = main(["reactions", str(EXAMPLE), "--out", str(tmp_path / "o"), "--no-plots",
+               "--tolerance-study", "20"])
+    text = capsys.readouterr().out
+    assert rc == 0 and "file's deviations" in text

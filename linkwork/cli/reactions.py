@@ -234,12 +234,18 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
                        client=scheduler, progress=progress)
         pct = study.percentiles((50.0, 95.0, 99.0))
         t = Table(title=f"tolerance study: peaks over the cycle, N = {tolerance_study}")
-        for col in ("joint", "quantity", "no deviation", "p50", "p95", "p99"):
+        # the samples are drawn around the file's systematic deviations: show their peak too
+        sysdev = bool(inputs["deviations"])
+        cols = ["joint", "quantity", "no deviation", *(["file's deviations"] if sysdev else []),
+                "p50", "p95", "p99"]
+        for col in cols:
             t.add_column(col, justify="right")
         for name in study.joints:
             for qty in ("fz", "bending"):
                 row = pct[name][qty]
-                t.add_row(name, qty, *(_fmt(row[k]) for k in ("nominal", "p50", "p95", "p99")))
+                mid = [_fmt(peaks[name][qty])] if sysdev else []
+                t.add_row(name, qty, _fmt(row["nominal"]), *mid,
+                          *(_fmt(row[k]) for k in ("p50", "p95", "p99")))
         console.print(t)
         written += [study.to_json(out / "tolerance.json"),
                     study.to_csv(out / "tolerance_samples.csv")]
@@ -249,7 +255,9 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
 
             for name in study.joints:
                 fig, ax = pyplot().subplots(figsize=(7, 4))
-                plot_peak_histogram(study, name, "bending", ax=ax)
+                ref = {"file's deviations": peaks[name]["bending"]} if inputs[
+                    "deviations"] else None
+                plot_peak_histogram(study, name, "bending", ax=ax, reference=ref)
                 written.append(save(fig, out / f"tolerance_bending_{name}.png"))
     console.print("written: " + ", ".join(str(p) for p in written))
     return {"reactions": res, "table": at, "count": count, "study": study, "files": written}

@@ -76,8 +76,8 @@ def plot_bending(result: Any, axes: Any = None) -> dict[str, Any]:
 
 
 def plot_peak_histogram(study: Any, joint: str, quantity: str = "bending", ax: Any = None,
-                        bins: int = 40, percentiles: Sequence[float] = (50.0, 95.0, 99.0)
-                        ) -> dict[str, Any]:
+                        bins: int = 40, percentiles: Sequence[float] = (50.0, 95.0, 99.0),
+                        reference: dict[str, float] | None = None) -> dict[str, Any]:
     """Histogram of the peak over the cycle of one quantity of one joint, over the samples.
 
     Parameters
@@ -88,22 +88,33 @@ def plot_peak_histogram(study: Any, joint: str, quantity: str = "bending", ax: A
     ax : matplotlib Axes, optional
     bins : int
     percentiles : sequence of float
-        Drawn as vertical lines; the nominal (no deviation) peak as a dashed line.
+        Drawn as vertical lines, each in its own colour and style; the nominal (no deviation)
+        peak as a black dashed line.
+    reference : mapping label -> value, optional
+        Further peaks drawn as dash-dotted lines (e.g. the file's systematic deviations, around
+        which the samples are drawn).
 
     Returns
     -------
     dict
-        ``{"ax": ax, "hist": (counts, edges, patches), "p50": Line2D, ..., "nominal": Line2D}``.
+        ``{"ax": ax, "hist": (counts, edges, patches), "p50": Line2D, ..., "nominal": Line2D,
+        <reference label>: Line2D}``.
     """
     ax = _ax(ax)
     vals = study.sample(joint, quantity)
     out: dict[str, Any] = {"ax": ax}
     out["hist"] = ax.hist(vals, bins=bins, color="0.7", edgecolor="0.4")
-    for q in percentiles:
+    styles = [("C0", ":"), ("C1", "-"), ("C3", "-"), ("C4", "-."), ("C5", ":")]
+    for i, q in enumerate(percentiles):
         v = float(np.percentile(vals, q))
-        out[f"p{q:g}"] = ax.axvline(v, color="C3", lw=1.0, label=f"p{q:g} = {v:.4g}")
+        color, ls = styles[i % len(styles)]
+        out[f"p{q:g}"] = ax.axvline(v, color=color, ls=ls, lw=1.2 + 0.3 * i,
+                                    label=f"p{q:g} = {v:.4g}")
     nom = float(study.nominal[study.joints.index(joint), study.quantities.index(quantity)])
     out["nominal"] = ax.axvline(nom, color="k", ls="--", lw=1.0, label=f"no deviation = {nom:.4g}")
+    for label, v in (reference or {}).items():
+        out[label] = ax.axvline(float(v), color="C2", ls="-.", lw=1.2,
+                                label=f"{label} = {float(v):.4g}")
     ax.set_xlabel(f"peak {quantity} at joint {joint} over the cycle "
                   f"[{_UNIT.get(quantity, '')}]")
     ax.set_ylabel(f"samples (N = {study.n_samples})")
