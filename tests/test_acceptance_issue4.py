@@ -582,3 +582,16 @@ def test_force_hodograph_shows_the_balanced_variant_and_closes_the_cycle():
     import matplotlib.pyplot as plt
 
     plt.close(out["ax"].figure)
+
+
+def test_pareto_plot_separates_dominated_designs():
+    """balancing_pareto.png drew dominated and non-dominated designs alike (e.g. the design at
+    F = 0, M = 5.75 N m beaten by the static one), although pareto_set flags them."""
+    from linkwork.plot import pyplot
+    from linkwork.plot.balancing import plot_pareto
+
+    out = plot_pareto([0.0, 1.0, 2.0], [2.0, 1.0, 3.0], [1.0, 1.0, 2.0],
+                      dominated=[False, False, True])
+    assert out["pareto"].get_offsets().shape[0] == 2
+    assert np.allclose(out["dominated"].get_offsets(), [[2.0, 3.0]])
+    pyplot().close("all")

@@ -238,7 +238,8 @@ def _pareto(mech: Any, section: BalanceSection, comp: Any, out: Path,
     pts = {"unbalanced": p.unbalanced[:2], "static": p.static[:2],
            "paper 001 (moved axis)": (rms(c.phi1, c.F1), rms(c.phi1, c.dM3))}
     fig, ax = plt.subplots(figsize=(7, 5))
-    plot_pareto(p.force_rms, p.moment_rms, p.torque_fluct, ax=ax, points=pts)
+    plot_pareto(p.force_rms, p.moment_rms, p.torque_fluct, ax=ax, points=pts,
+                dominated=p.dominated)
     save(fig, out / "balancing_pareto.png")
     (out / "balance_pareto.json").write_text(json.dumps({
         "weights": p.weights.tolist(), "force_rms": p.force_rms.tolist(),

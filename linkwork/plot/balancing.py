@@ -97,17 +97,30 @@ def plot_force_hodograph(forces: Mapping[str, ArrayLike], ax: Any = None) -> dic
 
 def plot_pareto(force_rms: Sequence[float], moment_rms: Sequence[float],
                 torque_fluct: Sequence[float], ax: Any = None,
-                points: Mapping[str, tuple[float, float]] | None = None) -> dict[str, Any]:
+                points: Mapping[str, tuple[float, float]] | None = None,
+                dominated: Sequence[bool] | None = None) -> dict[str, Any]:
     """Trade-off of optimal balancing: RMS shaking force vs RMS shaking moment.
 
     Colour = driving-torque fluctuation. ``points`` adds labelled comparison designs
     (e.g. the unbalanced, static and paper-001 solutions) as ``label -> (F_rms, M_rms)``.
+    ``dominated`` (one flag per design, e.g. ``ParetoSet.dominated``) draws the designs that
+    another design beats in all three criteria as grey crosses, apart from the trade-off set.
     """
     ax = _ax(ax)
     out: dict[str, Any] = {"ax": ax}
-    sc = ax.scatter(force_rms, moment_rms, c=torque_fluct, cmap="viridis", s=25,
-                    label="optimal (weights)")
+    f = np.asarray(force_rms, dtype=float)
+    m = np.asarray(moment_rms, dtype=float)
+    q = np.asarray(torque_fluct, dtype=float)
+    dom = np.zeros(f.shape, bool) if dominated is None else np.asarray(dominated, bool)
+    keep = ~dom
+    sc = ax.scatter(f[keep], m[keep], c=q[keep], cmap="viridis", s=25,
+                    vmin=float(q.min()) if q.size else None,
+                    vmax=float(q.max()) if q.size else None,
+                    label="optimal, non-dominated" if dom.any() else "optimal (weights)")
     out["pareto"] = sc
+    if dom.any():
+        out["dominated"] = ax.scatter(f[dom], m[dom], marker="x", color="0.6", s=20,
+                                      label="optimal, dominated")
     cb = ax.figure.colorbar(sc, ax=ax)
     cb.set_label("driving-torque fluctuation (RMS) [N·m]")
     marks = ["s", "^", "D", "v", "P", "X"]
