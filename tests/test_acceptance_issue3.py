@@ -917,3 +917,25 @@ def test_fourbar_empty_and_non_broadcasting_inputs():
     for n in (2, 20000):
         with pytest.raises(ParameterError, match=r"shapes.*'a': \(3,\)"):
             fb.fourbar(np.zeros(n), np.array([0.1, 0.2, 0.3]), 0.3, 0.2, 0.3)
+
+
+def test_skeleton_plot_draws_guides_and_slots():
+    """A press designer reading the skeleton of the sine press must see the ram's guide and
+    the inclined slot (only joint points were drawn: the slot was invisible)."""
+    from linkwork.files import load
+    from linkwork.plot.planar import plot_skeleton
+    doc = load(_example("sine_press_planar.toml"))
+    kin = kinematics(doc.mechanism(), doc.positions())
+    out = plot_skeleton(kin, [0, 30])
+    labels = sorted(ln.get_label() for ln in out["guides"])
+    assert labels == ["guide", "slot"]
+    slot = next(ln for ln in out["guides"] if ln.get_label() == "slot")
+    x, y = slot.get_data()
+    assert math.degrees(math.atan2(y[1] - y[0], x[1] - x[0])) == pytest.approx(60.0)
+    import matplotlib.pyplot as plt
+    plt.close("all")
+
+
+def _example(name):
+    from pathlib import Path
+    return Path(__file__).resolve().parents[1] / "examples" / name

@@ -66,6 +66,7 @@ def plot_skeleton(kin: Any, positions: Sequence[int] | None = None, *,
     fx = [p[0] * 1e3 for p in mech.frame.points.values()]
     fy = [p[1] * 1e3 for p in mech.frame.points.values()]
     ax.plot(fx, fy, "k^", ms=9, label="frame")
+    guides = _draw_guides(ax, kin, positions[:1], colours)
     drawn = []
     for body, point in paths:
         pm = kin.point(body, point)
@@ -75,7 +76,46 @@ def plot_skeleton(kin: Any, positions: Sequence[int] | None = None, *,
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
     ax.legend(fontsize="small")
-    return {"ax": ax, "lines": lines, "paths": drawn}
+    return {"ax": ax, "lines": lines, "paths": drawn, "guides": guides}
+
+
+def _draw_guides(ax: Any, kin: Any, positions: Sequence[int], colours: dict[str, Any]
+                 ) -> list[Any]:
+    """Guides (prismatic joints) and slots (pin-in-slot joints) as wide translucent segments
+    on their body, over the stretch the slider point or pin travels (plus a margin)."""
+    from linkwork.planar.model import PinInSlot, Prismatic
+
+    mech = kin.mechanism
+    out = []
+    for j in mech.joints:
+        if not isinstance(j, Prismatic | PinInSlot):
+            continue
+        qa, pb, ang = mech.joint_geometry(j)
+        ia = mech.index[j.a]
+        pm = kin.point(j.b, pb)
+        for idx in positions:
+            c, s = np.cos(kin.theta[ia]), np.sin(kin.theta[ia])
+            qx = kin.x[ia] + c * qa[0] - s * qa[1]
+            qy = kin.y[ia] + s * qa[0] + c * qa[1]
+            ux, uy = c * np.cos(ang) - s * np.sin(ang), s * np.cos(ang) + c * np.sin(ang)
+            # travel of the slider point along the line, relative to the line's body
+            t = (pm.x - qx) * ux + (pm.y - qy) * uy
+            t = t[np.isfinite(t)]
+            if t.size == 0:
+                continue
+            lo, hi = float(t.min()), float(t.max())
+            pad = 0.15 * max(hi - lo, 1e-3)
+            lo, hi = lo - pad, hi + pad
+            x0, y0, ex, ey = qx[idx], qy[idx], ux[idx], uy[idx]
+            colour = "k" if j.a == mech.frame.name else colours.get(j.a, "0.4")
+            kind = "slot" if isinstance(j, PinInSlot) else "guide"
+            label = kind if j.name.lower() == kind else f"{kind} {j.name}"
+            (ln,) = ax.plot([(x0 + lo * ex) * 1e3, (x0 + hi * ex) * 1e3],
+                            [(y0 + lo * ey) * 1e3, (y0 + hi * ey) * 1e3], "-", lw=6,
+                            alpha=0.18, color=colour, solid_capstyle="butt",
+                            label=label)
+            out.append(ln)
+    return out
 
 
 def plot_driving_torque(dyn: Any, ax: Any = None) -> dict[str, Any]:
