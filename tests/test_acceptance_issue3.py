@@ -149,7 +149,10 @@ def _fourbar_reference(a, b, c, d, w2, e2, branch, t20, pq=(0.0, 0.0), step=2e-3
         p, qq = pq
         xp = xa + p * np.cos(q[0]) - qq * np.sin(q[0])
         yp = ya + p * np.sin(q[0]) + qq * np.cos(q[0])
-        return np.array([q[0], q[1], xa, ya, xb, yb, xp, yp])
+        # a rocker point (0.07, 0.03) in the rocker's frame (origin O4, x along O4 -> B)
+        xr = d + 0.07 * np.cos(q[1]) - 0.03 * np.sin(q[1])
+        yr = 0.07 * np.sin(q[1]) + 0.03 * np.cos(q[1])
+        return np.array([q[0], q[1], xa, ya, xb, yb, xp, yp, xr, yr])
 
     x, v, acc = _motion(position, hd=step / max(abs(w2), 1.0))
     return x, v, acc
@@ -193,6 +196,11 @@ def test_fourbar_against_loop_equation(a, b, c, d, w2, e2, kind, branch):
         _close(res.alpha4[k], acc[1], W * W + abs(e2), "alpha4")
         for name, i in (("xA", 2), ("yA", 3), ("xB", 4), ("yB", 5), ("xP", 6), ("yP", 7)):
             _close(getattr(res, name)[k], x[i], L, "points")
+        for link, (p_, q_), i in (("coupler", pq, 6), ("rocker", (0.07, 0.03), 8)):
+            px, py, pvx, pvy, pax, pay = (np.asarray(z)[k] for z in res.point(link, p_, q_))
+            _close([px, py], x[i:i + 2], L, "point()")
+            _close([pvx, pvy], v[i:i + 2], L * W, "point() velocity")
+            _close([pax, pay], acc[i:i + 2], L * (W * W + abs(e2)), "point() acceleration")
         # transmission angle: angle A-B-O4 between coupler and rocker at B
         BA = x[2:4] - x[4:6]
         BO = np.array([d, 0.0]) - x[4:6]
