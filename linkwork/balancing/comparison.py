@@ -190,12 +190,19 @@ class BalancingComparison(Result):
     def increases(self) -> list[str]:
         """Plain-language list of quantities whose peak grows through balancing."""
         msgs = []
-        for q, vals in self.summary().items():
+        summary = self.summary()
+        # round-off floor per unit: a peak of 2e-15 N m "raised" from 9e-16 N m is no increase
+        floor: dict[str, float] = {}
+        for q, vals in summary.items():
+            unit = q[q.rfind("["):]
+            floor[unit] = max(floor.get(unit, 0.0), *vals.values())
+        for q, vals in summary.items():
             if "peak" not in q or "unbalanced" not in vals:
                 continue
             base = vals["unbalanced"]
+            tiny = 1e-9 * floor[q[q.rfind("["):]]
             for variant, v in vals.items():
-                if variant != "unbalanced" and v > base * (1 + 1e-9):
+                if variant != "unbalanced" and v > base * (1 + 1e-9) and v - base > tiny:
                     pct = (v / base - 1) * 100 if base > 0 else float("inf")
                     msgs.append(f"{q}: {variant} {v:.4g} vs unbalanced {base:.4g} (+{pct:.1f} %)")
         return msgs
