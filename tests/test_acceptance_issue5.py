@@ -588,6 +588,26 @@ def test_synthesis_impossible_request_names_constraint_and_closest_value():
     assert "closest achievable" in msg
 
 
+def test_synthesis_two_failing_limits_closest_value_meets_the_others():
+    # phi_f = 200 deg is out of reach (with delta <= 10 deg, l <= 5 R a differential-evolution
+    # search over the bounds, run separately, found at most phi_f = 181.07 deg), and
+    # s(90 deg) = 25 mm cannot be met together with the others either. The closest phi_f was
+    # taken from a candidate that violated the point and the pressure angles (181.8 deg, more
+    # than any design meeting them reaches); now the point is named as failing too and the
+    # closest value meets every other limit.
+    pv = 0.4 / (50 * math.pi / 30)
+    req = syn.Request(scheme="1", R=0.1, H=0.06, H_tol=3e-4, delta_f=10 * DEG,
+                      delta_r=10 * DEG, Pi_v_max=pv, point=(math.pi / 2, 0.025),
+                      point_tol=5e-4, phi_f=200 * DEG, phi_f_tol=2 * DEG)
+    with pytest.raises(InfeasibleError) as ei:
+        syn.synthesize(req, n_candidates=4096, n_refine=2)
+    e = ei.value
+    assert e.key == "phi_f"  # type: ignore[attr-defined]
+    closest = e.closest_value  # type: ignore[attr-defined]
+    assert 180 * DEG < closest <= 181.08 * DEG
+    assert "s(90 deg) = 0.025 m" in str(e)
+
+
 def test_feasible_region_map_agrees_with_independent_check():
     req = syn.Request(scheme="4b", R=0.1, H=0.06, H_tol=3e-4, delta_f=8 * DEG,
                       delta_r=8 * DEG)

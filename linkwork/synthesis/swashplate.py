@@ -481,6 +481,8 @@ def _relax(req: Request, key: str) -> dict[str, Any]:
         return {"point": None}
     if key == "phi_f":
         return {"phi_f": None}
+    if key == "unimodal":
+        return {"unimodal": False}
     return {}
 
 
@@ -692,35 +694,57 @@ def _infeasible(req: Request, X: np.ndarray, res: dict[str, np.ndarray],
     keys = [k for k in CONSTRAINTS if f"g_{k}" in res]
     G = {k: np.asarray(res[f"g_{k}"]) for k in keys}
     ok = {k: G[k] <= 0 for k in keys}
-    culprit = None
-    for k in keys:  # a single constraint whose removal makes the request feasible
-        others = np.ones(len(X), dtype=bool)
+    rates = {k: float(ok[k].mean()) for k in keys}
+
+    def met_except(drop: set[str]) -> np.ndarray:
+        m = np.ones(len(X), dtype=bool)
         for j in keys:
-            if j != k:
-                others &= ok[j]
+            if j not in drop:
+                m &= ok[j]
+        return m
+
+    culprit = None
+    also: list[str] = []  # further limits that fail too (dropped for the closest value)
+    for k in keys:  # a single constraint whose removal makes the request feasible
+        others = met_except({k})
         if others.any():
             culprit = k
             break
-    if culprit is None:  # several fail together: the one least often met on its own
-        rates = {k: ok[k].mean() for k in keys}
-        culprit = min(rates, key=lambda k: (rates[k], float(np.nanmin(G[k]))))
-        others = np.ones(len(X), dtype=bool)
+    if culprit is None:  # several fail together: the smallest pair whose removal helps
+        pairs = [(k, j) for n, k in enumerate(keys) for j in keys[n + 1:]
+                 if met_except({k, j}).any()]
+        if pairs:
+            k, j = min(pairs, key=lambda kj: rates[kj[0]] + rates[kj[1]])
+            culprit, other = (k, j) if (rates[k], k) <= (rates[j], j) else (j, k)
+            also = [other]
+            others = met_except({k, j})
+        else:  # no pair either: the one least often met on its own, others ignored
+            culprit = min(rates, key=lambda k: (rates[k], float(np.nanmin(G[k]))))
+            also = [k for k in keys if k != culprit and rates[k] < 1.0]
+            others = np.ones(len(X), dtype=bool)
     gk = np.where(others, G[culprit], np.inf)
     i = int(np.argmin(gk)) if np.isfinite(gk).any() else int(np.argmin(G[culprit]))
     x_best = X[i]
     qkey = _QUANTITY[culprit][0]
     closest = float(np.asarray(res[qkey])[i]) if qkey in res else float("nan")
     if culprit not in ("unimodal", "reach"):
+        rreq = req
+        for j in also:
+            rreq = replace(rreq, **_relax(rreq, j))
         try:
-            xr = _refine(x_best, req, bounds, target=culprit)
-            mr = evaluate_candidates(xr[None, :], req, n_grid=sw.GRID)
-            others_ok = all(float(mr[f"g_{j}"][0]) <= 1e-9 for j in keys if j != culprit)
+            xr = _refine(x_best, rreq, bounds, target=culprit)
+            mr = evaluate_candidates(xr[None, :], rreq, n_grid=sw.GRID)
+            others_ok = all(float(mr[f"g_{j}"][0]) <= 1e-9 for j in keys
+                            if j != culprit and f"g_{j}" in mr)
             if others_ok and float(mr[f"g_{culprit}"][0]) < float(gk[i]):
                 closest = float(mr[qkey][0])
         except (ValueError, ArithmeticError):  # keep the sampled value
             pass
     detail = (f"scheme {req.scheme}, {len(X)} candidates within the search bounds, none "
               "meets every limit")
+    if also:
+        detail += ("; these fail as well and are left out of the closest value: "
+                   + ", ".join(_limit_text(req, j) for j in also))
     err = InfeasibleError(_limit_text(req, culprit), _fmt_q(culprit, closest), detail)
     err.key = culprit  # type: ignore[attr-defined]
     err.closest_value = closest  # type: ignore[attr-defined]
