@@ -124,8 +124,8 @@ def plot_pareto(force_rms: Sequence[float], moment_rms: Sequence[float],
     cb = ax.figure.colorbar(sc, ax=ax)
     cb.set_label("driving-torque fluctuation (RMS) [N·m]")
     marks = ["s", "^", "D", "v", "P", "X"]
-    for i, (label, (f, m)) in enumerate((points or {}).items()):
-        (out[label],) = ax.plot([f], [m], marks[i % len(marks)], ms=8, label=label,
+    for i, (label, (pf, pm)) in enumerate((points or {}).items()):
+        (out[label],) = ax.plot([pf], [pm], marks[i % len(marks)], ms=8, label=label,
                                 markerfacecolor="none", markeredgewidth=1.5)
     ax.set_xlabel("RMS shaking force [N]")
     ax.set_ylabel("RMS shaking moment [N·m]")
