@@ -67,7 +67,10 @@ def _alpha_error(key: str, alpha: float, f_slot: float, f_guide: float) -> None:
     try:
         sine.check_alpha(alpha, f_slot, f_guide, name=key)
     except (ParameterError, InfeasibleError) as exc:
-        raise PydanticCustomError("working_range", "{msg}", {"msg": str(exc)}) from None
+        msg = str(exc)
+        if abs(alpha) > math.pi:  # most likely degrees written as a plain number (radians)
+            msg += ' (a plain number is in radians: write e.g. "60 deg")'
+        raise PydanticCustomError("working_range", "{msg}", {"msg": msg}) from None
 
 
 class CrankSection(FileModel):

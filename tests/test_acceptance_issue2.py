@@ -437,6 +437,8 @@ SP_BROKEN = [
     ('lambda2 = 4.0', 'lambda2 = 1.2', ["idle.lambda2", "1.2", "1.5"]),
     ('alpha = "60 deg"', 'alpha = "5 deg"', ["working.alpha", "5 deg", "12.55"]),
     ('alpha = "60 deg"', 'alpha = "200 deg"', ["working.alpha", "200"]),
+    ('alpha = "60 deg"', 'alpha = 60', ["working.alpha", "3437.75 deg", "plain number",
+                                        "radians"]),
     ('alpha = "45 deg"', 'alpha = "175 deg"', ["schedule", "175 deg", "167.4"]),
     ('lambda_e = 0.5', 'lambda_e = 0.5\nfoo = 1', ["idle.foo", "unknown key"]),
     ('branch = 1', 'branch = 0', ["idle.branch", "0"]),
