@@ -414,12 +414,6 @@ def test_assembly_error_lists_the_ranges():
     assert np.all(np.isfinite(r.Y_C[r.valid]))
 
 
-def test_zz_report_deviations():
-    """Print the largest relative deviation per quantity (run with -s to see it)."""
-    for k, v in sorted(DEV.items()):
-        print(f"issue2 max rel. deviation {k:24s} {v:.2e}")
-
-
 # ------------------------------------------------------------------------------------------
 # broken sine-press files to `linkwork analyze`: one line on stderr, exit code 2
 # ------------------------------------------------------------------------------------------
@@ -521,3 +515,9 @@ def test_non_broadcasting_inputs_name_the_shapes():
         sine.inclined_slot([0.1, 0.2], [0.05, 0.06, 0.07], 1.0)
     assert cs.offset_crank_slider([], 0.05, 4.0, 0.5).Y_C.shape == (0,)
     assert sine.inclined_slot([], 0.05, 1.0).X3.shape == (0,)
+
+
+def test_zz_report_deviations():
+    """Print the largest relative deviation per quantity (run with -s to see it)."""
+    for k, v in sorted(DEV.items()):
+        print(f"issue2 max rel. deviation {k:24s} {v:.2e}")
