@@ -614,3 +614,27 @@ def test_increases_ignore_round_off():
 
 def peak_of(comp, key):
     return max(comp.summary()[key].values())
+
+
+def test_cli_cycle_csv_has_shaking_force_and_bearing_reactions(tmp_path, capsys):
+    """balance_cycle.csv had only M, dM1..3, Q0, Q1: the shaking force before/after and the
+    frame-bearing reactions (which the command reports as raised) were in no output file."""
+    import csv
+
+    out = tmp_path / "o"
+    assert main(["balance", str(EXAMPLE), "--out", str(out)]) == 0
+    capsys.readouterr()
+    with (out / "balance_cycle.csv").open() as fh:
+        rows = list(csv.reader(fh))
+    head, data = rows[0], np.array(rows[1:], float)
+    for col in ("Fx0 [N]", "Fy0 [N]", "Fx1 [N]", "Fy1 [N]", "R0_O [N]", "R1_C [N]", "R3_O [N]",
+                "R3_O1 [N]", "Q1 [N*m]", "phi1 [rad]"):
+        assert col in head, head
+    # independent: the engine's shaking force and reaction at C of the unbalanced mechanism
+    phi = data[:, head.index("phi1 [rad]")]
+    mech = paper_fourbar()
+    d = inverse_dynamics(kinematics(mech, phi), about=(0, 0))
+    assert np.allclose(data[:, head.index("Fx0 [N]")], d.shaking_fx, rtol=1e-9, atol=1e-9)
+    i = [j.name for j in mech.joints][3]  # O4 = C of the example
+    assert np.allclose(data[:, head.index("R0_C [N]")], d.reaction_magnitude(i), rtol=1e-9)
+    assert np.max(np.abs(data[:, head.index("Fx1 [N]")])) < 1e-9

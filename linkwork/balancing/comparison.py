@@ -24,6 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import ClassVar
 
 import numpy as np
@@ -99,7 +100,38 @@ class CycleComparison(Result):
     reactions1: Mapping[str, np.ndarray] = field(default_factory=dict)
     reactions3: Mapping[str, np.ndarray] = field(default_factory=dict)
     units: ClassVar[dict[str, str]] = {"phi1": "rad", "M": "N*m", "dM1": "N*m", "dM2": "N*m",
-                                       "dM3": "N*m", "Q0": "N*m", "Q1": "N*m"}
+                                       "dM3": "N*m", "Q0": "N*m", "Q1": "N*m", "Fx0": "N",
+                                       "Fy0": "N", "Fx1": "N", "Fy1": "N", "R0": "N", "R1": "N",
+                                       "R3": "N"}
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """Per-position columns: the moments and torques, the shaking force components
+        ``Fx0, Fy0`` (unbalanced) and ``Fx1, Fy1`` (force balanced), and the frame-joint
+        reaction magnitudes ``R0_<joint>``, ``R1_<joint>``, ``R3_<joint>`` (unbalanced, static,
+        moved axis; ``R3_O1`` is the moved counterweight's own bearing)."""
+        cols: dict[str, np.ndarray] = {
+            "phi1": self.phi1, "M": self.M, "dM1": self.dM1, "dM2": self.dM2, "dM3": self.dM3,
+            "Q0": self.Q0, "Q1": self.Q1,
+            "Fx0": self.F0[:, 0], "Fy0": self.F0[:, 1], "Fx1": self.F1[:, 0],
+            "Fy1": self.F1[:, 1]}
+        for tag, reac in (("R0", self.reactions0), ("R1", self.reactions1),
+                          ("R3", self.reactions3)):
+            for name, val in reac.items():
+                cols[f"{tag}_{name}"] = np.asarray(val)
+        return {k: np.asarray(v, dtype=float) for k, v in cols.items()}
+
+    def to_csv(self, path: str | Path) -> Path:
+        """CSV of :meth:`columns`, units in the header (``R1_O [N]``)."""
+        import csv
+
+        p = Path(path)
+        cols = self.columns()
+        with p.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow([f"{k} [{self.units.get(k.split('_')[0], '')}]" for k in cols])
+            for row in zip(*cols.values(), strict=True):
+                w.writerow([repr(float(x)) for x in row])
+        return p
 
 
 @dataclass(frozen=True)
