@@ -1,11 +1,12 @@
 """``linkwork analyze`` for ``type = "planar"`` files: the general engine over a cycle.
 
 Prints the structure (mobility, Assur groups), dead centres, and a table at the requested crank
-angles: driving torque, every joint reaction's magnitude, shaking force and moment, kinetic
-energy, transmission angles. Writes ``planar_kinematics.csv`` (every body's pose, velocity,
-acceleration), ``planar_dynamics.csv`` (every joint's reaction components, driving torque,
-shaking force and moment, kinetic energy), ``planar.json`` (both, with units and the structure)
-and plots (skeleton with point paths, driving torque, reactions, shaking).
+angles: driving torque, every joint reaction's magnitude, shaking force and moment,
+transmission angles (the kinetic energy is in the CSV/JSON). Writes
+``planar_kinematics.csv`` (every body's pose, velocity, acceleration), ``planar_dynamics.csv``
+(every joint's reaction components, driving torque, shaking force and moment, kinetic
+energy), ``planar.json`` (both, with units and the structure) and plots (skeleton with point
+paths, guides and slots, driving torque, reactions, shaking).
 """
 
 from __future__ import annotations
