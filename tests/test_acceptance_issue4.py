@@ -447,7 +447,7 @@ def test_cli_balance_bundled_example(tmp_path, capsys):
     text = capsys.readouterr().out
     for f in ("balance_table.csv", "balance_table.json", "balance_cycle.csv",
               "balance_summary.json", "balancing_moments.png", "balancing_force.png",
-              "balancing_torque.png"):
+              "balancing_torque.png", "balancing_bearings.png"):
         assert (out / f).stat().st_size > 0
     assert "R_j" in text and "φ1 [deg]" in text
     assert "S = 0.2 kg*m" in text and "S = 0.5 kg*m" in text

@@ -12,7 +12,8 @@ table that only this command reads (it is removed before the mechanism is valida
 Prints the table M, dM1, dM2, dM3 with R2, R3, the counterweights, the moved-axis positions and
 the peak/RMS summary with every quantity that balancing raises, and writes into ``--out``:
 ``balance_table.csv/.json``, ``balance_cycle.csv``, ``balance_summary.json``,
-``balancing_moments.png``, ``balancing_force.png``, ``balancing_torque.png`` and, with
+``balancing_moments.png``, ``balancing_force.png``, ``balancing_torque.png``,
+``balancing_bearings.png`` and, with
 ``--pareto``, ``balancing_pareto.png`` and ``balance_pareto.json``.
 """
 
@@ -221,6 +222,20 @@ def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
     fig, ax = plt.subplots(figsize=(7, 4))
     plot_torques(c.phi1, {"unbalanced": c.Q0, "balanced": c.Q1}, ax=ax)
     save(fig, out / "balancing_torque.png")
+    joints = list(c.reactions0)
+    if joints:
+        fig, axes = plt.subplots(len(joints), 1, figsize=(7, 2.6 * len(joints) + 0.6),
+                                 sharex=True, squeeze=False)
+        for ax, name in zip(axes[:, 0], joints, strict=True):
+            curves = {"unbalanced": c.reactions0[name], "static": c.reactions1[name],
+                      "moved axis (paper 001)": c.reactions3[name]}
+            if name == mech.driver.joint and "O1" in c.reactions3:
+                curves["moved counterweight's bearing O1"] = c.reactions3["O1"]
+            plot_moments(c.phi1, curves, ax=ax, ylabel=f"|R| at {name} [N]")
+            if ax is not axes[-1, 0]:
+                ax.set_xlabel("")
+        axes[0, 0].set_title("frame-bearing reactions before and after balancing")
+        save(fig, out / "balancing_bearings.png")
     if pareto:
         _pareto(mech, section, comp, out, plot_pareto, save, plt, console)
     console.print(f"written to {escape(str(out))}")
