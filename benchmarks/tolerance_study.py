@@ -99,10 +99,11 @@ class Problem:
 
 def load_problem(positions: int = 360, path: Path = EXAMPLE) -> Problem:
     """Read the example file and build the model, geometry and body wrenches of one cycle."""
-    from linkwork.cli.reactions import _model_inputs
     from linkwork.cli.reactions import load_problem as read
     from linkwork.planar import kinematics
     from linkwork.redundancy import (
+        Deviation,
+        OutOfPlaneLoad,
         Tolerance,
         body_wrenches,
         deviation_array,
@@ -111,14 +112,16 @@ def load_problem(positions: int = 360, path: Path = EXAMPLE) -> Problem:
     )
 
     mech, kw, spec = read(path)
-    inputs = _model_inputs(mech, spec)
     cycle = np.linspace(0.0, 2 * math.pi, positions, endpoint=False)
     kin = kinematics(mech, cycle)
-    model = spatial_model(mech, inputs["joints"], inputs["default"])
+    model = spatial_model(mech, spec.joint_kwargs(), spec.default_kwargs())
     loads = kw["loads"](cycle) if callable(kw["loads"]) else kw["loads"]
     w = body_wrenches(mech, kin, gravity=kw["gravity"], loads=list(loads),
-                      heights=inputs["heights"], out_of_plane=inputs["out_of_plane"])
-    dev = deviation_array(model, inputs["deviations"], mech.frame.name)
+                      heights=dict(spec.heights),
+                      out_of_plane=[OutOfPlaneLoad(o.body, o.fz, o.mx, o.my)
+                                    for o in spec.out_of_plane])
+    dev = deviation_array(model, [Deviation(d.joint, d.body, d.dx, d.dy, d.dz, d.tx, d.ty, d.tz)
+                                  for d in spec.deviation], mech.frame.name)
     tols = []
     for t in spec.tolerance:
         jt = next(j for j in model.joints if j.name == t.joint)
