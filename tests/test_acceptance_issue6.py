@@ -18,7 +18,7 @@ import pytest
 from linkwork import redundancy as rd
 from linkwork.cli import main
 from linkwork.cli.reactions import load_problem
-from linkwork.errors import LinkworkError, StructureError
+from linkwork.errors import LinkworkError, ParameterError, StructureError
 from linkwork.planar import BodyTorque, kinematics
 from linkwork.planar.dynamics import inverse_dynamics
 from linkwork.planar.model import crank_slider
@@ -543,3 +543,17 @@ def test_tolerance_histogram_and_table_tell_the_lines_apart(tmp_path, capsys):
                "--tolerance-study", "20"])
     text = capsys.readouterr().out
     assert rc == 0 and "file's deviations" in text
+
+
+@pytest.mark.parametrize("joints, name", [
+    ({"A": dict(e=0.03, z=0.03, stiffness=(1e20, 1e20, 1e20, 1e-20, 1e-20, 0))}, "stiffness"),
+    ({j: dict(e=1e-300) for j in "OABC"}, ".e"),
+])
+def test_ill_conditioned_or_underflowing_compliance_is_named(joints, name):
+    """Stiffnesses 1e20 and 1e-20 in one joint gave numpy's 'LinAlgError: Singular matrix'
+    (a traceback through the CLI); e = 1e-300 m made k_b e^2/12 underflow to 0 and divided by
+    zero (RuntimeWarning, inf/NaN reactions)."""
+    for method in ("force", "displacement"):
+        with pytest.raises(ParameterError) as exc:
+            spatial(joints=joints, method=method)
+        assert name in exc.value.parameter

@@ -209,10 +209,17 @@ class SpatialJoint:
 
     def local_stiffness(self) -> np.ndarray:
         """Stiffnesses of the six local components [N/m, N·m/rad] (0 where free)."""
-        if self.stiffness is None:
-            return bearing_stiffness(self.kind, self.e, self.k_bearing, self.axial_ratio)
-        k = np.zeros(6)
         comps = list(self.constrained)
+        if self.stiffness is None:
+            k = bearing_stiffness(self.kind, self.e, self.k_bearing, self.axial_ratio)
+            bad = ~(np.isfinite(k[comps]) & (k[comps] > 0.0))
+            if np.any(bad):  # e.g. k_b e^2/12 underflows for e = 1e-300 m
+                raise ParameterError(f"{self.name}.e", self.e,
+                                     f"gives a non-positive or infinite default stiffness "
+                                     f"{float(k[comps][bad][0]):.3g} with k_bearing = "
+                                     f"{self.k_bearing:.3g} N/m: give e in metres, > 0")
+            return k
+        k = np.zeros(6)
         k[comps] = np.asarray(self.stiffness, dtype=float)[comps]
         return k
 
@@ -563,6 +570,7 @@ def influence(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike) -
     q = sst.shape[-1]
     if q:
         g = np.einsum("nik,i,nil->nkl", sst, fl, sst)
+        _check_conditioning(g, "self-stress compliance")
         ginv = np.linalg.inv(g)
         ht = -np.einsum("nik,nkl,njl->nij", sst, ginv, sst)        # (n, m+1, m+1) scaled
         r0_t = rp_t + np.einsum("nij,j,nj->ni", ht, fl, rp_t)
@@ -573,6 +581,24 @@ def influence(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike) -
     r0 = cols * r0_t
     h = cols[None, :, None] * ht[:, :, :m] * cols[None, None, :m]
     return Influence(r0=r0, h=h, rank=rank, selfstress=cols[None, :, None] * sst)
+
+
+#: Largest condition number of the scaled linear systems accepted (about 4 correct digits left).
+MAX_CONDITION = 1e12
+
+
+def _check_conditioning(mat: np.ndarray, what: str) -> None:
+    """Raise ParameterError when a batch of (scaled) matrices is too ill-conditioned to solve."""
+    with np.errstate(all="ignore"):
+        cond = np.linalg.cond(mat)
+    bad = ~np.isfinite(cond) | (cond > MAX_CONDITION)
+    if np.any(bad):
+        i = int(np.argmax(bad))
+        raise ParameterError("stiffness", f"condition number {float(cond[i]):.3g} of the {what} "
+                             f"at position {i}",
+                             f"must be <= {MAX_CONDITION:.0e}: the joint stiffnesses (or axis "
+                             "lengths) differ by too many orders of magnitude; model a "
+                             "near-free direction by the joint kind (e.g. spherical) instead")
 
 
 def _displacement(model: SpatialModel, geom: SpatialGeometry, w: np.ndarray,
@@ -594,8 +620,9 @@ def _displacement(model: SpatialModel, geom: SpatialGeometry, w: np.ndarray,
     rhs = wt / kfac - np.einsum("nik,k,nk->ni", at, kt, dt)
     # symmetric diagonal scaling for conditioning
     dsc = 1.0 / np.sqrt(np.einsum("nii->ni", stiff))
-    u = dsc * np.linalg.solve(dsc[:, :, None] * stiff * dsc[:, None, :], (dsc * rhs)[..., None]
-                             )[..., 0]
+    ks = dsc[:, :, None] * stiff * dsc[:, None, :]
+    _check_conditioning(ks, "assembled joint stiffness")
+    u = dsc * np.linalg.solve(ks, (dsc * rhs)[..., None])[..., 0]
     rt = -kfac * kt * (np.einsum("nki,nk->ni", at, u) + dt)
     return cols * rt
 
