@@ -638,3 +638,14 @@ def test_cli_cycle_csv_has_shaking_force_and_bearing_reactions(tmp_path, capsys)
     i = [j.name for j in mech.joints][3]  # O4 = C of the example
     assert np.allclose(data[:, head.index("R0_C [N]")], d.reaction_magnitude(i), rtol=1e-9)
     assert np.max(np.abs(data[:, head.index("Fx1 [N]")])) < 1e-9
+
+
+@pytest.mark.xfail(reason="lead-owned linkwork/files.py: errors raised by the planar schema's "
+                   "model validator carry no key and append the whole document as "
+                   "'(got {...})', a 1000+ character line", strict=True)
+def test_cli_balance_negative_mass_is_short_and_keyed(tmp_path, capsys):
+    text = EXAMPLE.read_text().replace('mass = "3 kg"', 'mass = "-3 kg"')
+    rc = main(["balance", str(_write(tmp_path, text)), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and len(err.strip().splitlines()) == 1
+    assert "coupler.mass" in err and len(err) < 300
