@@ -985,6 +985,44 @@ def test_engine_every_group_kind_against_newton_euler(name, builder):
                   loads, about=(0.02, 0.01), label="groups ", step=2e-4)
 
 
+@pytest.mark.parametrize("branch", [1, -1])
+def test_paper004_eqs_8_to_13_against_the_engine(branch):
+    """Paper 004's chained planar kinetostatics (8)-(13), corrected, equal the engine's
+    reactions and driving moment (paper 001's four-bar, gravity, couples, eps1 != 0); as
+    printed, (8) is right and (9), (13) are not (docs/errata.md)."""
+    a, b, c, d = 0.1, 0.3, 0.2, 0.3
+    masses, inert = (1.0, 3.0, 2.0), (0.002, 0.03, 0.008)
+    mech = engine_fourbar(a, b, c, d, masses=masses, inertias=inert, branch=branch)
+    g = np.array([0.0, -9.81])
+    couples = (0.5, -1.5, 2.0)
+    kin = kinematics(mech, PHI7, 10.0, 25.0)
+    dyn = inverse_dynamics(kin, gravity=g, loads=[BodyTorque(n, m) for n, m in zip(
+        ("crank", "coupler", "rocker"), couples, strict=True)])
+    F, M = [], []
+    for i, name in enumerate(("crank", "coupler", "rocker")):
+        s = kin.point(name, "com")                    # the midpoint (bar default)
+        F.append((masses[i] * (g[0] - s.ax), masses[i] * (g[1] - s.ay)))
+        M.append(-inert[i] * kin.eps[i + 1] + couples[i])
+    phi1, phi2 = kin.angle("crank"), kin.angle("coupler")
+    phi3 = kin.angle("rocker") + np.pi                # paper 004: phi3 is B -> C
+    for printed in (False, True):
+        p = fb.paper004_planar(phi1, phi2, phi3, a, b, c, *F, *M, printed=printed)
+        scale = np.max(np.abs(dyn.fx))
+        got = {"R_B": (p.R_Bx, p.R_By), "R_C": (p.R_Cx, p.R_Cy), "R_A": (p.R_Ax, p.R_Ay),
+               "R_0": (p.R_0x, p.R_0y)}
+        want = {"R_B": dyn.reaction("B"), "R_C": dyn.reaction("O4"), "R_A": dyn.reaction("A"),
+                "R_0": dyn.reaction("O2")}
+        if not printed:
+            for k in got:
+                _close(got[k][0], want[k][0], scale, "paper004 corrected vs engine")
+                _close(got[k][1], want[k][1], scale, "paper004 corrected vs engine")
+            _close(p.Q, dyn.Q, scale * a, "paper004 corrected vs engine")
+        else:
+            _close(p.R_Bx, want["R_B"][0], scale, "paper004 printed (8) vs engine")
+            assert np.max(np.abs(p.R_By - want["R_B"][1])) > 1e-3 * scale     # (9) wrong
+            assert np.max(np.abs(p.Q - dyn.Q)) > 1e-3 * scale * a             # (13) wrong
+
+
 def test_zz_report_deviations():
     """Print the largest deviation per quantity (relative; absolute [rad] for angles)."""
     for k, v in sorted(DEV.items()):
