@@ -20,7 +20,7 @@ demo: $(STAMP)
 	@echo "demo output written to demo-output/"
 
 lint: $(STAMP)
-	$(BIN)/ruff check .
+	$(BIN)/ruff check linkwork tests benchmarks
 	$(BIN)/mypy
 
 test: $(STAMP) lint
@@ -29,6 +29,8 @@ test: $(STAMP) lint
 bench: $(STAMP)
 	$(BIN)/python -m pip install --quiet -e ".[test,bench]"
 	$(BIN)/python benchmarks/kinematics.py
+	$(BIN)/python benchmarks/swashplate_synthesis.py
+	$(BIN)/python benchmarks/tolerance_study.py
 
 clean:
 	rm -rf $(VENV) demo-output .pytest_cache .mypy_cache .ruff_cache

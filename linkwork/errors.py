@@ -132,13 +132,28 @@ def _fmt(value: Any) -> str:
     return repr(value)
 
 
+_INT_MAX = 2**1023  # Python ints of this size or more do not convert to float
+_F64 = np.dtype(float)
+
+
 def require_finite(name: str, value: ArrayLike) -> np.ndarray:
     """Return ``value`` as a float array, or raise :class:`ParameterError` if any is NaN/inf."""
-    if isinstance(value, float | int):  # plain numbers: the common case, checked without NumPy
-        if math.isfinite(value):
+    tp = type(value)
+    if tp is np.ndarray and value.dtype is _F64:  # type: ignore[union-attr]
+        if np.isfinite(value).all():  # the common case of arrays: no conversion, no copy
+            return value  # type: ignore[return-value]
+    elif tp is float or (tp is int and -_INT_MAX < value < _INT_MAX):  # type: ignore[operator]
+        if math.isfinite(value):  # type: ignore[arg-type]
             return np.asarray(value, dtype=float)
         raise ParameterError(name, value, "must be finite")
-    arr = np.asarray(value, dtype=float)
+    try:
+        if value is None:  # np.asarray(None, dtype=float) is NaN
+            raise TypeError
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError, OverflowError):
+        if isinstance(value, int):  # an int beyond the float range
+            raise ParameterError(name, value, "must be finite (beyond the float range)") from None
+        raise ParameterError(name, value, "must be a number or an array of numbers") from None
     if not np.isfinite(arr).all():
         raise ParameterError(name, arr[~np.isfinite(arr)].flat[0], "must be finite")
     return arr
@@ -146,8 +161,9 @@ def require_finite(name: str, value: ArrayLike) -> np.ndarray:
 
 def require_positive(name: str, value: ArrayLike, *, allow_zero: bool = False) -> np.ndarray:
     """Return ``value`` as a float array, or raise if any element is not > 0 (>= 0)."""
-    if isinstance(value, float | int) and math.isfinite(value) and (
-            value > 0 or (allow_zero and value == 0)):
+    tp = type(value)
+    if (tp is float or (tp is int and -_INT_MAX < value < _INT_MAX)) and (  # type: ignore[operator]
+            0 < value < math.inf or (allow_zero and value == 0)):  # type: ignore[operator]
         return np.asarray(value, dtype=float)
     arr = require_finite(name, value)
     bad = arr < 0 if allow_zero else arr <= 0

@@ -19,7 +19,7 @@ from typing import Annotated, Any, TypeVar
 import pydantic
 from pydantic import BaseModel, BeforeValidator, ConfigDict
 
-from linkwork.errors import FileFormatError, ParameterError
+from linkwork.errors import FileFormatError, LinkworkError, ParameterError
 from linkwork.units import to_si
 
 __all__ = [
@@ -128,11 +128,19 @@ def _validation_error(path: str, exc: pydantic.ValidationError) -> FileFormatErr
     err = exc.errors()[0]
     key = ".".join(str(x) for x in err["loc"]) or None
     msg = err["msg"]
-    if err["type"] == "extra_forbidden":
+    cause = (err.get("ctx") or {}).get("error")
+    if isinstance(cause, ParameterError):
+        # raised by a validator that builds the mechanism: its parameter is the key, its
+        # message already names the value and the limit (never append the whole document)
+        key = ".".join(x for x in (key, cause.parameter) if x)
+        msg = str(cause).removeprefix(f"{cause.parameter} = ")
+    elif isinstance(cause, LinkworkError):
+        msg = str(cause)
+    elif err["type"] == "extra_forbidden":
         msg = "unknown key"
     elif err["type"] == "missing":
         msg = "missing required key"
-    elif "input" in err and err["type"] != "missing":
+    elif "input" in err and not isinstance(err["input"], dict | list):
         msg = f"{msg} (got {err['input']!r})"
     extra = f" (+{len(exc.errors()) - 1} more problems)" if len(exc.errors()) > 1 else ""
     return FileFormatError(path, key, msg + extra)
@@ -145,7 +153,8 @@ def validate(path: str | Path, data: dict[str, Any], schema: type[BaseModel]) ->
     except pydantic.ValidationError as exc:
         raise _validation_error(str(path), exc) from None
     except ParameterError as exc:  # raised by model validators that build mechanisms
-        raise FileFormatError(str(path), exc.parameter, str(exc)) from None
+        raise FileFormatError(str(path), exc.parameter,
+                              str(exc).removeprefix(f"{exc.parameter} = ")) from None
 
 
 def load(path: str | Path) -> Any:

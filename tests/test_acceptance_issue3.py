@@ -824,9 +824,6 @@ def test_cli_missing_file_and_directory(tmp_path, capsys):
         assert rc == 2 and len(err.strip().splitlines()) == 1, err
 
 
-@pytest.mark.xfail(reason="lead-owned linkwork/files.py: errors raised by model validators "
-                          "(building the mechanism) get no key and the whole document appended "
-                          "as '(got {...})' - a 1000+ character line", strict=False)
 @pytest.mark.parametrize("old,new", [('length = "100 mm"', 'length = "-100 mm"'),
                                      ('b = "crank"', 'b = "krank"')])
 def test_cli_model_level_errors_are_short_and_keyed(old, new, tmp_path, capsys):

@@ -640,9 +640,6 @@ def test_cli_cycle_csv_has_shaking_force_and_bearing_reactions(tmp_path, capsys)
     assert np.max(np.abs(data[:, head.index("Fx1 [N]")])) < 1e-9
 
 
-@pytest.mark.xfail(reason="lead-owned linkwork/files.py: errors raised by the planar schema's "
-                   "model validator carry no key and append the whole document as "
-                   "'(got {...})', a 1000+ character line", strict=True)
 def test_cli_balance_negative_mass_is_short_and_keyed(tmp_path, capsys):
     text = EXAMPLE.read_text().replace('mass = "3 kg"', 'mass = "-3 kg"')
     rc = main(["balance", str(_write(tmp_path, text)), "--out", str(tmp_path / "o")])

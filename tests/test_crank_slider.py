@@ -268,3 +268,31 @@ def test_property_transfer_functions_are_derivatives(phi1, lame, extra, branch):
     assert abs(float(r.V_qC) - float(rp.Y_C - rm.Y_C) / (2 * h)) < 1e-6 * L1 * scale
     assert abs(float(r.eps_q2) - float(rp.U21 - rm.U21) / (2 * h)) < 1e-5 * scale**3
     assert abs(float(r.a_qC) - float(rp.V_qC - rm.V_qC) / (2 * h)) < 1e-5 * L1 * scale**3
+
+
+@pytest.mark.parametrize("phi1", [np.linspace(0.0, 2 * np.pi, 37), np.array([]), 0.7])
+def test_fast_assembled_result_is_the_dataclass_built_by_its_init(phi1):
+    """offset_crank_slider builds its result with Result._assemble (no dataclass __init__):
+    it must carry exactly the dataclass's fields, be frozen, compare equal to the object the
+    __init__ builds from the same fields and export alike."""
+    import dataclasses
+
+    from linkwork.models.crank_slider import CrankSliderResult
+    r = offset_crank_slider(phi1, 0.05, 4.0, 0.3, 10.0, 2.0)
+    names = [f.name for f in dataclasses.fields(CrankSliderResult)]
+    assert sorted(vars(r)) == sorted(names)
+    again = CrankSliderResult(**{n: getattr(r, n) for n in names})
+    assert repr(again) == repr(r)
+    assert again.to_dict() == r.to_dict()
+    assert np.asarray(r.valid).dtype == bool and np.all(r.valid)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        r.Y_C = 0.0  # type: ignore[misc]
+
+
+def test_single_position_result_exports(tmp_path):
+    r = offset_crank_slider(0.7, 0.05, 4.0, 0.3, 10.0)
+    d = r.to_dict()
+    assert d["columns"] == {} and d["Y_C"] == pytest.approx(float(r.Y_C))
+    rows = (r.to_csv(tmp_path / "one.csv")).read_text().splitlines()
+    assert len(rows) == 2 and "Y_C [m]" in rows[0]
+    assert float(rows[1].split(",")[rows[0].split(",").index("Y_C [m]")]) == float(r.Y_C)

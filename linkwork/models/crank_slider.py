@@ -29,7 +29,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar, Literal, NamedTuple
+from typing import Any, ClassVar, Literal, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -238,10 +238,19 @@ def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lamb
     e1 = require_finite("eps1", eps1)
     # Every output below depends on phi1, so broadcasting phi1 alone to the common shape makes
     # every output that shape; the parameters broadcast in the arithmetic (no copies).
+    L1v: Any
+    lam2v: Any
+    lamev: Any
+    w1v: Any
+    e1v: Any
     if L1_a.ndim == lam2.ndim == lame.ndim == w1.ndim == e1.ndim == 0:
         shape = phi1_a.shape
         phi1_b = phi1_a
+        # one design: Python floats in the arithmetic (a 0-d array costs ~0.5 us per operation)
+        L1v, lam2v, lamev, w1v, e1v = (float(L1_a), float(lam2), float(lame), float(w1),
+                                       float(e1))
     else:
+        L1v, lam2v, lamev, w1v, e1v = L1_a, lam2, lame, w1, e1
         try:
             shape = np.broadcast_shapes(phi1_a.shape, L1_a.shape, lam2.shape, lame.shape,
                                         w1.shape, e1.shape)
@@ -255,14 +264,17 @@ def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lamb
 
     c1 = np.cos(phi1_b)
     s1 = np.sin(phi1_b)
-    s2 = (lame - c1) / lam2
+    s2 = (lamev - c1) / lam2v
     c2sq = 1.0 - s2 * s2
-    bad = c2sq <= COS_PHI2_MIN**2
-    if bad.any():
+    if c2sq.size == 0 or c2sq.min() > COS_PHI2_MIN**2:  # cheaper than a mask if all assemble
+        valid = np.ones(shape, dtype=bool)
+    else:
+        bad = c2sq <= COS_PHI2_MIN**2
         if on_failure == "raise":
             _raise_assembly(phi1_a, bad, lam2, lame)
         s2 = np.where(bad, np.nan, s2)
         c2sq = np.where(bad, np.nan, c2sq)
+        valid = ~bad
     c2 = np.sqrt(c2sq)
     phi2 = np.arcsin(s2)
     if branch == -1:
@@ -271,33 +283,33 @@ def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lamb
     # The transfer functions are evaluated as the derivatives of Y_C = L1 sin(phi1) + L2 c2,
     # X_C - X_B = L2 s2 (algebraically the paper's Eqs. (6), (8), (11) and corrected (13), see
     # the Notes; fewer array operations).
-    L2 = L1_a * lam2
-    X_B = L1_a * c1
-    Y_B = L1_a * s1
+    L2 = L1v * lam2v
+    X_B = L1v * c1
+    Y_B = L1v * s1
     Y_C = Y_B + L2 * c2
-    X_C = np.full(shape, L1_a * lame)
-    inv = 1.0 / (lam2 * c2)
+    X_C = np.full(shape, L1v * lamev)
+    inv = 1.0 / (lam2v * c2)
     U21 = s1 * inv
     U21sq = U21 * U21
     L2s2 = L2 * s2
     V_qC = X_B - L2s2 * U21                          # L1 cos(phi1+phi2) / c2
-    eps_q2 = (c1 + lam2 * s2 * U21sq) * inv
+    eps_q2 = (c1 + lam2v * s2 * U21sq) * inv
     a_qC = -(Y_B + L2 * c2 * U21sq + L2s2 * eps_q2)  # d V_qC / d phi1
-    w1sq = w1 * w1
-    omega2 = U21 * w1
-    V_C = V_qC * w1
-    if e1.ndim == 0 and e1 == 0.0:
+    w1sq = w1v * w1v
+    omega2 = U21 * w1v
+    V_C = V_qC * w1v
+    if isinstance(e1v, float) and e1v == 0.0:
         eps2 = eps_q2 * w1sq
         a_C = a_qC * w1sq
     else:
-        eps2 = U21 * e1 + eps_q2 * w1sq
-        a_C = V_qC * e1 + a_qC * w1sq
+        eps2 = U21 * e1v + eps_q2 * w1sq
+        a_C = V_qC * e1v + a_qC * w1sq
     mu = np.abs(phi2) if branch == 1 else np.abs(np.pi - phi2)  # arcsin|s2|, one arcsin less
 
-    return CrankSliderResult(
+    return CrankSliderResult._assemble(
         phi1=phi1_b, L1=L1_a, lambda2=lam2, lambda_e=lame, omega1=w1, eps1=e1, branch=branch,
         X_B=X_B, Y_B=Y_B, X_C=X_C, Y_C=Y_C, phi2=phi2, U21=U21, V_qC=V_qC, eps_q2=eps_q2,
-        a_qC=a_qC, omega2=omega2, eps2=eps2, V_C=V_C, a_C=a_C, pressure_angle=mu, valid=~bad,
+        a_qC=a_qC, omega2=omega2, eps2=eps2, V_C=V_C, a_C=a_C, pressure_angle=mu, valid=valid,
     )
 
 
