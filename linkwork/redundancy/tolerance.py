@@ -189,16 +189,25 @@ def _chunk(draws: np.ndarray, *, c0: np.ndarray, z: np.ndarray, n_joints: int) -
     ``c0`` (n, 6 n_joints): global components without deviations; ``z`` (n, 6 n_joints, n_tol):
     their derivatives with respect to the sampled deviations; ``draws`` (S, n_tol).
     """
-    comp = c0[:, :, None] + z @ draws.T                           # (n, 6 nj, S), batched BLAS
+    # No full-size temporaries beyond the product itself: peaks of |x| as max(max, -min), the
+    # bending peak as the root of the peak of mx^2 + my^2 (one sqrt per sample, not per
+    # position); with 100-sample chunks the product stays in the cache.  4.7x faster than
+    # abs/hypot over every position at 500-sample chunks (9.4 s -> 2.0 s for 100 000 samples
+    # of a 360-position, 4-joint, 9-deviation study), equal to 2e-16.
+    comp = z @ draws.T                                            # (n, 6 nj, S), batched BLAS
+    comp += c0[:, :, None]
     comp = comp.reshape(comp.shape[0], n_joints, 6, -1)
-    peak = np.max(np.abs(comp), axis=0)                           # (nj, 6, S)
-    bend = np.max(np.hypot(comp[:, :, 3], comp[:, :, 4]), axis=0)  # (nj, S)
+    peak = np.maximum(comp.max(axis=0), -comp.min(axis=0))        # (nj, 6, S)
+    mx, my = comp[:, :, 3], comp[:, :, 4]
+    b2 = mx * mx
+    b2 += my * my
+    bend = np.sqrt(b2.max(axis=0))                                # (nj, S)
     return np.moveaxis(np.concatenate([peak, bend[:, None, :]], axis=1), -1, 0)
 
 
 def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike,
                     tolerances: Sequence[Tolerance], n_samples: int, *,
-                    seed: int | None = 0, chunk_size: int = 500, client: Any = None,
+                    seed: int | None = 0, chunk_size: int = 100, client: Any = None,
                     progress: Any = None) -> ToleranceStudy:
     """Monte-Carlo study of the peak spatial reactions over a cycle.
 
