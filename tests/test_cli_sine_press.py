@@ -143,3 +143,12 @@ def test_bad_angles_option(tmp_path, capsys):
     err = _fail(capsys, ["analyze", str(EXAMPLE), "--out", str(tmp_path / "o"), "--angles",
                          "ten"])
     assert "--angles" in err
+
+
+@pytest.mark.parametrize("cmd,file", [("analyze", EXAMPLE),
+                                      ("balance", EXAMPLE.parent / "fourbar_paper001.toml"),
+                                      ("reactions", EXAMPLE.parent / "loom_fourbar_spatial.toml")])
+@pytest.mark.parametrize("text,value", [("1e400", "inf"), ("0,nan", "nan"), ("-inf", "-inf")])
+def test_non_finite_angles_are_named(cmd, file, text, value, tmp_path, capsys):
+    err = _fail(capsys, [cmd, str(file), "--out", str(tmp_path / "o"), "--angles", text])
+    assert f"--angles = {value} is invalid: must be finite numbers in degrees" in err

@@ -27,8 +27,8 @@ ANALYZERS: dict[str, str] = {
 }
 
 
-def parse_angles(text: str) -> np.ndarray:
-    """Parse a comma-separated list of crank angles in degrees (``"0,30,90"``) to radians."""
+def parse_angles_deg(text: str) -> list[float]:
+    """Parse a comma-separated list of crank angles in degrees (``"0,30,90"``)."""
     try:
         vals = [float(t) for t in text.split(",") if t.strip()]
     except ValueError:
@@ -36,7 +36,15 @@ def parse_angles(text: str) -> np.ndarray:
         raise ParameterError("--angles", text, limit) from None
     if not vals:
         raise ParameterError("--angles", text, "must list at least one angle")
-    return np.radians(np.array(vals))
+    bad = [v for v in vals if not np.isfinite(v)]
+    if bad:
+        raise ParameterError("--angles", bad[0], "must be finite numbers in degrees")
+    return vals
+
+
+def parse_angles(text: str) -> np.ndarray:
+    """Parse a comma-separated list of crank angles in degrees (``"0,30,90"``) to radians."""
+    return np.radians(np.array(parse_angles_deg(text)))
 
 
 def _resolve(spec: str) -> Callable[..., Any]:

@@ -29,7 +29,7 @@ import typer
 from pydantic import Field, field_validator
 
 from linkwork import files
-from linkwork.errors import FileFormatError, LinkworkError, ParameterError
+from linkwork.errors import FileFormatError, LinkworkError
 from linkwork.files import FileModel
 
 __all__ = ["BalanceSection", "load_balance_file", "register", "run_balance"]
@@ -283,13 +283,9 @@ def register(app: typer.Typer) -> None:
 
         mech, section, doc = load_balance_file(file)
         if angles is not None:
-            try:
-                vals = [float(a) for a in angles.split(",") if a.strip()]
-            except ValueError:
-                raise ParameterError("--angles", angles,
-                                     "must be comma-separated numbers in degrees") from None
-            if not vals:
-                raise ParameterError("--angles", angles, "must list at least one angle")
+            from linkwork.cli.analyze import parse_angles_deg
+
+            vals = parse_angles_deg(angles)
             section = section.model_copy(update={"angles": vals})
         console = make_console()
         analysis = getattr(doc, "analysis", None)

@@ -113,8 +113,9 @@ def analyze_swashplate(doc: Any, out: Path, angles: np.ndarray, console: Any) ->
         save(plot_drive_forces(f)[0].figure, out / "forces.png")
         summary.update({"efficiency": f.efficiency, "peak_torque_total": float(
             np.max(np.abs(f.M_total))), "peak_rod_force": float(np.max(np.abs(f.S)))})
+        slides = f"{op.positions} slide" + ("" if op.positions == 1 else "s")
         console.print(f"drive: peak rod force {np.max(np.abs(f.S)) * 1e-3:.4g} kN, peak torque "
-                      f"{np.max(np.abs(f.M_total)):.4g} N·m ({op.positions} slides), "
+                      f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), "
                       f"efficiency {f.efficiency:.4f}")
     (out / "characteristics.json").write_text(json.dumps(
         {"design": d.as_dict(), **summary}, indent=1, default=float))
