@@ -294,6 +294,8 @@ def force_balance(mech: Mechanism, links: Sequence[str] | None = None,
     radii : float or mapping link -> float, optional
         Counterweight radius from the hinge [m] (sets its mass S/r and inertia m r^2 in the new
         mechanism); default half the distance from the hinge to the link's farthest point.
+        A mapping's keys must be links that carry a counterweight (``ParameterError``
+        otherwise: a misspelt name would silently leave that link on the default).
     n : int
         Positions over one turn.
     tol : float
@@ -311,6 +313,11 @@ def force_balance(mech: Mechanism, links: Sequence[str] | None = None,
                              "counterweight")
     for link in use:
         frame_hinge(mech, link)
+    if isinstance(radii, Mapping):  # a misspelt link would silently get the default radius
+        for key in radii:
+            if key not in use:
+                raise ParameterError("radii", key, f"names no counterweighted link; links: "
+                                     f"{list(use)}")
     phi = cycle(n)
     kin = kinematics(mech, phi, 1.0, 0.0)  # unit constant speed: F scales with omega^2
     base = shaking_loads(kin)
