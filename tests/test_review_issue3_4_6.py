@@ -10,6 +10,7 @@ failed before its fix.
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import pytest
@@ -56,3 +57,88 @@ def test_cli_balance_radius_for_an_unknown_link_one_line_exit_2(tmp_path, capsys
     assert code == 2
     assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
     assert "radii" in err and "crnk" in err
+
+
+def toml(doc, prefix=""):
+    """A TOML text from nested dicts and lists (tables, arrays of tables, inline values)."""
+    def val(v):
+        if isinstance(v, str):
+            return json.dumps(v)
+        if isinstance(v, dict):
+            return "{ " + ", ".join(f"{k} = {val(x)}" for k, x in v.items()) + " }"
+        if isinstance(v, list | tuple):
+            return "[" + ", ".join(val(x) for x in v) + "]"
+        return repr(v)
+
+    lines, later = [], []
+    for k, v in doc.items():
+        if isinstance(v, dict) and k in TABLES:
+            later.append(f"\n[{prefix}{k}]\n" + toml(v, f"{prefix}{k}."))
+        elif isinstance(v, list) and v and isinstance(v[0], dict):
+            later += [f"\n[[{prefix}{k}]]\n" + toml(x, f"{prefix}{k}.") for x in v]
+        else:
+            lines.append(f"{k} = {val(v)}")
+    return "\n".join(lines) + "".join(later) + "\n"
+
+
+TABLES = {"frame", "driver", "analysis", "spatial", "balance", "joints"}
+
+
+def link(name, start, end, length, mass, **kw):
+    return dict(name=name, start=start, end=end, length=length, mass=mass, **kw)
+
+
+def joint(name, kind, a, b, **kw):
+    return dict(name=name, type=kind, a=a, b=b, **kw)
+
+
+def slider_crank(guide, driver, analysis, **extra):
+    """A crank-slider file: crank O-A 50 mm, rod A-B 200 mm, slider on the frame's guide G."""
+    doc = {"type": "planar", "name": "crank-slider",
+           "frame": {"points": {"O": [0, 0], "G": guide.pop("at", [0, 0])}},
+           "body": [link("crank", "O", "A", "50 mm", "2 kg"),
+                    link("rod", "A", "B", "200 mm", "3 kg"),
+                    {"name": "slider", "points": {"B": [0, 0]}, "mass": "4 kg",
+                     "inertia": "0.01 kg*m^2"}],
+           "joint": [joint("O", "revolute", "frame", "crank"),
+                     joint("A", "revolute", "crank", "rod"),
+                     joint("B", "revolute", "rod", "slider"),
+                     joint("G", "prismatic", "frame", "slider", through="G", point="B",
+                           **guide)],
+           "driver": driver, "analysis": analysis}
+    doc.update(extra)
+    return toml(doc)
+
+
+LINEAR_SLIDER_CRANK = slider_crank(
+    {}, {"type": "linear", "joint": "G", "v1": "1 m/s"},
+    {"start": "160 mm", "stop": "240 mm", "n": 41, "branches": {"A": 1}})
+
+
+def test_cli_reactions_linear_driver_positions_in_mm_and_force_in_newtons(tmp_path, capsys):
+    """With a linear driver the table said 'φ1 = 9.74 deg' for s1 = 170 mm and gave the
+    driving force in N·m; the CSV/JSON said phi1 [rad] and Q [N*m]."""
+    import csv
+
+    from linkwork.files import load
+    from linkwork.planar import inverse_dynamics, kinematics
+
+    f = tmp_path / "lin.toml"
+    f.write_text(LINEAR_SLIDER_CRANK)
+    out = tmp_path / "o"
+    code, text, err = run_cli(["reactions", str(f), "--out", str(out), "--angles", "170,200",
+                               "--no-plots"], capsys)
+    assert code == 0, err
+    assert "s1 = 170 mm" in text and "s1 = 200 mm" in text
+    assert "deg" not in text and "N·m" not in text.split("driving")[1].splitlines()[0]
+    # the driving force against the planar engine at s1 = 0.17 m (v1 = 1 m/s)
+    doc = load(f)
+    kin = kinematics(doc.mechanism(), [0.17, 0.2])
+    q = inverse_dynamics(kin).Q
+    assert f"driving force Q = {q[0]:.4g} N" in text
+    with (out / "reactions.csv").open() as fh:
+        head = next(csv.reader(fh))
+    assert head[0] == "phi1 [m]" and head[-1] == "Q [N]"
+    units = json.loads((out / "reactions.json").read_text())["units"]
+    assert units["phi1"] == "m" and units["Q"] == "N"
+    assert json.loads((out / "reactions_peaks.json").read_text())["units"]["Q"] == "N"

@@ -163,17 +163,19 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
     geom = geometry(mech, kin)
     count = count_redundancy(model, geom, position=len(cycle) // 7)
     console.print(f"[bold]structure in space[/bold]: {count.summary()}")
+    linear = mech.driver.kind == "linear"  # positions are slides [m], Q a force [N]
+    q_name, q_unit = ("driving force", "N") if linear else ("driving torque", "N·m")
 
     for k, phi in enumerate(angles):
-        t = Table(title=f"reactions at φ1 = {np.degrees(phi):.4g} deg (by body a on body b, "
-                  f"at the joint centre)")
+        where = f"s1 = {phi * 1e3:.4g} mm" if linear else f"φ1 = {np.degrees(phi):.4g} deg"
+        t = Table(title=f"reactions at {where} (by body a on body b, at the joint centre)")
         for col in ("joint", "fx [N]", "fy [N]", "fz [N]", "mx [N·m]", "my [N·m]",
                     "mz [N·m]"):
             t.add_column(col, justify="right")
         comp = at.components()
         for j, name in enumerate(at.joints):
             t.add_row(name, *(_fmt(comp[j, i, k]) for i in range(6)))
-        t.caption = f"driving torque Q = {_fmt(at.Q[k])} N·m"
+        t.caption = f"{q_name} Q = {_fmt(at.Q[k])} {q_unit}"
         console.print(t)
     peaks = res.peaks()
     t = Table(title=f"peaks over the cycle ({len(cycle)} positions)")
@@ -183,12 +185,13 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
     for name in res.joints:
         p = peaks[name]
         t.add_row(name, *(_fmt(p[c]) for c in ("fx", "fy", "fz", "mx", "my", "bending")))
-    t.caption = f"peak |Q| = {_fmt(peaks['driver']['Q'])} N·m"
+    t.caption = f"peak |Q| = {_fmt(peaks['driver']['Q'])} {q_unit}"
     console.print(t)
 
     written = [res.to_csv(out / "reactions.csv"), res.to_json(out / "reactions.json")]
     (out / "reactions_peaks.json").write_text(json.dumps(
-        {"units": {"f*": "N", "m*": "N*m", "bending": "N*m", "Q": "N*m"}, "peaks": peaks,
+        {"units": {"f*": "N", "m*": "N*m", "bending": "N*m", "Q": res.units["Q"]},
+         "peaks": peaks,
          "redundant_constraints": count.redundant,
          "mobility_somov_malyshev": count.mobility_formula, "mobility": count.mobility},
         indent=1))

@@ -16,6 +16,15 @@ _UNIT = {"fx": "N", "fy": "N", "fz": "N", "mx": "N·m", "my": "N·m", "mz": "N·
          "bending": "N·m", "Q": "N·m"}
 
 
+def _driver_axis(result: Any) -> tuple[np.ndarray, str]:
+    """x values and label of the driver positions: degrees, or mm for a linear driver (whose
+    results carry ``units["phi1"] == "m"``)."""
+    phi = np.asarray(result.phi1, dtype=float)
+    if getattr(result, "units", {}).get("phi1") == "m":
+        return phi * 1e3, "driver position s1 [mm]"
+    return np.degrees(phi), "driver position φ1 [deg]"
+
+
 def _ax(ax: Any) -> Any:
     if ax is None:
         _, ax = pyplot().subplots(figsize=(7, 4))
@@ -43,12 +52,12 @@ def plot_components(result: Any, component: str = "fz", joints: Sequence[str] | 
     ax = _ax(ax)
     names = list(result.joints) if joints is None else list(joints)
     data = result.bending() if component == "bending" else getattr(result, component)
-    deg = np.degrees(np.asarray(result.phi1, dtype=float))
+    deg, xlabel = _driver_axis(result)
     out: dict[str, Any] = {"ax": ax}
     for name in names:
         (out[name],) = ax.plot(deg, data[result.joints.index(name)], label=name)
     ax.axhline(0.0, color="0.6", lw=0.6)
-    ax.set_xlabel("driver position φ1 [deg]")
+    ax.set_xlabel(xlabel)
     ax.set_ylabel(f"{component} [{_UNIT.get(component, '')}]")
     ax.set_xlim(deg.min(), deg.max())
     ax.legend(fontsize=8, title="joint")
@@ -67,10 +76,11 @@ def plot_bending(result: Any, axes: Any = None) -> dict[str, Any]:
     out: dict[str, Any] = {"axes": axes}
     for a, comp in zip(ax[:3], ("fz", "mx", "my"), strict=True):
         out[comp] = plot_components(result, comp, ax=a)
-    deg = np.degrees(np.asarray(result.phi1, dtype=float))
+    deg, xlabel = _driver_axis(result)
     (out["Q"],) = ax[3].plot(deg, result.Q, color="k")
-    ax[3].set_ylabel("driving torque Q [N·m]")
-    ax[3].set_xlabel("driver position φ1 [deg]")
+    linear = getattr(result, "units", {}).get("Q") == "N"
+    ax[3].set_ylabel("driving force Q [N]" if linear else "driving torque Q [N·m]")
+    ax[3].set_xlabel(xlabel)
     ax[3].grid(True, alpha=0.3)
     return out
 

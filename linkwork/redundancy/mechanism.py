@@ -246,7 +246,9 @@ def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = 
     Runs :func:`linkwork.planar.kinematics`, builds :func:`spatial_model`, :func:`geometry`,
     :func:`body_wrenches` and :func:`deviation_array`, and calls
     :func:`~linkwork.redundancy.solve_reactions`. Parameters as in those functions; ``phi1``,
-    ``omega1``, ``eps1`` as in :func:`linkwork.planar.kinematics` [rad, rad/s, rad/s^2].
+    ``omega1``, ``eps1`` as in :func:`linkwork.planar.kinematics` [rad, rad/s, rad/s^2; for a
+    linear driver m, m/s, m/s^2, and then the result's ``units`` give ``phi1`` in m and the
+    driving force ``Q`` in N].
     """
     from linkwork.planar import kinematics
 
@@ -256,4 +258,7 @@ def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = 
     w = body_wrenches(mech, kin, gravity=gravity, loads=loads, heights=heights,
                       out_of_plane=out_of_plane)
     dev = deviation_array(model, deviations, _ground(mech))
-    return solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
+    res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
+    if mech.driver.kind == "linear":  # positions are slides [m], the driving force is in N
+        object.__setattr__(res, "units", {**res.units, "phi1": "m", "Q": "N"})
+    return res
