@@ -13,6 +13,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from linkwork import balancing as bal
@@ -142,3 +143,50 @@ def test_cli_reactions_linear_driver_positions_in_mm_and_force_in_newtons(tmp_pa
     units = json.loads((out / "reactions.json").read_text())["units"]
     assert units["phi1"] == "m" and units["Q"] == "N"
     assert json.loads((out / "reactions_peaks.json").read_text())["units"]["Q"] == "N"
+
+
+def _linear_with_load(phi_range):
+    return LINEAR_SLIDER_CRANK + toml({"load": [
+        {"type": "force", "body": "slider", "point": "B", "fx": "-100 N",
+         "phi_range": phi_range}]})
+
+
+@pytest.mark.parametrize("phi_range", [["200 mm", "220 mm"], [0.2, 0.22]])
+def test_load_range_of_a_linear_driver_is_a_slide_interval(tmp_path, phi_range):
+    """For a linear driver '[[load]] phi_range' had to be an angle ('200 mm' was refused) and
+    plain numbers were wrapped modulo 2 pi, so [0.22, 0.2] acted everywhere except between
+    0.2 and 0.22 m."""
+    from linkwork.files import load
+
+    f = tmp_path / "lin.toml"
+    f.write_text(_linear_with_load(phi_range))
+    doc = load(f)
+    s = doc.positions()
+    fx = np.asarray(np.broadcast_to(doc.loads(s)[0].fx, s.shape))
+    inside = (s >= 0.2 - 1e-12) & (s <= 0.22 + 1e-12)
+    assert inside.sum() == 11  # 160..240 mm in 2 mm steps
+    np.testing.assert_array_equal(fx, np.where(inside, -100.0, 0.0))
+
+
+@pytest.mark.parametrize("phi_range, words", [
+    (["220 mm", "200 mm"], ["load.0.phi_range", "220 mm"]),  # reversed: no wrap for slides
+    ([0.22, 0.2], ["load.0.phi_range", "0.22", "> start"]),
+    (["20 deg", "40 deg"], ["load.0.phi_range", "length"]),  # an angle for a slide
+])
+def test_bad_load_range_of_a_linear_driver_one_line_exit_2(tmp_path, capsys, phi_range, words):
+    f = tmp_path / "lin.toml"
+    f.write_text(_linear_with_load(phi_range))
+    code, _, err = run_cli(["analyze", str(f), "--out", str(tmp_path / "o")], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    for w in words:
+        assert w in err
+
+
+def test_load_range_of_a_crank_must_be_an_angle(tmp_path, capsys):
+    text = (ROOT / "examples" / "sine_press_planar.toml").read_text()
+    f = tmp_path / "sp.toml"
+    f.write_text(text.replace('phi_range = ["100 deg", "150 deg"]',
+                              'phi_range = ["100 mm", "150 mm"]'))
+    code, _, err = run_cli(["analyze", str(f), "--out", str(tmp_path / "o")], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "load.0.phi_range" in err and "angle" in err

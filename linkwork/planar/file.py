@@ -50,7 +50,9 @@ Example (the four-bar of ``examples/fourbar_paper001.toml``)::
     point = "B"                    # point name, "com" or [x, y] in the body frame
     fx = "0 N"
     fy = "-20 N"
-    phi_range = ["200 deg", "340 deg"]   # optional: acts only there (e.g. a working stroke)
+    phi_range = ["200 deg", "340 deg"]   # optional: acts only there (e.g. a working stroke);
+                                         # may wrap through 0; a linear driver: slide
+                                         # positions, e.g. ["200 mm", "220 mm"]
 
 Plain numbers are SI (metres, radians, kg, N); strings carry units. Unknown keys are errors.
 """
@@ -191,12 +193,30 @@ class LoadSection(FileModel):
     fx: Force = 0.0
     fy: Force = 0.0
     mz: Torque = 0.0
-    phi_range: tuple[Angle, Angle] | None = None
+    phi_range: tuple[float | str, float | str] | None = None
 
-    def build(self, phi1: np.ndarray) -> PointForce | BodyTorque:
+    def driver_range(self, i: int, linear: bool) -> tuple[float, float] | None:
+        """``phi_range`` in SI: angles [rad] for a crank (the range may wrap through 0), slide
+        positions [m] for a linear driver (end > start)."""
+        if self.phi_range is None:
+            return None
+        from linkwork.units import to_si
+
+        key = f"load.{i}.phi_range"
+        lo, hi = (to_si(v, "length" if linear else "angle", key) for v in self.phi_range)
+        if linear and not hi > lo:
+            raise ParameterError(key, self.phi_range[1], f"the end of a slide range must be "
+                                 f"> start = {self.phi_range[0]} (slide positions, no wrap)")
+        return lo, hi
+
+    def build(self, phi1: np.ndarray, i: int = 0, linear: bool = False
+              ) -> PointForce | BodyTorque:
         on: np.ndarray | float = 1.0
-        if self.phi_range is not None:
-            lo, hi = self.phi_range
+        rng = self.driver_range(i, linear)
+        if rng is not None and linear:
+            on = ((phi1 >= rng[0] - 1e-12) & (phi1 <= rng[1] + 1e-12)).astype(float)
+        elif rng is not None:
+            lo, hi = rng
             two_pi = 2 * np.pi
             rel = np.mod(phi1 - lo, two_pi)
             on = (rel <= np.mod(hi - lo, two_pi) + 1e-12).astype(float)
@@ -229,6 +249,8 @@ class PlanarFile(FileModel):
             raise ParameterError("structure", "[[body]] and [[joint]] as written",
                                  str(exc)) from None
         self.positions()
+        for i, ld in enumerate(self.load):
+            ld.driver_range(i, self.driver.type == "linear")
         return self
 
     def mechanism(self) -> Mechanism:
@@ -271,4 +293,5 @@ class PlanarFile(FileModel):
                     raise ParameterError(f"load.{i}.point", ld.point,
                                          f"no such point of body {ld.body!r}; known: "
                                          f"{[*known, 'com']}")
-        return [ld.build(phi1) for ld in self.load]
+        linear = self.driver.type == "linear"
+        return [ld.build(phi1, i, linear) for i, ld in enumerate(self.load)]
