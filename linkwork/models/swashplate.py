@@ -1004,10 +1004,12 @@ def _single_slide(phi: np.ndarray, P: tuple[float, float, float, float, float, f
     sgn = np.sign(F * s1)
     denom = cd - mu * sd * sgn
     if np.any(denom <= 0):
-        bad = denom <= 0
+        # phi is (u, n) for u phase-shifted slides: the ranges are in each slide's own angle
+        own = np.mod(np.broadcast_to(phi, denom.shape), TWO_PI).ravel()
+        order = np.argsort(own, kind="stable")
         raise AssemblyError("the drive jams: pressure angle + (effective) guide friction "
                             "angle >= 90 deg",
-                            angle_ranges(phi, bad), driver="phi")
+                            angle_ranges(own[order], (denom <= 0).ravel()[order]), driver="phi")
     S = F / denom
     # rod unit vector e = (A - B)/l; force on the slide S e, on the disk -S e.
     ex, ey, ez = X / lv, Y / lv, cd
