@@ -500,3 +500,23 @@ def test_spatial_inplane_reactions_equal_planar_with_deviations(case):
             total += res.fz[i] * ((j.b == b.name) - (j.a == b.name))
         assert np.max(np.abs(total)) <= 1e-9 * (1.0 + np.abs(res.fz).max())
     assert np.abs(res.bending()).max() > 1e-3  # the deviations and heights do matter
+
+
+def test_assembly_error_names_the_group_that_cannot_close():
+    """A six-bar whose second dyad cannot close over part of the cycle: the error listed only
+    the driver ranges, not which of the two dyads fails (the user cannot tell which link to
+    lengthen)."""
+    from linkwork.errors import AssemblyError
+
+    mech, _, _ = stephenson_sixbar()
+    short = tuple(pl.bar("link5", "C", "D", 0.3, mass=1.5) if b.name == "link5" else b
+                  for b in mech.bodies)  # |C O6| reaches 0.635 m > 0.3 + 0.25
+    broken = pl.Mechanism(mech.frame, short, mech.joints, mech.driver, mech.branches)
+    with pytest.raises(AssemblyError) as err:
+        pl.kinematics(broken, np.radians(np.arange(0.0, 360.0, 10.0)))
+    msg = str(err.value)
+    assert "RRR(link5, link6)" in msg and "C, D, O6" in msg
+    assert "coupler, rocker" not in msg  # the four-bar loop itself closes everywhere
+    # NaN mode: the first dyad's bodies are assembled where only the second fails
+    kin = pl.kinematics(broken, np.radians(np.arange(0.0, 360.0, 10.0)), on_fail="nan")
+    assert (~kin.assembled).any() and kin.assembled.any()

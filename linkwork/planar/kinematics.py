@@ -70,6 +70,7 @@ class _State:
         self.E = [z] * nb
         self.bad = np.zeros(n, dtype=bool)
         self.pos_bad = self.bad
+        self.failed: dict[str, Arr] = {}  # group key -> positions where it does not close
         self._rot: dict[tuple[int, float, float], Vec] = {}
 
     def set_angle(self, i: int, th: Arr, c: Arr | None = None, s: Arr | None = None) -> None:
@@ -1027,6 +1028,7 @@ def _solve_chunk(mech: Mechanism, groups: tuple[Group, ...], branches: dict[str,
     with np.errstate(all="ignore"):
         for g in groups:
             b = branches[g.key]
+            before = st.bad.copy()
             if g.kind == "driver":
                 _solve_driver(mech, st, g, q)
             elif g.kind in ("RS", "PS"):
@@ -1035,6 +1037,8 @@ def _solve_chunk(mech: Mechanism, groups: tuple[Group, ...], branches: dict[str,
                 _solve_newton(mech, st, g, q)
             else:
                 _solve_dyad(mech, st, g, b)
+            if (st.bad & ~before).any():
+                st.failed[g.key] = st.bad & ~before
         st.pos_bad = st.bad.copy()
         for g in groups:
             _group_rates(mech, st, g, w1, e1)
@@ -1093,6 +1097,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     block = np.empty((len(keys), nb, n))  # one allocation: much faster than nine
     pos_bad = np.zeros(n, dtype=bool)
     bad = np.zeros(n, dtype=bool)
+    failed: set[str] = set()
     # chunks keep the temporaries in cache; Newton groups need the whole sequence
     newton = any(g.kind == "newton" for g in structure.groups)
     step = n if newton else _CHUNK
@@ -1100,6 +1105,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         sl = slice(lo, min(lo + step, n))
         st = _solve_chunk(mech, structure.groups, used, q[sl], w1[sl], e1[sl])
         pos_bad[sl] = st.pos_bad
+        failed.update(st.failed)
         bad[sl] = st.bad
         for i in range(1, nb):
             bad[sl] |= ~np.isfinite(st.W[i])
@@ -1108,8 +1114,13 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
                 block[kk, i, sl] = arr
     unit = "rad" if isinstance(drv, Crank) else "m"
     if pos_bad.any() and on_fail == "raise":
+        groups = [f"{g.kind}({', '.join(g.bodies)}) with joints {', '.join(g.joints)}"
+                  for g in structure.groups if g.key in failed]
+        which = (f" (group{'s' if len(groups) > 1 else ''} that cannot close: "
+                 f"{'; '.join(groups)})" if groups else "")
         raise AssemblyError(f"mechanism cannot be assembled at {int(pos_bad.sum())} of {n} "
-                            "driver positions", angle_ranges(q, pos_bad),
+                            f"driver positions{which}",
+                            angle_ranges(q, pos_bad),
                             driver="phi1" if unit == "rad" else "s1", unit=unit)
     if bad.any() and on_fail == "raise":
         raise AssemblyError("mechanism is at a singular (toggle) position where velocities are "
