@@ -34,12 +34,14 @@ the scheme fixes (e.g. ``a`` in scheme 4a) is an error too.
 
 from __future__ import annotations
 
-from typing import Annotated, Literal
+import math
+from typing import Annotated, Any, Literal
 
+import numpy as np
 from pydantic import BeforeValidator, Field, model_validator
 from pydantic_core import PydanticCustomError
 
-from linkwork.errors import ParameterError
+from linkwork.errors import LinkworkError, ParameterError
 from linkwork.files import (
     Angle,
     AngularVelocity,
@@ -63,8 +65,10 @@ def _freq(value: object) -> float:
         raise ValueError(exc.limit) from None
 
 
+#: every number of the file must be finite (inf/nan reached the models and lost file and key)
+FINITE = Field(allow_inf_nan=False)
 Frequency = Annotated[float, BeforeValidator(_freq)]
-PositiveLength = Annotated[Length, Field(gt=0)]
+PositiveLength = Annotated[Length, Field(gt=0), FINITE]
 
 
 class GeometrySection(FileModel):
@@ -74,19 +78,19 @@ class GeometrySection(FileModel):
     R: PositiveLength
     l: PositiveLength
     r: PositiveLength | None = None
-    alpha: Angle | None = None
-    a: Length | None = None
-    b: Length | None = None
+    alpha: Annotated[Angle, FINITE] | None = None
+    a: Annotated[Length, FINITE] | None = None
+    b: Annotated[Length, FINITE] | None = None
 
 
 class OperationSection(FileModel):
     """``[operation]``: rotor ``speed`` [rad/s] or ``productivity`` [1/s] with ``positions``;
     optional limits ``v_allow`` [m/s] and ``delta_allow`` [rad] that the analysis checks."""
 
-    speed: Annotated[AngularVelocity, Field(gt=0)] | None = None
-    productivity: Annotated[Frequency, Field(gt=0)] | None = None
+    speed: Annotated[AngularVelocity, Field(gt=0), FINITE] | None = None
+    productivity: Annotated[Frequency, Field(gt=0), FINITE] | None = None
     positions: Annotated[int, Field(ge=1, le=1000)] = 1
-    v_allow: Annotated[Velocity, Field(gt=0)] | None = None
+    v_allow: Annotated[Velocity, Field(gt=0), FINITE] | None = None
     delta_allow: Annotated[Angle, Field(gt=0, lt=1.5707963267948966)] | None = None
 
     @model_validator(mode="after")
@@ -111,12 +115,12 @@ class LoadSection(FileModel):
     angle ``rho_guide`` [rad] and, optionally, the slide's ``guide_length`` and the rod joint's
     ``overhang`` [m] (two-point guide, see :func:`linkwork.models.swashplate.drive_forces`)."""
 
-    angles: list[Angle] | None = None
-    forces: list[Force] | None = None
-    force: Force | None = None
+    angles: list[Annotated[Angle, FINITE]] | None = None
+    forces: list[Annotated[Force, FINITE]] | None = None
+    force: Annotated[Force, FINITE] | None = None
     rho_guide: Annotated[Angle, Field(ge=0, lt=1.5707963267948966)] = 0.0
-    guide_length: Annotated[Length, Field(gt=0)] | None = None
-    overhang: Annotated[Length, Field(ge=0)] = 0.0
+    guide_length: Annotated[Length, Field(gt=0), FINITE] | None = None
+    overhang: Annotated[Length, Field(ge=0), FINITE] = 0.0
 
     @model_validator(mode="after")
     def _diagram(self) -> LoadSection:
@@ -176,10 +180,44 @@ class SwashplateFile(FileModel):
                 raise PydanticCustomError("scheme", "geometry.{key}: missing, scheme {s} "
                                           "needs it", {"key": key, "s": self.scheme})
         try:
-            self.design()
+            d = self.design()
         except ParameterError as exc:
-            raise PydanticCustomError("scheme", "{msg}", {"msg": str(exc)}) from None
+            msg = f"geometry.{exc}"
+            if exc.parameter == "alpha" and g.alpha is not None and abs(g.alpha) > math.pi:
+                msg += ' (a plain number is in radians: write e.g. "15 deg")'
+            raise PydanticCustomError("scheme", "{msg}", {"msg": msg}) from None
+        # the rod must reach at every angle, the loaded drive must not jam: say so here, where
+        # the message names the file (not halfway through the analysis)
+        try:
+            c = sw.characteristics(*d.params)
+        except LinkworkError as exc:
+            raise PydanticCustomError("reach", "geometry: {msg}", {"msg": str(exc)}) from None
+        try:
+            self.drive_forces(c)
+        except LinkworkError as exc:
+            raise PydanticCustomError("jam", "load: {msg}", {"msg": str(exc)}) from None
         return self
+
+    def drive_forces(self, c: sw.Characteristics | None = None) -> sw.DriveForces | None:
+        """Kinetostatics under the ``[load]`` section (``None`` without one); ``c`` the
+        drive's characteristics (a constant ``force`` acts on the forward stroke)."""
+        ld = self.load
+        if ld is None:
+            return None
+        d = self.design()
+        load: Any
+        if ld.angles is not None:
+            load = (np.array(ld.angles), np.array(ld.forces))
+        else:
+            c = sw.characteristics(*d.params) if c is None else c
+            start, span, F = float(c.phi_min), float(c.phi_f), float(ld.force or 0.0)
+
+            def load(phi: np.ndarray) -> np.ndarray:
+                return np.where(np.mod(phi - start, 2 * math.pi) < span, F, 0.0)
+
+        return sw.drive_forces(d, load, u=self.operation.positions, rho_guide=ld.rho_guide,
+                               guide_length=ld.guide_length, overhang=ld.overhang,
+                               n=self.output.samples)
 
     def design(self) -> sw.Design:
         """The drive as a :class:`~linkwork.models.swashplate.Design` (scheme constructor)."""

@@ -101,13 +101,8 @@ def analyze_swashplate(doc: Any, out: Path, angles: np.ndarray, console: Any) ->
     full.to_csv(out / "cycle.csv")
     full.to_json(out / "cycle.json")
     save(plot_kinematics(full)[0].figure, out / "kinematics.png")
-    if doc.load is not None:
-        ld = doc.load
-        load: Any = ((np.array(ld.angles), np.array(ld.forces)) if ld.angles is not None
-                     else _forward_force(c, float(ld.force or 0.0)))
-        f = sw.drive_forces(d, load, u=op.positions, rho_guide=ld.rho_guide,
-                            guide_length=ld.guide_length, overhang=ld.overhang,
-                            n=doc.output.samples)
+    f = doc.drive_forces(c)
+    if f is not None:
         f.to_csv(out / "forces.csv")
         f.to_json(out / "forces.json")
         save(plot_drive_forces(f)[0].figure, out / "forces.png")
@@ -121,15 +116,6 @@ def analyze_swashplate(doc: Any, out: Path, angles: np.ndarray, console: Any) ->
         {"design": d.as_dict(), **summary}, indent=1, default=float))
     console.print(f"written: {out}/cycle.csv, cycle.json, characteristics.json, kinematics.png"
                   + (", forces.csv, forces.json, forces.png" if doc.load is not None else ""))
-
-
-def _forward_force(c: Any, F: float) -> Any:
-    start, span = float(c.phi_min), float(c.phi_f)
-
-    def load(phi: np.ndarray) -> np.ndarray:
-        return np.where(np.mod(phi - start, 2 * math.pi) < span, F, 0.0)
-
-    return load
 
 
 def _q(value: str | None, kind: str, name: str) -> float | None:
