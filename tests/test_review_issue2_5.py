@@ -250,3 +250,20 @@ def test_cli_swashplate_file_errors_name_file_and_key(example, old, new, words, 
     err = _cli(tmp_path, capsys, example, old, new, cmd=("swashplate", "analyze"))
     for w in words:
         assert w.lower() in err.lower(), (w, err)
+
+
+@pytest.mark.parametrize("old,new,key", [
+    ('L1 = "50 mm"', 'L1 = inf', "crank.L1"),
+    ('speed = "120 rpm"', 'speed = inf', "crank.speed"),
+    ('eps1 = "0 rad/s^2"', 'eps1 = nan', "crank.eps1"),
+    ('lambda2 = 4.0', 'lambda2 = inf', "idle.lambda2"),
+    ('lambda_e = 0.5', 'lambda_e = inf', "idle.lambda_e"),
+    ('lambda_e = 0.5', 'lambda_e = nan', "idle.lambda_e"),
+    ('f_slot = 0.12', 'f_slot = inf', "working.f_slot"),
+    ('alpha = "45 deg"', 'alpha = nan', "schedule.3.alpha"),
+])
+def test_cli_sine_press_non_finite_values_name_file_and_key(old, new, key, tmp_path, capsys):
+    # they used to reach the models: 'omega1 = inf is invalid' without file or key, or
+    # 'lambda2 = 4 must be > |lambda_e| + 1 = inf', or f_slot = inf blamed on working.alpha
+    err = _cli(tmp_path, capsys, "sine_press.toml", old, new)
+    assert f"{key}:" in err and "finite" in err, err
