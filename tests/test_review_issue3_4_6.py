@@ -520,3 +520,35 @@ def test_assembly_error_names_the_group_that_cannot_close():
     # NaN mode: the first dyad's bodies are assembled where only the second fails
     kin = pl.kinematics(broken, np.radians(np.arange(0.0, 360.0, 10.0)), on_fail="nan")
     assert (~kin.assembled).any() and kin.assembled.any()
+
+
+SPATIAL_FOURBAR = (ROOT / "examples" / "loom_fourbar_spatial.toml").read_text()
+
+
+@pytest.mark.parametrize("old, new, key", [
+    ('tx = "0.2 mrad"', "tx = 30", "spatial.deviation.0.tx"),        # 30 rad, meant 30 urad?
+    ('ty = "-0.1 mrad"', 'ty = "-10 deg"', "spatial.deviation.1.ty"),
+    ('limit = "0.3 mrad"', 'limit = 0.3', "spatial.tolerance.0.limit"),  # 0.3 rad
+])
+def test_tilt_deviations_beyond_first_order_theory_are_named(tmp_path, capsys, old, new, key):
+    """Tilts are small rotations in a first-order theory; a plain number is radians, so
+    'tx = 30' (30 rad) ran silently and gave reactions 1e5 times those of 0.3 mrad."""
+    f = tmp_path / "s.toml"
+    assert old in SPATIAL_FOURBAR
+    f.write_text(SPATIAL_FOURBAR.replace(old, new, 1))
+    code, _, err = run_cli(["reactions", str(f), "--out", str(tmp_path / "o"), "--no-plots",
+                            "--tolerance-study", "2"], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert key in err and "0.1 rad" in err
+
+
+def test_tilt_deviations_beyond_first_order_theory_are_named_in_the_api():
+    from linkwork.redundancy import Deviation, Tolerance, spatial_reactions
+
+    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0), omega1=10.0)
+    with pytest.raises(ParameterError, match="tx"):
+        spatial_reactions(mech, [0.0, 1.0], deviations=[Deviation("O4", "frame", tx=0.5)])
+    with pytest.raises(ParameterError, match="ty"):
+        Tolerance("O4", "a", "ty", 0.05, "uniform", mean=0.08)
+    # small ones are fine
+    spatial_reactions(mech, [0.0, 1.0], deviations=[Deviation("O4", "frame", tx=0.01)])

@@ -82,6 +82,20 @@ _LOCAL_NAMES = {"R": ("fx", "fy", "fz", "mx", "my", "mz"),
 #: Default radial stiffness of a joint [N/m] (a plain bearing of a loom linkage, ~100 N/µm).
 DEFAULT_BEARING_STIFFNESS = 1.0e8
 
+#: largest tilt deviation [rad] the first-order theory accepts (a "small rotation"); beyond it
+#: the input is most likely a unit slip (a plain number is read as radians)
+MAX_TILT = 0.1
+
+
+def check_tilt(name: str, value: float) -> float:
+    """``value`` [rad] if it is a small tilt (``|value| <= MAX_TILT``), else ParameterError."""
+    v = float(value)
+    if not abs(v) <= MAX_TILT:
+        raise ParameterError(name, v, f"must be a small tilt, |t| <= {MAX_TILT} rad (first-"
+                             "order theory); a plain number is in radians: write e.g. "
+                             "'0.3 mrad'")
+    return v
+
 
 def bearing_stiffness(kind: str, e: float, k_bearing: float = DEFAULT_BEARING_STIFFNESS,
                       axial_ratio: float = 1.0) -> np.ndarray:

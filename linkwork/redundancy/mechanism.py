@@ -27,6 +27,7 @@ from linkwork.redundancy.core import (
     SpatialJoint,
     SpatialModel,
     SpatialReactions,
+    check_tilt,
     solve_reactions,
 )
 
@@ -60,9 +61,12 @@ class Deviation:
     tz: float = 0.0
 
     def vector(self) -> np.ndarray:
-        """(dx, dy, dz, tx, ty, tz) [m, rad]."""
-        return require_finite(f"deviation {self.joint}/{self.body}",
-                              [self.dx, self.dy, self.dz, self.tx, self.ty, self.tz])
+        """(dx, dy, dz, tx, ty, tz) [m, rad]; tilts beyond ``MAX_TILT`` are a ParameterError."""
+        v = require_finite(f"deviation {self.joint}/{self.body}",
+                           [self.dx, self.dy, self.dz, self.tx, self.ty, self.tz])
+        for c, x in zip(("tx", "ty", "tz"), v[3:], strict=True):
+            check_tilt(f"deviation {self.joint}/{self.body}.{c}", x)
+        return v
 
 
 @dataclass(frozen=True)

@@ -47,7 +47,7 @@ from pydantic import Field, field_validator
 
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.files import Angle, FileModel, Force, Length, Stiffness, Torque
-from linkwork.redundancy.core import DEFAULT_BEARING_STIFFNESS
+from linkwork.redundancy.core import DEFAULT_BEARING_STIFFNESS, check_tilt
 from linkwork.units import to_si
 
 __all__ = ["DeviationSpec", "JointSpec", "OutOfPlaneSpec", "SpatialSpec", "ToleranceSpec",
@@ -107,6 +107,14 @@ class DeviationSpec(FileModel):
     ty: Angle = 0.0
     tz: Angle = 0.0
 
+    @field_validator("tx", "ty", "tz")
+    @classmethod
+    def _small_tilt(cls, v: float) -> float:
+        try:
+            return check_tilt("tilt", v)
+        except ParameterError as exc:
+            raise ValueError(f"{exc.limit}") from None
+
 
 class OutOfPlaneSpec(FileModel):
     """``[[spatial.out_of_plane]]``: fz [N] at the centre of mass, mx, my [N m]."""
@@ -134,6 +142,11 @@ class ToleranceSpec(FileModel):
         value = _quantity(v, "length" if str(comp).startswith("d") else "angle")
         if info.field_name == "limit" and value < 0:
             raise ValueError("must be >= 0")
+        if str(comp).startswith("t"):
+            try:
+                check_tilt(str(info.field_name), value)
+            except ParameterError as exc:
+                raise ValueError(f"{exc.limit}") from None
         return value
 
 

@@ -28,6 +28,7 @@ from linkwork.redundancy.core import (
     SpatialGeometry,
     SpatialModel,
     _joint_frames,
+    check_tilt,
     influence,
     misfit,
 )
@@ -80,6 +81,9 @@ class Tolerance:
         require_positive(f"tolerance {self.joint}.{self.component}.limit", self.limit,
                          allow_zero=True)
         require_finite(f"tolerance {self.joint}.{self.component}.mean", self.mean)
+        if self.component.startswith("t"):  # the deviations drawn must stay small tilts
+            check_tilt(f"tolerance {self.joint}.{self.component}: |mean| + limit",
+                       abs(self.mean) + self.limit)
 
 
 @dataclass(frozen=True)
