@@ -15,7 +15,7 @@ import pytest
 from scipy.optimize import brentq
 
 from linkwork.cli import main
-from linkwork.errors import AssemblyError
+from linkwork.errors import AssemblyError, ParameterError
 from linkwork.models import crank_slider, sine
 from linkwork.models import swashplate as sw
 
@@ -267,3 +267,16 @@ def test_cli_sine_press_non_finite_values_name_file_and_key(old, new, key, tmp_p
     # 'lambda2 = 4 must be > |lambda_e| + 1 = inf', or f_slot = inf blamed on working.alpha
     err = _cli(tmp_path, capsys, "sine_press.toml", old, new)
     assert f"{key}:" in err and "finite" in err, err
+
+
+def test_branch_array_is_named():
+    from linkwork.models.variable_structure import VariableStructureMechanism
+    with pytest.raises(ParameterError, match="branch"):
+        crank_slider.offset_crank_slider(0.3, 0.05, 4.0, 0.5, branch=np.array([1, -1]))
+    with pytest.raises(ParameterError, match="branch"):
+        crank_slider.dead_centres(4.0, 0.5, branch=np.array([1, -1]))
+    with pytest.raises(ParameterError, match="branch"):
+        VariableStructureMechanism(0.05, 4.0, 0.5, 1.0, branch=np.array([1, -1]))
+    # a scalar branch still works, as a numpy integer too
+    res = crank_slider.offset_crank_slider(0.3, 0.05, 4.0, 0.5, branch=np.int64(-1))
+    assert float(res.Y_C) < 0

@@ -201,8 +201,7 @@ class VariableStructureMechanism:
         require_positive("L1", self.L1)
         require_finite("lambda_e", self.lambda_e)
         crank_slider.stroke(self.L1, self.lambda2, self.lambda_e)  # checks lambda2
-        if self.branch not in (1, -1):
-            raise ParameterError("branch", self.branch, "must be +1 or -1")
+        crank_slider._check_branch(self.branch)
         if self.mode not in MODES:
             raise ParameterError("mode", self.mode, f"must be one of {MODES}")
         sine.check_alpha(self.alpha, self.f_slot, self.f_guide)
