@@ -280,3 +280,11 @@ def test_branch_array_is_named():
     # a scalar branch still works, as a numpy integer too
     res = crank_slider.offset_crank_slider(0.3, 0.05, 4.0, 0.5, branch=np.int64(-1))
     assert float(res.Y_C) < 0
+
+
+def test_alpha_for_stroke_shape_mismatch_is_named():
+    with pytest.raises(ParameterError, match=r"shapes.*L1.*H"):
+        sine.alpha_for_stroke(np.full(2, 0.05), np.full(3, 0.2))
+    lo, hi = sine.alpha_for_stroke(np.array([[0.05], [0.04]]), np.array([0.2, 0.1]))
+    np.testing.assert_allclose(2 * np.array([[0.05], [0.04]]) / np.sin(lo), [[0.2, 0.1]] * 2)
+    np.testing.assert_allclose(lo + hi, np.pi)

@@ -258,7 +258,11 @@ def alpha_for_stroke(L1: ArrayLike, H: ArrayLike) -> tuple[np.ndarray, np.ndarra
     """
     L1_a = require_positive("L1", L1)
     H_a = require_positive("H", H)
-    L1_b, H_b = np.broadcast_arrays(L1_a, H_a)
+    try:
+        L1_b, H_b = np.broadcast_arrays(L1_a, H_a)
+    except ValueError:
+        raise ParameterError("shapes", {"L1": L1_a.shape, "H": H_a.shape},
+                             "must broadcast against each other") from None
     ratio = 2.0 * L1_b / H_b
     bad = ratio > 1.0 + 1e-12
     if bad.any():
