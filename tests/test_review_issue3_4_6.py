@@ -552,3 +552,26 @@ def test_tilt_deviations_beyond_first_order_theory_are_named_in_the_api():
         Tolerance("O4", "a", "ty", 0.05, "uniform", mean=0.08)
     # small ones are fine
     spatial_reactions(mech, [0.0, 1.0], deviations=[Deviation("O4", "frame", tx=0.01)])
+
+
+@pytest.mark.parametrize("kw, words", [
+    (dict(start="O", end="O"), ["crank.end", "O", "start"]),
+    (dict(start="O", end="A", points={"A": (0.2, 0.0)}), ["crank.points.A", "length"]),
+])
+def test_bar_with_inconsistent_end_points_is_named(kw, words):
+    """bar() silently overwrote: start == end kept one point at (length, 0) (the pivot moved to
+    the far end), and a 'points' entry named like an end replaced it (length 0.1 m, A at 0.2)."""
+    with pytest.raises(ParameterError) as err:
+        pl.bar("crank", length=0.1, **kw)
+    for w in words:
+        assert w in str(err.value)
+
+
+def test_file_straight_link_with_a_point_redefining_its_end_one_line_exit_2(tmp_path, capsys):
+    text = (ROOT / "examples" / "fourbar_paper001.toml").read_text()
+    old = 'name = "coupler"\n'
+    assert old in text
+    f = tmp_path / "m.toml"
+    f.write_text(text.replace(old, old + 'points = { B = ["250 mm", 0] }\n', 1))
+    code, _, err = run_cli(["analyze", str(f), "--out", str(tmp_path / "o")], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "coupler.points.B" in err

@@ -147,6 +147,13 @@ def bar(name: str, start: str, end: str, length: float, *, mass: float = 0.0,
     from linkwork.errors import require_positive
 
     length = float(require_positive(f"{name}.length", length))
+    if start == end:  # one dict key: the start point would silently move to (length, 0)
+        raise ParameterError(f"{name}.end", end, f"must differ from start {start!r}")
+    for key, at in ((start, (0.0, 0.0)), (end, (length, 0.0))):
+        if key in (points or {}) and _pt(f"{name}.points.{key}", (points or {})[key]) != at:
+            raise ParameterError(f"{name}.points.{key}", tuple((points or {})[key]),
+                                 f"redefines the link's {'start' if at[0] == 0 else 'end'} "
+                                 f"point, which is at {at} for length {length:g}")
     c: Point = (length / 2, 0.0) if com is None else (
         (float(com), 0.0) if np.ndim(com) == 0 else _pt(f"{name}.com", com))  # type: ignore[arg-type]
     pts = {start: (0.0, 0.0), end: (length, 0.0)}
