@@ -288,3 +288,17 @@ def test_alpha_for_stroke_shape_mismatch_is_named():
     lo, hi = sine.alpha_for_stroke(np.array([[0.05], [0.04]]), np.array([0.2, 0.1]))
     np.testing.assert_allclose(2 * np.array([[0.05], [0.04]]) / np.sin(lo), [[0.2, 0.1]] * 2)
     np.testing.assert_allclose(lo + hi, np.pi)
+
+
+@pytest.mark.parametrize("schedule,spr,needle", [
+    ([("idle", 1)], 10.5, "samples_per_revolution"),
+    ([("idle", 1)], "360", "samples_per_revolution"),
+    ([("idle",)], 36, "schedule entry"),
+    (["idle"], 36, "schedule entry"),
+    ([("working", 1, 1.0, 2)], 36, "schedule entry"),
+])
+def test_run_malformed_schedule_is_named(schedule, spr, needle):
+    from linkwork.models.variable_structure import VariableStructureMechanism
+    mech = VariableStructureMechanism(0.05, 4.0, 0.5, 1.0)
+    with pytest.raises(ParameterError, match=needle):  # were TypeErrors from Python internals
+        mech.run(schedule, 10.0, samples_per_revolution=spr)

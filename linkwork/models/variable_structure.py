@@ -102,6 +102,15 @@ class Segment:
             raise ParameterError("revolutions", self.revolutions, "must be >= 1")
 
 
+def _segment(entry: Segment | Sequence[Any]) -> Segment:
+    if isinstance(entry, Segment):
+        return entry
+    if isinstance(entry, str) or not isinstance(entry, Sequence) or not 2 <= len(entry) <= 3:
+        raise ParameterError("schedule entry", entry, "must be a Segment or a tuple "
+                             "(mode, revolutions[, alpha]), e.g. ('working', 3, 1.05)")
+    return Segment(*entry)
+
+
 @dataclass(frozen=True)
 class ScheduleResult(Result):
     """Motion of the variable-structure mechanism over a duty schedule at constant crank speed.
@@ -257,9 +266,10 @@ class VariableStructureMechanism:
         ScheduleResult
         """
         w1 = float(require_positive("omega1", omega1))
-        if samples_per_revolution < 8:
-            raise ParameterError("samples_per_revolution", samples_per_revolution, "must be >= 8")
-        segs = [s if isinstance(s, Segment) else Segment(*s) for s in schedule]
+        spr = samples_per_revolution
+        if isinstance(spr, bool) or not isinstance(spr, int | np.integer) or spr < 8:
+            raise ParameterError("samples_per_revolution", spr, "must be a whole number >= 8")
+        segs = [_segment(s) for s in schedule]
         if not segs:
             raise ParameterError("schedule", "[]", "must have at least one segment")
         state = self
