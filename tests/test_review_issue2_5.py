@@ -302,3 +302,18 @@ def test_run_malformed_schedule_is_named(schedule, spr, needle):
     mech = VariableStructureMechanism(0.05, 4.0, 0.5, 1.0)
     with pytest.raises(ParameterError, match=needle):  # were TypeErrors from Python internals
         mech.run(schedule, 10.0, samples_per_revolution=spr)
+
+
+def test_swashplate_shape_mismatch_and_sample_count_are_named():
+    with pytest.raises(ParameterError, match="shapes"):  # was numpy's raw broadcast ValueError
+        sw.position(np.zeros(3), 0.1, np.full(4, 0.07), 0.25, 0.3)
+    with pytest.raises(ParameterError, match="shapes"):
+        sw.stroke(0.1, np.full(4, 0.07), np.full(3, 0.25), 0.3)
+    d = sw.scheme_1(0.1, 0.07, 0.25, 0.35, 0.02, 0.0)
+    with pytest.raises(ParameterError, match="n = 0"):  # was an IndexError
+        sw.drive_forces(d, 1000.0, n=0)
+    with pytest.raises(ParameterError, match="phi"):  # one angle: the cycle integrals are 0/0
+        sw.drive_forces(d, 1000.0, phi=[0.3])
+    # designs (m, 1) against angles (n,) still broadcast
+    s = sw.position(np.linspace(0, 6, 5), 0.1, np.array([[0.07], [0.09]]), 0.25, 0.3)
+    assert s.shape == (2, 5)

@@ -123,7 +123,18 @@ def _params(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: Array
     rv = require_positive("r", r)
     lv = require_positive("l", l)
     av = require_in_range("alpha", alpha, 0.0, math.pi / 2, unit="deg", scale=180 / math.pi)
-    return Rv, rv, lv, av, require_finite("a", a), require_finite("b", b)
+    out = (Rv, rv, lv, av, require_finite("a", a), require_finite("b", b))
+    _check_shapes(dict(zip(("R", "r", "l", "alpha", "a", "b"), out, strict=True)))
+    return out
+
+
+def _check_shapes(arrays: dict[str, np.ndarray]) -> None:
+    try:
+        np.broadcast_shapes(*(x.shape for x in arrays.values()))
+    except ValueError:
+        raise ParameterError("shapes", {k: x.shape for k, x in arrays.items()},
+                             "must broadcast against each other (designs (m, 1) against "
+                             "angles (n,))") from None
 
 
 def _check_reach(phi: np.ndarray, q: np.ndarray, l: np.ndarray, invalid: Invalid,
@@ -157,6 +168,7 @@ def _kin(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayL
     if check:
         ph = require_finite("phi", phi)
         Rv, rv, lv, av, a_, b_ = _params(R, r, l, alpha, a, b)
+        _check_shapes({"phi": ph, "R": Rv, "r": rv, "l": lv, "alpha": av, "a": a_, "b": b_})
     else:
         ph = np.asarray(phi, dtype=float)
         Rv, rv, lv, av, a_, b_ = (np.asarray(x, dtype=float) for x in (R, r, l, alpha, a, b))
@@ -1096,8 +1108,13 @@ def drive_forces(design: Design, load: Load, *, u: int = 1, rho_guide: float = 0
         mu *= 1.0 + 2.0 * e / bg
     elif overhang:
         raise ParameterError("overhang", overhang, "needs guide_length")
+    if phi is None and (isinstance(n, bool) or not isinstance(n, int | np.integer) or n < 2):
+        raise ParameterError("n", n, "must be a whole number >= 2 (angles over a revolution)")
     ph = (np.linspace(0.0, TWO_PI, n) if phi is None
           else require_finite("phi", phi).reshape(-1))
+    if ph.size < 2:
+        raise ParameterError("phi", f"{ph.size} angle(s)", "must hold at least 2 angles (the "
+                             "cycle integrals)")
     Ffn = _load_fn(load)
     P = design.params
     shifts = TWO_PI * np.arange(uu)[:, None] / uu
