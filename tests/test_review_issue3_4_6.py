@@ -575,3 +575,16 @@ def test_file_straight_link_with_a_point_redefining_its_end_one_line_exit_2(tmp_
     f.write_text(text.replace(old, old + 'points = { B = ["250 mm", 0] }\n', 1))
     code, _, err = run_cli(["analyze", str(f), "--out", str(tmp_path / "o")], capsys)
     assert code == 2 and len(err.strip().splitlines()) == 1 and "coupler.points.B" in err
+
+
+def test_comparison_of_a_mechanism_without_shaking_moment_reports_no_round_off():
+    """Only the crank has mass (an eccentric on a shaft driving massless links): the shaking
+    moment about O is zero at constant speed, yet the comparison reported R2 = 29.4 % and
+    'balancing raises: shaking moment peak static 4.7e-17 vs unbalanced 2.8e-17 (+69.4 %)'."""
+    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 0.0, 0.0), omega1=10.0)
+    comp = bal.compare_balancing(mech)
+    # hand: the crank's centre turns about O at 0.05 m: inertia force m r w^2 = 5 N through O
+    assert comp.summary()["shaking force peak [N]"]["unbalanced"] == pytest.approx(5.0)
+    assert np.max(np.abs(comp.M)) < 1e-12 and np.max(np.abs(comp.dM1)) < 1e-12
+    assert comp.R2 == 0.0 and comp.R3 == 0.0
+    assert not [m for m in comp.increases() if "moment" in m or "torque" in m]

@@ -146,7 +146,9 @@ class BalancingComparison(Result):
         Moments at the table positions [N·m] (as in :class:`CycleComparison`).
     R2, R3 : float
         Efficiencies of first-harmonic and least-squares balancing [%], over the table
-        positions (the paper's definition).
+        positions (the paper's definition); 0 when the residual moment after static
+        balancing is only round-off (below 1e-9 of the unbalanced shaking force times the
+        counterweight radius: nothing to balance).
     static_moment : float
         S of the crank counterweight [kg·m].
     x2, y2, x3, y3 : float
@@ -228,6 +230,10 @@ class BalancingComparison(Result):
         for q, vals in summary.items():
             unit = q[q.rfind("["):]
             floor[unit] = max(floor.get(unit, 0.0), *vals.values())
+        # moments: also the forces times the counterweights' lever (a mechanism whose moments
+        # are all round-off, e.g. only the crank has mass, has no moment scale of its own)
+        floor["[N*m]"] = max(floor.get("[N*m]", 0.0),
+                             floor.get("[N]", 0.0) * _lever(self.counterweights))
         for q, vals in summary.items():
             if "peak" not in q or "unbalanced" not in vals:
                 continue
@@ -238,6 +244,11 @@ class BalancingComparison(Result):
                     pct = (v / base - 1) * 100 if base > 0 else float("inf")
                     msgs.append(f"{q}: {variant} {v:.4g} vs unbalanced {base:.4g} (+{pct:.1f} %)")
         return msgs
+
+
+def _lever(counterweights: Sequence[Counterweight]) -> float:
+    """Largest counterweight radius [m]: the length that turns forces into moments."""
+    return max((c.radius for c in counterweights if c.radius is not None), default=0.0)
 
 
 def _frame_reactions(dyn: Dynamics, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -373,7 +384,12 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
     cyc = CycleComparison(phi, d0.shaking_m, d1.shaking_m, dM2c, dM3c,
                           np.stack([d0.shaking_fx, d0.shaking_fy], -1),
                           np.stack([d1.shaking_fx, d1.shaking_fy], -1), d0g.Q, d1g.Q, r0, r1, r3)
+    # R_j of a residual moment that is only round-off (nothing to balance) would be noise
+    f_peak = float(np.max(np.hypot(d0.shaking_fx, d0.shaking_fy)))
+    nothing = np.max(np.abs(t1.shaking_m)) <= 1e-9 * f_peak * _lever(fb.counterweights)
+    R2 = 0.0 if nothing else efficiency(t1.shaking_m, dM2t)
+    R3 = 0.0 if nothing else efficiency(t1.shaking_m, dM3t)
     return BalancingComparison(
-        tab, t0.shaking_m, t1.shaking_m, dM2t, dM3t, efficiency(t1.shaking_m, dM2t),
-        efficiency(t1.shaking_m, dM3t), S, fh.x, fh.y, ls.x, ls.y, rm.x, rm.y,
+        tab, t0.shaking_m, t1.shaking_m, dM2t, dM3t, R2, R3, S, fh.x, fh.y, ls.x, ls.y, rm.x,
+        rm.y,
         fb.counterweights, fb, cyc)
