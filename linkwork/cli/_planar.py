@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from linkwork.errors import AssemblyError, ParameterError
 from linkwork.planar.dynamics import Dynamics, inverse_dynamics
 from linkwork.planar.file import PlanarFile
 from linkwork.planar.kinematics import (
@@ -28,7 +29,18 @@ from linkwork.planar.kinematics import (
 )
 from linkwork.planar.model import Crank
 
-__all__ = ["analyze_planar", "named_columns"]
+__all__ = ["analyze_planar", "named_columns", "table_positions_error"]
+
+
+def table_positions_error(exc: AssemblyError, positions: np.ndarray, linear: bool
+                          ) -> ParameterError:
+    """The error for table positions (``--angles``) where the mechanism does not assemble,
+    although the file's [analysis] range does."""
+    vals = np.asarray(positions, dtype=float) * 1e3 if linear else np.degrees(positions)
+    shown = ", ".join(f"{v:g}" for v in vals) + (" mm" if linear else " deg")
+    return ParameterError("--angles", shown, f"the table positions leave the range where the "
+                          f"mechanism assembles ({exc}); give --angles within the file's "
+                          "[analysis] range")
 
 
 def named_columns(kin: Kinematics, dyn: Dynamics) -> dict[str, tuple[np.ndarray, str]]:
@@ -106,7 +118,10 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray, console: A
         tphi = np.asarray(angles, dtype=float)
     else:
         tphi = np.linspace(phi[0], phi[-1], 12)
-    tk, td = _solve(doc, tphi)
+    try:
+        tk, td = _solve(doc, tphi)
+    except AssemblyError as exc:
+        raise table_positions_error(exc, tphi, not crank) from None
     trans = transmission_angles(tk)
     table = Table(title="driving torque, joint reactions |R| (force of a on b), shaking")
     heads = ["φ1 [deg]" if crank else "s1 [mm]", "Q [N·m]" if crank else "Q [N]"]

@@ -29,7 +29,7 @@ import typer
 from pydantic import Field, field_validator
 
 from linkwork import files
-from linkwork.errors import FileFormatError, LinkworkError
+from linkwork.errors import AssemblyError, FileFormatError, LinkworkError
 from linkwork.files import FileModel
 
 __all__ = ["BalanceSection", "load_balance_file", "register", "run_balance"]
@@ -294,4 +294,9 @@ def register(app: typer.Typer) -> None:
         if loads is not None:
             console.print("note: the file's external loads enter the driving torque and the "
                           "bearing reactions, not the shaking-moment table (inertia forces)")
-        run_balance(mech, section, out, console, pareto=pareto, gravity=gravity, loads=loads)
+        try:
+            run_balance(mech, section, out, console, pareto=pareto, gravity=gravity,
+                        loads=loads)
+        except AssemblyError as exc:
+            raise AssemblyError(f"balancing works on a full turn of the crank (the file's "
+                                f"[analysis] range is not used): {exc}") from None

@@ -18,7 +18,7 @@ import numpy as np
 import typer
 
 from linkwork import files
-from linkwork.errors import FileFormatError, ParameterError
+from linkwork.errors import AssemblyError, FileFormatError, ParameterError
 
 __all__ = ["load_problem", "register", "run"]
 
@@ -156,8 +156,13 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
 
     res = spatial_reactions(mech, cycle, method=method, gravity=gravity, loads=loads_at(cycle),
                             **inputs)
-    at = spatial_reactions(mech, angles, method=method, gravity=gravity,
-                           loads=loads_at(np.asarray(angles, dtype=float)), **inputs)
+    try:
+        at = spatial_reactions(mech, angles, method=method, gravity=gravity,
+                               loads=loads_at(np.asarray(angles, dtype=float)), **inputs)
+    except AssemblyError as exc:
+        from linkwork.cli._planar import table_positions_error
+
+        raise table_positions_error(exc, angles, mech.driver.kind == "linear") from None
     model = spatial_model(mech, inputs["joints"], inputs["default"])
     kin = kinematics(mech, cycle)
     geom = geometry(mech, kin)
