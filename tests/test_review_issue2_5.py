@@ -317,3 +317,26 @@ def test_swashplate_shape_mismatch_and_sample_count_are_named():
     # designs (m, 1) against angles (n,) still broadcast
     s = sw.position(np.linspace(0, 6, 5), 0.1, np.array([[0.07], [0.09]]), 0.25, 0.3)
     assert s.shape == (2, 5)
+
+
+@pytest.mark.parametrize("argv,words", [
+    # a plain number is radians: 8 -> 458 deg; the error named only 'delta_f', a field of the
+    # Request the user never typed, without the hint
+    (["--delta", "8"], ["delta_f = 458.366 deg", "(0, 90]", "--delta '8'", "radians"]),
+    (["--delta-r", "0 deg"], ["delta_r = 0 deg", "--delta-r '0 deg'", "(0, 90]"]),
+    (["-R", "-100 mm"], ["R = -0.1", "--rotor-radius '-100 mm'", "> 0"]),
+    (["-H", "0 mm"], ["--stroke '0 mm'", "> 0"]),
+    (["--stroke-tol", "-1 mm"], ["--stroke-tol '-1 mm'", ">= 0"]),
+    (["--phi-f", "400 deg"], ["--phi-f '400 deg'", "(0, 360)"]),
+])
+def test_cli_synthesize_errors_name_the_option_as_typed(argv, words, tmp_path, capsys):
+    base = {"-R": "100 mm", "-H": "60 mm"}
+    for k, v in zip(argv[::2], argv[1::2], strict=True):
+        base[k] = v
+    args = [x for kv in base.items() for x in kv]
+    rc = main(["swashplate", "synthesize", *args, "--candidates", "64", "--refine", "0",
+               "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert rc == 2 and len(err.strip().splitlines()) == 1, err
+    for w in words:
+        assert w in err, (w, err)

@@ -234,15 +234,38 @@ def synthesize_cmd(
             raise ParameterError("--v-allow", v_allow, "needs --productivity or --speed")
         lv = to_si(v_allow, "velocity", "--v-allow") / omega
         lim = lv if lim is None else min(lim, lv)
-    req = syn.Request(
-        scheme=scheme, R=R, H=H, H_tol=0.005 * H if H_tol is None else H_tol,
-        delta_f=d_all if delta_f is None else to_si(delta_f, "angle", "--delta-f"),
-        delta_r=d_all if delta_r is None else to_si(delta_r, "angle", "--delta-r"),
-        Pi_v_max=lim,
-        point=None if point is None else _pair(point, "--point"),
-        point_tol=to_si(point_tol, "length", "--point-tol"),
-        phi_f=_q(phi_f, "angle", "--phi-f"), phi_f_tol=to_si(phi_f_tol, "angle", "--phi-f-tol"),
-        objective=objective, u=positions)  # type: ignore[arg-type]
+    # the Request names its own fields in SI; add the option the user typed, as typed
+    given: dict[str, tuple[str, str | None]] = {
+             "R": ("--rotor-radius", rotor_radius), "H": ("--stroke", stroke),
+             "H_tol": ("--stroke-tol", stroke_tol),
+             "delta_f": ("--delta-f", delta_f) if delta_f is not None else ("--delta", delta),
+             "delta_r": ("--delta-r", delta_r) if delta_r is not None else ("--delta", delta),
+             "phi_f": ("--phi-f", phi_f), "phi_f_tol": ("--phi-f-tol", phi_f_tol),
+             "point": ("--point", point), "point_tol": ("--point-tol", point_tol),
+             "Pi_v_max": ("--pi-v-max or --v-allow", pi_v_max or v_allow)}
+    try:
+        req = syn.Request(
+            scheme=scheme, R=R, H=H, H_tol=0.005 * H if H_tol is None else H_tol,
+            delta_f=d_all if delta_f is None else to_si(delta_f, "angle", "--delta-f"),
+            delta_r=d_all if delta_r is None else to_si(delta_r, "angle", "--delta-r"),
+            Pi_v_max=lim,
+            point=None if point is None else _pair(point, "--point"),
+            point_tol=to_si(point_tol, "length", "--point-tol"),
+            phi_f=_q(phi_f, "angle", "--phi-f"),
+            phi_f_tol=to_si(phi_f_tol, "angle", "--phi-f-tol"),
+            objective=objective, u=positions)  # type: ignore[arg-type]
+    except ParameterError as exc:
+        opt, text = given.get(exc.parameter, ("", None))
+        if text is None:
+            raise
+        hint = f"from {opt} {text!r}"
+        if exc.parameter.startswith(("delta", "phi")):
+            try:
+                float(text)
+                hint += '; a plain number is in radians: write e.g. "8 deg"'
+            except ValueError:
+                pass
+        raise ParameterError(exc.parameter, exc.value, exc.limit, hint) from None
     free = list(req.free)
     names = free[:2] if region is None else [s.strip() for s in region.split(",")]
     if len(names) != 2 or any(n not in free for n in names) or names[0] == names[1]:
