@@ -38,6 +38,24 @@ KINDS: dict[str, str] = {
 }
 
 
+#: Kinds whose SI unit carries an angle. pint treats the radian as dimensionless, so without a
+#: check "2 Hz" would pass as 2 rad/s and "600 rpm" as a frequency of 62.8 /s (a silent 2 pi).
+_ANGULAR = ("angle", "angular_velocity", "angular_acceleration", "rotational_stiffness")
+
+
+def _angle_mismatch(q: Any, kind: str) -> str:
+    """Why ``q`` is ambiguous or wrong for ``kind`` because of the angle ('' if it is not)."""
+    units = dict(q.unit_items())
+    if kind in _ANGULAR:
+        if any("hertz" in u for u in units):
+            return ("Hz is ambiguous for an angular quantity (cycles or radians per second): "
+                    "write e.g. '120 rpm', '2 rps' or '12.57 rad/s'")
+        return ""
+    if dict(q.to_root_units().unit_items()).get("radian", 0):
+        return "it carries an angle unit (rpm, deg, rad, turn); write e.g. '600 1/min'"
+    return ""
+
+
 @lru_cache(maxsize=1)
 def _registry() -> Any:
     import pint
@@ -82,10 +100,16 @@ def to_si(value: Any, kind: str, name: str = "value") -> float:
     try:
         if not hasattr(q, "to"):
             return float(q)
-        return float(q.to(unit).magnitude) if unit else float(q.to("").magnitude)
+        si = float(q.to(unit).magnitude) if unit else float(q.to("").magnitude)
     except Exception:
         limit = f"must have the dimension of {kind} ({unit or '1'})"
         raise ParameterError(name, value, limit) from None
+    why = "" if kind == "dimensionless" else _angle_mismatch(q, kind)
+    if why:
+        article = "an" if kind[0] in "aeiou" else "a"
+        raise ParameterError(name, value, f"must be {article} {kind.replace('_', ' ')} in "
+                             f"{unit}: {why}")
+    return si
 
 
 def deg(x: float) -> float:

@@ -340,3 +340,35 @@ def test_cli_synthesize_errors_name_the_option_as_typed(argv, words, tmp_path, c
     assert rc == 2 and len(err.strip().splitlines()) == 1, err
     for w in words:
         assert w in err, (w, err)
+
+
+@pytest.mark.parametrize("example,old,new,words,cmd", [
+    # pint reads the radian as dimensionless: "2 Hz" passed as 2 rad/s (an engineer means
+    # 2 rev/s = 12.57 rad/s), "600 rpm" as a productivity of 62.8 /s (meant: 10 /s)
+    ("sine_press.toml", 'speed = "120 rpm"', 'speed = "2 Hz"', ["crank.speed", "2 Hz", "rpm"],
+     ("analyze",)),
+    ("swashplate_1.toml", 'speed = "50 rpm"', 'speed = "0.8 Hz"', ["operation.speed", "Hz"],
+     ("swashplate", "analyze")),
+    ("swashplate_4a.toml", 'productivity = "600 1/min"', 'productivity = "600 rpm"',
+     ["operation.productivity", "angle unit", "1/min"], ("swashplate", "analyze")),
+])
+def test_cli_angle_unit_traps_are_refused(example, old, new, words, cmd, tmp_path, capsys):
+    err = _cli(tmp_path, capsys, example, old, new, cmd=cmd)
+    for w in words:
+        assert w in err, (w, err)
+
+
+def test_unit_conversions_keep_their_angle():
+    from linkwork.units import to_si
+    # independent values: 1 rev = 2 pi rad
+    assert to_si("120 rpm", "angular_velocity") == pytest.approx(120 * 2 * math.pi / 60)
+    assert to_si("2 rps", "angular_velocity") == pytest.approx(4 * math.pi)
+    assert to_si("720 deg/s", "angular_velocity") == pytest.approx(4 * math.pi)
+    assert to_si("2 1/s", "angular_velocity") == 2.0  # SI: omega in 1/s is rad/s
+    assert to_si("600 1/min", "frequency") == pytest.approx(10.0)
+    assert to_si("10 Hz", "frequency") == 10.0
+    assert to_si("0.5", "angle") == 0.5
+    with pytest.raises(ParameterError, match="ambiguous"):
+        to_si("2 Hz", "angular_velocity", "speed")
+    with pytest.raises(ParameterError, match="angle unit"):
+        to_si("600 rpm", "frequency", "productivity")
