@@ -372,3 +372,18 @@ def test_unit_conversions_keep_their_angle():
         to_si("2 Hz", "angular_velocity", "speed")
     with pytest.raises(ParameterError, match="angle unit"):
         to_si("600 rpm", "frequency", "productivity")
+
+
+@pytest.mark.parametrize("lam2,lame,branch", [(2.9, -1.3, 1), (3.3, 0.9, -1), (2.05, 1.0, -1)])
+def test_crank_slider_characteristics_against_a_dense_scan(lam2, lame, branch):
+    L1 = 0.037
+    grid = np.linspace(0.0, 2 * math.pi, 200001)
+    ys = np.array([_slider_y(p, L1, lam2 * L1, lame * L1, branch) for p in grid[::10]])
+    g = grid[::10]
+    assert float(crank_slider.stroke(L1, lam2, lame)) == pytest.approx(np.ptp(ys), rel=1e-8)
+    top, bottom = crank_slider.dead_centres(lam2, lame, branch)
+    assert math.remainder(float(top) - g[np.argmax(ys)], 2 * math.pi) == pytest.approx(0, abs=4e-4)
+    assert math.remainder(float(bottom) - g[np.argmin(ys)], 2 * math.pi) == pytest.approx(
+        0, abs=4e-4)
+    mu = np.arcsin(np.abs(lame - np.cos(g)) / lam2)
+    assert float(crank_slider.max_pressure_angle(lam2, lame)) == pytest.approx(mu.max(), abs=1e-9)
