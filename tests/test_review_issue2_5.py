@@ -387,3 +387,15 @@ def test_crank_slider_characteristics_against_a_dense_scan(lam2, lame, branch):
         0, abs=4e-4)
     mu = np.arcsin(np.abs(lame - np.cos(g)) / lam2)
     assert float(crank_slider.max_pressure_angle(lam2, lame)) == pytest.approx(mu.max(), abs=1e-9)
+
+
+def test_cli_swashplate_without_speed_shows_no_zero_slide_speeds(tmp_path, capsys):
+    text = (EXAMPLES / "swashplate_1.toml").read_text()
+    assert 'speed = "50 rpm"' in text
+    p = tmp_path / "mech.toml"
+    p.write_text(text.replace('speed = "50 rpm"', "", 1))
+    assert main(["swashplate", "analyze", str(p), "--out", str(tmp_path / "o"),
+                 "--angles", "90"]) == 0
+    out = capsys.readouterr().out
+    # the slide moves at 90 deg (Pi_v = 23.9 mm/rad): a speed of 0.0000 m/s was printed
+    assert "slide v" not in out and "slide speeds omitted" in out

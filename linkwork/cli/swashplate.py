@@ -52,13 +52,19 @@ def analyze_swashplate(doc: Any, out: Path, angles: np.ndarray, console: Any) ->
     t = Table(title=escape(f"{doc.name}: scheme {d.scheme}, R = {_mm(d.R)} mm, r = {_mm(d.r)} mm,"
                            f" l = {_mm(d.l)} mm, alpha = {_deg(d.alpha)} deg, a = {_mm(d.a)} mm,"
                            f" b = {_mm(d.b)} mm"))
-    for col in ("φ [deg]", "s [mm]", "δz [deg]", "Πv [mm/rad]", "d²s/dφ² [mm/rad²]",
-                "slide v [m/s]", "slide acc. [m/s²]"):
+    # without a rotor speed the slide speed is unknown: no columns of zeros that look measured
+    speeds = omega > 0
+    cols = ["φ [deg]", "s [mm]", "δz [deg]", "Πv [mm/rad]", "d²s/dφ² [mm/rad²]"]
+    for col in cols + (["slide v [m/s]", "slide acc. [m/s²]"] if speeds else []):
         t.add_column(escape(col), justify="right")
+    if not speeds:
+        t.caption = "no rotor speed in [operation] (speed or productivity): slide speeds omitted"
     for i, p in enumerate(angles):
-        t.add_row(_deg(p), f"{res_t.s[i] * 1e3:.4f}", f"{math.degrees(res_t.delta_z[i]):.4f}",
-                  f"{res_t.Pi_v[i] * 1e3:.4f}", f"{res_t.Pi_a[i] * 1e3:.4f}",
-                  f"{res_t.v[i]:.4f}", f"{res_t.acc[i]:.4f}")
+        row = [_deg(p), f"{res_t.s[i] * 1e3:.4f}", f"{math.degrees(res_t.delta_z[i]):.4f}",
+               f"{res_t.Pi_v[i] * 1e3:.4f}", f"{res_t.Pi_a[i] * 1e3:.4f}"]
+        if speeds:
+            row += [f"{res_t.v[i]:.4f}", f"{res_t.acc[i]:.4f}"]
+        t.add_row(*row)
     console.print(t)
     c = res_t.characteristics
     summary: dict[str, Any] = {k: v for k, v in c.scalars().items()}
