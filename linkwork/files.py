@@ -11,6 +11,7 @@ problem.
 
 from __future__ import annotations
 
+import math
 import tomllib
 from collections.abc import Callable
 from pathlib import Path
@@ -47,11 +48,26 @@ __all__ = [
 def _quantity(kind: str) -> Callable[[Any], float]:
     def convert(value: Any) -> float:
         try:
-            return to_si(value, kind)
+            si = to_si(value, kind)
         except ParameterError as exc:
             raise ValueError(exc.limit) from None
+        if not math.isfinite(si):  # "1e400 rpm", nan: never let them reach the models
+            raise ValueError("must be a finite number")
+        return si
 
     return convert
+
+
+def _key(loc: tuple[Any, ...]) -> str | None:
+    """The dotted key of a pydantic error location, without the tags pydantic inserts for the
+    members of a union or a validator (``str``, ``list[...]``, ``function-before[...]``)."""
+    parts = [str(x) for x in loc
+             if isinstance(x, int) or not (x in _TYPE_TAGS or "[" in str(x))]
+    return ".".join(parts) or None
+
+
+_TYPE_TAGS = frozenset({"str", "int", "float", "bool", "list", "dict", "tuple", "none",
+                        "is-instance", "literal", "tagged-union"})
 
 
 Length = Annotated[float, BeforeValidator(_quantity("length"))]
@@ -126,8 +142,8 @@ def read_toml(path: str | Path) -> dict[str, Any]:
 
 def _validation_error(path: str, exc: pydantic.ValidationError) -> FileFormatError:
     err = exc.errors()[0]
-    key = ".".join(str(x) for x in err["loc"]) or None
-    msg = err["msg"]
+    key = _key(err["loc"])
+    msg = err["msg"].removeprefix("Value error, ")
     cause = (err.get("ctx") or {}).get("error")
     if isinstance(cause, ParameterError):
         # raised by a validator that builds the mechanism: its parameter is the key, its
@@ -140,7 +156,7 @@ def _validation_error(path: str, exc: pydantic.ValidationError) -> FileFormatErr
         msg = "unknown key"
     elif err["type"] == "missing":
         msg = "missing required key"
-    elif "input" in err and not isinstance(err["input"], dict | list):
+    elif "input" in err and len(repr(err["input"])) <= 80:  # never a whole table
         msg = f"{msg} (got {err['input']!r})"
     extra = f" (+{len(exc.errors()) - 1} more problems)" if len(exc.errors()) > 1 else ""
     return FileFormatError(path, key, msg + extra)

@@ -1,5 +1,7 @@
 """The CLI's failure policy: one line on stderr and exit code 2, never a traceback."""
 
+import pytest
+
 from linkwork.cli import main
 
 
@@ -35,3 +37,40 @@ def test_usage_errors(capsys):
 def test_help_exits_0(capsys):
     assert main(["--help"]) == 0
     assert "analyze" in capsys.readouterr().out
+
+
+def _edited_example(tmp_path, name, old, new):
+    from pathlib import Path
+    text = (Path(__file__).resolve().parents[1] / "examples" / name).read_text()
+    assert old in text
+    p = tmp_path / name
+    p.write_text(text.replace(old, new, 1))
+    return p
+
+
+@pytest.mark.parametrize("new,shown", [('omega1 = "1e400 rad/s"', "'1e400 rad/s'"),
+                                       ("omega1 = nan", "nan"), ("omega1 = -inf", "-inf")])
+def test_non_finite_quantity_in_any_file_is_named_with_file_and_key(new, shown, tmp_path, capsys):
+    """The shared unit-aware field types reject inf/nan (also '1e400 rpm', which overflows in
+    the unit conversion) with file and key, before any model sees them."""
+    p = _edited_example(tmp_path, "fourbar_paper001.toml", 'omega1 = "10 rad/s"', new)
+    assert main(["analyze", str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"linkwork: error: {p}: driver.omega1: must be a finite number (got {shown})"
+
+
+def test_union_member_tags_do_not_leak_into_the_key(tmp_path, capsys):
+    """pydantic reports errors in a union member at e.g. ('load', 0, 'point', 'str'); the key
+    the user sees is the file's key, load.0.point, with the offending value."""
+    p = _edited_example(tmp_path, "loom_sixbar.toml", 'point = "R"\nfx', "point = [1, 2, 3]\nfx")
+    assert main(["analyze", str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"{p}: load.0.point: " in err and "(got [1, 2, 3])" in err, err
+    assert ".str" not in err and "list[" not in err, err
+
+
+def test_validator_error_is_keyed_by_its_parameter_and_short(tmp_path, capsys):
+    p = _edited_example(tmp_path, "fourbar_paper001.toml", 'mass = "3 kg"', 'mass = "-3 kg"')
+    assert main(["analyze", str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"linkwork: error: {p}: coupler.mass: -3 is invalid: must be finite and >= 0"
