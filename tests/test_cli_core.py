@@ -74,3 +74,23 @@ def test_validator_error_is_keyed_by_its_parameter_and_short(tmp_path, capsys):
     assert main(["analyze", str(p), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
     assert err == f"linkwork: error: {p}: coupler.mass: -3 is invalid: must be finite and >= 0"
+
+
+@pytest.mark.parametrize("cmd", ["analyze", "balance", "reactions"])
+@pytest.mark.parametrize("name,old,new,expected", [
+    ("loom_sixbar.toml", 'body = "ram"', 'body = "frame"',
+     "load.0.body: frame is invalid: loads act on moving bodies, not on the frame"),
+    ("loom_sixbar.toml", 'point = "R"\nfx', 'point = "Z"\nfx',
+     "load.0.point: Z is invalid: no such point of body 'ram'"),
+    ("fourbar_paper001.toml", "branches = { B = 1 }", "branches = { Q = 1 }",
+     "analysis.branches: Q is invalid: no assembly group has this key; known: ['B']"),
+])
+def test_planar_file_errors_found_after_validation_carry_file_and_key(
+        cmd, name, old, new, expected, tmp_path, capsys):
+    """Loads on the frame or on a missing point and unknown branch keys used to be found when
+    the analysis ran, and the message lost the file's name."""
+    p = _edited_example(tmp_path, name, old, new)
+    assert main([cmd, str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"linkwork: error: {p}: {expected}"), err
+    assert len(err.splitlines()) == 1

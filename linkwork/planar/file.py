@@ -248,7 +248,13 @@ class PlanarFile(FileModel):
         except LinkworkError as exc:
             raise ParameterError("structure", "[[body]] and [[joint]] as written",
                                  str(exc)) from None
+        keys = [g.key for g in mech.structure.groups if g.kind != "driver"]
+        unknown = sorted(set(self.analysis.branches) - {g.key for g in mech.structure.groups})
+        if unknown:  # a misspelt key would leave its group on branch +1
+            raise ParameterError("analysis.branches", unknown[0],
+                                 f"no assembly group has this key; known: {keys}")
         self.positions()
+        self._check_loads()
         for i, ld in enumerate(self.load):
             ld.driver_range(i, self.driver.type == "linear")
         return self
@@ -281,6 +287,13 @@ class PlanarFile(FileModel):
             A load names no moving body (``load.<i>.body``) or no point of its body
             (``load.<i>.point``).
         """
+        self._check_loads()
+        linear = self.driver.type == "linear"
+        return [ld.build(phi1, i, linear) for i, ld in enumerate(self.load)]
+
+    def _check_loads(self) -> None:
+        """Every load names a moving body and a point of it (checked when the file loads, so
+        that the error carries the file's name)."""
         moving = {b.name: b for b in self.body}
         for i, ld in enumerate(self.load):
             if ld.body not in moving:
@@ -293,5 +306,3 @@ class PlanarFile(FileModel):
                     raise ParameterError(f"load.{i}.point", ld.point,
                                          f"no such point of body {ld.body!r}; known: "
                                          f"{[*known, 'com']}")
-        linear = self.driver.type == "linear"
-        return [ld.build(phi1, i, linear) for i, ld in enumerate(self.load)]
