@@ -43,6 +43,11 @@ class Result:
         obj.__dict__.update(fields)
         return obj
 
+    def _relabel_units(self, **units: str) -> None:
+        """Give this result its own units for some fields (e.g. a linear driver: positions in
+        m, driving force in N); exports (CSV header, JSON) use them."""
+        object.__setattr__(self, "units", {**self.units, **units})
+
     def _fields(self) -> dict[str, Any]:
         return {f.name: getattr(self, f.name) for f in dataclasses.fields(self)}  # type: ignore[arg-type]
 

@@ -354,3 +354,23 @@ def test_driver_between_moving_bodies_solved_by_newton():
         dT += b.mass * (c.vx * c.ax + c.vy * c.ay) + b.inertia * k.omega[i] * k.eps[i]
         P += b.mass * -9.81 * c.vy
     np.testing.assert_allclose(d.Q * k.omega1, dT - P, atol=1e-9 * np.max(np.abs(dT)))
+
+
+def test_linear_driver_results_export_slide_and_force_units(tmp_path):
+    """A linear driver's position is a slide coordinate [m] and its driving load a force [N]:
+    the CSV headers and JSON units of the engine's results say so (they said rad and N*m)."""
+    import json
+
+    from linkwork.planar import inverse_dynamics, kinematics
+    mech, s, _ = m_linear_driver()
+    kin = kinematics(mech, s)
+    dyn = inverse_dynamics(kin)
+    head = (kin.to_csv(tmp_path / "k.csv")).read_text().splitlines()[0].split(",")
+    assert {"phi1 [m]", "omega1 [m/s]", "eps1 [m/s^2]"} <= set(head), head
+    head = (dyn.to_csv(tmp_path / "d.csv")).read_text().splitlines()[0].split(",")
+    assert "phi1 [m]" in head and "Q [N]" in head, head
+    units = json.loads((dyn.to_json(tmp_path / "d.json")).read_text())["units"]
+    assert units["Q"] == "N" and units["T"] == "J"
+    # a crank keeps the class's units
+    crank = kinematics(crank_slider(0.1, 0.35, 0.03, masses=(1, 2, 3)), np.linspace(0, 1, 5))
+    assert crank.units["phi1"] == "rad" and inverse_dynamics(crank).units["Q"] == "N*m"

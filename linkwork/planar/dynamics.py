@@ -127,6 +127,10 @@ class Dynamics(Result):
         "phi1": "rad", "fx": "N", "fy": "N", "mz": "N*m", "px": "m", "py": "m", "Q": "N*m",
         "shaking_fx": "N", "shaking_fy": "N", "shaking_m": "N*m", "T": "J"}
 
+    def __post_init__(self) -> None:
+        if self.kinematics.mechanism.driver.kind == "linear":  # slide [m], driving force [N]
+            self._relabel_units(phi1="m", Q="N")
+
     def reaction(self, joint: str) -> tuple[Arr, Arr]:
         """(fx, fy) of joint ``joint``: force by its body a on its body b [N]."""
         try:

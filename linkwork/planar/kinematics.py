@@ -184,6 +184,10 @@ class Kinematics(Result):
         "vx": "m/s", "vy": "m/s", "omega": "rad/s", "ax": "m/s^2", "ay": "m/s^2",
         "eps": "rad/s^2", "assembled": ""}
 
+    def __post_init__(self) -> None:
+        if self.mechanism.driver.kind == "linear":  # slide coordinate, speed, acceleration
+            self._relabel_units(phi1="m", omega1="m/s", eps1="m/s^2")
+
     @cached_property
     def _cos_sin(self) -> tuple[Arr, Arr]:
         return np.cos(self.theta), np.sin(self.theta)

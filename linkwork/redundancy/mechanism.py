@@ -264,5 +264,5 @@ def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = 
     dev = deviation_array(model, deviations, _ground(mech))
     res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
     if mech.driver.kind == "linear":  # positions are slides [m], the driving force is in N
-        object.__setattr__(res, "units", {**res.units, "phi1": "m", "Q": "N"})
+        res._relabel_units(phi1="m", Q="N")
     return res
