@@ -156,7 +156,7 @@ def _validation_error(path: str, exc: pydantic.ValidationError) -> FileFormatErr
         msg = "unknown key"
     elif err["type"] == "missing":
         msg = "missing required key"
-    elif "input" in err and len(repr(err["input"])) <= 80:  # never a whole table
+    elif "input" in err and len(repr(err["input"])) <= 80 and "(got " not in msg:  # short only
         msg = f"{msg} (got {err['input']!r})"
     extra = f" (+{len(exc.errors()) - 1} more problems)" if len(exc.errors()) > 1 else ""
     return FileFormatError(path, key, msg + extra)

@@ -137,3 +137,27 @@ def test_balance_command_with_file_loads(tmp_path, capsys):
     f.write_text(text.replace("[balance]", load + "\n[balance]"))
     assert main(["balance", str(f), "--out", str(tmp_path)]) == 0
     assert "external loads enter the driving torque" in capsys.readouterr().out
+
+
+def test_balance_angles_accept_units_and_name_bad_values(tmp_path, capsys):
+    """[balance].angles: plain numbers are degrees, strings carry a unit ("30 deg" was refused
+    as 'not a valid number'); non-finite and wrong-dimension values are named."""
+    import json
+
+    src = (DATA / "balance_fourbar.toml").read_text()
+    old = "angles = [0, 30, 60, 90, 120, 150, 180, 210, 240, 270, 300, 330]"
+    assert old in src
+
+    def run(angles):
+        p = tmp_path / "b.toml"
+        p.write_text(src.replace(old, f"angles = {angles}"))
+        rc = main(["balance", str(p), "--out", str(tmp_path / "o")])
+        return rc, capsys.readouterr().err.strip()
+
+    assert run('["30 deg", "1.5707963267948966 rad", 180]')[0] == 0
+    table = json.loads((tmp_path / "o" / "balance_table.json").read_text())
+    assert np.allclose(np.degrees(table["columns"]["phi1"]), [30.0, 90.0, 180.0], atol=1e-12)
+    for bad, shown in [('["30 kg"]', "'30 kg'"), ("[nan]", "nan"), ('["1e400 deg"]', "1e400")]:
+        rc, err = run(bad)
+        assert rc == 2 and len(err.splitlines()) == 1 and "balance.angles" in err, err
+        assert shown in err, err

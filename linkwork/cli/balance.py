@@ -43,6 +43,31 @@ class BalanceSection(FileModel):
     angles: list[float] | None = None
     n: int = Field(default=360, ge=12, le=20000)
 
+    @field_validator("angles", mode="before")
+    @classmethod
+    def _angles(cls, v: Any) -> list[float] | None:
+        """Table positions in degrees: plain numbers are degrees (as ``--angles``); strings
+        carry their unit ("30 deg", "0.5 rad")."""
+        from linkwork.units import to_si
+
+        if v is None:
+            return None
+        if not isinstance(v, list) or not v:
+            raise ValueError("must be a non-empty list of angles, e.g. [0, 30, 60] (degrees) "
+                             "or [\"0 deg\", \"0.5 rad\"]")
+        out = []
+        for x in v:
+            if isinstance(x, bool) or not isinstance(x, (int, float, str)):
+                raise ValueError(f"must be numbers in degrees or angles with a unit (got {x!r})")
+            try:
+                deg = float(np.degrees(to_si(x, "angle"))) if isinstance(x, str) else float(x)
+            except LinkworkError as exc:
+                raise ValueError(f"{getattr(exc, 'limit', exc)} (got {x!r})") from None
+            if not np.isfinite(deg):
+                raise ValueError(f"must be finite (got {x!r})")
+            out.append(deg)
+        return out
+
     @field_validator("radii", mode="before")
     @classmethod
     def _radii(cls, v: Any) -> dict[str, float] | float | None:
