@@ -224,12 +224,16 @@ def angle_ranges(angles: ArrayLike, mask: ArrayLike) -> list[tuple[float, float]
 
 def format_angle_ranges(ranges: Sequence[tuple[float, float]], unit: str = "rad") -> str:
     """Format driver ranges for a message: angles in degrees, lengths as given."""
+    rs = [(float(lo), float(hi)) for lo, hi in ranges]
+    if unit == "rad" and len(rs) >= 2 and abs(rs[-1][1] - rs[0][0] - 2 * np.pi) < 1e-9:
+        # the last range runs into the first across 0 = 360 deg: one range, e.g. [-30, 30 deg]
+        rs = [(rs[-1][0] - 2 * np.pi, rs[0][1]), *rs[1:-1]]
     parts = []
-    for lo, hi in ranges[:8]:
+    for lo, hi in rs[:8]:
         if unit == "rad":
             lo_s, hi_s = f"{np.degrees(lo):.4g}", f"{np.degrees(hi):.4g} deg"
         else:
             lo_s, hi_s = f"{lo:.6g}", f"{hi:.6g} {unit}"
-        parts.append(f"[{lo_s}, {hi_s}]")
-    more = f" and {len(ranges) - 8} more" if len(ranges) > 8 else ""
+        parts.append(hi_s if lo == hi else f"[{lo_s}, {hi_s}]")  # a single position
+    more = f" and {len(rs) - 8} more" if len(rs) > 8 else ""
     return ", ".join(parts) + more

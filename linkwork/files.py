@@ -31,6 +31,7 @@ __all__ = [
     "Dimensionless",
     "FileModel",
     "Force",
+    "Frequency",
     "Inertia",
     "Length",
     "Mass",
@@ -83,6 +84,7 @@ Torque = Annotated[float, BeforeValidator(_quantity("torque"))]
 Time = Annotated[float, BeforeValidator(_quantity("time"))]
 Stiffness = Annotated[float, BeforeValidator(_quantity("stiffness"))]
 Dimensionless = Annotated[float, BeforeValidator(_quantity("dimensionless"))]
+Frequency = Annotated[float, BeforeValidator(_quantity("frequency"))]
 
 
 class FileModel(BaseModel):

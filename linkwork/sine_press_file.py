@@ -58,12 +58,9 @@ from linkwork.models.crank_slider import assembly_limit
 __all__ = ["CrankSection", "IdleSection", "OutputSection", "ScheduleEntry", "SinePressFile",
            "WorkingSection"]
 
-#: every number of the file must be finite (inf/nan reached the models and lost file and key)
-FINITE = Field(allow_inf_nan=False)
-PositiveLength = Annotated[Length, Field(gt=0), FINITE]
-PositiveSpeed = Annotated[AngularVelocity, Field(gt=0), FINITE]
-NonNegative = Annotated[Dimensionless, Field(ge=0), FINITE]
-FiniteAngle = Annotated[Angle, FINITE]
+PositiveLength = Annotated[Length, Field(gt=0)]
+PositiveSpeed = Annotated[AngularVelocity, Field(gt=0)]
+NonNegative = Annotated[Dimensionless, Field(ge=0)]
 
 
 def _alpha_error(key: str, alpha: float, f_slot: float, f_guide: float) -> None:
@@ -81,14 +78,14 @@ class CrankSection(FileModel):
 
     L1: PositiveLength
     speed: PositiveSpeed
-    eps1: Annotated[AngularAcceleration, FINITE] = 0.0
+    eps1: AngularAcceleration = 0.0
 
 
 class IdleSection(FileModel):
     """``[idle]``: the offset crank-slider, ``lambda2 > |lambda_e| + 1``, ``branch`` +1 or -1."""
 
-    lambda_e: Annotated[Dimensionless, FINITE] = 0.0
-    lambda2: Annotated[Dimensionless, Field(gt=0), FINITE]
+    lambda_e: Dimensionless = 0.0
+    lambda2: Annotated[Dimensionless, Field(gt=0)]
     branch: Literal[1, -1] = 1
 
     @field_validator("lambda2")
@@ -109,7 +106,7 @@ class WorkingSection(FileModel):
 
     f_slot: NonNegative = 0.1
     f_guide: NonNegative = 0.1
-    alpha: FiniteAngle
+    alpha: Angle
 
     @field_validator("alpha")
     @classmethod
@@ -126,7 +123,7 @@ class ScheduleEntry(FileModel):
     mode: Literal["idle", "working"]
     revolutions: Annotated[int, Field(ge=1, le=10_000)] | None = None
     strokes: Annotated[int, Field(ge=1, le=10_000)] | None = None
-    alpha: FiniteAngle | None = None
+    alpha: Angle | None = None
 
     @model_validator(mode="after")
     def _count(self) -> ScheduleEntry:

@@ -38,7 +38,7 @@ import math
 from typing import Annotated, Any, Literal
 
 import numpy as np
-from pydantic import BeforeValidator, Field, model_validator
+from pydantic import Field, model_validator
 from pydantic_core import PydanticCustomError
 
 from linkwork.errors import LinkworkError, ParameterError
@@ -47,28 +47,18 @@ from linkwork.files import (
     AngularVelocity,
     FileModel,
     Force,
+    Frequency,
     Length,
     Velocity,
     register_schema,
 )
 from linkwork.models import swashplate as sw
-from linkwork.units import to_si
 
 __all__ = ["GeometrySection", "LoadSection", "OperationSection", "OutputSection",
            "SwashplateFile"]
 
 
-def _freq(value: object) -> float:
-    try:
-        return to_si(value, "frequency")
-    except ParameterError as exc:
-        raise ValueError(exc.limit) from None
-
-
-#: every number of the file must be finite (inf/nan reached the models and lost file and key)
-FINITE = Field(allow_inf_nan=False)
-Frequency = Annotated[float, BeforeValidator(_freq)]
-PositiveLength = Annotated[Length, Field(gt=0), FINITE]
+PositiveLength = Annotated[Length, Field(gt=0)]
 
 
 class GeometrySection(FileModel):
@@ -78,19 +68,19 @@ class GeometrySection(FileModel):
     R: PositiveLength
     l: PositiveLength
     r: PositiveLength | None = None
-    alpha: Annotated[Angle, FINITE] | None = None
-    a: Annotated[Length, FINITE] | None = None
-    b: Annotated[Length, FINITE] | None = None
+    alpha: Angle | None = None
+    a: Length | None = None
+    b: Length | None = None
 
 
 class OperationSection(FileModel):
     """``[operation]``: rotor ``speed`` [rad/s] or ``productivity`` [1/s] with ``positions``;
     optional limits ``v_allow`` [m/s] and ``delta_allow`` [rad] that the analysis checks."""
 
-    speed: Annotated[AngularVelocity, Field(gt=0), FINITE] | None = None
-    productivity: Annotated[Frequency, Field(gt=0), FINITE] | None = None
+    speed: Annotated[AngularVelocity, Field(gt=0)] | None = None
+    productivity: Annotated[Frequency, Field(gt=0)] | None = None
     positions: Annotated[int, Field(ge=1, le=1000)] = 1
-    v_allow: Annotated[Velocity, Field(gt=0), FINITE] | None = None
+    v_allow: Annotated[Velocity, Field(gt=0)] | None = None
     delta_allow: Annotated[Angle, Field(gt=0, lt=1.5707963267948966)] | None = None
 
     @model_validator(mode="after")
@@ -115,12 +105,12 @@ class LoadSection(FileModel):
     angle ``rho_guide`` [rad] and, optionally, the slide's ``guide_length`` and the rod joint's
     ``overhang`` [m] (two-point guide, see :func:`linkwork.models.swashplate.drive_forces`)."""
 
-    angles: list[Annotated[Angle, FINITE]] | None = None
-    forces: list[Annotated[Force, FINITE]] | None = None
-    force: Annotated[Force, FINITE] | None = None
+    angles: list[Angle] | None = None
+    forces: list[Force] | None = None
+    force: Force | None = None
     rho_guide: Annotated[Angle, Field(ge=0, lt=1.5707963267948966)] = 0.0
-    guide_length: Annotated[Length, Field(gt=0), FINITE] | None = None
-    overhang: Annotated[Length, Field(ge=0), FINITE] = 0.0
+    guide_length: Annotated[Length, Field(gt=0)] | None = None
+    overhang: Annotated[Length, Field(ge=0)] = 0.0
 
     @model_validator(mode="after")
     def _diagram(self) -> LoadSection:

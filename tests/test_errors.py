@@ -74,3 +74,16 @@ def test_assembly_error_lists_ranges_in_degrees():
     err = AssemblyError("rod too short", [(np.radians(10), np.radians(20))])
     assert "phi1 in [10, 20 deg]" in str(err)
     assert err.ranges[0][0] == pytest.approx(np.radians(10))
+
+
+def test_format_angle_ranges_single_positions_and_the_wrap_at_360():
+    from linkwork.errors import format_angle_ranges
+    a = np.radians(np.arange(0, 361, 10.0))        # a full turn, 0 and 360 both present
+    assert format_angle_ranges(angle_ranges(a, np.isclose(a, np.pi))) == "180 deg"
+    wrap = (np.degrees(a) <= 30) | (np.degrees(a) >= 330)
+    assert format_angle_ranges(angle_ranges(a, wrap)) == "[-30, 30 deg]"
+    ends = np.isclose(a, 0) | np.isclose(a, 2 * np.pi)   # one locked angle seen twice
+    assert format_angle_ranges(angle_ranges(a, ends)) == "0 deg"
+    two = (np.degrees(a) >= 50) & (np.degrees(a) <= 80) | np.isclose(a, 2 * np.pi)
+    assert format_angle_ranges(angle_ranges(a, two)) == "[50, 80 deg], 360 deg"
+    assert format_angle_ranges([(0.1, 0.1)], unit="m") == "0.1 m"
