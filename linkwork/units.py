@@ -51,9 +51,16 @@ def _angle_mismatch(q: Any, kind: str) -> str:
             return ("Hz is ambiguous for an angular quantity (cycles or radians per second): "
                     "write e.g. '120 rpm', '2 rps' or '12.57 rad/s'")
         return ""
-    if dict(q.to_root_units().unit_items()).get("radian", 0):
+    if dict(q.to_root_units().unit_items()).get("radian", 0) or (
+            kind == "dimensionless" and any(u in _ANGLE_UNITS for u in units)):
+        if kind == "dimensionless":  # pint takes "60 deg" for the number 1.047
+            return "it carries an angle unit (deg, rad, turn)"
         return "it carries an angle unit (rpm, deg, rad, turn); write e.g. '600 1/min'"
     return ""
+
+
+_ANGLE_UNITS = frozenset({"degree", "radian", "turn", "revolution", "arcminute", "arcsecond",
+                          "gradian", "milliradian"})
 
 
 @lru_cache(maxsize=1)
@@ -104,7 +111,9 @@ def to_si(value: Any, kind: str, name: str = "value") -> float:
     except Exception:
         limit = f"must have the dimension of {kind} ({unit or '1'})"
         raise ParameterError(name, value, limit) from None
-    why = "" if kind == "dimensionless" else _angle_mismatch(q, kind)
+    why = _angle_mismatch(q, kind)
+    if why and kind == "dimensionless":
+        raise ParameterError(name, value, f"must be a plain number (a ratio): {why}")
     if why:
         article = "an" if kind[0] in "aeiou" else "a"
         raise ParameterError(name, value, f"must be {article} {kind.replace('_', ' ')} in "

@@ -20,6 +20,8 @@ from linkwork.units import deg, rpm, to_deg, to_si
         (0.25, "length", 0.25),
         (1, "angle", 1.0),
         ("0.5", "dimensionless", 0.5),
+        ("50 %", "dimensionless", 0.5),
+        ("3 mm/m", "dimensionless", 0.003),
     ],
 )
 def test_to_si(value, kind, expected):
@@ -33,6 +35,10 @@ def test_to_si(value, kind, expected):
         ("ten mm", "length", "cannot be read"),
         (True, "length", "must be a number"),
         ([1, 2], "length", "must be a number"),
+        # pint takes the radian for the number 1: "60 deg" would be the ratio 1.047
+        ("60 deg", "dimensionless", r"must be a plain number \(a ratio\): it carries an angle"),
+        ("1 rad", "dimensionless", "a ratio"),
+        ("2 turn", "dimensionless", "a ratio"),
     ],
 )
 def test_to_si_rejects(value, kind, match):
