@@ -16,6 +16,8 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from linkwork.errors import ParameterError
+
 __all__ = ["Result"]
 
 
@@ -80,11 +82,25 @@ class Result:
                 out[name] = arr.item()
         return out
 
+    def _check_no_overflow(self, cols: dict[str, np.ndarray]) -> None:
+        """Refuse to write infinite values: they mean an input far beyond double precision
+        (e.g. a crank speed of 1e200 rad/s squared into an acceleration), not a result.  NaN
+        stays (positions that cannot be assembled, with ``on_failure="nan"``)."""
+        for k, v in cols.items():
+            arr = np.asarray(v)
+            if arr.dtype.kind == "f" and np.isinf(arr).any():
+                raise ParameterError(
+                    k, f"inf at {int(np.isinf(arr).sum())} of {arr.size} positions",
+                    "must be finite: an input is too large for double precision (check the "
+                    "magnitudes and units of speeds, lengths and loads)")
+
     def to_dict(self) -> dict[str, Any]:
         """Everything as JSON-able Python values, with units."""
         data: dict[str, Any] = {"type": type(self).__name__, "units": dict(self.units)}
         data.update(self.scalars())
-        data["columns"] = {k: v.tolist() for k, v in self.columns().items()}
+        cols = self.columns()
+        self._check_no_overflow(cols)
+        data["columns"] = {k: v.tolist() for k, v in cols.items()}
         return data
 
     def to_json(self, path: str | Path) -> Path:
@@ -99,6 +115,7 @@ class Result:
         cols = self.columns() or {  # a single position: one row of its numbers
             k: np.atleast_1d(v) for k, v in self.scalars().items()
             if isinstance(v, int | float)}
+        self._check_no_overflow(cols)
         header = [f"{k} [{self.units.get(k.split('[')[0], '')}]" for k in cols]
         with p.open("w", newline="") as fh:
             w = csv.writer(fh)

@@ -94,3 +94,35 @@ def test_planar_file_errors_found_after_validation_carry_file_and_key(
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"linkwork: error: {p}: {expected}"), err
     assert len(err.splitlines()) == 1
+
+
+@pytest.mark.parametrize("cmd,name", [(["analyze"], "sine_press.toml"),
+                                      (["swashplate", "analyze"], "swashplate_1.toml")])
+def test_absurd_speed_stops_with_one_line_instead_of_writing_inf(cmd, name, tmp_path, capsys):
+    """speed = 1e200 rad/s overflowed (RuntimeWarnings), wrote inf into the outputs and exited
+    0; NumPy overflow inside the CLI and infinite result columns now stop with exit 2."""
+    import re
+    from pathlib import Path
+    text = (Path(__file__).resolve().parents[1] / "examples" / name).read_text()
+    p = tmp_path / name
+    p.write_text(re.sub(r"(?m)^speed = .*$", "speed = 1e200", text, count=1))
+    assert "speed = 1e200" in p.read_text()
+    assert main([*cmd, str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "too large for double precision" in err, err
+
+
+def test_result_with_infinite_column_refuses_to_be_written(tmp_path):
+    import numpy as np
+
+    from linkwork.errors import ParameterError
+    from linkwork.models.crank_slider import offset_crank_slider
+    r = offset_crank_slider(np.linspace(0, 1, 5), 0.05, 4.0, 0.3, omega1=1e200)  # a_C ~ 1e399
+    assert np.isinf(r.a_C).all() and np.isfinite(r.V_C).all()
+    with pytest.raises(ParameterError, match=r"(eps2|a_C) = inf at 5 of 5 positions .*too large"):
+        r.to_csv(tmp_path / "r.csv")
+    with pytest.raises(ParameterError, match="= inf at 5 of 5"):
+        r.to_json(tmp_path / "r.json")
+    nan = offset_crank_slider(np.linspace(0, 6, 7), 0.05, 1.1, 0.3, on_failure="nan")
+    assert np.isnan(nan.Y_C).any()
+    nan.to_csv(tmp_path / "nan.csv")  # NaN (unassembled positions) is still written

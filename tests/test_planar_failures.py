@@ -134,7 +134,7 @@ def test_change_point_toggle_is_reported():
     """a + b = c + d: at phi1 = 0 coupler and rocker are collinear, velocities undefined."""
     mech = fourbar(0.1, 0.3, 0.2, 0.2)
     phi = np.linspace(0, 2 * np.pi, 13)
-    with pytest.raises(AssemblyError, match=r"singular \(toggle\).*\[0, 0 deg\], \[360, 360"):
+    with pytest.raises(AssemblyError, match=r"singular \(toggle\).*at phi1 in 0 deg$"):
         kinematics(mech, phi)
     k = kinematics(mech, phi, on_fail="nan")
     np.testing.assert_array_equal(k.assembled, [False] + [True] * 11 + [False])

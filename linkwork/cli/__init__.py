@@ -12,6 +12,7 @@ import importlib
 import sys
 from collections.abc import Sequence
 
+import numpy as np
 import typer
 
 from linkwork.errors import LinkworkError
@@ -55,7 +56,13 @@ def main(argv: Sequence[str] | None = None) -> int:
     command = typer.main.get_command(app)
     args = list(sys.argv[1:] if argv is None else argv)
     try:
-        rv = command.main(args=args, prog_name="linkwork", standalone_mode=False)
+        # an overflow means an input far outside any machine (e.g. speed = 1e200 rad/s): stop
+        # with a message instead of writing inf into the output files and exiting 0
+        with np.errstate(over="raise"):
+            rv = command.main(args=args, prog_name="linkwork", standalone_mode=False)
+    except FloatingPointError as exc:
+        return _fail(f"numerical overflow ({exc}): a value of the input is too large for "
+                     "double precision; check the magnitudes and units in the file and options")
     except typer.Exit as exc:
         return int(exc.exit_code)
     except typer.Abort:
