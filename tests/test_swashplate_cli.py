@@ -110,3 +110,29 @@ def test_synthesize_impossible_and_bad_options(tmp_path, capsys):
     assert main(["swashplate", "synthesize", "-R", "100 mm", "-H", "50 mm", "--v-allow",
                  "0.3 m/s"]) == 2
     assert "needs --productivity" in capsys.readouterr().err
+
+
+def test_cycle_files_without_rotor_speed_have_no_zero_speed_columns(tmp_path):
+    """Without a rotor speed the slide speed is unknown: cycle.csv/json leave v and acc out
+    (they were columns of zeros beside Pi_v = 23.9 mm/rad); with a speed they are v = Pi_v w."""
+    import csv
+    import json
+    import re
+
+    from linkwork.cli import main
+    src = (Path(__file__).resolve().parents[1] / "examples" / "swashplate_1.toml").read_text()
+    no_speed = re.sub(r"(?m)^speed = .*$\n", "", src, count=1)
+    assert no_speed != src
+    for text, out in ((no_speed, tmp_path / "a"), (src, tmp_path / "b")):
+        p = tmp_path / f"{out.name}.toml"
+        p.write_text(text)
+        assert main(["swashplate", "analyze", str(p), "--out", str(out)]) == 0
+    head = next(csv.reader((tmp_path / "a" / "cycle.csv").read_text().splitlines()))
+    assert not any(h.startswith(("v ", "acc ")) for h in head) and "Pi_v [m/rad]" in head
+    assert not {"v", "acc"} & set(json.loads((tmp_path / "a" / "cycle.json").read_text())
+                                  ["columns"])
+    rows = list(csv.DictReader((tmp_path / "b" / "cycle.csv").read_text().splitlines()))
+    w = json.loads((tmp_path / "b" / "cycle.json").read_text())["omega"]
+    assert w > 0
+    for r in rows[::40]:
+        assert float(r["v [m/s]"]) == pytest.approx(float(r["Pi_v [m/rad]"]) * w, rel=1e-12)

@@ -309,6 +309,13 @@ def synthesize_cmd(
             row.append(f"{tab['objective'][i]:.5g}")
         t.add_row(*row)
     console.print(t)
+    on_bound = [f"{n} at its {side} bound ({_deg(b)} deg)" if n == "alpha"
+                else f"{n} at its {side} bound ({b:.4g} R = {_mm(b * req.R)} mm)"
+                for n, side, b in res.at_bounds(0)]
+    if on_bound:
+        console.print("note: design 1 lies on the search box: " + ", ".join(on_bound)
+                      + "; a better design may lie beyond it (widen the bound with "
+                      "linkwork.synthesis.swashplate.Request(bounds=...))")
     out.mkdir(parents=True, exist_ok=True)
     res.to_csv(out / "synthesis.csv")
     res.to_json(out / "synthesis.json")

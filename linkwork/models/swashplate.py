@@ -764,7 +764,8 @@ class KinematicsResult(Result):
     """Position, pressure angle and transfer functions of one design over given rotor angles.
 
     Per-position arrays [SI]; ``v`` and ``acc`` are the slide speed [m/s] and acceleration
-    [m/s^2] at the constant rotor speed ``omega`` [rad/s] (zero when ``omega == 0``).
+    [m/s^2] at the constant rotor speed ``omega`` [rad/s] (zero when ``omega == 0``, i.e. no
+    speed given: then the CSV/JSON exports leave them out rather than write zeros).
     """
 
     phi: np.ndarray
@@ -782,6 +783,13 @@ class KinematicsResult(Result):
         "phi": "rad", "s": "m", "delta_z": "rad", "Pi_v": "m/rad", "Pi_a": "m/rad^2",
         "v": "m/s", "acc": "m/s^2", "omega": "rad/s"}
     position_field: ClassVar[str] = "phi"
+
+    def columns(self) -> dict[str, np.ndarray]:
+        cols = super().columns()
+        if self.omega == 0.0:  # no rotor speed: the slide speed is unknown, not zero
+            cols.pop("v", None)
+            cols.pop("acc", None)
+        return cols
 
     def scalars(self) -> dict[str, Any]:
         out = super().scalars()

@@ -332,6 +332,23 @@ class SynthesisResult(Result):
     def best(self) -> sw.Design:
         return self.designs[0]
 
+    def at_bounds(self, i: int = 0, tol: float = 1e-4) -> list[tuple[str, str, float]]:
+        """Free parameters of design ``i`` that lie on a bound of the search box.
+
+        Returns ``(name, "lower" | "upper", bound)`` with the bound relative to R for lengths
+        and in radians for alpha.  A design on a bound may be limited by the search box rather
+        than by the request: a wider bound (``Request(bounds=...)``) may give a better one.
+        """
+        req = self.request
+        out = []
+        for name, (lo, hi) in zip(req.free, req.search_bounds(), strict=True):
+            v = float(self.table[name][i]) / (1.0 if name == "alpha" else req.R)
+            if v - lo <= tol * (hi - lo):
+                out.append((name, "lower", lo))
+            elif hi - v <= tol * (hi - lo):
+                out.append((name, "upper", hi))
+        return out
+
 
 TABLE_KEYS = ("r", "l", "alpha", "a", "b", "H", "phi_min", "phi_max", "delta_f", "delta_r",
               "Pi_v_max", "phi_f", "phi_r", "L", "L_exact", "objective")
