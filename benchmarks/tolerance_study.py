@@ -352,7 +352,7 @@ def cycle_contenders(prob: Problem) -> list[Contender]:
 
 
 def study_contenders(prob: Problem, sizes: tuple[int, ...], resolve_n: int, dask_n: int,
-                     client: Any = None, seed: int = 1, chunk_size: int = 100
+                     client: Any = None, seed: int = 1, chunk_size: int = 2000
                      ) -> tuple[list[Contender], Callable[[np.ndarray], np.ndarray]]:
     """The Monte-Carlo contenders, and the plain NumPy re-solve ``draws -> peaks`` that checks
     them. Per-sample contenders run on ``resolve_n`` samples of the smallest study."""
@@ -529,7 +529,7 @@ def _first_calls(cons: list[Contender]) -> tuple[dict[str, Any], list[float]]:
 
 def run(sizes: tuple[int, ...] = (1_000, 10_000, 100_000), positions: int = 360,
         repeat: int = 5, resolve_n: int = 10, dask_n: int = 100_000, seed: int = 1,
-        chunk_size: int = 100, long_repeat: int = 3) -> dict[str, Any]:
+        chunk_size: int = 2000, long_repeat: int = 3) -> dict[str, Any]:
     """Check and time every contender; return rows and the agreement reached."""
     prob = load_problem(positions)
     nj = len(prob.model.joints)
@@ -636,7 +636,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=5, help="samples per median")
     ap.add_argument("--long-repeat", type=int, default=3,
                     help="samples per median of calls longer than 1 s")
-    ap.add_argument("--chunk-size", type=int, default=100,
+    ap.add_argument("--chunk-size", type=int, default=2000,
                     help="samples per chunk of tolerance_study (the library's default)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--markdown", action="store_true", help="print Markdown tables")

@@ -48,6 +48,28 @@ def test_tolerance_study_chunking_invariant_and_seeded():
     assert np.allclose(a.peaks, b.peaks, rtol=1e-12, atol=0)
 
 
+def test_chunks_larger_than_the_kernel_block_equal_per_sample_solves(monkeypatch):
+    """A chunk (unit of work of Dask and of the progress bar) runs the kernel in blocks of
+    KERNEL_BLOCK samples: blocks of 7 over chunks of 250 (last block and chunk partial) give
+    the same peaks as one block per chunk and as the per-sample solve."""
+    import linkwork.redundancy.tolerance as tol
+    m, g, w = _setup()
+    one = tolerance_study(m, g, w, TOLS, 250, seed=5, chunk_size=250)
+    monkeypatch.setattr(tol, "KERNEL_BLOCK", 7)
+    blocked = tolerance_study(m, g, w, TOLS, 250, seed=5, chunk_size=120)
+    assert np.allclose(blocked.peaks, one.peaks, rtol=1e-12, atol=0)
+    slot = {"O": 0, "A": 1, "B": 2, "C": 3}
+    comp = {"dx": 0, "dy": 1, "dz": 2, "tx": 3, "ty": 4, "tz": 5}
+    for s in (6, 7, 119, 120, 249):      # the edges of blocks and chunks
+        dev = np.zeros((4, 2, 6))
+        for t, v in zip(TOLS, blocked.draws[s], strict=True):
+            dev[slot[t.joint], 0 if t.side == "a" else 1, comp[t.component]] += v
+        r = solve_reactions(m, g, w, dev)
+        for j in range(4):
+            assert np.isclose(blocked.peaks[s, j, 2], np.max(np.abs(r.fz[j])), rtol=1e-9)
+            assert np.isclose(blocked.peaks[s, j, 6], np.max(r.bending()[j]), rtol=1e-9)
+
+
 def test_tolerance_study_distributions():
     m, g, w = _setup()
     st = tolerance_study(m, g, w, TOLS, 4000, seed=2, chunk_size=2000)

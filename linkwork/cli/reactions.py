@@ -101,7 +101,7 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
         cycle: np.ndarray | None = None, gravity: Any = None, loads: Any = (),
         method: str = "force",
         tolerance_study: int = 0, seed: int = 0, scheduler: str | None = None,
-        chunk_size: int = 100, plots: bool = True) -> dict[str, Any]:
+        chunk_size: int = 2000, plots: bool = True) -> dict[str, Any]:
     """Analyse ``mech`` with the spatial data ``spec`` and report; return what was computed.
 
     Parameters
@@ -295,7 +295,8 @@ def register(app: typer.Typer) -> None:
         seed: Annotated[int, typer.Option(help="random seed of the tolerance study")] = 0,
         scheduler: Annotated[str | None, typer.Option(
             help="dask.distributed scheduler address for the tolerance study")] = None,
-        chunk_size: Annotated[int, typer.Option(help="samples per chunk")] = 100,
+        chunk_size: Annotated[int, typer.Option(
+            help="samples per chunk (unit of work of a cluster and of the progress bar)")] = 2000,
         plots: Annotated[bool, typer.Option("--plots/--no-plots", help="write PNG figures")
                          ] = True,
     ) -> None:
