@@ -173,6 +173,20 @@ def require_positive(name: str, value: ArrayLike, *, allow_zero: bool = False) -
     return arr
 
 
+def shapes_error(shapes: dict[str, Any]) -> ParameterError:
+    """The error for arguments whose shapes do not broadcast (``shapes``: name -> shape)."""
+    return ParameterError("shapes", shapes, "must broadcast against each other (designs "
+                          "(m, 1) against positions (n,))")
+
+
+def common_shape(**arrays: np.ndarray) -> tuple[int, ...]:
+    """The broadcast shape of ``arrays``, or a :func:`shapes_error` naming every shape."""
+    try:
+        return np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    except ValueError:
+        raise shapes_error({k: a.shape for k, a in arrays.items()}) from None
+
+
 def require_in_range(name: str, value: ArrayLike, lo: float | None = None, hi: float | None = None,
                      *, lo_open: bool = False, hi_open: bool = False, unit: str = "",
                      scale: float = 1.0) -> np.ndarray:

@@ -51,16 +51,12 @@ def _angle_mismatch(q: Any, kind: str) -> str:
             return ("Hz is ambiguous for an angular quantity (cycles or radians per second): "
                     "write e.g. '120 rpm', '2 rps' or '12.57 rad/s'")
         return ""
-    if dict(q.to_root_units().unit_items()).get("radian", 0) or (
-            kind == "dimensionless" and any(u in _ANGLE_UNITS for u in units)):
+    if dict(q.to_root_units().unit_items()).get("radian", 0):
         if kind == "dimensionless":  # pint takes "60 deg" for the number 1.047
             return "it carries an angle unit (deg, rad, turn)"
         return "it carries an angle unit (rpm, deg, rad, turn); write e.g. '600 1/min'"
     return ""
 
-
-_ANGLE_UNITS = frozenset({"degree", "radian", "turn", "revolution", "arcminute", "arcsecond",
-                          "gradian", "milliradian"})
 
 
 @lru_cache(maxsize=1)

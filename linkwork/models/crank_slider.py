@@ -38,6 +38,7 @@ from linkwork.errors import (
     AssemblyError,
     ParameterError,
     angle_ranges,
+    common_shape,
     require_finite,
     require_positive,
 )
@@ -252,15 +253,8 @@ def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lamb
                                        float(e1))
     else:
         L1v, lam2v, lamev, w1v, e1v = L1_a, lam2, lame, w1, e1
-        try:
-            shape = np.broadcast_shapes(phi1_a.shape, L1_a.shape, lam2.shape, lame.shape,
-                                        w1.shape, e1.shape)
-        except ValueError:
-            raise ParameterError("shapes", {
-                "phi1": phi1_a.shape, "L1": L1_a.shape, "lambda2": lam2.shape,
-                "lambda_e": lame.shape, "omega1": w1.shape, "eps1": e1.shape},
-                "must broadcast against each other (designs (m, 1) against crank angles "
-                "(n,))") from None
+        shape = common_shape(phi1=phi1_a, L1=L1_a, lambda2=lam2, lambda_e=lame, omega1=w1,
+                             eps1=e1)
         phi1_b = phi1_a if phi1_a.shape == shape else np.broadcast_to(phi1_a, shape)
 
     c1 = np.cos(phi1_b)

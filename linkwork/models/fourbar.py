@@ -34,7 +34,13 @@ from typing import Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import AssemblyError, ParameterError, angle_ranges, require_finite
+from linkwork.errors import (
+    AssemblyError,
+    ParameterError,
+    angle_ranges,
+    require_finite,
+    shapes_error,
+)
 from linkwork.results import Result
 
 __all__ = [
@@ -359,8 +365,7 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     except ValueError as exc:  # operands that do not broadcast (no cost when they do)
         shapes = {k: np.shape(v) for k, v in (("theta2", t2), ("a", a_), ("b", b_), ("c", c_),
                                                ("d", d_), ("omega2", w2), ("alpha2", e2))}
-        raise ParameterError("shapes", shapes, "must broadcast against each other (designs "
-                             "(m, 1) against crank angles (n,))") from exc
+        raise shapes_error(shapes) from exc
     th3, th4, w3, w4, al3, al4, ax, ay, xb, yb, xp, yp, ok, clean = res
     if not clean:
         # exactly at a toggle (u x v = 0) or with A on O4 the position "assembles" but the

@@ -49,6 +49,7 @@ from numpy.typing import ArrayLike
 from linkwork.errors import (
     InfeasibleError,
     ParameterError,
+    common_shape,
     require_finite,
     require_in_range,
     require_positive,
@@ -185,13 +186,8 @@ def inclined_slot(phi1: ArrayLike, L1: ArrayLike, alpha: ArrayLike, omega1: Arra
     al = _check_alpha_open(alpha)
     w1 = require_finite("omega1", omega1)
     e1 = require_finite("eps1", eps1)
-    try:
-        phi1_b, L1_b, al_b, w1_b, e1_b = np.broadcast_arrays(phi1_a, L1_a, al, w1, e1)
-    except ValueError:
-        raise ParameterError("shapes", {
-            "phi1": phi1_a.shape, "L1": L1_a.shape, "alpha": al.shape, "omega1": w1.shape,
-            "eps1": e1.shape}, "must broadcast against each other (designs (m, 1) against "
-            "crank angles (n,))") from None
+    common_shape(phi1=phi1_a, L1=L1_a, alpha=al, omega1=w1, eps1=e1)
+    phi1_b, L1_b, al_b, w1_b, e1_b = np.broadcast_arrays(phi1_a, L1_a, al, w1, e1)
 
     c1, s1 = np.cos(phi1_b), np.sin(phi1_b)
     cot = np.cos(al_b) / np.sin(al_b)
@@ -258,11 +254,8 @@ def alpha_for_stroke(L1: ArrayLike, H: ArrayLike) -> tuple[np.ndarray, np.ndarra
     """
     L1_a = require_positive("L1", L1)
     H_a = require_positive("H", H)
-    try:
-        L1_b, H_b = np.broadcast_arrays(L1_a, H_a)
-    except ValueError:
-        raise ParameterError("shapes", {"L1": L1_a.shape, "H": H_a.shape},
-                             "must broadcast against each other") from None
+    common_shape(L1=L1_a, H=H_a)
+    L1_b, H_b = np.broadcast_arrays(L1_a, H_a)
     ratio = 2.0 * L1_b / H_b
     bad = ratio > 1.0 + 1e-12
     if bad.any():

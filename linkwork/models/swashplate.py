@@ -66,6 +66,7 @@ from linkwork.errors import (
     AssemblyError,
     ParameterError,
     angle_ranges,
+    common_shape,
     require_finite,
     require_in_range,
     require_positive,
@@ -124,17 +125,8 @@ def _params(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: Array
     lv = require_positive("l", l)
     av = require_in_range("alpha", alpha, 0.0, math.pi / 2, unit="deg", scale=180 / math.pi)
     out = (Rv, rv, lv, av, require_finite("a", a), require_finite("b", b))
-    _check_shapes(dict(zip(("R", "r", "l", "alpha", "a", "b"), out, strict=True)))
+    common_shape(**dict(zip(("R", "r", "l", "alpha", "a", "b"), out, strict=True)))
     return out
-
-
-def _check_shapes(arrays: dict[str, np.ndarray]) -> None:
-    try:
-        np.broadcast_shapes(*(x.shape for x in arrays.values()))
-    except ValueError:
-        raise ParameterError("shapes", {k: x.shape for k, x in arrays.items()},
-                             "must broadcast against each other (designs (m, 1) against "
-                             "angles (n,))") from None
 
 
 def _check_reach(phi: np.ndarray, q: np.ndarray, l: np.ndarray, invalid: Invalid,
@@ -168,7 +160,7 @@ def _kin(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayL
     if check:
         ph = require_finite("phi", phi)
         Rv, rv, lv, av, a_, b_ = _params(R, r, l, alpha, a, b)
-        _check_shapes({"phi": ph, "R": Rv, "r": rv, "l": lv, "alpha": av, "a": a_, "b": b_})
+        common_shape(phi=ph, R=Rv, r=rv, l=lv, alpha=av, a=a_, b=b_)
     else:
         ph = np.asarray(phi, dtype=float)
         Rv, rv, lv, av, a_, b_ = (np.asarray(x, dtype=float) for x in (R, r, l, alpha, a, b))
