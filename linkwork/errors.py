@@ -159,6 +159,29 @@ def require_finite(name: str, value: ArrayLike) -> np.ndarray:
     return arr
 
 
+def py_float(value: Any) -> float | None:
+    """``value`` as a float if it is a Python float or an int within the float range, else None.
+
+    For fast paths that check one design with plain comparisons and leave everything else
+    (arrays, numpy scalars, strings, bad values) to the named checks of the general path.
+    """
+    tp = type(value)
+    if tp is float:
+        return value
+    if tp is int and -_INT_MAX < value < _INT_MAX:
+        return float(value)
+    return None
+
+
+_isfinite = np.isfinite
+_and_reduce = np.logical_and.reduce
+
+
+def all_finite(arr: np.ndarray) -> bool:
+    """Whether every element of a float array is finite (no NaN, no inf); no checks of type."""
+    return bool(_and_reduce(_isfinite(arr), axis=None))
+
+
 def require_positive(name: str, value: ArrayLike, *, allow_zero: bool = False) -> np.ndarray:
     """Return ``value`` as a float array, or raise if any element is not > 0 (>= 0)."""
     tp = type(value)

@@ -296,3 +296,55 @@ def test_single_position_result_exports(tmp_path):
     rows = (r.to_csv(tmp_path / "one.csv")).read_text().splitlines()
     assert len(rows) == 2 and "Y_C [m]" in rows[0]
     assert float(rows[1].split(",")[rows[0].split(",").index("Y_C [m]")]) == float(r.Y_C)
+
+
+@pytest.mark.parametrize("L1,lam2,lame,w1,e1,branch", DESIGNS)
+def test_fast_path_equals_the_checked_path_exactly(L1, lam2, lame, w1, e1, branch,
+                                                  monkeypatch):
+    """One design in Python floats over a float64 array takes a path with plain comparisons
+    instead of the named checks; the same call with numpy scalars and a list of angles takes
+    the checked path.  Both run the same arithmetic, so every field must be bit-identical."""
+    from linkwork.models import crank_slider as cs
+
+    paths = []
+    evaluate = cs._evaluate
+
+    def spy(*args):
+        paths.append("checked" if args[-1] is not None else "fast")
+        return evaluate(*args)
+
+    monkeypatch.setattr(cs, "_evaluate", spy)
+    fast = offset_crank_slider(PHI, L1, lam2, lame, w1, e1, branch)
+    checked = offset_crank_slider(list(PHI), np.float64(L1), np.float64(lam2), np.float64(lame),
+                                  np.float64(w1), np.float64(e1), branch)
+    assert paths == ["fast", "checked"]
+    for name, val in vars(fast).items():
+        np.testing.assert_array_equal(np.asarray(val), np.asarray(getattr(checked, name)),
+                                      err_msg=name)
+    ints = offset_crank_slider(PHI, 1, 4, 0, 3, 2, branch)       # ints are numbers too
+    ref = offset_crank_slider(PHI, 1.0, 4.0, 0.0, 3.0, 2.0, branch)
+    np.testing.assert_array_equal(ints.a_C, ref.a_C)
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_non_finite_angle_on_the_fast_path_is_named_without_warnings(bad):
+    """pytest turns warnings into errors here: np.cos(inf) must never run."""
+    phi = PHI.copy()
+    phi[5] = bad
+    with pytest.raises(ParameterError) as ei:
+        offset_crank_slider(phi, 0.05, 4.0, 0.5, 10.0)
+    assert ei.value.parameter == "phi1"
+
+
+def test_valid_mask_of_a_fully_assembled_cycle_is_shared_and_read_only():
+    """Results are immutable: an all-True mask is made once per shape and cannot be written
+    through one result into another; a cycle with failing positions gets its own mask."""
+    a = offset_crank_slider(PHI, 0.05, 4.0, 0.5)
+    b = offset_crank_slider(PHI, 0.07, 3.0, 0.2, 5.0)
+    assert a.valid.all() and not a.valid.flags.writeable
+    with pytest.raises(ValueError):
+        a.valid[0] = False
+    assert b.valid.all()
+    phi = np.radians(np.arange(0.0, 360.0, 1.0))
+    c = offset_crank_slider(phi, 0.05, 1.2, 0.5, on_failure="nan")
+    assert not c.valid.all() and offset_crank_slider(phi, 0.05, 4.0, 0.5).valid.all()
