@@ -41,7 +41,7 @@ from linkwork.errors import (
     require_finite,
     shapes_error,
 )
-from linkwork.results import Result
+from linkwork.results import Result, all_true
 
 __all__ = [
     "FourbarForces",
@@ -418,21 +418,6 @@ def _chunked(t2: np.ndarray, a_: Any, b_: Any, c_: Any, d_: Any, w2: Any, e2: An
     return (*outs, False)
 
 
-_TRUE: dict[tuple[int, ...], np.ndarray] = {}
-
-
-def _all_true(shape: tuple[int, ...]) -> np.ndarray:
-    """A shared, read-only all-True mask of ``shape`` (the ``assembled`` field when clean)."""
-    arr = _TRUE.get(shape)
-    if arr is None:
-        if len(_TRUE) > 64:
-            _TRUE.clear()
-        arr = np.ones(shape, dtype=bool)
-        arr.flags.writeable = False
-        _TRUE[shape] = arr
-    return arr
-
-
 def _kernel(t2: np.ndarray, a_: Any, b_: Any, c_: Any, d_: Any, w2: Any, e2: Any, br: float,
             p: Any, q: Any, out: tuple[Any, ...] | None) -> tuple[Any, ...]:
     """The closed form itself; writes into ``out`` (13 arrays or None) when given.
@@ -455,7 +440,7 @@ def _kernel(t2: np.ndarray, a_: Any, b_: Any, c_: Any, d_: Any, w2: Any, e2: Any
         ok = np.greater_equal(hh, 0.0, out=o[12])
         clean = False
     elif hh.size and hh.min() > 0.0:  # the usual case: one reduction, no mask to build
-        ok = _all_true(np.shape(hh))
+        ok = all_true(np.shape(hh))
         clean = True
     else:
         ok = hh >= 0.0               # (NaN also lands here)
