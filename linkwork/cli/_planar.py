@@ -2,7 +2,8 @@
 
 Prints the structure (mobility, Assur groups), dead centres, and a table at the requested crank
 angles: driving torque, every joint reaction's magnitude, shaking force and moment,
-transmission angles (the kinetic energy is in the CSV/JSON). Writes
+transmission angles (the kinetic energy is in the CSV/JSON), and the extremes over the cycle
+(largest and smallest driving torque, peak reactions, shaking) with where they occur. Writes
 ``planar_kinematics.csv`` (every body's pose, velocity, acceleration), ``planar_dynamics.csv``
 (every joint's reaction components, driving torque, shaking force and moment, kinetic
 energy), ``planar.json`` (both, with units and the structure) and plots (skeleton with point
@@ -29,7 +30,7 @@ from linkwork.planar.kinematics import (
 )
 from linkwork.planar.model import Crank
 
-__all__ = ["analyze_planar", "named_columns", "table_positions_error"]
+__all__ = ["analyze_planar", "cycle_peaks", "named_columns", "table_positions_error"]
 
 
 def table_positions_error(exc: AssemblyError, positions: np.ndarray, linear: bool
@@ -73,6 +74,35 @@ def named_columns(kin: Kinematics, dyn: Dynamics) -> dict[str, tuple[np.ndarray,
     for key, (mu, _) in transmission_angles(kin).items():
         cols[f"mu_{key}"] = (mu, "rad")
     return cols
+
+
+def cycle_peaks(kin: Kinematics, dyn: Dynamics) -> list[dict[str, Any]]:
+    """Extremes over the analysed positions, for sizing motor and bearings.
+
+    One entry per quantity: ``{"name", "value", "unit", "phi1"}`` (``phi1`` the driver position
+    of the extreme [rad, or m for a linear driver]): the largest and the smallest driving torque
+    (force), the peak magnitude of every joint reaction (and of a prismatic joint's couple), of
+    the shaking force and of the shaking moment. Sampled at the positions analysed (no
+    interpolation between them); unassembled positions (NaN) are skipped.
+    """
+    crank = isinstance(kin.mechanism.driver, Crank)
+    unit_q = "N*m" if crank else "N"
+    series: list[tuple[str, np.ndarray, str, str]] = [
+        ("Q max", dyn.Q, unit_q, "max"), ("Q min", dyn.Q, unit_q, "min")]
+    for k, j in enumerate(dyn.joints):
+        series.append((f"|R {j}|", np.hypot(dyn.fx[k], dyn.fy[k]), "N", "max"))
+        if np.any(dyn.mz[k] != 0):
+            series.append((f"|M {j}|", np.abs(dyn.mz[k]), "N*m", "max"))
+    series += [("|F_sh|", np.hypot(dyn.shaking_fx, dyn.shaking_fy), "N", "max"),
+               ("|M_sh|", np.abs(dyn.shaking_m), "N*m", "max")]
+    peaks = []
+    for name, v, unit, kind in series:
+        if not np.any(np.isfinite(v)):
+            continue
+        i = int(np.nanargmax(v) if kind == "max" else np.nanargmin(v))
+        peaks.append({"name": name, "value": float(v[i]), "unit": unit,
+                      "phi1": float(kin.phi1[i])})
+    return peaks
 
 
 def _write_csv(path: Path, cols: dict[str, tuple[np.ndarray, str]]) -> Path:
@@ -136,6 +166,17 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray, console: A
         row += [f"{np.degrees(mu[i]):.1f}" for mu, _ in trans.values()]
         table.add_row(*row)
     console.print(table)
+    peaks = cycle_peaks(kin, dyn)
+    where = "φ1 [deg]" if crank else "s1 [mm]"
+    ptab = Table(title=escape(f"extremes over the cycle ({kin.n} positions of [analysis])"))
+    ptab.add_column("quantity", no_wrap=True)
+    for h in ("value", where):
+        ptab.add_column(escape(h), justify="right", no_wrap=True)
+    for pk in peaks:
+        pos = np.degrees(pk["phi1"]) if crank else pk["phi1"] * 1e3
+        ptab.add_row(escape(f"{pk['name']} [{pk['unit'].replace('*', '·')}]"),
+                     f"{pk['value']:.4g}", f"{pos:.1f}")
+    console.print(ptab)
     # files
     cols = named_columns(kin, dyn)
     kin_cols = {k: v for k, v in cols.items() if not (k.startswith("R_") or k in (
@@ -151,8 +192,10 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray, console: A
                     "class": g.cls, "order": g.order, "key": g.key,
                     "branch": kin.branches.get(g.key, 1)} for g in s.groups],
         "reaction_sign": "force exerted by joint body a on joint body b, frame axes",
+        "positions_unit": "rad" if crank else "m",
         "dead_centres": [{"group": d.group, "body": d.body, "phi1": d.phi1, "kind": d.kind}
                          for d in dcs],
+        "peaks": peaks,
         "units": {k: u for k, (_, u) in cols.items()},
         "columns": {k: [None if not np.isfinite(x) else float(x) for x in v]
                     for k, (v, _) in cols.items()},
