@@ -111,3 +111,53 @@ def test_fourbar_paper001_torque_extremes_against_the_power_balance(tmp_path, ca
         assert peaks[name]["value"] == pytest.approx(Q[i], abs=1e-5)
         assert peaks[name]["phi1"] == pytest.approx(phi[i], abs=1e-12)
     assert np.degrees(peaks["Q min"]["phi1"]) == pytest.approx(356.0)
+
+
+LINEAR = Path(__file__).parent / "data" / "slider_driven_crank.toml"
+
+
+def _slider_driven_crank_force(s: np.ndarray) -> np.ndarray:
+    """tests/data/slider_driven_crank.toml written out: slider B at (s, 0), crank O A = 0.1 m
+    with A on the left of O -> B, rod 0.35 m; thin rods 1 and 2 kg, slider 3 kg; v1 = 0.5 m/s;
+    -3 N m on the crank.
+    Q v1 = dT/dt - P_loads, i.e. Q = dT/ds + 3 d theta_crank / ds."""
+    r, l, v1 = 0.1, 0.35, 0.5
+
+    def coords(s: np.ndarray) -> np.ndarray:
+        x = (r * r - l * l + s * s) / (2 * s)             # A: circle O (r) with circle B (l)
+        A = np.stack([x, np.sqrt(r * r - x * x)])
+        B = np.stack([s, np.zeros_like(s)])
+        th1 = np.arctan2(A[1], A[0])
+        th2 = np.arctan2(B[1] - A[1], B[0] - A[0])
+        return np.stack([*(A / 2), th1, *((A + B) / 2), th2, s])
+
+    def energy(s: np.ndarray) -> np.ndarray:
+        h = 1e-7
+        qd = (coords(s + h) - coords(s - h)) / (2 * h) * v1
+        return (0.5 * (1.0 * (qd[0] ** 2 + qd[1] ** 2) + 1.0 * r * r / 12 * qd[2] ** 2)
+                + 0.5 * (2.0 * (qd[3] ** 2 + qd[4] ** 2) + 2.0 * l * l / 12 * qd[5] ** 2)
+                + 0.5 * 3.0 * qd[6] ** 2)
+
+    h = 1e-5
+    dT = (energy(s + h) - energy(s - h)) / (2 * h)
+    dth = (coords(s + h)[2] - coords(s - h)[2]) / (2 * h)
+    return dT + 3.0 * dth
+
+
+def test_analyze_angles_of_a_linear_driver_are_slide_positions_in_mm(tmp_path, capsys,
+                                                                     monkeypatch):
+    """--angles was silently ignored for a linear driver (the table stayed at 12 positions over
+    [analysis]); it now gives slide positions in mm, as in `linkwork reactions`."""
+    monkeypatch.setenv("COLUMNS", "250")
+    f = LINEAR
+    assert main(["analyze", str(f), "--out", str(tmp_path), "--angles", "300,350"]) == 0
+    rows = [ln.split("│") for ln in capsys.readouterr().out.splitlines()
+            if ln.startswith("│") and "quantity" not in ln]
+    table = [r for r in rows if len(r) > 5]
+    assert [float(r[1]) for r in table] == [300.0, 350.0]
+    Q = _slider_driven_crank_force(np.array([0.300, 0.350]))
+    np.testing.assert_allclose([float(r[2]) for r in table], Q, rtol=2e-4)  # printed to 4 digits
+    # outside the range where it assembles: named with the unit it was read in
+    assert main(["analyze", str(f), "--out", str(tmp_path), "--angles", "100"]) == 2
+    err = capsys.readouterr().err
+    assert "--angles = 100 mm" in err and len(err.strip().splitlines()) == 1

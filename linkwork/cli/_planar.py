@@ -122,8 +122,13 @@ def _solve(doc: PlanarFile, phi: np.ndarray) -> tuple[Kinematics, Dynamics]:
     return kin, dyn
 
 
-def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray, console: Any) -> None:
-    """Analyse a planar mechanism file: table on ``console``, CSV/JSON/PNG into ``out``."""
+def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, console: Any
+                   ) -> None:
+    """Analyse a planar mechanism file: table on ``console``, CSV/JSON/PNG into ``out``.
+
+    ``angles``: the table's driver positions [rad, or m for a linear driver]; None: 12 evenly
+    spaced over the file's [analysis] range.
+    """
     from rich.markup import escape
     from rich.table import Table
 
@@ -143,11 +148,8 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray, console: A
         conv = np.degrees if crank else (lambda v: v * 1e3)
         console.print("dead centres: " + ", ".join(
             f"{d.body} {d.kind} at {conv(d.phi1):.2f} {unit}" for d in dcs))
-    # table at the requested angles (crank) or at 12 evenly spaced positions (linear driver)
-    if crank:
-        tphi = np.asarray(angles, dtype=float)
-    else:
-        tphi = np.linspace(phi[0], phi[-1], 12)
+    # table at the requested positions, else at 12 evenly spaced ones
+    tphi = np.linspace(phi[0], phi[-1], 12) if angles is None else np.asarray(angles, float)
     try:
         tk, td = _solve(doc, tphi)
     except AssemblyError as exc:

@@ -3,7 +3,9 @@
 The file's ``type`` picks the analyser from :data:`ANALYZERS` (file type -> ``"module:function"``).
 An analyser is called as ``fn(doc, out=Path, angles=ndarray [rad], console=rich Console)``: it
 prints a table of the main quantities at ``angles`` and writes the full cycle (CSV, JSON) and its
-plots (PNG) into ``out``.
+plots (PNG) into ``out``. A planar file with a linear driver gets its ``--angles`` as slide
+positions [m] (typed in mm), or None without the option (the analyser spaces the table over the
+file's range).
 """
 
 from __future__ import annotations
@@ -18,6 +20,9 @@ import typer
 
 from linkwork import files
 from linkwork.errors import FileFormatError, ParameterError
+
+#: Crank angles of the table when ``--angles`` is not given [deg].
+DEFAULT_ANGLES = "0,30,60,90,120,150,180,210,240,270,300,330"
 
 #: File type -> "module:function" of its analyser.
 ANALYZERS: dict[str, str] = {
@@ -60,8 +65,10 @@ def register(app: typer.Typer) -> None:
         file: Annotated[Path, typer.Argument(help="mechanism file (TOML)")],
         out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
             "linkwork-output"),
-        angles: Annotated[str, typer.Option(help="crank angles for the table, deg, comma-separated")
-                          ] = "0,30,60,90,120,150,180,210,240,270,300,330",
+        angles: Annotated[str | None, typer.Option(
+            help="table positions, comma-separated: crank angles in deg (slide positions in mm "
+                 f"for a linear driver) [default: {DEFAULT_ANGLES}; a linear driver: 12 "
+                 "positions over the file's \\[analysis] range]")] = None,
     ) -> None:
         """Analyse a mechanism over a cycle: table, CSV/JSON and plots in an output folder."""
         from linkwork.cli._console import console as make_console
@@ -71,6 +78,10 @@ def register(app: typer.Typer) -> None:
         if kind not in ANALYZERS:
             raise FileFormatError(str(file), "type", f"type {kind!r} cannot be analysed; "
                                   f"analysable: {sorted(ANALYZERS)}")
-        table_angles = parse_angles(angles)
+        if getattr(getattr(doc, "driver", None), "type", None) == "linear":
+            # a planar file driven by a prismatic joint: positions in mm, as in `reactions`
+            table = None if angles is None else np.array(parse_angles_deg(angles)) * 1e-3
+        else:
+            table = parse_angles(DEFAULT_ANGLES if angles is None else angles)
         out.mkdir(parents=True, exist_ok=True)
-        _resolve(ANALYZERS[kind])(doc, out=out, angles=table_angles, console=make_console())
+        _resolve(ANALYZERS[kind])(doc, out=out, angles=table, console=make_console())
