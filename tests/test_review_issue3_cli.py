@@ -161,3 +161,34 @@ def test_analyze_angles_of_a_linear_driver_are_slide_positions_in_mm(tmp_path, c
     assert main(["analyze", str(f), "--out", str(tmp_path), "--angles", "100"]) == 2
     err = capsys.readouterr().err
     assert "--angles = 100 mm" in err and len(err.strip().splitlines()) == 1
+
+
+def test_dead_centres_say_which_coordinate_and_which_way(tmp_path, capsys):
+    """The knuckle press printed 'ram max at 184.70 deg' where the ram is at its lowest (its
+    guide points down, and the slide coordinate runs along it): the line now says what is
+    extreme and which way. The positions: the ram's lowest point found here by a dense scan
+    of the geometry written out; the rocker's extremes of paper 001's four-bar from the
+    crank and coupler collinear (|OB| = 0.1 + 0.3 and 0.3 - 0.1)."""
+    text, data = _analyze("loom_sixbar.toml", tmp_path, capsys)
+    O, r, rod, upper, lower = np.array([0.61, -0.3]), 0.06, 0.55, 0.35, 0.35
+
+    def ram_y(phi: np.ndarray) -> np.ndarray:
+        A = O[:, None] + r * np.stack([np.cos(phi), np.sin(phi)])
+        L = np.hypot(*A)                       # C at the origin
+        x = (rod**2 - upper**2 + L * L) / (2 * L)
+        u = -A / L                             # from A towards C
+        K = A + x * u + np.sqrt(rod**2 - x * x) * np.stack([-u[1], u[0]])
+        return K[1] - np.sqrt(lower**2 - K[0] ** 2)
+
+    phi = np.radians(np.linspace(150.0, 220.0, 700001))
+    lowest = np.degrees(phi[np.argmin(ram_y(phi))])
+    assert f"ram slide max along G (towards -90 deg) at {lowest:.2f} deg" in text
+    dc = next(d for d in data["dead_centres"] if d["body"] == "ram" and d["kind"] == "max")
+    assert dc["of"] == "ram slide max along G (towards -90 deg)" and dc["joint"] == "G"
+    assert np.degrees(dc["phi1"]) == pytest.approx(lowest, abs=1e-4)
+
+    text, _ = _analyze("fourbar_paper001.toml", tmp_path, capsys)
+    ext = np.degrees(np.arctan2(np.sqrt(0.4**2 - 0.35**2), 0.35))          # x_B = 0.35
+    fold = 180.0 + np.degrees(np.arctan2(np.sqrt(0.2**2 - 0.15**2), 0.15))  # x_B = 0.15
+    assert (f"  rocker angle min at {ext:.2f} deg\n  rocker angle max at {fold:.2f} deg\n"
+            in text)

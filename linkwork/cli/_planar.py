@@ -23,14 +23,16 @@ from linkwork.errors import AssemblyError, ParameterError
 from linkwork.planar.dynamics import Dynamics, inverse_dynamics
 from linkwork.planar.file import PlanarFile
 from linkwork.planar.kinematics import (
+    DeadCentre,
     Kinematics,
     dead_centres,
     kinematics,
     transmission_angles,
 )
-from linkwork.planar.model import Crank
+from linkwork.planar.model import Crank, Mechanism, PinInSlot, Prismatic, Revolute
 
-__all__ = ["analyze_planar", "cycle_peaks", "named_columns", "table_positions_error"]
+__all__ = ["analyze_planar", "cycle_peaks", "dead_centre_label", "named_columns",
+           "table_positions_error"]
 
 
 def table_positions_error(exc: AssemblyError, positions: np.ndarray, linear: bool
@@ -74,6 +76,22 @@ def named_columns(kin: Kinematics, dyn: Dynamics) -> dict[str, tuple[np.ndarray,
     for key, (mu, _) in transmission_angles(kin).items():
         cols[f"mu_{key}"] = (mu, "rad")
     return cols
+
+
+def dead_centre_label(mech: Mechanism, d: DeadCentre) -> tuple[str, str]:
+    """What reaches its extreme at a dead centre, e.g. ``"rocker angle min"`` or ``"ram slide
+    max along G (towards -90 deg)"`` (the slide coordinate runs along the guide's direction, so
+    "max" is the end of the stroke that way), and the joint it is measured at."""
+    g = next(g for g in mech.structure.groups if g.key == d.group)
+    j = mech.joint(g.joints[0] if len(g.bodies) == 1 else g.joints[-1])  # the output's hinge
+    other = j.a if j.b == d.body else j.b
+    if isinstance(j, Revolute):
+        rel = "" if other == mech.frame.name else f" relative to {other}"
+        return f"{d.body} angle {d.kind}{rel}", j.name
+    line = j if isinstance(j, Prismatic | PinInSlot) else None
+    towards = (f" (towards {np.degrees(line.angle):g} deg)"
+               if line is not None and j.a == mech.frame.name else "")
+    return f"{d.body} slide {d.kind} along {j.name}{towards}", j.name
 
 
 def cycle_peaks(kin: Kinematics, dyn: Dynamics) -> list[dict[str, Any]]:
@@ -146,8 +164,9 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
     if dcs:
         unit = "deg" if crank else "mm"
         conv = np.degrees if crank else (lambda v: v * 1e3)
-        console.print("dead centres: " + ", ".join(
-            f"{d.body} {d.kind} at {conv(d.phi1):.2f} {unit}" for d in dcs))
+        console.print("dead centres:")
+        for d in dcs:
+            console.print(f"  {escape(dead_centre_label(mech, d)[0])} at {conv(d.phi1):.2f} {unit}")
     # table at the requested positions, else at 12 evenly spaced ones
     tphi = np.linspace(phi[0], phi[-1], 12) if angles is None else np.asarray(angles, float)
     try:
@@ -195,8 +214,9 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
                     "branch": kin.branches.get(g.key, 1)} for g in s.groups],
         "reaction_sign": "force exerted by joint body a on joint body b, frame axes",
         "positions_unit": "rad" if crank else "m",
-        "dead_centres": [{"group": d.group, "body": d.body, "phi1": d.phi1, "kind": d.kind}
-                         for d in dcs],
+        "dead_centres": [{"group": d.group, "body": d.body, "phi1": d.phi1, "kind": d.kind,
+                          "of": dead_centre_label(mech, d)[0],
+                          "joint": dead_centre_label(mech, d)[1]} for d in dcs],
         "peaks": peaks,
         "units": {k: u for k, (_, u) in cols.items()},
         "columns": {k: [None if not np.isfinite(x) else float(x) for x in v]
