@@ -1,4 +1,4 @@
-"""Shaking loads over a cycle: moment about any point, harmonic content, RMS and peak.
+"""Shaking loads over a cycle: moment about any point, harmonic content, RMS, mean and peak.
 
 The shaking force is the resultant of the inertia forces of all moving links,
 :math:`F = -\\sum m_i a_{S_i} = -\\dot p` (minus the rate of total linear momentum); it is what
@@ -27,6 +27,7 @@ from linkwork.results import Result
 __all__ = [
     "Harmonics",
     "harmonics",
+    "mean_over_range",
     "moment_about",
     "peak",
     "rms",
@@ -134,6 +135,17 @@ def rms(phi: ArrayLike, values: ArrayLike, *, vector: bool | None = None) -> flo
         raise ParameterError("values", f"array of shape {f.shape}",
                              f"must have {w.size} positions like phi")
     return float(np.sqrt(np.sum(w * f**2) / (2.0 * np.pi)))
+
+
+def mean_over_range(phi1: ArrayLike, values: ArrayLike) -> float:
+    """Mean of ``values`` over the driver range: the trapezoid integral over ``phi1`` divided by
+    the range (for the driving torque: the work per cycle over the angle turned), so that a
+    closed cycle sampled with its end repeating its start counts that position once; the mean
+    of the finite samples if some are NaN or there is a single position."""
+    q, p = np.asarray(values, dtype=float), np.asarray(phi1, dtype=float)
+    if q.size > 1 and p[-1] != p[0] and np.all(np.isfinite(q)):
+        return float(np.trapezoid(q, p) / (p[-1] - p[0]))
+    return float(np.nanmean(q))
 
 
 def peak(values: ArrayLike, *, vector: bool | None = None) -> float:

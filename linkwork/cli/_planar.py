@@ -19,6 +19,7 @@ from typing import Any
 
 import numpy as np
 
+from linkwork.balancing.loads import mean_over_range
 from linkwork.errors import AssemblyError, ParameterError
 from linkwork.planar.dynamics import Dynamics, inverse_dynamics
 from linkwork.planar.file import PlanarFile
@@ -197,6 +198,11 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
         pos = np.degrees(pk["phi1"]) if crank else pk["phi1"] * 1e3
         ptab.add_row(escape(f"{pk['name']} [{pk['unit'].replace('*', '·')}]"),
                      f"{pk['value']:.4g}", f"{pos:.1f}")
+    means = {"Q_mean": mean_over_range(kin.phi1, dyn.Q),
+             "power_mean": mean_over_range(kin.phi1, dyn.power)}
+    ptab.add_row(escape(f"Q mean (work / range) [{'N·m' if crank else 'N'}]"),
+                 f"{means['Q_mean']:.4g}", "")
+    ptab.add_row("driving power, mean [W]", f"{means['power_mean']:.4g}", "")
     console.print(ptab)
     # files
     cols = named_columns(kin, dyn)
@@ -218,6 +224,7 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
                           "of": dead_centre_label(mech, d)[0],
                           "joint": dead_centre_label(mech, d)[1]} for d in dcs],
         "peaks": peaks,
+        "means": {**means, "units": {"Q_mean": "N*m" if crank else "N", "power_mean": "W"}},
         "units": {k: u for k, (_, u) in cols.items()},
         "columns": {k: [None if not np.isfinite(x) else float(x) for x in v]
                     for k, (v, _) in cols.items()},

@@ -125,9 +125,13 @@ def plot_driving_torque(dyn: Any, ax: Any = None) -> dict[str, Any]:
     ax = _ax(ax)
     x, label = _x(dyn.kinematics)
     (ln,) = ax.plot(x, dyn.Q, label="Q")
-    ax.axhline(float(np.nanmean(dyn.Q)), color="k", lw=0.8, ls=":", label="mean")
-    ax.set_xlabel(label)
     crank = isinstance(dyn.kinematics.mechanism.driver, Crank)
+    from linkwork.balancing.loads import mean_over_range
+
+    mean = mean_over_range(dyn.kinematics.phi1, dyn.Q)
+    ax.axhline(mean, color="k", lw=0.8, ls=":",
+               label=f"mean {mean:.4g} {'N·m' if crank else 'N'} (work / range)")
+    ax.set_xlabel(label)
     ax.set_ylabel("driving torque Q [N·m]" if crank else "driving force Q [N]")
     ax.legend()
     return {"ax": ax, "line": ln}
@@ -155,7 +159,8 @@ def plot_shaking(dyn: Any, axes: Any = None) -> dict[str, Any]:
     x, label = _x(dyn.kinematics)
     lines = [axes[0].plot(x, dyn.shaking_fx, label="Fx")[0],
              axes[0].plot(x, dyn.shaking_fy, label="Fy")[0],
-             axes[1].plot(x, dyn.shaking_m, label=f"M about {dyn.about}")[0]]
+             axes[1].plot(x, dyn.shaking_m, label="M about ({:g}, {:g}) mm".format(
+                 *(1e3 * np.asarray(dyn.about, dtype=float))))[0]]
     axes[0].set_ylabel("shaking force [N]")
     axes[1].set_ylabel("shaking moment [N·m]")
     axes[1].set_xlabel(label)
