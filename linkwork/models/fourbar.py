@@ -933,8 +933,18 @@ def fourbar_kinetostatics(
                   *fpts[2], *frc[0], *frc[1], *frc[2], *mom, gx, gy)
     kin_arrays = (k.xA, k.yA, k.xB, k.yB, k.omega3, k.omega4, k.alpha3, k.alpha4, k.a, k.b, k.c,
                   k.d, k.omega2, k.alpha2)
-    shape = np.broadcast_shapes(*(np.shape(x) for x in (*kin_arrays, *flat_loads)
-                                  if type(x) is not float))
+    try:
+        shape = np.broadcast_shapes(*(np.shape(x) for x in (*kin_arrays, *flat_loads)
+                                      if type(x) is not float))
+    except ValueError:  # a load array that does not fit the positions: name it
+        names = [f"{k}[{i}]" for k in ("mass", "inertia") for i in range(3)]
+        names += [f"{k}[{i}][{c}]" for k in ("com", "force_point", "force") for i in range(3)
+                  for c in range(2)]
+        names += [f"moment[{i}]" for i in range(3)] + ["gravity[0]", "gravity[1]"]
+        shapes = {"positions": np.shape(k.xA)}
+        shapes.update((nm, np.shape(x)) for nm, x in zip(names, flat_loads, strict=True)
+                      if np.ndim(x))
+        raise shapes_error(shapes) from None
     n = shape[-1] if shape else 1
     if n >= 2 * _CHUNK:   # blocks keep the temporaries in the cache (see fourbar())
         outs = [np.empty(shape) for _ in range(12)]
