@@ -18,11 +18,12 @@ Sign conventions
 * Driving torque ``Q`` [N m] (Crank): the torque the driver exerts on its joint's body ``b``
   through body ``a`` (for a crank driven from the frame: the motor torque on the crank),
   counter-clockwise positive, so the driving power is ``Q * omega1``. Linear driver: ``Q`` [N]
-  is the force on ``b`` along the guide direction, power ``Q * v1``.
+  is the force on ``b`` along the guide direction through the slider point of ``b`` (not
+  included in the joint's ``fx, fy, mz``), power ``Q * v1``.
 * Shaking force and moment: the resultant force and moment that the moving bodies exert on the
   frame through all frame joints, the motor's reaction included (the reaction ``-Q`` on the
   frame when the driver's joint is a frame joint), moment about the point ``about``.
-  With no loads ``F_sh = -sum m_i a_Ci``.
+  With no loads and no gravity ``F_sh = -sum m_i a_Ci``.
 """
 
 from __future__ import annotations
