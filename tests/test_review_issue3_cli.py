@@ -225,3 +225,37 @@ def test_mean_driving_torque_and_power_are_work_per_cycle(tmp_path, capsys):
     x_s = 0.05 * (np.cos(phi) - np.sin(phi) / np.tan(np.radians(60.0)))
     work = 8000.0 * (x_s[100] - x_s[150])
     assert data["means"]["Q_mean"] == pytest.approx(work / (2 * np.pi), rel=0.03)  # step load
+
+
+def _help_texts() -> list[tuple[list[str], str]]:
+    """(command path, help text as it should read) of every option and argument."""
+    import typer.main
+
+    from linkwork.cli import app
+
+    out: list[tuple[list[str], str]] = []
+
+    def walk(cmd: typer.main.TyperCommand | typer.main.TyperGroup, path: list[str]) -> None:
+        if isinstance(cmd, typer.main.TyperGroup):
+            for name, sub in cmd.commands.items():
+                walk(sub, [*path, name])
+            return
+        for p in cmd.params:
+            text = getattr(p, "help", None)
+            if text:
+                out.append((path, text.replace("\\[", "[")))
+
+    walk(typer.main.get_command(app), [])
+    return out
+
+
+def test_every_option_help_prints_as_written(capsys, monkeypatch):
+    """'linkwork balance --help' printed '(overrides .angles)': the '[balance]' of the help
+    text was taken for Rich markup and dropped. Every option's help must print whole."""
+    monkeypatch.setenv("COLUMNS", "200")
+    helps = _help_texts()
+    assert len(helps) > 30
+    for path, text in helps:
+        assert main([*path, "--help"]) == 0
+        shown = " ".join(capsys.readouterr().out.replace("│", " ").split())
+        assert " ".join(text.split()) in shown, (path, text)

@@ -298,7 +298,7 @@ def register(app: typer.Typer) -> None:
         out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
             "linkwork-output"),
         angles: Annotated[str | None, typer.Option(
-            help="table crank angles, deg, comma-separated (overrides [balance].angles)")
+            help="table crank angles, deg, comma-separated (overrides \\[balance].angles)")
         ] = None,
         pareto: Annotated[bool, typer.Option(
             "--pareto", help="also optimise counterweights and plot the trade-off")] = False,
