@@ -44,14 +44,14 @@ def _sine_press_by_hand(phi: np.ndarray) -> dict[str, np.ndarray]:
     return {"Q": Q, "slot": slot, "guide_couple": np.abs(x32) * slot}
 
 
-def _fourbar_paper001_torque(phi: np.ndarray) -> np.ndarray:
+def _fourbar_torque(phi: np.ndarray, inertia: tuple[float, float, float], gy: float = 0.0,
+                    fy_B: float = 0.0, mz_rocker: float = 0.0) -> np.ndarray:
     """Paper 001's four-bar (O at 0, C at 0.3 m on +x; 0.1/0.3/0.2 m; 1/3/2 kg at the
-    midpoints; I = 0.000833, 0.0225, 0.00567 kg m^2; 10 rad/s; no gravity, no loads):
-    Q = dT/d phi1 (at constant omega1, Q omega1 = dT/dt), T from finite differences of the
-    positions."""
+    midpoints; 10 rad/s; B on the left of A -> C) with gravity ``gy`` along y, a force ``fy_B``
+    at B and a torque ``mz_rocker`` on the rocker: Q omega1 = dT/dt - P_loads, with T and the
+    loads' power from finite differences of the positions written out here."""
     a, b, c, d, w = 0.1, 0.3, 0.2, 0.3, 10.0
     m = np.array([1.0, 3.0, 2.0])
-    inertia = np.array([0.000833, 0.0225, 0.00567])
 
     def coords(p: np.ndarray) -> np.ndarray:
         A = np.stack([a * np.cos(p), a * np.sin(p)])
@@ -63,16 +63,25 @@ def _fourbar_paper001_torque(phi: np.ndarray) -> np.ndarray:
         B = A + x * u + np.sqrt(b * b - x * x) * np.stack([-u[1], u[0]])  # left of A -> C
         th2 = np.unwrap(np.arctan2(B[1] - A[1], B[0] - A[0]))
         th3 = np.unwrap(np.arctan2(B[1] - C[1], B[0] - C[0]))
-        return np.stack([*(A / 2), p, *((A + B) / 2), th2, *((B + C) / 2), th3])
+        return np.stack([*(A / 2), p, *((A + B) / 2), th2, *((B + C) / 2), th3, B[1]])
+
+    def rates(p: np.ndarray, h: float = 1e-6) -> np.ndarray:
+        return (coords(p + h) - coords(p - h)) / (2 * h) * w
 
     def energy(p: np.ndarray) -> np.ndarray:
-        h = 1e-6
-        qd = (coords(p + h) - coords(p - h)) / (2 * h) * w
+        qd = rates(p)
         return sum(0.5 * (m[k] * (qd[3 * k] ** 2 + qd[3 * k + 1] ** 2)
                           + inertia[k] * qd[3 * k + 2] ** 2) for k in range(3))
 
     h = 1e-4
-    return (energy(phi + h) - energy(phi - h)) / (2 * h)
+    qd = rates(phi)
+    power = gy * sum(m[k] * qd[3 * k + 1] for k in range(3)) + fy_B * qd[9] + mz_rocker * qd[8]
+    return (energy(phi + h) - energy(phi - h)) / (2 * h) - power / w
+
+
+def _fourbar_paper001_torque(phi: np.ndarray) -> np.ndarray:
+    """examples/fourbar_paper001.toml: the inertias of its file, no gravity, no loads."""
+    return _fourbar_torque(phi, (0.000833, 0.0225, 0.00567))
 
 
 def test_analyze_reports_cycle_extremes_of_torque_and_reactions(tmp_path, capsys):
@@ -259,3 +268,58 @@ def test_every_option_help_prints_as_written(capsys, monkeypatch):
         assert main([*path, "--help"]) == 0
         shown = " ".join(capsys.readouterr().out.replace("│", " ").split())
         assert " ".join(text.split()) in shown, (path, text)
+
+
+def _crank_slider_torque(phi: np.ndarray) -> np.ndarray:
+    """crank_slider(0.05, 0.2, 0.025, masses=(1, 2, 3), omega1=12.566) written out: guide along
+    +x through (0, 25 mm), B = (r cos + sqrt(l^2 - (e - r sin)^2), e); thin rods; no loads.
+    Q = dT/d phi1 at constant omega1."""
+    r, l, e, w = 0.05, 0.2, 0.025, 12.566
+
+    def energy(p: np.ndarray) -> np.ndarray:
+        def coords(p: np.ndarray) -> np.ndarray:
+            A = np.stack([r * np.cos(p), r * np.sin(p)])
+            B = np.stack([A[0] + np.sqrt(l * l - (e - A[1]) ** 2), np.full_like(p, e)])
+            th = np.arctan2(B[1] - A[1], B[0] - A[0])
+            return np.stack([*(A / 2), p, *((A + B) / 2), th, B[0]])
+
+        h = 1e-6
+        qd = (coords(p + h) - coords(p - h)) / (2 * h) * w
+        return (0.5 * (1.0 * (qd[0] ** 2 + qd[1] ** 2) + 1.0 * r * r / 12 * qd[2] ** 2)
+                + 0.5 * (2.0 * (qd[3] ** 2 + qd[4] ** 2) + 2.0 * l * l / 12 * qd[5] ** 2)
+                + 0.5 * 3.0 * qd[6] ** 2)
+
+    h = 1e-4
+    return (energy(phi + h) - energy(phi - h)) / (2 * h)
+
+
+def test_docs_planar_examples_run_and_match_hand_computations(monkeypatch):
+    """docs/planar.md showed how to build the four-bar in Python but not how the same
+    mechanism loads from its TOML file in Python, nor the crank-slider shortcut in use. Its
+    Python blocks must run as printed, and their torques match the power balance written out
+    here: the engine-built four-bar with gravity and loads, the fourbar() and crank_slider()
+    shortcuts, and paper 001's four-bar loaded from examples/fourbar_paper001.toml."""
+    import re
+
+    from linkwork.planar import inverse_dynamics, kinematics
+
+    root = EXAMPLES.parent
+    blocks = re.findall(r"```python\n(.*?)```", (root / "docs" / "planar.md").read_text(),
+                        flags=re.S)
+    assert len(blocks) >= 2
+    monkeypatch.chdir(root)
+    ns: dict = {}
+    for block in blocks:
+        exec(compile(block, "docs/planar.md", "exec"), ns)
+    deg = np.radians(np.arange(0, 360))
+    thin = (1.0 * 0.1**2 / 12, 3.0 * 0.3**2 / 12, 2.0 * 0.2**2 / 12)
+    Q = _fourbar_torque(deg, thin, gy=-9.81, fy_B=-20.0, mz_rocker=1.5)
+    np.testing.assert_allclose(ns["dyn"].Q, Q, atol=1e-5 * np.abs(Q).max())
+    Q = _fourbar_torque(deg, thin)
+    got = inverse_dynamics(kinematics(ns["fb"], deg)).Q
+    np.testing.assert_allclose(got, Q, atol=1e-5 * np.abs(Q).max())
+    Q = _crank_slider_torque(deg)
+    np.testing.assert_allclose(ns["dyn_cs"].Q, Q, atol=1e-5 * np.abs(Q).max())
+    np.testing.assert_allclose(ns["phi1"], np.radians(np.linspace(0.0, 360.0, 361)))
+    Q = _fourbar_paper001_torque(ns["phi1"])
+    np.testing.assert_allclose(ns["dyn_f"].Q, Q, atol=1e-5)
