@@ -170,27 +170,28 @@ def link_points(links, coms, points):
 
 
 def newton_euler(G, aG, alpha, P, masses, inertias, gravity, forces, moments, unknowns):
-    """Solve the free-body equations of three moving bodies at every position.
+    """Solve the free-body equations of the moving bodies at every position.
 
     Per body i: ``sum F = m_i (a_Gi - g) - F_ext`` and, about its centre of mass G_i,
     ``sum M = J_i alpha_i - M_ext - (P_i - G_i) x F_ext``.  ``unknowns(k)`` lists, for position
     k, ``(body, column, vector, at)``: unknown ``column`` acts on ``body`` as ``vector`` times
     its value at point ``at``, or as a couple ``vector`` (a number) when ``at`` is None.
-    Returns the 9 unknowns per position, shape (9, n).
+    Returns the 3 * (number of bodies) unknowns per position, shape (3 nb, n).
     """
     n = aG[0].shape[1]
     g = np.asarray(gravity, float)
-    x = np.empty((9, n))
+    size = 3 * len(masses)
+    x = np.empty((size, n))
     for k in range(n):
-        M = np.zeros((9, 9))
+        M = np.zeros((size, size))
         for body, col, vec, at in unknowns(k):
             if at is None:
                 M[3 * body + 2, col] += vec
             else:
                 M[3 * body:3 * body + 2, col] += vec
                 M[3 * body + 2, col] += cross(at - G[body][:, k], vec)
-        rhs = np.zeros(9)
-        for i in range(3):
+        rhs = np.zeros(size)
+        for i in range(len(masses)):
             fe = np.asarray(forces[i], float)
             rhs[3 * i:3 * i + 2] = masses[i] * (aG[i][:, k] - g) - fe
             rhs[3 * i + 2] = (inertias[i] * alpha[i][k] - moments[i]
@@ -822,3 +823,115 @@ def test_kinetostatics_load_array_of_the_wrong_length_is_named():
     with pytest.raises(ParameterError, match=r"'moment\[2\]': \(4,\)"):
         fourbar_kinetostatics(t2, *DESIGNS["crank-rocker"], 10.0, 0.0, 1,
                               moment=(0.0, 0.0, np.ones(4)))
+
+
+# six-bar: the four-bar "general" with a rod from rocker point C to a slider D on an inclined
+# guide (crank -> RRR dyad -> RRP dyad, reactions passed back through two groups)
+SB_C = (0.11, 0.04)                          # C in the rocker's frame
+SB_L = 0.32                                  # rod CD
+SB_BETA = np.radians(-15.0)
+SB_G = np.array([0.05, 0.2])                 # a point of the guide line
+SB_MASS = (*MASS, 1.4, 2.8)                  # crank, coupler, rocker, rod, slider
+SB_INERTIA = (*INERTIA, 0.006, 0.003)
+SB_COM = (*COM, (0.09, 0.012), (0.01, -0.02))
+SB_F = ((0.0, 0.0), F_COUPLER, (0.0, 0.0), (4.0, -6.0), (-150.0, 40.0))
+SB_P = ((0.0, 0.0), P_COUPLER, (0.0, 0.0), (0.05, 0.01), (0.0, 0.01))
+SB_M = (0.0, 0.0, M_EXT[2], -0.9, 0.4)
+
+
+def sixbar_reference(branch_b, branch_d):
+    design = DESIGNS["general"]
+    ref = fourbar_reference(design, branch_b)
+    t2, w2, e2 = ref["t2"], ref["w2"], ref["e2"]
+    n = len(t2)
+    th3, th4 = fourbar_positions(t2, *design, branch_b)
+    w3, w4, al3, al4 = fourbar_rates(t2, th3, th4, *design[:3], w2, e2)
+    z = np.zeros((2, n))
+    O4 = ref["O4"]
+    C, vC, aC = body_point(O4, z, z, th4, w4, al4, SB_C)
+    u, nrm = e(SB_BETA), ep(SB_BETA)
+    # D = G + s u with |D - C| = L: the larger root for branch +1
+    h = SB_G[:, None] - C
+    bq = 2 * (u @ h)
+    cq = np.sum(h * h, 0) - SB_L**2
+    s = (-bq + branch_d * np.sqrt(bq * bq - 4 * cq)) / 2
+    D = SB_G[:, None] + u[:, None] * s
+    th5 = np.arctan2(D[1] - C[1], D[0] - C[0])
+    out = np.empty((4, n))
+    for k in range(n):   # D - C = L e5, D = G + s u: [u, -L e5'] (sdot, w5) = vC
+        J = np.column_stack([u, -SB_L * ep(th5[k])])
+        sd, w5 = np.linalg.solve(J, vC[:, k])
+        sdd, al5 = np.linalg.solve(J, aC[:, k] - SB_L * w5**2 * e(th5[k]))
+        out[:, k] = (sd, w5, sdd, al5)
+    sd, w5, sdd, al5 = out
+    A, vA, aA = ref["A"], design[0] * w2 * ep(t2), design[0] * (e2 * ep(t2) - w2**2 * e(t2))
+    links = [(z, z, z, t2, w2, e2), (A, vA, aA, th3, w3, al3), (O4, z, z, th4, w4, al4),
+             (C, vC, aC, th5, w5, al5),
+             (D, u[:, None] * sd, u[:, None] * sdd, np.full(n, SB_BETA), 0 * sd, 0 * sd)]
+    G, vG, aG, P, _ = link_points(links, SB_COM, SB_P)
+    B = ref["B"]
+
+    # F12, F23, F34, F14 as in the four-bar; F45 (rocker on rod, C), F56 (rod on slider, D),
+    # N (frame on slider along the guide normal, at D), Mz (frame couple on slider), T
+    def unknowns(k):
+        return (pin(0, 0, None, np.zeros(2)) + pin(2, 1, 0, A[:, k]) + pin(4, 2, 1, B[:, k])
+                + pin(6, 2, None, O4[:, k]) + pin(8, 3, 2, C[:, k]) + pin(10, 4, 3, D[:, k])
+                + [(4, 12, nrm, D[:, k]), (4, 13, 1.0, None), (0, 14, 1.0, None)])
+
+    alphas = [lk[5] for lk in links]
+    x = newton_euler(G, aG, alphas, P, SB_MASS, SB_INERTIA, GRAV, SB_F, SB_M, unknowns)
+    T = sum(0.5 * SB_MASS[i] * (vG[i] ** 2).sum(0) + 0.5 * SB_INERTIA[i] * links[i][4] ** 2
+            for i in range(5))
+    return dict(t2=t2, w2=w2, e2=e2, x=x, T=T, s=s, sd=sd, sdd=sdd, th5=th5, w5=w5, al5=al5,
+                O4=O4, D=D, nrm=nrm)
+
+
+@pytest.mark.parametrize("branch_d", [+1, -1])
+@pytest.mark.parametrize("branch_b", [+1, -1])
+def test_sixbar_with_slider_against_newton_euler(branch_b, branch_d, solver_path):
+    ref = sixbar_reference(branch_b, branch_d)
+    a, b, c, d = DESIGNS["general"]
+    frame = Body("frame", {"O2": (0.0, 0.0), "O4": (d, 0.0), "G": tuple(SB_G)})
+    links = (("crank", "O2", "A", a, None), ("coupler", "A", "B", b, None),
+             ("rocker", "O4", "B", c, {"C": SB_C}), ("rod", "C", "D", SB_L, None))
+    bodies = [bar(nm, st, en, length, mass=SB_MASS[i], inertia=SB_INERTIA[i], com=SB_COM[i],
+                  points=pts) for i, (nm, st, en, length, pts) in enumerate(links)]
+    bodies.append(Body("slider", {"D": (0.0, 0.0)}, mass=SB_MASS[4], com=SB_COM[4],
+                       inertia=SB_INERTIA[4]))
+    joints = (Revolute("O2", "frame", "crank"), Revolute("A", "crank", "coupler"),
+              Revolute("B", "coupler", "rocker"), Revolute("O4", "frame", "rocker"),
+              Revolute("C", "rocker", "rod"), Revolute("D", "rod", "slider"),
+              Prismatic("G", "frame", "slider", angle=SB_BETA, through="G", point="D",
+                        rel_angle=SB_BETA))
+    mech = Mechanism(frame, tuple(bodies), joints, Crank("O2"), {"B": branch_b, "D": branch_d})
+    kin = kinematics(mech, ref["t2"], omega1=ref["w2"], eps1=ref["e2"])
+    names = [body.name for body in bodies]
+    loads = [PointForce(nm, SB_P[i], *SB_F[i]) for i, nm in enumerate(names)]
+    loads += [BodyTorque(nm, SB_M[i]) for i, nm in enumerate(names)]
+    dyn = inverse_dynamics(kin, gravity=GRAV, loads=loads, about=ABOUT)
+    s, sd, sdd = kin.slide("G")
+    close(s, ref["s"])
+    close(sd, ref["sd"])
+    close(sdd, ref["sdd"])
+    i = kin.bodies.index("rod")
+    close(wrap(kin.theta[i] - ref["th5"]), 0.0, 1.0)
+    close(kin.omega[i], ref["w5"])
+    close(kin.eps[i], ref["al5"])
+    x = ref["x"]
+    scale = np.max(np.abs(x[:12]))
+    for k, joint in enumerate(("O2", "A", "B", "O4", "C", "D")):
+        fx, fy = dyn.reaction(joint)
+        close(fx, x[2 * k], scale)
+        close(fy, x[2 * k + 1], scale)
+    fx, fy = dyn.reaction("G")
+    close(fx, x[12] * ref["nrm"][0], scale)
+    close(fy, x[12] * ref["nrm"][1], scale)
+    close(dyn.mz[dyn.joints.index("G")], x[13])
+    close(dyn.Q, x[14])
+    ab = np.array(ABOUT)[:, None]
+    f12, f14, fg = x[0:2], x[6:8], x[12] * ref["nrm"][:, None]
+    close(dyn.shaking_fx, -(f12 + f14 + fg)[0], scale)
+    close(dyn.shaking_fy, -(f12 + f14 + fg)[1], scale)
+    close(dyn.shaking_m, cross(-ab, -f12) + cross(ref["O4"] - ab, -f14)
+          + cross(ref["D"] - ab, -fg) - x[13] - x[14])
+    close(dyn.T, ref["T"])
