@@ -24,6 +24,10 @@ from linkwork.errors import FileFormatError, ParameterError
 #: Crank angles of the table when ``--angles`` is not given [deg].
 DEFAULT_ANGLES = "0,30,60,90,120,150,180,210,240,270,300,330"
 
+#: Tables of a ``planar`` file read by other commands (table -> command); each command
+#: validates its own and leaves the others alone, so that one file serves them all.
+COMMAND_TABLES: dict[str, str] = {"balance": "linkwork balance", "spatial": "linkwork reactions"}
+
 #: File type -> "module:function" of its analyser.
 ANALYZERS: dict[str, str] = {
     "sine_press": "linkwork.cli._sine_press:analyze_sine_press",
@@ -52,6 +56,12 @@ def parse_angles(text: str) -> np.ndarray:
     return np.radians(np.array(parse_angles_deg(text)))
 
 
+def without_command_tables(raw: dict[str, Any], keep: str = "") -> dict[str, Any]:
+    """A planar file's data without the tables of other commands (:data:`COMMAND_TABLES`),
+    except ``keep``."""
+    return {k: v for k, v in raw.items() if k == keep or k not in COMMAND_TABLES}
+
+
 def _resolve(spec: str) -> Callable[..., Any]:
     mod, fn = spec.split(":")
     return getattr(importlib.import_module(mod), fn)
@@ -73,8 +83,12 @@ def register(app: typer.Typer) -> None:
         """Analyse a mechanism over a cycle: table, CSV/JSON and plots in an output folder."""
         from linkwork.cli._console import console as make_console
 
-        doc = files.load(file)
-        kind = files.read_toml(file)["type"]
+        raw = files.read_toml(file)
+        kind = raw.get("type")
+        if kind == "planar" and COMMAND_TABLES.keys() & raw.keys():
+            doc = files.validate(file, without_command_tables(raw), files.schemas()["planar"])
+        else:
+            doc = files.load(file)
         if kind not in ANALYZERS:
             raise FileFormatError(str(file), "type", f"type {kind!r} cannot be analysed; "
                                   f"analysable: {sorted(ANALYZERS)}")

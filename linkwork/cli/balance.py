@@ -116,8 +116,11 @@ def load_balance_file(path: str | Path) -> tuple[Any, BalanceSection, Any]:
 
     Returns (Mechanism, section, validated planar document).
     """
+    from linkwork.cli.analyze import without_command_tables
+
     raw = files.read_toml(path)
     section = raw.pop("balance", {})
+    raw = without_command_tables(raw)  # [spatial] is read by `linkwork reactions`
     kind = raw.get("type")
     if kind != "planar":
         raise FileFormatError(str(path), "type", f"balance needs a 'planar' mechanism file, "

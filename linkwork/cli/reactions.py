@@ -40,7 +40,9 @@ def load_problem(path: Path) -> tuple[Any, dict[str, Any], Any]:
     if kind != "planar" or "planar" not in known:
         raise FileFormatError(str(path), "type", f"must be 'planar' (a mechanism of the planar "
                               f"engine) for 'linkwork reactions'; got {kind!r}")
-    data = {k: v for k, v in raw.items() if k != "spatial"}
+    from linkwork.cli.analyze import without_command_tables
+
+    data = without_command_tables(raw)  # [spatial] is read above, [balance] by `balance`
     doc = files.validate(path, data, known["planar"])
     gravity = doc.analysis.gravity
     kwargs: dict[str, Any] = {"cycle": doc.positions(), "loads": doc.loads,
