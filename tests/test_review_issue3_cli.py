@@ -345,3 +345,19 @@ def test_one_planar_file_serves_analyze_balance_and_reactions(tmp_path, capsys):
                     .replace("[spatial]", "[spatail]").replace("[spatial.", "[spatail."))
     assert main(["analyze", str(typo), "--out", str(tmp_path / "t")]) == 2
     assert "spatail: unknown key" in capsys.readouterr().err
+
+
+def test_json_states_the_torque_and_shaking_signs(tmp_path, capsys):
+    """planar.json stated the reactions' sign but not the driving torque's nor the shaking
+    loads' (a reader of the JSON alone could not tell motor torque from load torque). The
+    statement must agree with the numbers: while the sine press's 8 kN resists the ram, the
+    motor supplies power (Q omega1 > 0 by the power balance written out here)."""
+    _, data = _analyze("sine_press_planar.toml", tmp_path, capsys)
+    assert data["torque_sign"].startswith("Q: torque on body 'crank' of driver joint 'A'")
+    assert "counter-clockwise +" in data["torque_sign"]
+    assert "on the frame" in data["shaking_sign"] and "(0, 0) m" in data["shaking_sign"]
+    phi = np.radians(np.linspace(0.0, 360.0, 361))
+    Q = _sine_press_by_hand(phi)["Q"]
+    got = np.asarray(data["columns"]["Q"])
+    assert Q[120] > 100.0 and np.sign(got[120]) == 1.0
+    np.testing.assert_allclose(got, Q, rtol=1e-7, atol=1e-6)

@@ -213,12 +213,20 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
         "Q", "shaking_fx", "shaking_fy", "shaking_m", "T")})
     written = [_write_csv(out / "planar_kinematics.csv", kin_cols),
                _write_csv(out / "planar_dynamics.csv", dyn_cols)]
+    a_x, a_y = (float(v) for v in dyn.about)
     data = {
         "name": doc.name, "mobility": s.mobility, "structure": s.formula(),
         "groups": [{"kind": g.kind, "bodies": list(g.bodies), "joints": list(g.joints),
                     "class": g.cls, "order": g.order, "key": g.key,
                     "branch": kin.branches.get(g.key, 1)} for g in s.groups],
         "reaction_sign": "force exerted by joint body a on joint body b, frame axes",
+        "torque_sign": (f"Q: {'torque' if crank else 'force along the guide'} on body "
+                        f"{mech.joint(mech.driver.joint).b!r} of driver joint "
+                        f"{mech.driver.joint!r} through body {mech.joint(mech.driver.joint).a!r}"
+                        f"{', counter-clockwise +' if crank else ''}; driving power Q*omega1"),
+        "shaking_sign": ("force and moment exerted by the moving bodies on the frame (motor "
+                         "reaction included), moment counter-clockwise + about "
+                         f"({a_x:g}, {a_y:g}) m"),
         "positions_unit": "rad" if crank else "m",
         "dead_centres": [{"group": d.group, "body": d.body, "phi1": d.phi1, "kind": d.kind,
                           "of": dead_centre_label(mech, d)[0],
