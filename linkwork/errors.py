@@ -127,7 +127,7 @@ def _fmt(value: Any) -> str:
         return value
     if isinstance(value, float | np.floating):
         return f"{float(value):.6g}"
-    if isinstance(value, np.ndarray) and value.size == 1:
+    if isinstance(value, np.ndarray) and value.size == 1 and value.dtype.kind in "iuf":
         return f"{float(value.reshape(())):.6g}"
     return repr(value)
 
@@ -149,11 +149,16 @@ def require_finite(name: str, value: ArrayLike) -> np.ndarray:
     try:
         if value is None:  # np.asarray(None, dtype=float) is NaN
             raise TypeError
-        arr = np.asarray(value, dtype=float)
+        kind = np.asarray(value).dtype.kind
+        if kind not in "bc":  # True would be 1.0; a complex array would lose its imaginary part
+            arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError, OverflowError):
         if isinstance(value, int):  # an int beyond the float range
             raise ParameterError(name, value, "must be finite (beyond the float range)") from None
         raise ParameterError(name, value, "must be a number or an array of numbers") from None
+    if kind in "bc":
+        raise ParameterError(name, value, "must be a real number or an array of real numbers, "
+                             f"not {'a boolean' if kind == 'b' else 'complex'}")
     if not np.isfinite(arr).all():
         raise ParameterError(name, arr[~np.isfinite(arr)].flat[0], "must be finite")
     return arr

@@ -143,7 +143,13 @@ def read_toml(path: str | Path) -> dict[str, Any]:
 
 
 def _validation_error(path: str, exc: pydantic.ValidationError) -> FileFormatError:
-    err = exc.errors()[0]
+    errs = exc.errors()
+    err = errs[0]
+    if err["type"].endswith("_type"):  # the wrong type for one member of a union (a point
+        # name or [x, y]): a member that accepted the type says what is wrong with the value
+        k0 = _key(err["loc"])
+        err = next((e for e in errs[1:] if k0 and not e["type"].endswith("_type")
+                    and f"{_key(e['loc'])}.".startswith(f"{k0}.")), err)
     key = _key(err["loc"])
     msg = err["msg"].removeprefix("Value error, ")
     cause = (err.get("ctx") or {}).get("error")
@@ -160,7 +166,7 @@ def _validation_error(path: str, exc: pydantic.ValidationError) -> FileFormatErr
         msg = "missing required key"
     elif "input" in err and len(repr(err["input"])) <= 80 and "(got " not in msg:  # short only
         msg = f"{msg} (got {err['input']!r})"
-    extra = f" (+{len(exc.errors()) - 1} more problems)" if len(exc.errors()) > 1 else ""
+    extra = f" (+{len(errs) - 1} more problems)" if len(errs) > 1 else ""
     return FileFormatError(path, key, msg + extra)
 
 

@@ -60,8 +60,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         # with a message instead of writing inf into the output files and exiting 0
         with np.errstate(over="raise"):
             rv = command.main(args=args, prog_name="linkwork", standalone_mode=False)
-    except FloatingPointError as exc:
-        return _fail(f"numerical overflow ({exc}): a value of the input is too large for "
+    except (FloatingPointError, OverflowError) as exc:  # numpy's and Python's float overflow
+        why = exc if isinstance(exc, FloatingPointError) else "a result beyond 1.8e308"
+        return _fail(f"numerical overflow ({why}): a value of the input is too large for "
                      "double precision; check the magnitudes and units in the file and options")
     except typer.Exit as exc:
         return int(exc.exit_code)

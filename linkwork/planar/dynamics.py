@@ -195,6 +195,11 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     Dynamics
         See the module docstring for the sign conventions.
     """
+    if not isinstance(kin, Kinematics):
+        raise ParameterError("kin", kin, "must be the Kinematics result of kinematics()")
+    if isinstance(loads, PointForce | BodyTorque) or not isinstance(loads, Sequence):
+        raise ParameterError("loads", loads, "must be a sequence (list or tuple) of PointForce "
+                             "and BodyTorque")
     mech: Mechanism = kin.mechanism
     n = kin.n
     g = (0.0, 0.0) if gravity is None else tuple(float(v) for v in require_finite(
@@ -218,6 +223,8 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         f[:, 3 * i - 2] += Fy
         f[:, 3 * i - 1] += rx * Fy - ry * Fx - b.inertia * kin.eps[i]
     for ld in loads:
+        if not isinstance(ld, PointForce | BodyTorque):
+            raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
         if ld.body == mech.frame.name:
             raise ParameterError("loads.body", ld.body, "loads must act on moving bodies")
         if ld.body not in mech.index:

@@ -45,7 +45,8 @@ Example (the four-bar of ``examples/fourbar_paper001.toml``)::
     about = [0, 0]                 # shaking moment reference point
 
     [[load]]
-    type = "force"                 # "force" at a point (frame axes) | "torque" on a body
+    type = "force"                 # "force" at a point (frame axes) | "torque" on a body (mz;
+                                   # a key of the other type is an error)
     body = "rocker"
     point = "B"                    # point name, "com" or [x, y] in the body frame
     fx = "0 N"
@@ -59,6 +60,7 @@ Plain numbers are SI (metres, radians, kg, N); strings carry units. Unknown keys
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Literal
 
 import numpy as np
@@ -96,6 +98,9 @@ __all__ = ["AnalysisSection", "BodySection", "DriverSection", "FrameSection", "J
            "LoadSection", "PlanarFile"]
 
 XY = tuple[Length, Length]
+
+#: Largest crank angle [rad] of an analysis range: the spacing of floats there is 1.2e-10 rad.
+MAX_ANGLE = 1e6
 
 
 class FrameSection(FileModel):
@@ -204,10 +209,26 @@ class LoadSection(FileModel):
 
         key = f"load.{i}.phi_range"
         lo, hi = (to_si(v, "length" if linear else "angle", key) for v in self.phi_range)
+        for v, si in zip(self.phi_range, (lo, hi), strict=True):
+            if not math.isfinite(si):  # a NaN end would switch the load off everywhere
+                raise ParameterError(key, v, "must be finite")
         if linear and not hi > lo:
             raise ParameterError(key, self.phi_range[1], f"the end of a slide range must be "
                                  f"> start = {self.phi_range[0]} (slide positions, no wrap)")
         return lo, hi
+
+    @model_validator(mode="after")
+    def _keys_of_type(self) -> LoadSection:
+        """A key of the other load type would be ignored: refuse it."""
+        foreign = ("mz",) if self.type == "force" else ("point", "fx", "fy")
+        given = [k for k in foreign if k in self.model_fields_set]
+        if given:
+            what = "a force at a point (fx, fy, point)" if self.type == "force" else (
+                "a couple on the body (mz)")
+            raise ParameterError(given[0], getattr(self, given[0]),
+                                 f"is not used by a load of type = {self.type!r}, which is "
+                                 f"{what}; give it as a separate [[load]] of the other type")
+        return self
 
     def build(self, phi1: np.ndarray, i: int = 0, linear: bool = False
               ) -> PointForce | BodyTorque:
@@ -274,6 +295,14 @@ class PlanarFile(FileModel):
         kind = "angle" if self.driver.type == "crank" else "length"
         lo = to_si(self.analysis.start, kind, "analysis.start")
         hi = to_si(self.analysis.stop, kind, "analysis.stop")
+        for key, v, si in (("analysis.start", self.analysis.start, lo),
+                           ("analysis.stop", self.analysis.stop, hi)):
+            if kind == "angle" and not abs(si) <= MAX_ANGLE:  # NaN too
+                raise ParameterError(key, v, f"must lie within +-{MAX_ANGLE:g} rad (about "
+                                     f"{MAX_ANGLE / (2 * np.pi):.0f} turns): beyond it the "
+                                     "float spacing of angles exceeds 1e-10 rad")
+            if not math.isfinite(si):
+                raise ParameterError(key, v, "must be finite")
         if not hi > lo:
             raise ParameterError("analysis.stop", hi, f"must be > analysis.start = {lo:.6g}")
         return np.linspace(lo, hi, self.analysis.n)

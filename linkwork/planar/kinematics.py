@@ -40,6 +40,7 @@ from linkwork.planar.model import (
     PinInSlot,
     Prismatic,
     Revolute,
+    _pt,
 )
 from linkwork.planar.structure import Group
 from linkwork.results import Result
@@ -207,8 +208,8 @@ class Kinematics(Result):
     def point(self, body: str, point: str | tuple[float, float] = "com") -> PointMotion:
         """Motion of a point of ``body``: a named point, ``"com"``, or local (x, y) [m]."""
         i = self._row(body)
-        p = self.mechanism.body(body).point(point) if isinstance(point, str) else (
-            float(point[0]), float(point[1]))
+        p = self.mechanism.body(body).point(point) if isinstance(point, str) else _pt(
+            f"point of {body}", point)
         c, s = self._cos_sin[0][i], self._cos_sin[1][i]
         rx, ry = c * p[0] - s * p[1], s * p[0] + c * p[1]
         w, e = self.omega[i], self.eps[i]
@@ -564,6 +565,10 @@ def _solve_slot_group(mech: Mechanism, st: _State, g: Group, branch: int) -> Non
         return
     # the body carries the pin; slot in known body a
     rad = float(np.hypot(pb[0] - a_loc[0], pb[1] - a_loc[1]))
+    if rad == 0.0:  # as for a dyad whose two joint centres coincide
+        raise StructureError(f"joint {js.name}: the pin of body {g.bodies[0]} is at its pivot "
+                             f"({jt.name}), so the slot cannot turn it; its angle is not "
+                             "determined")
     Q = st.wpt(ia, qa)
     u = st.rot(ia, (np.cos(ang), np.sin(ang)))
     P = _intersect(st, ("circle", (A, rad, a_loc)), ("line", (Q, u)), branch)
@@ -1049,6 +1054,18 @@ def _solve_chunk(mech: Mechanism, groups: tuple[Group, ...], branches: dict[str,
     return st
 
 
+def _newton_hint(mech: Mechanism, g: Group) -> str:
+    """What a failed Newton group's message must add: it may assemble where Newton failed."""
+    if g.kind != "newton":
+        return ""
+    missing = [b for b in g.bodies if mech.body(b).guess is None]
+    start = (f"; bodies {', '.join(missing)} have no guess pose and started from (0, 0, 0): "
+             "give each a guess (x [m], y [m], theta [rad]) near an assembled pose"
+             if missing else " from the bodies' guess poses, continued")
+    return (f", solved by Newton iteration{start}; the mechanism may assemble where Newton did "
+            "not converge")
+
+
 def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None,
                eps1: ArrayLike | None = None, *, branches: Mapping[str, int] | None = None,
                on_fail: Literal["raise", "nan"] = "raise") -> Kinematics:
@@ -1074,6 +1091,8 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     -------
     Kinematics
     """
+    if not isinstance(mech, Mechanism):
+        raise ParameterError("mech", mech, "must be a Mechanism")
     q = np.atleast_1d(require_finite("phi1", phi1)).astype(float)
     if q.ndim != 1:
         raise ParameterError("phi1", q.shape, "must be a 1-D array of driver positions")
@@ -1083,6 +1102,8 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     drv = mech.driver
     w1 = _per_position("omega1", drv.omega1 if omega1 is None else omega1, n)
     e1 = _per_position("eps1", drv.eps1 if eps1 is None else eps1, n)
+    if branches is not None and not isinstance(branches, Mapping):
+        raise ParameterError("branches", branches, "must map group keys to +1 or -1")
     br = dict(mech.branches)
     br.update(branches or {})
     for k_, v_ in br.items():
@@ -1119,11 +1140,15 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     unit = "rad" if isinstance(drv, Crank) else "m"
     if pos_bad.any() and on_fail == "raise":
         groups = [f"{g.kind}({', '.join(g.bodies)}) with joints {', '.join(g.joints)}"
-                  for g in structure.groups if g.key in failed]
-        which = (f" (group{'s' if len(groups) > 1 else ''} that cannot close: "
+                  + _newton_hint(mech, g) for g in structure.groups if g.key in failed]
+        only_newton = bool(failed) and all(g.kind == "newton" for g in structure.groups
+                                           if g.key in failed)
+        which = (f" (group{'s' if len(groups) > 1 else ''} that "
+                 f"{'did not' if only_newton else 'cannot'} close: "
                  f"{'; '.join(groups)})" if groups else "")
-        raise AssemblyError(f"mechanism cannot be assembled at {int(pos_bad.sum())} of {n} "
-                            f"driver positions{which}",
+        what = ("Newton iteration did not assemble the mechanism" if only_newton
+                else "mechanism cannot be assembled")
+        raise AssemblyError(f"{what} at {int(pos_bad.sum())} of {n} driver positions{which}",
                             angle_ranges(q, pos_bad),
                             driver="phi1" if unit == "rad" else "s1", unit=unit)
     if bad.any() and on_fail == "raise":

@@ -25,7 +25,7 @@ x-axis measured counter-clockwise from ``a``'s x-axis); :class:`Linear` on a pri
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from types import MappingProxyType
@@ -33,7 +33,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from linkwork.errors import ParameterError, StructureError
+from linkwork.errors import ParameterError, StructureError, require_finite
 
 if TYPE_CHECKING:
     from linkwork.planar.structure import Structure
@@ -53,6 +53,14 @@ __all__ = [
 ]
 
 Point = tuple[float, float]
+
+
+def _number(name: str, value: Any) -> float:
+    """``value`` as a finite Python float, or a ParameterError naming ``name``."""
+    arr = require_finite(name, value)
+    if arr.ndim:
+        raise ParameterError(name, value, "must be a single number")
+    return float(arr)
 
 
 def _pt(name: str, value: Any) -> Point:
@@ -96,19 +104,25 @@ class Body:
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
             raise ParameterError("Body.name", self.name, "must be a non-empty string")
-        pts = {str(k): _pt(f"{self.name}.points.{k}", v) for k, v in dict(self.points).items()}
+        try:
+            items = dict(self.points).items()
+        except (TypeError, ValueError):
+            raise ParameterError(f"{self.name}.points", self.points,
+                                 "must map point names to (x, y) [m]") from None
+        pts = {str(k): _pt(f"{self.name}.points.{k}", v) for k, v in items}
         object.__setattr__(self, "points", MappingProxyType(pts))
         object.__setattr__(self, "com", _pt(f"{self.name}.com", self.com))
         for attr in ("mass", "inertia"):
-            v = float(getattr(self, attr))
-            if not math.isfinite(v) or v < 0:
+            v = _number(f"{self.name}.{attr}", getattr(self, attr))
+            if v < 0:
                 raise ParameterError(f"{self.name}.{attr}", v, "must be finite and >= 0")
             object.__setattr__(self, attr, v)
         if self.guess is not None:
-            g = tuple(float(v) for v in self.guess)
-            if len(g) != 3:
-                raise ParameterError(f"{self.name}.guess", self.guess, "must be (x, y, theta)")
-            object.__setattr__(self, "guess", g)
+            g = require_finite(f"{self.name}.guess", self.guess)
+            if g.shape != (3,):
+                raise ParameterError(f"{self.name}.guess", self.guess,
+                                     "must be (x [m], y [m], theta [rad])")
+            object.__setattr__(self, "guess", tuple(float(v) for v in g))
 
     def point(self, name: str) -> Point:
         """Local coordinates [m] of the named point; ``"com"`` is the centre of mass."""
@@ -146,7 +160,7 @@ def bar(name: str, start: str, end: str, length: float, *, mass: float = 0.0,
     """
     from linkwork.errors import require_positive
 
-    length = float(require_positive(f"{name}.length", length))
+    length = _number(f"{name}.length", require_positive(f"{name}.length", length))
     if start == end:  # one dict key: the start point would silently move to (length, 0)
         raise ParameterError(f"{name}.end", end, f"must differ from start {start!r}")
     for key, at in ((start, (0.0, 0.0)), (end, (length, 0.0))):
@@ -155,10 +169,18 @@ def bar(name: str, start: str, end: str, length: float, *, mass: float = 0.0,
                                  f"redefines the link's {'start' if at[0] == 0 else 'end'} "
                                  f"point, which is at {at} for length {length:g}")
     c: Point = (length / 2, 0.0) if com is None else (
-        (float(com), 0.0) if np.ndim(com) == 0 else _pt(f"{name}.com", com))  # type: ignore[arg-type]
+        (_number(f"{name}.com", com), 0.0) if np.ndim(com) == 0 else _pt(f"{name}.com", com))
     pts = {start: (0.0, 0.0), end: (length, 0.0)}
     pts.update(dict(points or {}))
-    inert = mass * length**2 / 12.0 if inertia is None else inertia
+    if inertia is None:  # a thin uniform rod
+        m = _number(f"{name}.mass", mass)
+        r = length / 12.0**0.5  # products overflow to inf, powers of floats would raise
+        inert = m * r * r
+        if not math.isfinite(inert):
+            raise ParameterError(f"{name}.length", length, f"gives a rod inertia m L^2/12 beyond "
+                                 f"the float range with mass = {m:g}; give lengths in metres")
+    else:
+        inert = inertia
     return Body(name, pts, mass=mass, com=c, inertia=inert)
 
 
@@ -304,20 +326,34 @@ class Mechanism:
     branches: Mapping[str, int] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
-        object.__setattr__(self, "bodies", tuple(self.bodies))
-        object.__setattr__(self, "joints", tuple(self.joints))
+        if not isinstance(self.frame, Body):
+            raise ParameterError("frame", self.frame, "must be a Body")
+        for attr, kind in (("bodies", "Body"), ("joints", "Revolute, Prismatic or PinInSlot")):
+            try:
+                object.__setattr__(self, attr, tuple(getattr(self, attr)))
+            except TypeError:
+                raise ParameterError(attr, getattr(self, attr), f"must be a sequence of {kind}"
+                                     ) from None
+        for b in self.bodies:
+            if not isinstance(b, Body):
+                raise ParameterError("bodies", b, "must be Body objects")
+        if not isinstance(self.branches, Mapping):
+            raise ParameterError("branches", self.branches, "must map group keys to +1 or -1")
         object.__setattr__(self, "branches", MappingProxyType(dict(self.branches)))
+        if not isinstance(self.driver, Crank | Linear):
+            raise ParameterError("driver", self.driver, "must be Crank or Linear")
         names = [self.frame.name] + [b.name for b in self.bodies]
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise ParameterError("bodies", sorted(dup)[0], "body names must be unique")
+        for j in self.joints:
+            if not isinstance(j, Revolute | Prismatic | PinInSlot):
+                raise ParameterError("joints", j, "must be Revolute, Prismatic or PinInSlot")
         jn = [j.name for j in self.joints]
         dupj = {n for n in jn if jn.count(n) > 1}
         if dupj:
             raise ParameterError("joints", sorted(dupj)[0], "joint names must be unique")
         for j in self.joints:
-            if not isinstance(j, Revolute | Prismatic | PinInSlot):
-                raise ParameterError("joints", j, "must be Revolute, Prismatic or PinInSlot")
             for side in (j.a, j.b):
                 if side not in names:
                     raise ParameterError(f"joint {j.name}", side, f"unknown body; known: {names}")
@@ -340,16 +376,26 @@ class Mechanism:
 
     def _check_joint_points(self, j: Joint) -> None:
         ba, bb = self.body(j.a), self.body(j.b)
+
+        def has(body: Body, key: str, point: str) -> None:  # the error names the joint's key
+            if point != "com" and point not in body.points:
+                raise ParameterError(f"joint {j.name}.{key}", point, f"no such point of body "
+                                     f"{body.name!r}; known: {sorted(body.points)}")
+
         if isinstance(j, Revolute):
-            ba.point(j.pa)
-            bb.point(j.pb)
+            has(ba, "point_a", j.pa)
+            has(bb, "point_b", j.pb)
         elif isinstance(j, Prismatic | PinInSlot):
+            # a NaN angle would only surface as 'cannot be assembled' at every position
+            _number(f"joint {j.name}.angle", j.angle)
+            if isinstance(j, Prismatic):
+                _number(f"joint {j.name}.rel_angle", j.rel_angle)
             if isinstance(j.through, str):
-                ba.point(j.through)
+                has(ba, "through", j.through)
             elif j.through is not None:
                 _pt(f"joint {j.name}.through", j.through)
             if j.point is not None:
-                bb.point(j.point)
+                has(bb, "point", j.point)
 
     # -- look-ups ---------------------------------------------------------------------------
     @cached_property
@@ -429,6 +475,13 @@ def _as_bodies(bodies: Iterable[Body]) -> tuple[Body, ...]:
     return out
 
 
+def _per_link(n: int, **values: Any) -> None:
+    """Per-link tuples of a shortcut builder must have one entry per link."""
+    for key, v in values.items():
+        if isinstance(v, str) or not isinstance(v, Sequence | np.ndarray) or len(v) != n:
+            raise ParameterError(key, v, f"must have {n} entries, one per link")
+
+
 def fourbar(a: float, b: float, c: float, d: float, *, masses: tuple[float, float, float] = (
         0.0, 0.0, 0.0), inertias: tuple[float | None, float | None, float | None] = (
         None, None, None), coms: tuple[Any, Any, Any] = (None, None, None), omega1: float = 1.0,
@@ -442,6 +495,7 @@ def fourbar(a: float, b: float, c: float, d: float, *, masses: tuple[float, floa
     inertias (default thin rods) and centres of mass (distance from the link's first point,
     default midpoints) per link crank, coupler, rocker.
     """
+    _per_link(masses=masses, inertias=inertias, coms=coms, n=3)
     links = [("crank", "O2", "A", a), ("coupler", "A", "B", b), ("rocker", "O4", "B", c)]
     bodies = [bar(n, s, e, L, mass=m, inertia=i, com=cm)
               for (n, s, e, L), m, i, cm in zip(links, masses, inertias, coms, strict=True)]
@@ -465,6 +519,9 @@ def crank_slider(r: float, l: float, e: float = 0.0, *, guide_angle: float = 0.0
     B on the positive side of the guide (further along its direction); the key is ``"B"``.
     ``masses`` = (crank, rod, slider).
     """
+    _per_link(masses=masses, n=3)
+    _per_link(inertias=inertias, coms=coms, n=2)
+    guide_angle = _number("guide_angle", guide_angle)
     ca, sa = math.cos(guide_angle), math.sin(guide_angle)
     through = (-e * sa, e * ca)
     frame = Body("frame", {"O": (0.0, 0.0), "G": through})
