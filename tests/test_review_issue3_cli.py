@@ -361,3 +361,20 @@ def test_json_states_the_torque_and_shaking_signs(tmp_path, capsys):
     got = np.asarray(data["columns"]["Q"])
     assert Q[120] > 100.0 and np.sign(got[120]) == 1.0
     np.testing.assert_allclose(got, Q, rtol=1e-7, atol=1e-6)
+
+
+def test_extremes_include_the_worst_transmission_angle(tmp_path, capsys):
+    """The smallest transmission angle over the cycle (the classic design check, e.g. mu >= 40
+    deg) and where it occurs were not reported. Paper 001's four-bar: cos mu = (b^2 + c^2 -
+    |AC|^2) / (2 b c) is largest at the shortest |AC| = d - a (crank towards C, phi1 = 0):
+    mu_min = arccos(0.75) = 41.41 deg. The sine press: mu = alpha = 60 deg throughout."""
+    text, data = _analyze("fourbar_paper001.toml", tmp_path, capsys)
+    pk = next(p for p in data["peaks"] if p["name"] == "μ B min")
+    assert pk["unit"] == "rad"
+    assert pk["value"] == pytest.approx(np.arccos(0.75), abs=1e-12)
+    assert np.cos(pk["phi1"]) == pytest.approx(1.0)
+    assert f"{np.degrees(np.arccos(0.75)):.4g}" in next(
+        ln for ln in text.splitlines() if "μ B min [deg]" in ln)
+    _, data = _analyze("sine_press_planar.toml", tmp_path, capsys)
+    pk = next(p for p in data["peaks"] if p["name"] == "μ slot min")
+    assert pk["value"] == pytest.approx(np.radians(60.0), abs=1e-12)

@@ -101,8 +101,9 @@ def cycle_peaks(kin: Kinematics, dyn: Dynamics) -> list[dict[str, Any]]:
     One entry per quantity: ``{"name", "value", "unit", "phi1"}`` (``phi1`` the driver position
     of the extreme [rad, or m for a linear driver]): the largest and the smallest driving torque
     (force), the peak magnitude of every joint reaction (and of a prismatic joint's couple), of
-    the shaking force and of the shaking moment. Sampled at the positions analysed (no
-    interpolation between them); unassembled positions (NaN) are skipped.
+    the shaking force and of the shaking moment, and the smallest transmission angle of every
+    group (its worst position) [rad]. Sampled at the positions analysed (no interpolation
+    between them); unassembled positions (NaN) are skipped.
     """
     crank = isinstance(kin.mechanism.driver, Crank)
     unit_q = "N*m" if crank else "N"
@@ -114,6 +115,8 @@ def cycle_peaks(kin: Kinematics, dyn: Dynamics) -> list[dict[str, Any]]:
             series.append((f"|M {j}|", np.abs(dyn.mz[k]), "N*m", "max"))
     series += [("|F_sh|", np.hypot(dyn.shaking_fx, dyn.shaking_fy), "N", "max"),
                ("|M_sh|", np.abs(dyn.shaking_m), "N*m", "max")]
+    series += [(f"μ {key} min", mu, "rad", "min")
+               for key, (mu, _) in transmission_angles(kin).items()]
     peaks = []
     for name, v, unit, kind in series:
         if not np.any(np.isfinite(v)):
@@ -196,8 +199,10 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
         ptab.add_column(escape(h), justify="right", no_wrap=True)
     for pk in peaks:
         pos = np.degrees(pk["phi1"]) if crank else pk["phi1"] * 1e3
-        ptab.add_row(escape(f"{pk['name']} [{pk['unit'].replace('*', '·')}]"),
-                     f"{pk['value']:.4g}", f"{pos:.1f}")
+        value, unit = pk["value"], pk["unit"].replace("*", "·")
+        if unit == "rad":  # transmission angles: shown in degrees, as in the table above
+            value, unit = np.degrees(value), "deg"
+        ptab.add_row(escape(f"{pk['name']} [{unit}]"), f"{value:.4g}", f"{pos:.1f}")
     means = {"Q_mean": mean_over_range(kin.phi1, dyn.Q),
              "power_mean": mean_over_range(kin.phi1, dyn.power)}
     ptab.add_row(escape(f"Q mean (work / range) [{'N·m' if crank else 'N'}]"),
