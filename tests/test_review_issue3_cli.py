@@ -378,3 +378,20 @@ def test_extremes_include_the_worst_transmission_angle(tmp_path, capsys):
     _, data = _analyze("sine_press_planar.toml", tmp_path, capsys)
     pk = next(p for p in data["peaks"] if p["name"] == "μ slot min")
     assert pk["value"] == pytest.approx(np.radians(60.0), abs=1e-12)
+
+
+def test_skeleton_draws_each_point_path_once():
+    """The skeleton plot of paper 001's four-bar listed 'path coupler.B' and 'path rocker.B',
+    one curve drawn twice (B is the joint of both); the knuckle press drew K twice."""
+    from linkwork import files
+    from linkwork.cli._planar import _distinct_paths
+    from linkwork.planar import kinematics
+
+    for example, expected in (("fourbar_paper001.toml", [("crank", "A"), ("coupler", "B")]),
+                              ("loom_sixbar.toml", [("crank", "A"), ("rod", "K"),
+                                                    ("lower", "R")])):
+        doc = files.load(EXAMPLES / example)
+        mech = doc.mechanism()
+        cands = [(b.name, pt) for b in mech.bodies for pt in list(b.points)[1:2]]
+        assert len(cands) > len(expected)
+        assert _distinct_paths(kinematics(mech, doc.positions()), cands) == expected

@@ -127,6 +127,22 @@ def cycle_peaks(kin: Kinematics, dyn: Dynamics) -> list[dict[str, Any]]:
     return peaks
 
 
+def _distinct_paths(kin: Kinematics, candidates: list[tuple[str, str]]
+                    ) -> list[tuple[str, str]]:
+    """The (body, point) pairs whose paths differ: a joint's point named on both of its bodies
+    (coupler.B, rocker.B) is drawn once, under its first body."""
+    kept: list[tuple[str, str]] = []
+    seen: list[np.ndarray] = []
+    for body, pt in candidates:
+        pm = kin.point(body, pt)
+        xy = np.concatenate([pm.x, pm.y])
+        if not any(np.allclose(xy, other, rtol=0.0, atol=1e-9, equal_nan=True)
+                   for other in seen):
+            kept.append((body, pt))
+            seen.append(xy)
+    return kept
+
+
 def _write_csv(path: Path, cols: dict[str, tuple[np.ndarray, str]]) -> Path:
     with path.open("w", newline="") as fh:
         w = csv.writer(fh)
@@ -250,7 +266,8 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
     fig, ax = plt.subplots(figsize=(7, 6))
     good = np.flatnonzero(kin.assembled)
     picks = [int(good[k]) for k in np.linspace(0, good.size - 1, 4, endpoint=False).astype(int)]
-    paths = [(b.name, pt) for b in mech.bodies for pt in list(b.points)[1:2]]
+    paths = _distinct_paths(kin, [(b.name, pt) for b in mech.bodies
+                                  for pt in list(b.points)[1:2]])
     pplot.plot_skeleton(kin, picks, paths=paths, ax=ax)
     written.append(save(fig, out / "planar_skeleton.png"))
     fig, ax = plt.subplots()
