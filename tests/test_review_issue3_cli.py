@@ -395,3 +395,25 @@ def test_skeleton_draws_each_point_path_once():
         cands = [(b.name, pt) for b in mech.bodies for pt in list(b.points)[1:2]]
         assert len(cands) > len(expected)
         assert _distinct_paths(kinematics(mech, doc.positions()), cands) == expected
+
+
+def test_table_title_names_driving_force_and_the_moment_reference(tmp_path, capsys,
+                                                                   monkeypatch):
+    """The table's title said 'driving torque' for a linear driver (whose Q is a force in N)
+    and 'shaking' without the point its moment column M_sh is taken about. The point printed
+    must be the one the numbers use: moving it from O to P changes M by -(P x F_sh)."""
+    monkeypatch.setenv("COLUMNS", "250")
+    assert main(["analyze", str(LINEAR), "--out", str(tmp_path / "lin")]) == 0
+    assert "driving force, joint reactions" in capsys.readouterr().out
+    _, at_o = _analyze("fourbar_paper001.toml", tmp_path / "o", capsys)
+    moved = tmp_path / "moved.toml"
+    moved.write_text((EXAMPLES / "fourbar_paper001.toml").read_text().replace(
+        "about = [0, 0]", 'about = ["300 mm", "-20 mm"]'))
+    assert main(["analyze", str(moved), "--out", str(tmp_path / "p")]) == 0
+    text = capsys.readouterr().out
+    assert "driving torque, joint reactions" in text and "about (300, -20) mm" in text
+    at_p = json.loads((tmp_path / "p" / "planar.json").read_text())["columns"]
+    c = at_o["columns"]
+    fx, fy = np.asarray(c["shaking_fx"]), np.asarray(c["shaking_fy"])
+    expected = np.asarray(c["shaking_m"]) - (0.3 * fy - (-0.02) * fx)
+    np.testing.assert_allclose(at_p["shaking_m"], expected, atol=1e-12)

@@ -194,7 +194,10 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
     except AssemblyError as exc:
         raise table_positions_error(exc, tphi, not crank) from None
     trans = transmission_angles(tk)
-    table = Table(title="driving torque, joint reactions |R| (force of a on b), shaking")
+    ab = np.asarray(dyn.about, dtype=float) * 1e3
+    table = Table(title=escape(
+        f"{'driving torque' if crank else 'driving force'}, joint reactions |R| (force of a on "
+        f"b), shaking force and moment (about ({ab[0]:g}, {ab[1]:g}) mm)"))
     heads = ["φ1 [deg]" if crank else "s1 [mm]", "Q [N·m]" if crank else "Q [N]"]
     heads += [f"|R {j}| [N]" for j in td.joints]
     heads += ["|F_sh| [N]", "M_sh [N·m]"] + [f"μ {key} [deg]" for key in trans]
