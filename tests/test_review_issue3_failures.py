@@ -272,11 +272,19 @@ LOAD = '\n[[load]]\ntype = "{}"\nbody = "rocker"\n{}\n'
 @pytest.mark.parametrize("text, words", [
     # a huge length: was a traceback (OverflowError in the rate solve) and exit code 1
     (_replace(FOURBAR, 'length = "100 mm"', "length = 1e300"), "numerical overflow"),
-    # keys of the other load type were ignored silently (exit 0, no load applied)
+    # keys of another type of load, joint or driver were ignored silently (exit 0, no load
+    # applied, the joint's default points used, the linear driver at its default 1 m/s)
     (FOURBAR + LOAD.format("force", 'mz = "10 N*m"'),
-     "load.0.mz: 10 is invalid: is not used by a load of type = 'force'"),
+     "load.0.mz: 10 is invalid: is not used with type = 'force'"),
     (FOURBAR + LOAD.format("torque", 'fx = "10 N"'),
-     "load.0.fx: 10 is invalid: is not used by a load of type = 'torque'"),
+     "load.0.fx: 10 is invalid: is not used with type = 'torque'"),
+    (_replace(FOURBAR, 'a = "crank"\nb = "coupler"', 'a = "crank"\nb = "coupler"\npoint = "B"'),
+     "joint.1.point: B is invalid: is not used with type = 'revolute', which takes point_a"),
+    (_replace(_replace(SIXBAR, 'through = "G"', 'through = "G"\nrel_angle = 0.1'),
+              'type = "prismatic"', 'type = "slot"'),
+     "joint.6.rel_angle: 0.1 is invalid: is not used with type = 'slot'"),
+    (_replace(FOURBAR, "eps1 = 0", 'eps1 = 0\nv1 = "2 m/s"'),
+     "driver.v1: 2 is invalid: is not used with type = 'crank', which takes omega1 and eps1"),
     # a NaN end of the load range switched the load off everywhere (exit 0)
     (FOURBAR + LOAD.format("force", 'fy = "10 N"\nphi_range = [nan, "20 deg"]'),
      "load.0.phi_range: nan is invalid: must be finite"),

@@ -103,6 +103,15 @@ XY = tuple[Length, Length]
 MAX_ANGLE = 1e6
 
 
+def _refuse_keys(section: LoadSection | JointSection | DriverSection, keys: tuple[str, ...],
+                 what: str) -> None:
+    """Keys that the section's ``type`` does not use would be ignored silently: refuse them."""
+    given = [k for k in keys if k in section.model_fields_set]
+    if given:
+        raise ParameterError(given[0], getattr(section, given[0]),
+                             f"is not used with type = {section.type!r}, which takes {what}")
+
+
 class FrameSection(FileModel):
     """The fixed link: its named points [m]."""
 
@@ -153,6 +162,18 @@ class JointSection(FileModel):
     point: str | None = None
     rel_angle: Angle = 0.0
 
+    @model_validator(mode="after")
+    def _keys_of_type(self) -> JointSection:
+        line = ("angle", "through", "point")
+        if self.type == "revolute":
+            _refuse_keys(self, (*line, "rel_angle"), "point_a and point_b")
+        else:
+            _refuse_keys(self, ("point_a", "point_b", *(("rel_angle",) if self.type == "slot"
+                                                         else ())),
+                         "angle, through, point" + (", rel_angle" if self.type == "prismatic"
+                                                    else " (the pin turns freely in the slot)"))
+        return self
+
     def build(self) -> Joint:
         if self.type == "revolute":
             return Revolute(self.name, self.a, self.b, self.point_a, self.point_b)
@@ -171,6 +192,14 @@ class DriverSection(FileModel):
     eps1: AngularAcceleration = 0.0
     v1: Velocity = 1.0
     a1: Acceleration = 0.0
+
+    @model_validator(mode="after")
+    def _keys_of_type(self) -> DriverSection:
+        if self.type == "crank":
+            _refuse_keys(self, ("v1", "a1"), "omega1 and eps1 (a linear driver takes v1, a1)")
+        else:
+            _refuse_keys(self, ("omega1", "eps1"), "v1 and a1 (a crank takes omega1, eps1)")
+        return self
 
     def build(self) -> Crank | Linear:
         if self.type == "crank":
@@ -219,15 +248,12 @@ class LoadSection(FileModel):
 
     @model_validator(mode="after")
     def _keys_of_type(self) -> LoadSection:
-        """A key of the other load type would be ignored: refuse it."""
-        foreign = ("mz",) if self.type == "force" else ("point", "fx", "fy")
-        given = [k for k in foreign if k in self.model_fields_set]
-        if given:
-            what = "a force at a point (fx, fy, point)" if self.type == "force" else (
-                "a couple on the body (mz)")
-            raise ParameterError(given[0], getattr(self, given[0]),
-                                 f"is not used by a load of type = {self.type!r}, which is "
-                                 f"{what}; give it as a separate [[load]] of the other type")
+        if self.type == "force":
+            _refuse_keys(self, ("mz",), "a force at a point (fx, fy, point); give a couple as "
+                         "a separate [[load]] of type = 'torque'")
+        else:
+            _refuse_keys(self, ("point", "fx", "fy"), "a couple on the body (mz); give a force "
+                         "as a separate [[load]] of type = 'force'")
         return self
 
     def build(self, phi1: np.ndarray, i: int = 0, linear: bool = False
