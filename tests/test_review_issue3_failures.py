@@ -16,6 +16,7 @@ import pytest
 from linkwork.cli import main
 from linkwork.errors import AssemblyError, ParameterError, StructureError
 from linkwork.models import crank_slider as cs_model
+from linkwork.models import fourbar as fourbar_cf
 from linkwork.models import sine
 from linkwork.planar import (
     Body,
@@ -26,11 +27,15 @@ from linkwork.planar import (
     PointForce,
     Prismatic,
     Revolute,
+    analyse,
     bar,
     crank_slider,
+    dead_centres,
     fourbar,
     inverse_dynamics,
     kinematics,
+    kinetic_energy,
+    transmission_angles,
 )
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
@@ -310,3 +315,41 @@ def test_cli_load_keys_of_its_own_type_still_work(tmp_path, capsys):
                  + LOAD.format("torque", 'mz = "1 N*m"'))
     assert main(["analyze", str(f), "--out", str(tmp_path / "out")]) == 0
     capsys.readouterr()
+
+
+# -- closed forms and result helpers --------------------------------------------------------------
+@pytest.mark.parametrize("theta2, match", [
+    (None, r"^theta2 = None is invalid: must be a number"),        # was 'theta2 = nan'
+    (np.array([1.0 + 2.0j]), r"^theta2 = .*not complex"),         # ComplexWarning, result for 1
+    (True, r"^theta2 = True .*not a boolean"),                     # computed at 1 rad
+])
+def test_fourbar_closed_form_crank_angle_is_checked(theta2, match):
+    with pytest.raises(ParameterError, match=match):
+        fourbar_cf.fourbar(theta2, 0.1, 0.3, 0.2, 0.3)
+
+
+def test_fourbar_that_never_assembles_names_its_lengths_and_intervals():
+    """The message had neither the lengths nor the intervals: '(|d - a|, d + a) does not meet
+    (|b - c|, b + c)'. Here |A O4| in [0.9, 1.1] m and the dyad reaches [0.25, 0.35] m."""
+    with pytest.raises(AssemblyError, match=r"\[\|d - a\|, d \+ a\] = \[0\.9, 1\.1\], which "
+                                            r"does not meet \[\|b - c\|, b \+ c\] = \[0\.25, "
+                                            r"0\.35\] \(a=0\.1, b=0\.3, c=0\.05, d=1 m\)"):
+        fourbar_cf.transmission_angle_extremes(0.1, 0.3, 0.05, 1.0)
+
+
+@pytest.mark.parametrize("lambda_e, words", [(np.nan, "must be finite"),
+                                             (None, "must be a number")])
+def test_crank_slider_assembly_limit_refuses_non_numbers(lambda_e, words):
+    """Was NaN, returned silently; the limit of a real offset is |lambda_e| + 1."""
+    with pytest.raises(ParameterError, match=rf"^lambda_e = .*{words}"):
+        cs_model.assembly_limit(lambda_e)
+    assert cs_model.assembly_limit(-0.5) == 1.5
+
+
+def test_result_helpers_name_a_wrong_argument():
+    """AttributeError ('str' object has no attribute 'mechanism' / 'bodies') before."""
+    for f in (transmission_angles, dead_centres, kinetic_energy):
+        with pytest.raises(ParameterError, match=r"^kin = k is invalid: must be the Kinematics"):
+            f("k")
+    with pytest.raises(ParameterError, match=r"^mech = m is invalid: must be a Mechanism"):
+        analyse("m")  # type: ignore[arg-type]

@@ -144,7 +144,7 @@ def assembly_limit(lambda_e: ArrayLike) -> np.ndarray:
     position (a locked position with unbounded transfer functions), so a fully rotating crank
     needs ``lambda2 > |lambda_e| + 1``.
     """
-    return np.abs(np.asarray(lambda_e, dtype=float)) + 1.0
+    return np.abs(require_finite("lambda_e", lambda_e)) + 1.0  # None or NaN was a NaN limit
 
 
 def _check_branch(branch: int) -> int:

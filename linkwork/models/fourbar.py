@@ -350,7 +350,10 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     br = _branch(branch)
     if on_fail not in ("raise", "nan"):
         raise ParameterError("on_fail", on_fail, "must be 'raise' or 'nan'")
-    t2 = np.asarray(theta2, dtype=float)
+    # a float array as is (the common, fast case); anything else by the named check (None was
+    # NaN, a complex angle lost its imaginary part, True was 1 rad)
+    t2 = theta2 if type(theta2) is np.ndarray and theta2.dtype == np.float64 else (
+        require_finite("theta2", theta2))
     if coupler_point is not None:
         p = _finite("coupler_point[0]", coupler_point[0])
         q = _finite("coupler_point[1]", coupler_point[1])
@@ -744,9 +747,14 @@ def transmission_angle_extremes(a: ArrayLike, b: ArrayLike, c: ArrayLike,
                                                                           strict=True)))
     fmin = np.maximum(np.abs(dd - aa), np.abs(bb - cc))
     fmax = np.minimum(dd + aa, bb + cc)
-    if (fmin > fmax).any():
-        raise AssemblyError("four-bar cannot be assembled at any crank angle "
-                            "(|d - a|, d + a) does not meet (|b - c|, b + c)")
+    bad = fmin > fmax
+    if bad.any():
+        i = np.unravel_index(int(np.argmax(bad)), bad.shape)
+        raise AssemblyError(
+            "four-bar cannot be assembled at any crank angle: |A O4| runs over [|d - a|, d + a] "
+            f"= [{abs(dd[i] - aa[i]):.6g}, {dd[i] + aa[i]:.6g}], which does not meet "
+            f"[|b - c|, b + c] = [{abs(bb[i] - cc[i]):.6g}, {bb[i] + cc[i]:.6g}] "
+            f"(a={aa[i]:.6g}, b={bb[i]:.6g}, c={cc[i]:.6g}, d={dd[i]:.6g} m)")
 
     def mu(f: np.ndarray) -> np.ndarray:
         return np.arccos(np.clip((bb * bb + cc * cc - f * f) / (2 * bb * cc), -1.0, 1.0))

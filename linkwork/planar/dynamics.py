@@ -44,6 +44,7 @@ from linkwork.planar.kinematics import (
     _group_pars,
     _length_scale,
     _Par,
+    _require_kinematics,
     _rows,
     _State,
     _state_of,
@@ -158,7 +159,7 @@ def _state_from(kin: Kinematics) -> _State:
 
 def kinetic_energy(kin: Kinematics) -> Arr:
     """Kinetic energy of all moving bodies [J] at every position."""
-    m = kin.mechanism
+    m = _require_kinematics(kin).mechanism
     T = np.zeros(kin.n)
     for b in m.bodies:
         c = kin.point(b.name, "com")
@@ -195,8 +196,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     Dynamics
         See the module docstring for the sign conventions.
     """
-    if not isinstance(kin, Kinematics):
-        raise ParameterError("kin", kin, "must be the Kinematics result of kinematics()")
+    _require_kinematics(kin)
     if isinstance(loads, PointForce | BodyTorque) or not isinstance(loads, Sequence):
         raise ParameterError("loads", loads, "must be a sequence (list or tuple) of PointForce "
                              "and BodyTorque")

@@ -1182,6 +1182,13 @@ class DeadCentre:
     kind: str
 
 
+def _require_kinematics(kin: Any) -> Kinematics:
+    """``kin`` itself, or a ParameterError if it is not a :class:`Kinematics` result."""
+    if not isinstance(kin, Kinematics):
+        raise ParameterError("kin", kin, "must be the Kinematics result of kinematics()")
+    return kin
+
+
 def _state_of(kin: Kinematics) -> _State:
     nb, n = kin.x.shape
     st = _State(nb, n)
@@ -1206,7 +1213,7 @@ def transmission_angles(kin: Kinematics) -> dict[str, tuple[Arr, Arr]]:
     prismatic pairs and slots (no friction, the first body's own loads neglected). ``mu`` = 90
     deg is the best transmission, 0 the toggle.
     """
-    mech = kin.mechanism
+    mech = _require_kinematics(kin).mechanism
     st = _state_of(kin)
     out: dict[str, tuple[Arr, Arr]] = {}
     for g in mech.structure.groups:
@@ -1283,7 +1290,7 @@ def dead_centres(kin: Kinematics) -> list[DeadCentre]:
     rate between two samples is located to ~1e-13 by Brent's method on single-position
     analyses (for mechanisms without Newton-solved groups; with them, linearly interpolated).
     """
-    mech = kin.mechanism
+    mech = _require_kinematics(kin).mechanism
     st = _state_of(kin)
     found: list[DeadCentre] = []
     q = kin.phi1

@@ -34,7 +34,7 @@ from __future__ import annotations
 import itertools
 from dataclasses import dataclass
 
-from linkwork.errors import StructureError
+from linkwork.errors import ParameterError, StructureError
 from linkwork.planar.model import Joint, Mechanism
 
 __all__ = ["Group", "Structure", "analyse", "mobility"]
@@ -139,6 +139,8 @@ def analyse(mech: Mechanism) -> Structure:
         with more constraints than coordinates, or a set of bodies that no group order can
         solve; the message names the bodies and joints involved.
     """
+    if not isinstance(mech, Mechanism):
+        raise ParameterError("mech", mech, "must be a Mechanism")
     n = len(mech.bodies)
     p5 = sum(1 for j in mech.joints if j.n_constraints == 2)
     p4 = sum(1 for j in mech.joints if j.n_constraints == 1)
