@@ -1,5 +1,7 @@
 """The CLI's failure policy: one line on stderr and exit code 2, never a traceback."""
 
+from pathlib import Path
+
 import pytest
 
 from linkwork.cli import main
@@ -126,3 +128,33 @@ def test_result_with_infinite_column_refuses_to_be_written(tmp_path):
     nan = offset_crank_slider(np.linspace(0, 6, 7), 0.05, 1.1, 0.3, on_failure="nan")
     assert np.isnan(nan.Y_C).any()
     nan.to_csv(tmp_path / "nan.csv")  # NaN (unassembled positions) is still written
+
+
+EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+
+
+@pytest.mark.parametrize("command", [
+    ["analyze", str(EXAMPLES / "fourbar_paper001.toml")],
+    ["balance", str(EXAMPLES / "fourbar_paper001.toml"), "--pareto"],
+    ["reactions", str(EXAMPLES / "loom_fourbar_spatial.toml")],
+    ["swashplate", "analyze", str(EXAMPLES / "swashplate_1.toml")],
+    ["swashplate", "synthesize", "-H", "60 mm", "-R", "100 mm"],
+])
+def test_unusable_out_folder_is_named_before_the_work(command, tmp_path, capsys, monkeypatch):
+    """--out naming an existing file gave '[Errno 17] File exists: ...' without the option, and
+    balance/synthesize found it only after their optimisation; now one line naming --out, exit
+    2, before any computation (the solvers are made to fail loudly if they are reached)."""
+    import linkwork.balancing
+    import linkwork.synthesis.swashplate as syn
+
+    def reached(*args, **kwargs):
+        raise AssertionError("the work ran before --out was checked")
+
+    monkeypatch.setattr(linkwork.balancing, "compare_balancing", reached)
+    monkeypatch.setattr(syn, "synthesize", reached)
+    blocker = tmp_path / "results.txt"
+    blocker.write_text("not a folder")
+    assert main([*command, "--out", str(blocker)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--out" in err[0] and "a file of that name exists" in err[0]
+    assert blocker.read_text() == "not a folder"

@@ -56,6 +56,21 @@ def parse_angles(text: str) -> np.ndarray:
     return np.radians(np.array(parse_angles_deg(text)))
 
 
+def output_dir(out: Path) -> Path:
+    """Create the output folder ``--out`` (with parents), or a ParameterError naming it: an
+    existing file of that name or a folder that cannot be created (permissions, read-only
+    disk) was "[Errno 17] File exists: 'README.md'" without saying which option."""
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except FileExistsError:
+        raise ParameterError("--out", str(out), "must be a folder; a file of that name "
+                             "exists") from None
+    except OSError as exc:
+        raise ParameterError("--out", str(out), f"cannot be created as a folder "
+                             f"({exc.strerror or exc})") from None
+    return out
+
+
 def without_command_tables(raw: dict[str, Any], keep: str = "") -> dict[str, Any]:
     """A planar file's data without the tables of other commands (:data:`COMMAND_TABLES`),
     except ``keep``."""
@@ -97,5 +112,5 @@ def register(app: typer.Typer) -> None:
             table = None if angles is None else np.array(parse_angles_deg(angles)) * 1e-3
         else:
             table = parse_angles(DEFAULT_ANGLES if angles is None else angles)
-        out.mkdir(parents=True, exist_ok=True)
+        output_dir(out)
         _resolve(ANALYZERS[kind])(doc, out=out, angles=table, console=make_console())

@@ -29,6 +29,7 @@ import typer
 from pydantic import Field, field_validator
 
 from linkwork import files
+from linkwork.cli.analyze import output_dir
 from linkwork.errors import AssemblyError, FileFormatError, LinkworkError
 from linkwork.files import FileModel
 
@@ -220,7 +221,7 @@ def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
         console.print("[bold]balancing raises:[/bold]")
         for m in inc:
             console.print(escape(f"  {m}"))
-    out.mkdir(parents=True, exist_ok=True)
+    output_dir(out)
     comp.to_csv(out / "balance_table.csv")
     comp.to_json(out / "balance_table.json")
     comp.cycle.to_csv(out / "balance_cycle.csv")
@@ -310,6 +311,7 @@ def register(app: typer.Typer) -> None:
         from linkwork.cli._console import console as make_console
 
         mech, section, doc = load_balance_file(file)
+        output_dir(out)  # before the work: an unusable --out must not cost an optimisation
         if angles is not None:
             from linkwork.cli.analyze import parse_angles_deg
 

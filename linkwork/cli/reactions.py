@@ -18,6 +18,7 @@ import numpy as np
 import typer
 
 from linkwork import files
+from linkwork.cli.analyze import output_dir
 from linkwork.errors import AssemblyError, FileFormatError, ParameterError
 
 __all__ = ["load_problem", "register", "run"]
@@ -145,7 +146,7 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
     )
     from linkwork.redundancy import tolerance_study as mc
 
-    out.mkdir(parents=True, exist_ok=True)
+    output_dir(out)
     inputs = _model_inputs(mech, spec)
     if cycle is None:
         cycle = np.linspace(0.0, 2 * np.pi, spec.positions or 360, endpoint=False)

@@ -20,6 +20,7 @@ from typing import Annotated, Any
 import numpy as np
 import typer
 
+from linkwork.cli.analyze import output_dir
 from linkwork.errors import ParameterError
 from linkwork.units import to_si
 
@@ -153,7 +154,7 @@ def analyze_cmd(
     if getattr(doc, "type", None) != "swashplate":
         raise FileFormatError(str(file), "type", f"is {doc.type!r}, expected 'swashplate'")
     table_angles = parse_angles(angles)
-    out.mkdir(parents=True, exist_ok=True)
+    output_dir(out)
     analyze_swashplate(doc, out=out, angles=table_angles, console=make_console())
 
 
@@ -210,6 +211,7 @@ def synthesize_cmd(
     from linkwork.sweep import rich_progress
     from linkwork.synthesis import swashplate as syn
 
+    output_dir(out)  # before the search: an unusable --out must not cost a synthesis
     if scheme not in sw.SCHEMES:
         raise ParameterError("--scheme", scheme, f"must be one of {', '.join(sw.SCHEMES)}")
     if objective not in ("L", "torque"):
@@ -316,7 +318,6 @@ def synthesize_cmd(
         console.print("note: design 1 lies on the search box: " + ", ".join(on_bound)
                       + "; a better design may lie beyond it (widen the bound with "
                       "linkwork.synthesis.swashplate.Request(bounds=...))")
-    out.mkdir(parents=True, exist_ok=True)
     res.to_csv(out / "synthesis.csv")
     res.to_json(out / "synthesis.json")
     reg = syn.feasible_region(req, res.best, names[0], names[1], n=60)
