@@ -353,3 +353,12 @@ def test_result_helpers_name_a_wrong_argument():
             f("k")
     with pytest.raises(ParameterError, match=r"^mech = m is invalid: must be a Mechanism"):
         analyse("m")  # type: ignore[arg-type]
+
+
+def test_cli_table_angles_beyond_float_precision_are_refused(tmp_path, capsys):
+    """--angles -1e300 printed a 300-digit crank angle with 'results' for it (exit 0)."""
+    rc = main(["analyze", str(EXAMPLES / "fourbar_paper001.toml"), "--out", str(tmp_path),
+               "--angles", "-1e300"])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1
+    assert "--angles = -1e+300 is invalid: must lie within +-5.72958e+07 deg" in err

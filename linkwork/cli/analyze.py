@@ -53,7 +53,15 @@ def parse_angles_deg(text: str) -> list[float]:
 
 def parse_angles(text: str) -> np.ndarray:
     """Parse a comma-separated list of crank angles in degrees (``"0,30,90"``) to radians."""
-    return np.radians(np.array(parse_angles_deg(text)))
+    from linkwork.planar.file import MAX_ANGLE
+
+    rad = np.radians(np.array(parse_angles_deg(text)))
+    far = np.abs(rad) > MAX_ANGLE  # -1e300 was printed as a 300-digit angle with its results
+    if far.any():
+        raise ParameterError("--angles", f"{np.degrees(rad[far][0]):g}", f"must lie within "
+                             f"+-{np.degrees(MAX_ANGLE):.6g} deg (+-{MAX_ANGLE:g} rad): beyond "
+                             "it the float spacing of angles exceeds 1e-10 rad")
+    return rad
 
 
 def output_dir(out: Path) -> Path:
