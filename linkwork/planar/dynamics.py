@@ -23,7 +23,10 @@ Sign conventions
 * Shaking force and moment: the resultant force and moment that the moving bodies exert on the
   frame through all frame joints, the motor's reaction included (the reaction ``-Q`` on the
   frame when the driver's joint is a frame joint), moment about the point ``about``.
-  With no loads and no gravity ``F_sh = -sum m_i a_Ci``.
+  With no loads and no gravity ``F_sh = -sum m_i a_Ci``.  A load marked ``from_frame`` (e.g. a
+  press's technological force, which the bed takes back) adds its reaction on the frame, so it
+  cancels in ``F_sh`` and ``M_sh``: ``F_sh = sum F_ext + sum m_i (g - a_Ci)`` over the other
+  loads.
 """
 
 from __future__ import annotations
@@ -62,20 +65,28 @@ class PointForce:
     """External force on ``body`` at ``point`` (name, ``"com"`` or local (x, y) [m]).
 
     ``fx, fy`` [N] in the fixed frame's axes, scalars or arrays over the positions.
+    ``from_frame``: the force comes from something held by the frame (the workpiece on a
+    press's bed, a spring or cylinder anchored to it), so its reaction acts on the frame at the
+    same point and it cancels in the shaking force and moment (default False: the load comes
+    from outside the machine, and the frame's bearings carry all of it).
     """
 
     body: str
     point: str | tuple[float, float] = "com"
     fx: ArrayLike = 0.0
     fy: ArrayLike = 0.0
+    from_frame: bool = False
 
 
 @dataclass(frozen=True)
 class BodyTorque:
-    """External couple ``mz`` [N m] on ``body`` (counter-clockwise positive), scalar or array."""
+    """External couple ``mz`` [N m] on ``body`` (counter-clockwise positive), scalar or array.
+
+    ``from_frame``: the couple reacts on the frame (see :class:`PointForce`)."""
 
     body: str
     mz: ArrayLike = 0.0
+    from_frame: bool = False
 
 
 @dataclass(frozen=True)
@@ -213,6 +224,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     nb = len(mech.body_names)
     # generalised applied-minus-inertia forces on each moving body (about its origin)
     f = np.zeros((n, 3 * (nb - 1)))
+    on_frame: list[tuple[Arr | float, ...]] = []  # reactions of from_frame loads on the frame
     for b in mech.bodies:
         i = mech.index[b.name]
         c = kin.point(b.name, "com")
@@ -231,6 +243,8 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
             raise ParameterError("loads.body", ld.body,
                                  f"no such body; known: {list(mech.body_names[1:])}")
         i = mech.index[ld.body]
+        if not isinstance(ld.from_frame, bool | np.bool_):
+            raise ParameterError("loads.from_frame", ld.from_frame, "must be True or False")
         if isinstance(ld, PointForce):
             pm = kin.point(ld.body, ld.point)
             fx, fy = _per_pos("fx", ld.fx, n), _per_pos("fy", ld.fy, n)
@@ -238,8 +252,13 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
             f[:, 3 * i - 3] += fx
             f[:, 3 * i - 2] += fy
             f[:, 3 * i - 1] += rx * fy - ry * fx
+            if ld.from_frame:  # its reaction on the frame: -F at the same point
+                on_frame.append((-fx, -fy, pm.x, pm.y, 0.0))
         elif isinstance(ld, BodyTorque):
-            f[:, 3 * i - 1] += _per_pos("mz", ld.mz, n)
+            mz = _per_pos("mz", ld.mz, n)
+            f[:, 3 * i - 1] += mz
+            if ld.from_frame:
+                on_frame.append((0.0, 0.0, 0.0, 0.0, -mz))
         else:
             raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
     nj = len(mech.joints)
@@ -275,6 +294,10 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         sm += (pxr[ji] - ab[0]) * fy - (pyr[ji] - ab[1]) * fx + mz
         if j is drv_j and not isinstance(mech.driver, Linear):
             sm += sgn * Q
+    for rfx, rfy, rpx, rpy, rmz in on_frame:
+        sfx += rfx
+        sfy += rfy
+        sm += (rpx - ab[0]) * rfy - (rpy - ab[1]) * rfx + rmz
     T = kinetic_energy(kin)
     return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), fxr, fyr, mzr, pxr, pyr,
                     Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]))

@@ -54,6 +54,8 @@ Example (the four-bar of ``examples/fourbar_paper001.toml``)::
     phi_range = ["200 deg", "340 deg"]   # optional: acts only there (e.g. a working stroke);
                                          # may wrap through 0; a linear driver: slide
                                          # positions, e.g. ["200 mm", "220 mm"]
+    from_frame = false             # true: the load comes from the frame (a press's workpiece on
+                                   # the bed) and cancels in the shaking force and moment
 
 Plain numbers are SI (metres, radians, kg, N); strings carry units. Unknown keys are errors.
 """
@@ -228,6 +230,7 @@ class LoadSection(FileModel):
     fy: Force = 0.0
     mz: Torque = 0.0
     phi_range: tuple[float | str, float | str] | None = None
+    from_frame: bool = False
 
     def driver_range(self, i: int, linear: bool) -> tuple[float, float] | None:
         """``phi_range`` in SI: angles [rad] for a crank (the range may wrap through 0), slide
@@ -268,8 +271,9 @@ class LoadSection(FileModel):
             rel = np.mod(phi1 - lo, two_pi)
             on = (rel <= np.mod(hi - lo, two_pi) + 1e-12).astype(float)
         if self.type == "force":
-            return PointForce(self.body, self.point, self.fx * on, self.fy * on)
-        return BodyTorque(self.body, self.mz * on)
+            return PointForce(self.body, self.point, self.fx * on, self.fy * on,
+                              self.from_frame)
+        return BodyTorque(self.body, self.mz * on, self.from_frame)
 
 
 @register_schema("planar")
