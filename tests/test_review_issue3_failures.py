@@ -165,6 +165,27 @@ def test_pin_at_the_pivot_of_its_body_is_a_structure_error():
         kinematics(Mechanism(frame, (crank, rocker), joints, Crank("O")), PHI)
 
 
+def _scotch_yoke(slot_angle: float) -> Mechanism:
+    """Crank O-A (0.1 m); yoke sliding along the frame's x-axis, the crank pin A in its slot."""
+    frame = Body("frame", {"O": (0.0, 0.0)})
+    joints = (Revolute("O", "frame", "crank"),
+              Prismatic("G", "frame", "yoke", angle=0.0, point="Y"),
+              PinInSlot("S", "yoke", "crank", angle=slot_angle, through=(0.0, 0.0), point="A"))
+    return Mechanism(frame, (bar("crank", "O", "A", 0.1), Body("yoke", {"Y": (0.0, 0.0)})),
+                     joints, Crank("O"))
+
+
+def test_slot_parallel_to_its_guide_is_named_as_such():
+    """A yoke whose slot runs along its own guide is not determined (it may slide freely); the
+    message said only 'cannot be assembled at 13 of 13 driver positions'."""
+    with pytest.raises(AssemblyError, match=r"PS\(yoke\) with joints G, S, whose two lines "
+                                            r"\(guides, slots\) are parallel there"):
+        kinematics(_scotch_yoke(0.0), PHI)
+    # the slot across the guide: the Scotch yoke, x = r cos(phi1)
+    k = kinematics(_scotch_yoke(np.pi / 2), PHI)
+    np.testing.assert_allclose(k.point("yoke", "Y").x, 0.1 * np.cos(PHI), atol=1e-12)
+
+
 # -- a class III group without starting poses --------------------------------------------------
 def _triad(with_guesses: bool) -> Mechanism:
     """Crank O-A, binary links A-P1, F2-P2, F3-P3 and a ternary link P1-P2-P3 (class III),

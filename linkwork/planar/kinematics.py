@@ -72,6 +72,8 @@ class _State:
         self.bad = np.zeros(n, dtype=bool)
         self.pos_bad = self.bad
         self.failed: dict[str, Arr] = {}  # group key -> positions where it does not close
+        self.parallel = False  # set when two lines of the group being solved were parallel
+        self.parallel_groups: set[str] = set()
         self._rot: dict[tuple[int, float, float], Vec] = {}
 
     def set_angle(self, i: int, th: Arr, c: Arr | None = None, s: Arr | None = None) -> None:
@@ -403,6 +405,7 @@ def _intersect(st: _State, l1: tuple[str, Any], l2: tuple[str, Any], branch: int
         den = u[0] * v[1] - u[1] * v[0]
         bad = np.abs(den) < 1e-12
         _fail(st, bad)
+        st.parallel |= bool(bad.any())
         with np.errstate(invalid="ignore", divide="ignore"):
             t = ((Q[0] - P[0]) * v[1] - (Q[1] - P[1]) * v[0]) / np.where(bad, np.nan, den)
         return P[0] + t * u[0], P[1] + t * u[1]
@@ -461,6 +464,7 @@ def _solve_two_lines(mech: Mechanism, st: _State, body: int, j1: Joint, j2: Join
     den = n1[0] * n2[1] - n1[1] * n2[0]
     bad = np.abs(den) < 1e-12
     _fail(st, bad)
+    st.parallel |= bool(bad.any())
     den = np.where(bad, np.nan, den)
     st.X[body] = (c1 * n2[1] - c2 * n1[1]) / den
     st.Y[body] = (n1[0] * c2 - n2[0] * c1) / den
@@ -1048,10 +1052,17 @@ def _solve_chunk(mech: Mechanism, groups: tuple[Group, ...], branches: dict[str,
                 _solve_dyad(mech, st, g, b)
             if (st.bad & ~before).any():
                 st.failed[g.key] = st.bad & ~before
+            if st.parallel:
+                st.parallel_groups.add(g.key)
+                st.parallel = False
         st.pos_bad = st.bad.copy()
         for g in groups:
             _group_rates(mech, st, g, w1, e1)
     return st
+
+
+_PARALLEL = (", whose two lines (guides, slots) are parallel there, so that the place along "
+             "them is not determined")
 
 
 def _newton_hint(mech: Mechanism, g: Group) -> str:
@@ -1123,6 +1134,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     pos_bad = np.zeros(n, dtype=bool)
     bad = np.zeros(n, dtype=bool)
     failed: set[str] = set()
+    parallel: set[str] = set()
     # chunks keep the temporaries in cache; Newton groups need the whole sequence
     newton = any(g.kind == "newton" for g in structure.groups)
     step = n if newton else _CHUNK
@@ -1131,6 +1143,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         st = _solve_chunk(mech, structure.groups, used, q[sl], w1[sl], e1[sl])
         pos_bad[sl] = st.pos_bad
         failed.update(st.failed)
+        parallel.update(st.parallel_groups)
         bad[sl] = st.bad
         for i in range(1, nb):
             bad[sl] |= ~np.isfinite(st.W[i])
@@ -1140,7 +1153,8 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     unit = "rad" if isinstance(drv, Crank) else "m"
     if pos_bad.any() and on_fail == "raise":
         groups = [f"{g.kind}({', '.join(g.bodies)}) with joints {', '.join(g.joints)}"
-                  + _newton_hint(mech, g) for g in structure.groups if g.key in failed]
+                  + _newton_hint(mech, g) + (_PARALLEL if g.key in parallel else "")
+                  for g in structure.groups if g.key in failed]
         only_newton = bool(failed) and all(g.kind == "newton" for g in structure.groups
                                            if g.key in failed)
         which = (f" (group{'s' if len(groups) > 1 else ''} that "
