@@ -134,3 +134,27 @@ def test_newton_group_long_arrays_match_continuation():
     Q = k_long.point("tern", "P3")
     np.testing.assert_allclose(P.x, Q.x, atol=1e-12)
     np.testing.assert_allclose(P.vy, Q.vy, atol=1e-10)
+
+
+def test_plots_of_large_forces_are_in_kN():
+    """The knuckle press's bearings carry up to 299 kN: its reaction plot read '3.0' under a
+    '1e5' offset; now kN. Its driving torque (1.2 kN m peak) and weight-dominated shaking
+    force (1.7 kN) stay in N m and N: the prefix changes only from 10 units on."""
+    from linkwork import files
+    from linkwork.planar import inverse_dynamics, kinematics
+    from linkwork.plot import planar as pp
+    from linkwork.plot import pyplot
+
+    doc = files.load(Path(__file__).resolve().parents[1] / "examples" / "loom_sixbar.toml")
+    kin = kinematics(doc.mechanism(), doc.positions())
+    d = inverse_dynamics(kin, gravity=doc.analysis.gravity, loads=doc.loads(kin.phi1))
+    r = pp.plot_reactions(d, ["R", "O"])
+    assert r["ax"].get_ylabel() == "|R| [kN]"
+    np.testing.assert_allclose(r["lines"][0].get_ydata() * 1e3, d.reaction_magnitude("R"))
+    assert 290 < r["lines"][0].get_ydata().max() < 300
+    t = pp.plot_driving_torque(d)
+    assert t["ax"].get_ylabel() == "driving torque Q [N·m]"
+    np.testing.assert_allclose(t["line"].get_ydata(), d.Q)
+    s = pp.plot_shaking(d)
+    assert s["axes"][0].get_ylabel() == "shaking force [N]"
+    pyplot().close("all")

@@ -118,21 +118,32 @@ def _draw_guides(ax: Any, kin: Any, positions: Sequence[int], colours: dict[str,
     return out
 
 
+def _prefixed(unit: str, *values: Any) -> tuple[float, str]:
+    """Divisor and unit for plotting ``values`` [unit]: N below 10 kN, kN below 10 MN, then MN
+    (a 300 kN press force read as '3.0' under a '1e5' offset is easy to misread)."""
+    peak = max((float(np.nanmax(np.abs(v))) if np.size(v) and not np.all(np.isnan(v)) else 0.0)
+               for v in values)
+    for div, prefix in ((1e6, "M"), (1e3, "k")):
+        if peak >= 10 * div:
+            return div, prefix + unit
+    return 1.0, unit
+
+
 def plot_driving_torque(dyn: Any, ax: Any = None) -> dict[str, Any]:
     """Driving torque (or force) over the cycle, with its mean. Returns ``{"ax", "line"}``."""
     from linkwork.planar.model import Crank
 
     ax = _ax(ax)
     x, label = _x(dyn.kinematics)
-    (ln,) = ax.plot(x, dyn.Q, label="Q")
     crank = isinstance(dyn.kinematics.mechanism.driver, Crank)
+    div, unit = _prefixed("N·m" if crank else "N", dyn.Q)
+    (ln,) = ax.plot(x, dyn.Q / div, label="Q")
     from linkwork.balancing.loads import mean_over_range
 
-    mean = mean_over_range(dyn.kinematics.phi1, dyn.Q)
-    ax.axhline(mean, color="k", lw=0.8, ls=":",
-               label=f"mean {mean:.4g} {'N·m' if crank else 'N'} (work / range)")
+    mean = mean_over_range(dyn.kinematics.phi1, dyn.Q) / div
+    ax.axhline(mean, color="k", lw=0.8, ls=":", label=f"mean {mean:.4g} {unit} (work / range)")
     ax.set_xlabel(label)
-    ax.set_ylabel("driving torque Q [N·m]" if crank else "driving force Q [N]")
+    ax.set_ylabel(f"driving torque Q [{unit}]" if crank else f"driving force Q [{unit}]")
     ax.legend()
     return {"ax": ax, "line": ln}
 
@@ -142,12 +153,14 @@ def plot_reactions(dyn: Any, joints: Sequence[str] | None = None, ax: Any = None
     """Magnitudes of joint reactions over the cycle. Returns ``{"ax", "lines"}``."""
     ax = _ax(ax)
     x, label = _x(dyn.kinematics)
+    mags = {j: dyn.reaction_magnitude(j) for j in joints or dyn.joints}
+    div, unit = _prefixed("N", *mags.values())
     lines = []
-    for j in joints or dyn.joints:
-        (ln,) = ax.plot(x, dyn.reaction_magnitude(j), label=j)
+    for j, mag in mags.items():
+        (ln,) = ax.plot(x, mag / div, label=j)
         lines.append(ln)
     ax.set_xlabel(label)
-    ax.set_ylabel("|R| [N]")
+    ax.set_ylabel(f"|R| [{unit}]")
     ax.legend(fontsize="small", ncol=2)
     return {"ax": ax, "lines": lines}
 
@@ -157,12 +170,14 @@ def plot_shaking(dyn: Any, axes: Any = None) -> dict[str, Any]:
     if axes is None:
         _, axes = pyplot().subplots(2, 1, sharex=True)
     x, label = _x(dyn.kinematics)
-    lines = [axes[0].plot(x, dyn.shaking_fx, label="Fx")[0],
-             axes[0].plot(x, dyn.shaking_fy, label="Fy")[0],
-             axes[1].plot(x, dyn.shaking_m, label="M about ({:g}, {:g}) mm".format(
+    fdiv, funit = _prefixed("N", dyn.shaking_fx, dyn.shaking_fy)
+    mdiv, munit = _prefixed("N·m", dyn.shaking_m)
+    lines = [axes[0].plot(x, dyn.shaking_fx / fdiv, label="Fx")[0],
+             axes[0].plot(x, dyn.shaking_fy / fdiv, label="Fy")[0],
+             axes[1].plot(x, dyn.shaking_m / mdiv, label="M about ({:g}, {:g}) mm".format(
                  *(1e3 * np.asarray(dyn.about, dtype=float))))[0]]
-    axes[0].set_ylabel("shaking force [N]")
-    axes[1].set_ylabel("shaking moment [N·m]")
+    axes[0].set_ylabel(f"shaking force [{funit}]")
+    axes[1].set_ylabel(f"shaking moment [{munit}]")
     axes[1].set_xlabel(label)
     axes[0].legend()
     axes[1].legend()
