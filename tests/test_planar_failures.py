@@ -8,6 +8,7 @@ import pytest
 from linkwork.errors import AssemblyError, ParameterError, StructureError, angle_ranges
 from linkwork.planar import (
     Body,
+    BodyTorque,
     Crank,
     Linear,
     Mechanism,
@@ -126,6 +127,11 @@ def test_bad_inputs_name_parameter():
         inverse_dynamics(k, loads=[PointForce("frame", "O2", 1.0, 0.0)])
     with pytest.raises(ParameterError, match="fx"):
         inverse_dynamics(k, loads=[PointForce("crank", "A", [1.0, 2.0, 3.0], 0.0)])
+    with pytest.raises(ParameterError, match=r"loads\[1\]\.fy = \(3,\)"):  # which load
+        inverse_dynamics(k, loads=[PointForce("crank", "A", 1.0, 0.0),
+                                   PointForce("crank", "A", 0.0, [1.0, 2.0, 3.0])])
+    with pytest.raises(ParameterError, match=r"loads\[0\]\.mz"):
+        inverse_dynamics(k, loads=[BodyTorque("crank", [np.nan, 1.0])])
     with pytest.raises(ParameterError, match="gravity"):
         inverse_dynamics(k, gravity=(0.0, -9.81, 0.0))
 

@@ -234,7 +234,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         f[:, 3 * i - 3] += Fx
         f[:, 3 * i - 2] += Fy
         f[:, 3 * i - 1] += rx * Fy - ry * Fx - b.inertia * kin.eps[i]
-    for ld in loads:
+    for k, ld in enumerate(loads):
         if not isinstance(ld, PointForce | BodyTorque):
             raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
         if ld.body == mech.frame.name:
@@ -247,7 +247,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
             raise ParameterError("loads.from_frame", ld.from_frame, "must be True or False")
         if isinstance(ld, PointForce):
             pm = kin.point(ld.body, ld.point)
-            fx, fy = _per_pos("fx", ld.fx, n), _per_pos("fy", ld.fy, n)
+            fx, fy = _per_pos(f"loads[{k}].fx", ld.fx, n), _per_pos(f"loads[{k}].fy", ld.fy, n)
             rx, ry = pm.x - kin.x[i], pm.y - kin.y[i]
             f[:, 3 * i - 3] += fx
             f[:, 3 * i - 2] += fy
@@ -255,7 +255,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
             if ld.from_frame:  # its reaction on the frame: -F at the same point
                 on_frame.append((-fx, -fy, pm.x, pm.y, 0.0))
         elif isinstance(ld, BodyTorque):
-            mz = _per_pos("mz", ld.mz, n)
+            mz = _per_pos(f"loads[{k}].mz", ld.mz, n)
             f[:, 3 * i - 1] += mz
             if ld.from_frame:
                 on_frame.append((0.0, 0.0, 0.0, 0.0, -mz))
