@@ -383,3 +383,16 @@ def test_cli_table_angles_beyond_float_precision_are_refused(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 2 and err.count("\n") == 1
     assert "--angles = -1e+300 is invalid: must lie within +-5.72958e+07 deg" in err
+
+
+def test_boolean_branch_is_refused_like_in_the_four_bar_closed_form():
+    """fourbar() (closed form) refused branch=True; the engine (Mechanism, kinematics) and the
+    crank-slider closed form took True for +1."""
+    with pytest.raises(ParameterError, match=r"^branches\.B = True is invalid: must be \+1 or -1"):
+        fourbar(0.1, 0.3, 0.2, 0.3, branch=True)
+    with pytest.raises(ParameterError, match=r"^branches\.B = True is invalid"):
+        kinematics(fourbar(0.1, 0.3, 0.2, 0.3), PHI, branches={"B": True})
+    with pytest.raises(ParameterError, match=r"^branch = True is invalid: must be \+1 or -1"):
+        cs_model.offset_crank_slider(PHI, 0.05, 4.0, 0.5, branch=True)
+    with pytest.raises(ParameterError, match=r"^branch = True is invalid"):
+        fourbar_cf.fourbar(PHI, 0.1, 0.3, 0.2, 0.3, branch=True)

@@ -149,7 +149,7 @@ def assembly_limit(lambda_e: ArrayLike) -> np.ndarray:
 
 def _check_branch(branch: int) -> int:
     # one branch per call: an array (or any non-number) is named, not a numpy truth-value error
-    if np.ndim(branch) != 0 or isinstance(branch, str) or branch not in (1, -1):
+    if np.ndim(branch) != 0 or isinstance(branch, str | bool) or branch not in (1, -1):
         raise ParameterError("branch", branch, "must be +1 or -1 (one branch per call)")
     return int(branch)
 

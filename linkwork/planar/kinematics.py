@@ -1118,7 +1118,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     br = dict(mech.branches)
     br.update(branches or {})
     for k_, v_ in br.items():
-        if v_ not in (1, -1):
+        if isinstance(v_, bool) or v_ not in (1, -1):  # True == 1
             raise ParameterError(f"branches.{k_}", v_, "must be +1 or -1")
     structure = mech.structure
     nb = len(mech.body_names)

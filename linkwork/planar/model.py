@@ -361,7 +361,7 @@ class Mechanism:
                 raise ParameterError(f"joint {j.name}", j.a, "must join two different bodies")
             self._check_joint_points(j)
         for k, v in self.branches.items():
-            if v not in (1, -1):
+            if isinstance(v, bool) or v not in (1, -1):  # True == 1
                 raise ParameterError(f"branches.{k}", v, "must be +1 or -1")
         d = self.driver
         jmap = {j.name: j for j in self.joints}
