@@ -492,8 +492,9 @@ def fourbar(a: float, b: float, c: float, d: float, *, masses: tuple[float, floa
     ``"crank"``, driven by ``Crank("O2")`` so ``phi1`` is Norton's theta2), coupler ``b`` = AB
     (``"coupler"``), rocker ``c`` = O4B (``"rocker"``, x-axis from O4 to B). ``branch=+1`` puts B
     on the left of the directed line A -> O4 (the dyad's key is ``"B"``). Masses, centroidal
-    inertias (default thin rods) and centres of mass (distance from the link's first point,
-    default midpoints) per link crank, coupler, rocker.
+    inertias (default thin rods) and centres of mass per link crank, coupler, rocker; a centre
+    of mass is a distance along the link from its first point or a point ``(x, y)`` in the link's
+    frame (x along the link), as in :func:`bar`; default the midpoint.
     """
     _per_link(masses=masses, inertias=inertias, coms=coms, n=3)
     links = [("crank", "O2", "A", a), ("coupler", "A", "B", b), ("rocker", "O4", "B", c)]
