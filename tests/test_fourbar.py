@@ -742,3 +742,46 @@ def test_property_rocker_limits_are_stationary_points_of_theta4(a, b, c, d, bran
         t4 = np.unwrap(fourbar(t2, a, b, c, d, branch=branch).theta4)
         assert t4.max() - t4.min() <= lim.rocker_swing + 1e-9
         assert t4.max() - t4.min() >= lim.rocker_swing - 1e-5
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_fast_path_equals_the_checked_path_exactly(branch, monkeypatch):
+    """One design in Python floats over a float64 array is checked with plain comparisons; the
+    same call with numpy scalars and a list of angles takes the named checks.  Both run the
+    same kernel: every field bit-identical.  Blocked evaluation (>= 16384 positions) gives the
+    same numbers as one call."""
+    from linkwork.models import fourbar as fb
+
+    calls = []
+    kernel = fb._kernel
+
+    def spy(*args):
+        calls.append(type(args[1]))
+        return kernel(*args)
+
+    monkeypatch.setattr(fb, "_kernel", spy)
+    fast = fourbar(CYCLE, 0.1, 0.3, 0.2, 0.3, 10.0, -3.0, branch)
+    checked = fourbar(list(CYCLE), np.float64(0.1), np.float64(0.3), np.float64(0.2),
+                      np.float64(0.3), np.float64(10.0), np.float64(-3.0), branch)
+    assert calls == [float, np.ndarray]          # the checked path keeps 0-d arrays
+    for name, val in vars(fast).items():
+        np.testing.assert_array_equal(np.asarray(val), np.asarray(getattr(checked, name)),
+                                      err_msg=name)
+    t2 = np.linspace(0.0, 2 * np.pi, 20001)
+    big = fourbar(t2, 0.1, 0.3, 0.2, 0.3, 10.0, -3.0, branch)
+    part = fourbar(t2[:7001], 0.1, 0.3, 0.2, 0.3, 10.0, -3.0, branch)
+    for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xB", "yB"):
+        np.testing.assert_array_equal(getattr(big, name)[:7001], getattr(part, name))
+    assert big.assembled.all()
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+def test_non_finite_crank_angle_is_named_without_warnings(bad):
+    """pytest turns warnings into errors here: np.cos(inf) must never run (it warned
+    'invalid value encountered in cos' before the ParameterError)."""
+    t2 = CYCLE.copy()
+    t2[7] = bad
+    for kw in ({}, {"coupler_point": (0.1, 0.0)}):
+        with pytest.raises(ParameterError) as ei:
+            fourbar(t2, 0.1, 0.3, 0.2, 0.3, **kw)
+        assert ei.value.parameter == "theta2"

@@ -37,7 +37,9 @@ from numpy.typing import ArrayLike
 from linkwork.errors import (
     AssemblyError,
     ParameterError,
+    all_finite,
     angle_ranges,
+    py_float,
     require_finite,
     shapes_error,
 )
@@ -66,6 +68,9 @@ __all__ = [
 ]
 
 _TWO_PI = 2.0 * math.pi
+_F64 = np.dtype(float)
+_INF = math.inf
+_min = np.minimum.reduce
 
 
 # ---------------------------------------------------------------------------------------------
@@ -169,16 +174,6 @@ class FourbarResult(Result):
         "branch": "", "transmission_angle": "rad",
     }
     position_field: ClassVar[str] = "theta2"
-
-    @classmethod
-    def _fast(cls, **fields: Any) -> FourbarResult:
-        """Build without the per-field ``object.__setattr__`` of a frozen dataclass (~4 us).
-
-        Only for :func:`fourbar`, which always passes every field.
-        """
-        obj = object.__new__(cls)
-        obj.__dict__.update(fields)
-        return obj
 
     def plot(self, ax: Any = None) -> Any:
         """Draw the linkage and the path of B (and P); see :mod:`linkwork.plot.fourbar`."""
@@ -341,6 +336,22 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     AssemblyError
         The linkage cannot be assembled at some crank angles (``on_fail="raise"``).
     """
+    # The common call -- one design in Python numbers over a 1-D float64 array of crank angles
+    # that assembles everywhere -- is checked with plain comparisons (the named checks below
+    # cost ~2 us, 3 % of a 360-position evaluation); anything else takes the named checks.
+    if (type(theta2) is np.ndarray and theta2.dtype is _F64 and theta2.ndim == 1
+            and 0 < theta2.shape[0] < 2 * _CHUNK and coupler_point is None):
+        af, bf, cf, df = py_float(a), py_float(b), py_float(c), py_float(d)
+        w2f, e2f = py_float(omega2), py_float(alpha2)
+        if (af is not None and bf is not None and cf is not None and df is not None
+                and w2f is not None and e2f is not None and 0.0 < af < _INF
+                and 0.0 < bf < _INF and 0.0 < cf < _INF and 0.0 < df < _INF
+                and -_INF < w2f < _INF and -_INF < e2f < _INF
+                and type(branch) is int and (branch == 1 or branch == -1)
+                and (on_fail == "raise" or on_fail == "nan") and all_finite(theta2)):
+            res = _kernel(theta2, af, bf, cf, df, w2f, e2f, float(branch), None, None)
+            if res[-1]:  # clean: every position assembles away from a toggle
+                return _result(theta2, res, af, bf, cf, df, w2f, e2f, branch)
     a_ = _length("a", a)
     b_ = _length("b", b)
     c_ = _length("c", c)
@@ -350,10 +361,10 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     br = _branch(branch)
     if on_fail not in ("raise", "nan"):
         raise ParameterError("on_fail", on_fail, "must be 'raise' or 'nan'")
-    # a float array as is (the common, fast case); anything else by the named check (None was
-    # NaN, a complex angle lost its imaginary part, True was 1 rad)
-    t2 = theta2 if type(theta2) is np.ndarray and theta2.dtype == np.float64 else (
-        require_finite("theta2", theta2))
+    # a finite float array as is; anything else by the named check (None was NaN, a complex
+    # angle lost its imaginary part, True was 1 rad, inf made np.cos warn)
+    t2 = theta2 if (type(theta2) is np.ndarray and theta2.dtype is _F64
+                    and all_finite(theta2)) else require_finite("theta2", theta2)
     if coupler_point is not None:
         p = _finite("coupler_point[0]", coupler_point[0])
         q = _finite("coupler_point[1]", coupler_point[1])
@@ -364,7 +375,7 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
         if n >= 2 * _CHUNK:
             res = _chunked(t2, a_, b_, c_, d_, w2, e2, br, p, q)
         else:
-            res = _kernel(t2, a_, b_, c_, d_, w2, e2, br, p, q, None)
+            res = _kernel(t2, a_, b_, c_, d_, w2, e2, br, p, q)
     except ValueError as exc:  # operands that do not broadcast (no cost when they do)
         shapes = {k: np.shape(v) for k, v in (("theta2", t2), ("a", a_), ("b", b_), ("c", c_),
                                                ("d", d_), ("omega2", w2), ("alpha2", e2))}
@@ -382,18 +393,22 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
                     np.where(sing, np.nan, x) for x in (th3, th4, w3, w4, al3, al4, xb, yb))
                 if xp is not None:
                     xp, yp = np.where(sing, np.nan, xp), np.where(sing, np.nan, yp)
-    if not clean and not ok.all():
-        if np.isnan(t2).any() or np.isinf(t2).any():
-            require_finite("theta2", t2)
-        if on_fail == "raise":
+        if not ok.all() and on_fail == "raise":
             if sing.any():
                 raise _fail(t2, ~sing, a_, b_, c_, d_, singular=True)
             raise _fail(t2, ok, a_, b_, c_, d_)
-    return FourbarResult._fast(
-        theta2=t2, theta3=th3, theta4=th4, omega3=w3, omega4=w4, alpha3=al3, alpha4=al4,
-        xA=ax, yA=ay, xB=xb, yB=yb, xP=xp, yP=yp, assembled=ok,
-        a=a_, b=b_, c=c_, d=d_, omega2=w2, alpha2=e2, branch=int(br),
-    )
+    return _result(t2, (th3, th4, w3, w4, al3, al4, ax, ay, xb, yb, xp, yp, ok), a_, b_, c_,
+                   d_, w2, e2, br)
+
+
+def _result(t2: Any, res: tuple[Any, ...], a_: Any, b_: Any, c_: Any, d_: Any, w2: Any,
+            e2: Any, br: Any) -> FourbarResult:
+    th3, th4, w3, w4, al3, al4, ax, ay, xb, yb, xp, yp, ok = res[:13]
+    return FourbarResult._assemble({
+        "theta2": t2, "theta3": th3, "theta4": th4, "omega3": w3, "omega4": w4, "alpha3": al3,
+        "alpha4": al4, "xA": ax, "yA": ay, "xB": xb, "yB": yb, "xP": xp, "yP": yp,
+        "assembled": ok, "a": a_, "b": b_, "c": c_, "d": d_, "omega2": w2, "alpha2": e2,
+        "branch": int(br)})
 
 
 #: Positions per block of the blocked evaluation of :func:`fourbar` (temporaries stay in cache
@@ -407,75 +422,64 @@ def _chunked(t2: np.ndarray, a_: Any, b_: Any, c_: Any, d_: Any, w2: Any, e2: An
     args = (t2, a_, b_, c_, d_, w2, e2, p, q)
     shape = np.broadcast_shapes(*(np.shape(x) for x in args if x is not None))
     n = shape[-1]
-    nout = 12 if p is not None else 10
-    outs: list[Any] = [np.empty(shape) for _ in range(nout)]
+    outs: list[Any] = [np.empty(shape) for _ in range(12 if p is not None else 10)]
     if p is None:
         outs += [None, None]
     outs.append(np.empty(shape, dtype=bool))
-
+    clean = True
     for lo in range(0, n, _CHUNK):
         sl = slice(lo, min(lo + _CHUNK, n))
-        o = tuple(None if x is None else x[..., sl] for x in outs)
-        _kernel(_part(t2, sl), _part(a_, sl), _part(b_, sl), _part(c_, sl), _part(d_, sl),
-                _part(w2, sl), _part(e2, sl), br, _part(p, sl), _part(q, sl), o)
-    return (*outs, False)
+        res = _kernel(_part(t2, sl), _part(a_, sl), _part(b_, sl), _part(c_, sl),
+                      _part(d_, sl), _part(w2, sl), _part(e2, sl), br, _part(p, sl),
+                      _part(q, sl))
+        for dst, src in zip(outs, res[:13], strict=True):
+            if dst is not None:
+                dst[..., sl] = src
+        clean = clean and res[13]
+    return (*outs, clean)
 
 
 def _kernel(t2: np.ndarray, a_: Any, b_: Any, c_: Any, d_: Any, w2: Any, e2: Any, br: float,
-            p: Any, q: Any, out: tuple[Any, ...] | None) -> tuple[Any, ...]:
-    """The closed form itself; writes into ``out`` (13 arrays or None) when given.
+            p: Any, q: Any) -> tuple[Any, ...]:
+    """The closed form itself.
 
     Returns the 13 results and ``clean``: True when every position assembles away from a toggle
     (then no division by zero or square root of a negative number can occur, and the floating
     point error state need not be touched).
     """
-    o: tuple[Any, ...] = out if out is not None else (None,) * 13
-    ax = np.multiply(a_, np.cos(t2), out=o[6])
-    ay = np.multiply(a_, np.sin(t2), out=o[7])
-    sx = d_ - ax          # s = O4 - A
-    sy = -ay
-    f2 = sx * sx + sy * sy
+    ax = a_ * np.cos(t2)
+    ay = a_ * np.sin(t2)
+    sx = d_ - ax          # s = O4 - A = (sx, -ay)
+    f2 = sx * sx + ay * ay
     bb = b_ * b_
     qq = f2 + (bb - c_ * c_)
     # H = 4 f^4 (b^2/f^2 - k^2) = 16 (area of the triangle b, c, f)^2; assembles iff H >= 0
     hh = f2 * (4.0 * bb) - qq * qq
-    if o[12] is not None:
-        ok = np.greater_equal(hh, 0.0, out=o[12])
-        clean = False
-    elif hh.size and hh.min() > 0.0:  # the usual case: one reduction, no mask to build
-        ok = all_true(np.shape(hh))
-        clean = True
-    else:
-        ok = hh >= 0.0               # (NaN also lands here)
-        clean = False
-    if clean:
-        res = _kernel_tail(ax, ay, sx, sy, f2, qq, hh, b_, d_, w2, e2, br, p, q, o)
-    else:
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            res = _kernel_tail(ax, ay, sx, sy, f2, qq, hh, b_, d_, w2, e2, br, p, q, o)
-    return (*res, ok, clean)
+    if hh.size and _min(hh, axis=None) > 0.0:  # the usual case: one reduction, no mask
+        return (*_kernel_tail(ax, ay, sx, f2, qq, hh, b_, d_, w2, e2, br, p, q),
+                all_true(np.shape(hh)), True)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        res = _kernel_tail(ax, ay, sx, f2, qq, hh, b_, d_, w2, e2, br, p, q)
+    return (*res, hh >= 0.0, False)  # (NaN is not >= 0)
 
 
-def _kernel_tail(ax: Any, ay: Any, sx: Any, sy: Any, f2: Any, qq: Any, hh: Any, b_: Any,
-                 d_: Any, w2: Any, e2: Any, br: float, p: Any, q: Any,
-                 o: tuple[Any, ...]) -> tuple[Any, ...]:
+def _kernel_tail(ax: Any, ay: Any, sx: Any, f2: Any, qq: Any, hh: Any, b_: Any,
+                 d_: Any, w2: Any, e2: Any, br: float, p: Any, q: Any) -> tuple[Any, ...]:
     inv = 0.5 / f2
     k = qq * inv
     root = np.sqrt(hh)
     h = root * inv if br > 0.0 else root * -inv
-    ux = k * sx - h * sy  # u = B - A
-    uy = k * sy + h * sx
-    vx = ux - sx          # v = B - O4
-    vy = np.subtract(uy, sy, out=o[9])
-    den = root * (0.5 * br)          # u x v = h f^2
-    # omega: n3 = -(A x v), n4 = -(A x u)
-    n3 = vx * ay - vy * ax
+    ux = k * sx + h * ay  # u = B - A = k s + h s_perp, s = (sx, -ay), s_perp = (ay, sx)
+    uy = h * sx - k * ay
+    vx = ux - sx          # v = B - O4 = u - s
+    vy = uy + ay
+    # omega: n3 = -(A x v), n4 = -(A x u); A x v = A x u - A x s and A x s = d ay
     n4 = ux * ay - uy * ax
-    w3 = np.divide(n3, den, out=o[2])
-    w4 = np.divide(n4, den, out=o[3])
-    if type(w2) is not float or w2 != 1.0:
-        w3 = np.multiply(w3, w2, out=o[2])
-        w4 = np.multiply(w4, w2, out=o[3])
+    n3 = n4 - d_ * ay
+    den = root * (0.5 * br)          # u x v = h f^2
+    rden = w2 / den
+    w3 = n3 * rden
+    w4 = n4 * rden
     # alpha: with K = alpha2 A + jG, G = omega2^2 A + omega3^2 u - omega4^2 v,
     # -(K x v) = G.v + alpha2 n3 and -(K x u) = G.u + alpha2 n4
     w22 = w2 * w2
@@ -486,18 +490,14 @@ def _kernel_tail(ax: Any, ay: Any, sx: Any, sy: Any, f2: Any, qq: Any, hh: Any, 
     num3 = gx * vx + gy * vy
     num4 = gx * ux + gy * uy
     if type(e2) is not float or e2 != 0.0:
-        num3 = num3 + e2 * n3
+        num3 = num3 + e2 * n3  # (not in place: alpha2 may broadcast to more designs)
         num4 = num4 + e2 * n4
-    al3 = np.divide(num3, den, out=o[4])
-    al4 = np.divide(num4, den, out=o[5])
-    th3 = np.arctan2(uy, ux, out=o[0])
-    th4 = np.arctan2(vy, vx, out=o[1])
-    xb = np.add(vx, d_, out=o[8])
     xp = yp = None
     if p is not None:
-        xp = np.add(ax, (p * ux - q * uy) / b_, out=o[10])
-        yp = np.add(ay, (p * uy + q * ux) / b_, out=o[11])
-    return th3, th4, w3, w4, al3, al4, ax, ay, xb, vy, xp, yp
+        xp = ax + (p * ux - q * uy) / b_
+        yp = ay + (p * uy + q * ux) / b_
+    return (np.arctan2(uy, ux), np.arctan2(vy, vx), w3, w4, num3 / den, num4 / den, ax, ay,
+            vx + d_, vy, xp, yp)
 
 
 # ---------------------------------------------------------------------------------------------
