@@ -145,3 +145,14 @@ def test_change_point_toggle_is_reported():
     k = kinematics(mech, phi, on_fail="nan")
     np.testing.assert_array_equal(k.assembled, [False] + [True] * 11 + [False])
     assert np.isnan(k.omega[3][0]) and np.isfinite(k.omega[3][1:-1]).all()
+
+
+def test_a_body_without_joints_is_named_as_such():
+    """A body left unconnected was reported as 'under-driven: mobility W = 4' (its three free
+    coordinates), which sends the user looking for a missing driver."""
+    m = fourbar(0.1, 0.3, 0.2, 0.3)
+    extra = (bar("lonely", "P", "Q", 0.1), bar("stray", "P", "Q", 0.1))
+    with pytest.raises(StructureError, match=r"body 'lonely' has no joints"):
+        Mechanism(m.frame, (*m.bodies, extra[0]), m.joints, m.driver).validate()
+    with pytest.raises(StructureError, match=r"bodies 'lonely', 'stray' have no joints"):
+        Mechanism(m.frame, (*m.bodies, *extra), m.joints, m.driver).validate()

@@ -146,6 +146,14 @@ def analyse(mech: Mechanism) -> Structure:
     p4 = sum(1 for j in mech.joints if j.n_constraints == 1)
     w = mobility(mech)
     everything = set(mech.body_names[1:])
+    jointless = [b for b in mech.body_names[1:]
+                 if not any(b in (j.a, j.b) for j in mech.joints)]
+    if jointless:  # its 3 free coordinates would only show as "under-driven (W = 4)"
+        raise StructureError(
+            f"bod{'ies' if len(jointless) > 1 else 'y'} {', '.join(map(repr, jointless))} "
+            f"{'have' if len(jointless) > 1 else 'has'} no joints: connect "
+            f"{'them' if len(jointless) > 1 else 'it'} to the frame or another body, or "
+            f"leave {'them' if len(jointless) > 1 else 'it'} out")
     if w < 1:
         raise StructureError(
             f"mechanism is locked: mobility W = 3*{n} - 2*{p5} - {p4} = {w} < 1 "
