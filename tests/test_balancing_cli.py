@@ -161,3 +161,16 @@ def test_balance_angles_accept_units_and_name_bad_values(tmp_path, capsys):
         rc, err = run(bad)
         assert rc == 2 and len(err.splitlines()) == 1 and "balance.angles" in err, err
         assert shown in err, err
+    # beyond +-1e6 rad the table printed 300-digit angles (now refused as by analyze --angles)
+    rc, err = run("[-1e300, 30]")
+    assert rc == 2 and "balance.angles" in err and "must lie within" in err, err
+
+
+def test_balance_cli_angles_beyond_float_precision_are_refused(tmp_path, capsys):
+    """'balance --angles -1e300' passed the angle on and failed with an unrelated least-squares
+    message; it is refused as in 'analyze' (the limit of crank angles, +-1e6 rad)."""
+    rc = main(["balance", str(DATA / "balance_fourbar.toml"), "--angles=-1e300,30",
+               "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err.strip()
+    assert rc == 2 and len(err.splitlines()) == 1, err
+    assert "--angles = -1e+300" in err and "must lie within +-5.72958e+07 deg" in err, err

@@ -11,6 +11,7 @@ file's range).
 from __future__ import annotations
 
 import importlib
+import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any
@@ -36,8 +37,9 @@ ANALYZERS: dict[str, str] = {
 }
 
 
-def parse_angles_deg(text: str) -> list[float]:
-    """Parse a comma-separated list of crank angles in degrees (``"0,30,90"``)."""
+def parse_angles_deg(text: str, *, angles: bool = True) -> list[float]:
+    """Parse a comma-separated list of crank angles in degrees (``"0,30,90"``); with
+    ``angles=False`` any finite numbers (a linear driver's slide positions in mm)."""
     try:
         vals = [float(t) for t in text.split(",") if t.strip()]
     except ValueError:
@@ -48,20 +50,21 @@ def parse_angles_deg(text: str) -> list[float]:
     bad = [v for v in vals if not np.isfinite(v)]
     if bad:
         raise ParameterError("--angles", bad[0], "must be finite numbers in degrees")
+    if angles:
+        from linkwork.planar.file import MAX_ANGLE
+
+        lim = math.degrees(MAX_ANGLE)
+        far = [v for v in vals if abs(v) > lim]  # -1e300 was printed as a 300-digit angle
+        if far:
+            raise ParameterError("--angles", f"{far[0]:g}", f"must lie within +-{lim:.6g} deg "
+                                 f"(+-{MAX_ANGLE:g} rad): beyond it the float spacing of "
+                                 "angles exceeds 1e-10 rad")
     return vals
 
 
 def parse_angles(text: str) -> np.ndarray:
     """Parse a comma-separated list of crank angles in degrees (``"0,30,90"``) to radians."""
-    from linkwork.planar.file import MAX_ANGLE
-
-    rad = np.radians(np.array(parse_angles_deg(text)))
-    far = np.abs(rad) > MAX_ANGLE  # -1e300 was printed as a 300-digit angle with its results
-    if far.any():
-        raise ParameterError("--angles", f"{np.degrees(rad[far][0]):g}", f"must lie within "
-                             f"+-{np.degrees(MAX_ANGLE):.6g} deg (+-{MAX_ANGLE:g} rad): beyond "
-                             "it the float spacing of angles exceeds 1e-10 rad")
-    return rad
+    return np.radians(np.array(parse_angles_deg(text)))
 
 
 def output_dir(out: Path) -> Path:
@@ -117,7 +120,8 @@ def register(app: typer.Typer) -> None:
                                   f"analysable: {sorted(ANALYZERS)}")
         if getattr(getattr(doc, "driver", None), "type", None) == "linear":
             # a planar file driven by a prismatic joint: positions in mm, as in `reactions`
-            table = None if angles is None else np.array(parse_angles_deg(angles)) * 1e-3
+            table = None if angles is None else np.array(
+                parse_angles_deg(angles, angles=False)) * 1e-3
         else:
             table = parse_angles(DEFAULT_ANGLES if angles is None else angles)
         output_dir(out)

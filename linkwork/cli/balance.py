@@ -20,6 +20,7 @@ the peak/RMS summary with every quantity that balancing raises, and writes into 
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any
@@ -49,8 +50,10 @@ class BalanceSection(FileModel):
     def _angles(cls, v: Any) -> list[float] | None:
         """Table positions in degrees: plain numbers are degrees (as ``--angles``); strings
         carry their unit ("30 deg", "0.5 rad")."""
+        from linkwork.planar.file import MAX_ANGLE
         from linkwork.units import to_si
 
+        max_deg = math.degrees(MAX_ANGLE)
         if v is None:
             return None
         if not isinstance(v, list) or not v:
@@ -66,6 +69,8 @@ class BalanceSection(FileModel):
                 raise ValueError(f"{getattr(exc, 'limit', exc)} (got {x!r})") from None
             if not np.isfinite(deg):
                 raise ValueError(f"must be finite (got {x!r})")
+            if abs(deg) > max_deg:  # as --angles: no 300-digit angles in the table
+                raise ValueError(f"must lie within +-{max_deg:.6g} deg (got {x!r})")
             out.append(deg)
         return out
 
