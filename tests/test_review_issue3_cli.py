@@ -125,6 +125,14 @@ def test_fourbar_paper001_torque_extremes_against_the_power_balance(tmp_path, ca
 LINEAR = Path(__file__).parent / "data" / "slider_driven_crank.toml"
 
 
+def _crank_rod_slider_energy(qd: np.ndarray, r: float, l: float) -> np.ndarray:
+    """Kinetic energy [J] of a crank r and rod l (thin rods of 1 and 2 kg) and a 3 kg slider
+    from the rates of (crank centre x, y, angle, rod centre x, y, angle, slider x)."""
+    return (0.5 * (1.0 * (qd[0] ** 2 + qd[1] ** 2) + 1.0 * r * r / 12 * qd[2] ** 2)
+            + 0.5 * (2.0 * (qd[3] ** 2 + qd[4] ** 2) + 2.0 * l * l / 12 * qd[5] ** 2)
+            + 0.5 * 3.0 * qd[6] ** 2)
+
+
 def _slider_driven_crank_force(s: np.ndarray) -> np.ndarray:
     """tests/data/slider_driven_crank.toml written out: slider B at (s, 0), crank O A = 0.1 m
     with A on the left of O -> B, rod 0.35 m; thin rods 1 and 2 kg, slider 3 kg; v1 = 0.5 m/s;
@@ -142,10 +150,7 @@ def _slider_driven_crank_force(s: np.ndarray) -> np.ndarray:
 
     def energy(s: np.ndarray) -> np.ndarray:
         h = 1e-7
-        qd = (coords(s + h) - coords(s - h)) / (2 * h) * v1
-        return (0.5 * (1.0 * (qd[0] ** 2 + qd[1] ** 2) + 1.0 * r * r / 12 * qd[2] ** 2)
-                + 0.5 * (2.0 * (qd[3] ** 2 + qd[4] ** 2) + 2.0 * l * l / 12 * qd[5] ** 2)
-                + 0.5 * 3.0 * qd[6] ** 2)
+        return _crank_rod_slider_energy((coords(s + h) - coords(s - h)) / (2 * h) * v1, r, l)
 
     h = 1e-5
     dT = (energy(s + h) - energy(s - h)) / (2 * h)
@@ -284,10 +289,7 @@ def _crank_slider_torque(phi: np.ndarray) -> np.ndarray:
             return np.stack([*(A / 2), p, *((A + B) / 2), th, B[0]])
 
         h = 1e-6
-        qd = (coords(p + h) - coords(p - h)) / (2 * h) * w
-        return (0.5 * (1.0 * (qd[0] ** 2 + qd[1] ** 2) + 1.0 * r * r / 12 * qd[2] ** 2)
-                + 0.5 * (2.0 * (qd[3] ** 2 + qd[4] ** 2) + 2.0 * l * l / 12 * qd[5] ** 2)
-                + 0.5 * 3.0 * qd[6] ** 2)
+        return _crank_rod_slider_energy((coords(p + h) - coords(p - h)) / (2 * h) * w, r, l)
 
     h = 1e-4
     return (energy(phi + h) - energy(phi - h)) / (2 * h)
