@@ -19,7 +19,7 @@ import numpy as np
 
 from linkwork.errors import ParameterError
 
-__all__ = ["Result", "all_true"]
+__all__ = ["Result", "all_true", "write_csv", "write_json"]
 
 
 @functools.lru_cache(maxsize=64)
@@ -33,6 +33,30 @@ def all_true(shape: tuple[int, ...]) -> np.ndarray:
     arr = np.ones(shape, dtype=bool)
     arr.flags.writeable = False
     return arr
+
+
+def write_csv(path: str | Path, columns: dict[str, tuple[Any, str]]) -> Path:
+    """Write equal-length columns as CSV: header ``name [unit]``, values as ``repr(float)``.
+
+    The one CSV writer of linkwork: every result and every command's table goes through it, so
+    that all CSV files read the same way (full double precision, units in the header).
+    ``columns`` maps a column name to ``(values, unit)``.  Returns the path.
+    """
+    p = Path(path)
+    with p.open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow([f"{k} [{u}]" for k, (_, u) in columns.items()])
+        for row in zip(*(np.asarray(v) for v, _ in columns.values()), strict=True):
+            w.writerow([repr(float(x)) for x in row])
+    return p
+
+
+def write_json(path: str | Path, data: Any) -> Path:
+    """Write ``data`` (JSON-able Python values) as indented JSON; the one JSON writer.  Returns
+    the path."""
+    p = Path(path)
+    p.write_text(json.dumps(data, indent=1))
+    return p
 
 
 class Result:
@@ -121,24 +145,19 @@ class Result:
 
     def to_json(self, path: str | Path) -> Path:
         """Write :meth:`to_dict` as JSON; return the path."""
-        p = Path(path)
-        p.write_text(json.dumps(self.to_dict(), indent=1, allow_nan=True))
-        return p
+        return write_json(path, self.to_dict())
 
     def to_csv(self, path: str | Path) -> Path:
         """Write the per-position columns as CSV with a unit row in the header names."""
-        p = Path(path)
         cols = self.columns() or {  # a single position: one row of its numbers
             k: np.atleast_1d(v) for k, v in self.scalars().items()
             if isinstance(v, int | float)}
         self._check_no_overflow(cols)
-        header = [f"{k} [{self.units.get(k.split('[')[0], '')}]" for k in cols]
-        with p.open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(header)
-            for row in zip(*cols.values(), strict=True):
-                w.writerow([repr(float(x)) for x in row])
-        return p
+        return write_csv(path, {k: (v, self._unit_of(k)) for k, v in cols.items()})
+
+    def _unit_of(self, column: str) -> str:
+        """Unit of a CSV column: that of its field (``R[0]`` -> ``R``)."""
+        return self.units.get(column.split("[")[0], "")
 
     def to_frame(self) -> Any:
         """A pandas DataFrame of the per-position columns (requires pandas)."""

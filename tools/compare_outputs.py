@@ -1,7 +1,10 @@
 """Compare two folders written by tools/record_outputs.sh: exit codes, and every CSV/JSON
 number by column name (CSV) or key path (JSON) to rtol = atol = 1e-9.
 
-Usage: python tools/compare_outputs.py BEFORE AFTER
+Usage: python tools/compare_outputs.py BEFORE AFTER [--text]
+
+With --text, what each command printed (stdout, stderr) must also be the same, once each
+recording's folder name is replaced by OUT (tables, messages: a pure restructuring keeps them).
 """
 
 from __future__ import annotations
@@ -87,7 +90,20 @@ def compare(before: Path, after: Path) -> list[str]:
     return bad
 
 
+def compare_text(before: Path, after: Path) -> list[str]:
+    bad = []
+    for f in sorted([*before.glob("*.stdout"), *before.glob("*.stderr")]):
+        g = after / f.name
+        a = " ".join(f.read_text().replace(str(before), "OUT").split())
+        b = " ".join(g.read_text().replace(str(after), "OUT").split()) if g.exists() else ""
+        if a != b:
+            bad.append(f"{f.name}: printed text differs")
+    return bad
+
+
 if __name__ == "__main__":
     diffs = compare(Path(sys.argv[1]), Path(sys.argv[2]))
+    if "--text" in sys.argv[3:]:
+        diffs += compare_text(Path(sys.argv[1]), Path(sys.argv[2]))
     print("\n".join(diffs[:200]) if diffs else "same numbers")
     sys.exit(1 if diffs else 0)

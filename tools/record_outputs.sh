@@ -4,11 +4,11 @@
 #   python tools/compare_outputs.py BEFORE AFTER   (CSV/JSON compared by column name to 1e-9).
 set -u
 out=${1:?usage: tools/record_outputs.sh DIR}
-lw=${LINKWORK:-.venv/bin/linkwork}
+lw=${LINKWORK:-.venv/bin/linkwork}  # may be a command with words, e.g. "env PYTHONPATH=$PWD .venv/bin/linkwork"
 mkdir -p "$out"
 run() { # name, args...
   local name=$1; shift
-  "$lw" "$@" --out "$out/$name" > "$out/$name.stdout" 2> "$out/$name.stderr"
+  $lw "$@" --out "$out/$name" > "$out/$name.stdout" 2> "$out/$name.stderr"
   echo $? > "$out/$name.rc"
 }
 for f in examples/*.toml tests/data/*.toml; do

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 from typing import ClassVar
 
 import numpy as np
@@ -120,18 +119,9 @@ class CycleComparison(Result):
                 cols[f"{tag}_{name}"] = np.asarray(val)
         return {k: np.asarray(v, dtype=float) for k, v in cols.items()}
 
-    def to_csv(self, path: str | Path) -> Path:
-        """CSV of :meth:`columns`, units in the header (``R1_O [N]``)."""
-        import csv
-
-        p = Path(path)
-        cols = self.columns()
-        with p.open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow([f"{k} [{self.units.get(k.split('_')[0], '')}]" for k in cols])
-            for row in zip(*cols.values(), strict=True):
-                w.writerow([repr(float(x)) for x in row])
-        return p
+    def _unit_of(self, column: str) -> str:
+        """Unit of a CSV column: that of its family (``R1_O`` -> ``R1``)."""
+        return self.units.get(column.split("_")[0], "")
 
 
 @dataclass(frozen=True)

@@ -12,7 +12,6 @@ paths, guides and slots, driving torque, reactions, shaking).
 
 from __future__ import annotations
 
-import csv
 import json
 from pathlib import Path
 from typing import Any
@@ -31,6 +30,7 @@ from linkwork.planar.kinematics import (
     transmission_angles,
 )
 from linkwork.planar.model import Crank, Mechanism, PinInSlot, Prismatic, Revolute
+from linkwork.results import write_csv
 
 __all__ = ["analyze_planar", "cycle_peaks", "dead_centre_label", "named_columns",
            "table_positions_error"]
@@ -143,15 +143,6 @@ def _distinct_paths(kin: Kinematics, candidates: list[tuple[str, str]]
     return kept
 
 
-def _write_csv(path: Path, cols: dict[str, tuple[np.ndarray, str]]) -> Path:
-    with path.open("w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow([f"{k} [{u}]" for k, (_, u) in cols.items()])
-        for row in zip(*(v for v, _ in cols.values()), strict=True):
-            w.writerow([repr(float(x)) for x in row])
-    return path
-
-
 def _solve(doc: PlanarFile, phi: np.ndarray) -> tuple[Kinematics, Dynamics]:
     mech = doc.mechanism()
     kin = kinematics(mech, phi)
@@ -235,8 +226,8 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
     dyn_cols = {"phi1": cols["phi1"]}
     dyn_cols.update({k: v for k, v in cols.items() if k.startswith("R_") or k in (
         "Q", "shaking_fx", "shaking_fy", "shaking_m", "T")})
-    written = [_write_csv(out / "planar_kinematics.csv", kin_cols),
-               _write_csv(out / "planar_dynamics.csv", dyn_cols)]
+    written = [write_csv(out / "planar_kinematics.csv", kin_cols),
+               write_csv(out / "planar_dynamics.csv", dyn_cols)]
     a_x, a_y = (float(v) for v in dyn.about)
     data = {
         "name": doc.name, "mobility": s.mobility, "structure": s.formula(),
