@@ -46,6 +46,7 @@ from typing import ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from linkwork.cycles import periodic_weights  # moved to linkwork.cycles; importable here
 from linkwork.errors import ParameterError, require_finite, require_positive
 from linkwork.results import Result
 
@@ -255,29 +256,6 @@ def counterweight_axis_offset(phi: ArrayLike, moment: ArrayLike, static_moment: 
         raise ParameterError("method", method, "must be 'lsq' or 'paper'")
     res = m + counterweight_axis_moment(p, x, y, S, w, e)
     return AxisOffset(x, y, p, m, res, method)
-
-
-def periodic_weights(phi: ArrayLike) -> np.ndarray:
-    """Trapezoid weights [rad] of a periodic function sampled once over a full cycle.
-
-    ``phi`` must be strictly increasing and span less than one turn (the last sample is not the
-    first one repeated); the weight of sample i is half the distance to its neighbours, with
-    the wrap-around from the last back to the first. The weights sum to :math:`2\\pi`. For
-    evenly spaced samples this is the rectangle rule, exact for trigonometric polynomials of
-    degree < n.
-    """
-    p = require_finite("phi", phi)
-    if p.ndim != 1 or p.size < 3:
-        raise ParameterError("phi", f"{p.size} samples", "must be >= 3 samples of one cycle")
-    d = np.diff(p)
-    if np.any(d <= 0.0):
-        raise ParameterError("phi", "samples", "must be strictly increasing")
-    span = p[-1] - p[0]
-    if span >= TWO_PI - 1e-12:
-        raise ParameterError("phi", f"span {span:.6g} rad",
-                             "must be < 2*pi (do not repeat the first sample at the end)")
-    gaps = np.append(d, TWO_PI - span)
-    return 0.5 * (gaps + np.roll(gaps, 1))
 
 
 def rms_offset(phi: ArrayLike, moment: ArrayLike, static_moment: float, omega: ArrayLike,
