@@ -15,13 +15,16 @@ The functions were gathered here from :mod:`linkwork.balancing.loads` (``rms``, 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.errors import ParameterError, require_finite
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "Harmonics",
@@ -172,6 +175,13 @@ class Harmonics(Result):
         p = np.asarray(phi, dtype=float)[..., None]
         j = self.order
         return self.mean + np.sum(self.cos * np.cos(j * p) + self.sin * np.sin(j * p), axis=-1)
+
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """Amplitudes over the harmonic order, the mean as a line: a
+        :class:`linkwork.plot.Figure` with 1 axes."""
+        from linkwork.plot.balancing import harmonics_figure
+
+        return harmonics_figure(self, ax=ax, **kw)
 
 
 def harmonics(phi: ArrayLike, values: ArrayLike, k: int = 4) -> Harmonics:

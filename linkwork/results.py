@@ -3,7 +3,9 @@
 A result is a frozen dataclass of NumPy arrays whose last axis runs over the positions of the
 cycle (shape ``(..., n)``), plus scalars that describe the inputs. It knows the unit of each
 field (class attribute ``units``) and exports itself to a dict, CSV, JSON and, where pandas is
-installed, a DataFrame. Plotting lives in :mod:`linkwork.plot`.
+installed, a DataFrame; it draws its family's default figure with ``.plot()``, which imports
+:mod:`linkwork.plot` (and so matplotlib) only when called and returns one
+:class:`linkwork.plot.Figure` for every family.
 """
 
 from __future__ import annotations
@@ -13,11 +15,14 @@ import dataclasses
 import functools
 import json
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
 from linkwork.errors import ParameterError
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = ["Result", "all_true", "write_csv", "write_json"]
 
@@ -60,10 +65,14 @@ def write_json(path: str | Path, data: Any) -> Path:
 
 
 class Result:
-    """Mixin for frozen dataclass results: export to dict / CSV / JSON / DataFrame.
+    """Mixin for frozen dataclass results: export to dict / CSV / JSON / DataFrame, and plot.
 
     Subclasses are ``@dataclass(frozen=True)`` and set ``units`` (field name -> unit string) and
     optionally ``position_field`` (the name of the driver-position array, e.g. ``"phi1"``).
+    Every family overrides :meth:`plot` with its default figure, importing its
+    :mod:`linkwork.plot` module inside the method (plot modules never import results at run
+    time, so there is no import circle). Exports go through :func:`write_csv` and
+    :func:`write_json` only.
     """
 
     units: ClassVar[dict[str, str]] = {}
@@ -158,6 +167,14 @@ class Result:
     def _unit_of(self, column: str) -> str:
         """Unit of a CSV column: that of its field (``R[0]`` -> ``R``)."""
         return self.units.get(column.split("[")[0], "")
+
+    def plot(self, **kwargs: Any) -> Figure:
+        """The default figure of this result family, a :class:`linkwork.plot.Figure`.
+
+        Each result family overrides this (importing :mod:`linkwork.plot` lazily, since it
+        imports matplotlib); keyword arguments go to the family's plotting function.
+        """
+        raise NotImplementedError(f"{type(self).__name__} has no default figure")
 
     def to_frame(self) -> Any:
         """A pandas DataFrame of the per-position columns (requires pandas)."""

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -44,6 +44,9 @@ from linkwork.planar.dynamics import BodyTorque, Dynamics, PointForce, inverse_d
 from linkwork.planar.kinematics import Kinematics, kinematics
 from linkwork.planar.model import Crank, Mechanism, Revolute
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = ["BalancingComparison", "CycleComparison", "compare_balancing", "crank_axis"]
 
@@ -122,6 +125,13 @@ class CycleComparison(Result):
     def _unit_of(self, column: str) -> str:
         """Unit of a CSV column: that of its family (``R1_O`` -> ``R1``)."""
         return self.units.get(column.split("_")[0], "")
+
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Shaking moments, force hodographs and driving torques over the cycle: a
+        :class:`linkwork.plot.Figure` with 3 axes."""
+        from linkwork.plot.balancing import cycle_comparison_figure
+
+        return cycle_comparison_figure(self, axes=axes, **kw)
 
 
 @dataclass(frozen=True)
@@ -234,6 +244,13 @@ class BalancingComparison(Result):
                     pct = (v / base - 1) * 100 if base > 0 else float("inf")
                     msgs.append(f"{q}: {variant} {v:.4g} vs unbalanced {base:.4g} (+{pct:.1f} %)")
         return msgs
+
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """The paper-001 table as grouped bars: a :class:`linkwork.plot.Figure` with 1 axes
+        (``self.cycle.plot()`` draws the whole cycle)."""
+        from linkwork.plot.balancing import balancing_comparison_figure
+
+        return balancing_comparison_figure(self, ax=ax, **kw)
 
 
 def _lever(counterweights: Sequence[Counterweight]) -> float:

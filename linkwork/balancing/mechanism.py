@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -23,6 +23,9 @@ from linkwork.errors import InfeasibleError, ParameterError, require_finite
 from linkwork.planar.kinematics import Kinematics, kinematics
 from linkwork.planar.model import Body, Mechanism, Prismatic, Revolute
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "ForceBalance",
@@ -167,6 +170,13 @@ class ShakingLoads(Result):
         """Largest |M| over the samples [N·m]."""
         return peak(self.moment)
 
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Shaking-force hodograph and shaking moment: a :class:`linkwork.plot.Figure` with
+        2 axes."""
+        from linkwork.plot.balancing import shaking_loads_figure
+
+        return shaking_loads_figure(self, axes=axes, **kw)
+
 
 def shaking_loads(kin: Kinematics, point: ArrayLike = (0.0, 0.0)) -> ShakingLoads:
     """Shaking force and moment about ``point`` from a kinematic solution and mass properties.
@@ -225,6 +235,13 @@ class ForceBalance(Result):
     reason: str
     units: ClassVar[dict[str, str]] = {"force_rms_before": "N", "force_rms_after": "N"}
     position_field: ClassVar[str] = "force_rms_before"
+
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """RMS shaking force before and after, as bars: a :class:`linkwork.plot.Figure` with
+        1 axes."""
+        from linkwork.plot.balancing import force_balance_figure
+
+        return force_balance_figure(self, ax=ax, **kw)
 
 
 def _cw_force_basis(kin: Kinematics, link: str) -> np.ndarray:

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -54,6 +54,9 @@ from linkwork.planar.dynamics import inverse_dynamics
 from linkwork.planar.kinematics import kinematics
 from linkwork.planar.model import Mechanism
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = ["BalancingProblem", "OptimalBalance", "ParetoSet", "optimal_balance", "pareto_set"]
 
@@ -86,6 +89,12 @@ class OptimalBalance(Result):
     units: ClassVar[dict[str, str]] = {"force_rms": "N", "moment_rms": "N*m",
                                        "torque_fluct": "N*m"}
     position_field: ClassVar[str] = "force_rms"
+
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """The design's three criteria as bars: a :class:`linkwork.plot.Figure` with 1 axes."""
+        from linkwork.plot.balancing import optimal_balance_figure
+
+        return optimal_balance_figure(self, ax=ax, **kw)
 
 
 class BalancingProblem:
@@ -329,6 +338,13 @@ class ParetoSet(Result):
     units: ClassVar[dict[str, str]] = {"force_rms": "N", "moment_rms": "N*m",
                                        "torque_fluct": "N*m"}
     position_field: ClassVar[str] = "force_rms"
+
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """RMS shaking force against RMS shaking moment, coloured by the torque fluctuation:
+        a :class:`linkwork.plot.Figure` with 1 axes (plus its colour bar)."""
+        from linkwork.plot.balancing import pareto_figure
+
+        return pareto_figure(self, ax=ax, **kw)
 
 
 def weight_grid(k: int = 5) -> np.ndarray:

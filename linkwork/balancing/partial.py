@@ -41,7 +41,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -49,6 +49,9 @@ from numpy.typing import ArrayLike
 from linkwork.cycles import periodic_weights  # moved to linkwork.cycles; importable here
 from linkwork.errors import ParameterError, require_finite, require_positive
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "AxisOffset",
@@ -98,6 +101,13 @@ class AxisOffset(Result):
     def __iter__(self) -> Iterator[float]:
         """Unpack as ``x, y = counterweight_axis_offset(...)``."""
         return iter((self.x, self.y))
+
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """Residual moment before and after moving the axis: a :class:`linkwork.plot.Figure`
+        with 1 axes."""
+        from linkwork.plot.balancing import axis_offset_figure
+
+        return axis_offset_figure(self, ax=ax, **kw)
 
 
 def counterweight_axis_moment(phi: ArrayLike, x: ArrayLike, y: ArrayLike,

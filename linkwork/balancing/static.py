@@ -23,12 +23,15 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
 from linkwork.errors import ParameterError, require_finite, require_in_range, require_positive
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "Counterweight",
@@ -114,6 +117,13 @@ class Counterweight(Result):
         m = float(require_positive("mass", mass, allow_zero=True))
         r = float(require_positive("radius", radius))
         return cls(link, m * r, float(require_finite("angle", angle)), r, inertia)
+
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """The counterweight's first moment S drawn at its angle on the link: a
+        :class:`linkwork.plot.Figure` with 1 axes."""
+        from linkwork.plot.balancing import counterweights_figure
+
+        return counterweights_figure((self,), ax=ax, **kw)
 
 
 def fourbar_counterweights(l1: float, l2: float, l3: float, m1: float, s1: complex,

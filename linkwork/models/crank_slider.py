@@ -31,7 +31,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, ClassVar, Literal, NamedTuple
+from typing import TYPE_CHECKING, Any, ClassVar, Literal, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -47,6 +47,9 @@ from linkwork.errors import (
     require_positive,
 )
 from linkwork.results import Result, all_true
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "CrankSliderResult",
@@ -126,6 +129,13 @@ class CrankSliderResult(Result):
         "omega2": "rad/s", "eps2": "rad/s^2", "V_C": "m/s", "a_C": "m/s^2",
         "pressure_angle": "rad", "valid": "1",
     }
+
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Slider position, velocity and acceleration over the crank angle (1-D results): a
+        :class:`linkwork.plot.Figure` with 3 axes."""
+        from linkwork.plot.sine import crank_slider_figure
+
+        return crank_slider_figure(self, axes=axes, **kw)
 
 
 class DeadCentres(NamedTuple):

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -44,6 +44,9 @@ from linkwork.errors import (
     shapes_error,
 )
 from linkwork.results import Result, all_true
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "FourbarForces",
@@ -175,11 +178,12 @@ class FourbarResult(Result):
     }
     position_field: ClassVar[str] = "theta2"
 
-    def plot(self, ax: Any = None) -> Any:
-        """Draw the linkage and the path of B (and P); see :mod:`linkwork.plot.fourbar`."""
-        from linkwork.plot.fourbar import plot_fourbar_linkage
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """Draw the linkage and the path of B (and P): a :class:`linkwork.plot.Figure` with one
+        axes (:func:`linkwork.plot.fourbar.plot_fourbar_linkage`)."""
+        from linkwork.plot.fourbar import fourbar_figure
 
-        return plot_fourbar_linkage(self, ax=ax)
+        return fourbar_figure(self, ax=ax, **kw)
 
     @property
     def transmission_angle(self) -> np.ndarray:
@@ -809,11 +813,12 @@ class FourbarForces(Result):
     shaking_moment: np.ndarray
     kinematics: FourbarResult
 
-    def plot(self, axes: Any = None) -> Any:
-        """Joint reactions and driving moment over theta2; see :mod:`linkwork.plot.fourbar`."""
-        from linkwork.plot.fourbar import plot_fourbar_forces
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Joint reactions and driving moment over theta2: a :class:`linkwork.plot.Figure` with
+        two axes (:func:`linkwork.plot.fourbar.plot_fourbar_forces`)."""
+        from linkwork.plot.fourbar import fourbar_forces_figure
 
-        return plot_fourbar_forces(self, axes=axes)
+        return fourbar_forces_figure(self, axes=axes, **kw)
 
     units: ClassVar[dict[str, str]] = {
         "theta2": "rad", "R_Ox": "N", "R_Oy": "N", "R_Ax": "N", "R_Ay": "N", "R_Bx": "N",

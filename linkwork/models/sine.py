@@ -41,7 +41,7 @@ References
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import ClassVar, NamedTuple
+from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -55,6 +55,9 @@ from linkwork.errors import (
     require_positive,
 )
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "ExtremePositions",
@@ -114,6 +117,13 @@ class InclinedSlotResult(Result):
         "a_q3": "m/rad^2", "a_q32": "m/rad^2", "V3": "m/s", "V32": "m/s", "a3": "m/s^2",
         "a32": "m/s^2",
     }
+
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Ram position, velocity and acceleration over the crank angle (1-D results): a
+        :class:`linkwork.plot.Figure` with 3 axes."""
+        from linkwork.plot.sine import inclined_slot_figure
+
+        return inclined_slot_figure(self, axes=axes, **kw)
 
 
 class ExtremePositions(NamedTuple):

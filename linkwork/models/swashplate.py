@@ -57,7 +57,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -72,6 +72,9 @@ from linkwork.errors import (
     require_positive,
 )
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "SCHEMES",
@@ -679,6 +682,13 @@ class Characteristics(Result):
             return {}
         return super().columns()
 
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """Stroke, stroke angles and largest pressure angles as bars: a
+        :class:`linkwork.plot.Figure` with 1 axes."""
+        from linkwork.plot.swashplate import characteristics_figure
+
+        return characteristics_figure(self, ax=ax, **kw)
+
 
 def characteristics(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
                     a: ArrayLike = 0.0, b: ArrayLike = 0.0, *,
@@ -789,6 +799,13 @@ class KinematicsResult(Result):
         out.update({f"characteristics.{k}": v for k, v in
                     self.characteristics.scalars().items()})
         return out
+
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Position, pressure angle and transfer function over the rotor angle: a
+        :class:`linkwork.plot.Figure` with 3 axes."""
+        from linkwork.plot.swashplate import kinematics_figure
+
+        return kinematics_figure(self, axes=axes, **kw)
 
 
 def analyze(design: Design, phi: ArrayLike | None = None, *, omega: float = 0.0,
@@ -984,6 +1001,13 @@ class DriveForces(Result):
         "M": "N*m", "M_total": "N*m", "eta_inst": "", "efficiency": "", "work_useful": "J",
         "work_input": "J", "u": ""}
     position_field: ClassVar[str] = "phi"
+
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """Slide load, rod force and drive torque over the rotor angle: a
+        :class:`linkwork.plot.Figure` with 2 axes."""
+        from linkwork.plot.swashplate import drive_forces_figure
+
+        return drive_forces_figure(self, ax=ax, **kw)
 
 
 Load = Callable[[np.ndarray], ArrayLike] | tuple[ArrayLike, ArrayLike] | float

@@ -42,7 +42,7 @@ from __future__ import annotations
 import dataclasses
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -50,6 +50,9 @@ from numpy.typing import ArrayLike
 from linkwork.errors import ParameterError, require_finite, require_positive
 from linkwork.models import crank_slider, sine
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "IDLE",
@@ -171,6 +174,13 @@ class ScheduleResult(Result):
                                    self.switch_ram_dv, strict=True)
         ]
         return data
+
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Output-link motion over the duty schedule, switches marked: a
+        :class:`linkwork.plot.Figure` with 3 axes."""
+        from linkwork.plot.sine import schedule_figure
+
+        return schedule_figure(self, axes=axes, **kw)
 
 
 @dataclass(frozen=True)

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -54,6 +54,9 @@ from linkwork.planar.kinematics import (
 )
 from linkwork.planar.model import Joint, Linear, Mechanism, Prismatic, Revolute
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = ["BodyTorque", "Dynamics", "PointForce", "inverse_dynamics", "kinetic_energy"]
 
@@ -162,6 +165,14 @@ class Dynamics(Result):
     def power(self) -> Arr:
         """Driving power ``Q * omega1`` [W]."""
         return self.Q * self.kinematics.omega1
+
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Driving torque (or force) with its mean and the joint reaction magnitudes: a
+        :class:`linkwork.plot.Figure` with 2 axes (:mod:`linkwork.plot.planar` also draws the
+        shaking loads and the skeleton)."""
+        from linkwork.plot.planar import dynamics_figure
+
+        return dynamics_figure(self, axes=axes, **kw)
 
 
 def _state_from(kin: Kinematics) -> _State:

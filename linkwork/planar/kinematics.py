@@ -20,7 +20,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
-from typing import Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -44,6 +44,9 @@ from linkwork.planar.model import (
 )
 from linkwork.planar.structure import Group
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = ["DeadCentre", "Kinematics", "PointMotion", "dead_centres", "kinematics",
            "transmission_angles"]
@@ -135,6 +138,13 @@ class PointMotion(Result):
     ay: Arr
     units: ClassVar[dict[str, str]] = {"phi1": "rad", "x": "m", "y": "m", "vx": "m/s",
                                        "vy": "m/s", "ax": "m/s^2", "ay": "m/s^2"}
+
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Position, velocity and acceleration components over the driver positions: a
+        :class:`linkwork.plot.Figure` with 3 axes."""
+        from linkwork.plot.planar import point_motion_figure
+
+        return point_motion_figure(self, axes=axes, **kw)
 
 
 @dataclass(frozen=True)
@@ -252,6 +262,14 @@ class Kinematics(Result):
         rax = P.ax - aax + 2 * wa * rvy
         ray = P.ay - aay - 2 * wa * rvx
         return s, sd, ux * rax + uy * ray
+
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Angles, angular velocities and accelerations of the moving bodies over the driver
+        positions: a :class:`linkwork.plot.Figure` with 3 axes
+        (:func:`linkwork.plot.planar.plot_skeleton` draws the mechanism itself)."""
+        from linkwork.plot.planar import kinematics_figure
+
+        return kinematics_figure(self, axes=axes, **kw)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1,34 +1,15 @@
 """Figures, kept apart from the models and imported lazily.
 
-Every plotting function takes ``ax=None`` (or ``axes=None``) and returns what it drew; colours and
-styles never enter the models. matplotlib is imported on first use through :func:`pyplot`, with the
-non-interactive Agg backend when no display is available. One module per topic
-(:mod:`linkwork.plot.sine`, ...).
+Every plotting function takes ``ax=None`` (or ``axes=None``) through one helper
+(:func:`axes_or_new`) and returns what it drew; ``result.plot()`` of every result family returns
+one :class:`Figure`. Colours and styles never enter the models. matplotlib is imported on first
+use through :func:`pyplot`, with the non-interactive Agg backend when no display is available.
+One module per topic (:mod:`linkwork.plot.sine`, ...); the pattern they follow is written down in
+:mod:`linkwork.plot._base`.
 """
 
 from __future__ import annotations
 
-import os
-from pathlib import Path
-from typing import Any
+from linkwork.plot._base import Figure, axes_or_new, pyplot, save
 
-__all__ = ["pyplot", "save"]
-
-
-def pyplot() -> Any:
-    """Return ``matplotlib.pyplot``, selecting Agg when there is no display."""
-    import matplotlib
-
-    if not os.environ.get("DISPLAY") and not os.environ.get("MPLBACKEND"):
-        matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def save(fig: Any, path: str | Path, dpi: int = 120) -> Path:
-    """Save ``fig`` to ``path`` (PNG by suffix), close it, and return the path."""
-    p = Path(path)
-    fig.savefig(p, dpi=dpi, bbox_inches="tight")
-    pyplot().close(fig)
-    return p
+__all__ = ["Figure", "axes_or_new", "pyplot", "save"]

@@ -1,22 +1,40 @@
-"""Figures for balancing: residual moments, shaking force hodographs, torques, Pareto sets."""
+"""Figures for balancing: residual moments, shaking force hodographs, torques, Pareto sets.
+
+The ``plot_*`` functions take arrays and ``ax=None`` and return a dict of what they drew; the
+``*_figure`` functions draw a balancing result and return a :class:`~linkwork.plot.Figure`
+(what ``result.plot()`` gives).
+"""
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.plot import pyplot
+from linkwork.plot._base import (
+    Figure,
+    axes_or_new,
+    pyplot,  # noqa: F401  (importable here, as before)
+)
 
-__all__ = ["plot_force_hodograph", "plot_moments", "plot_pareto", "plot_torques"]
+if TYPE_CHECKING:
+    from linkwork.balancing.comparison import BalancingComparison, CycleComparison
+    from linkwork.balancing.mechanism import ForceBalance, ShakingLoads
+    from linkwork.balancing.optimal import OptimalBalance, ParetoSet
+    from linkwork.balancing.partial import AxisOffset
+    from linkwork.balancing.static import Counterweight
+    from linkwork.cycles import Harmonics
+
+__all__ = ["axis_offset_figure", "balancing_comparison_figure", "counterweights_figure",
+           "cycle_comparison_figure", "force_balance_figure", "harmonics_figure",
+           "optimal_balance_figure", "pareto_figure", "plot_bars", "plot_force_hodograph",
+           "plot_moments", "plot_pareto", "plot_torques", "shaking_loads_figure"]
 
 
 def _ax(ax: Any) -> Any:
-    if ax is None:
-        _, ax = pyplot().subplots(figsize=(7, 4))
-    return ax
+    return axes_or_new(ax, figsize=(7, 4))
 
 
 def plot_moments(phi: ArrayLike, curves: Mapping[str, ArrayLike], ax: Any = None,
@@ -95,10 +113,10 @@ def plot_force_hodograph(forces: Mapping[str, ArrayLike], ax: Any = None) -> dic
     return out
 
 
-def plot_pareto(force_rms: Sequence[float], moment_rms: Sequence[float],
-                torque_fluct: Sequence[float], ax: Any = None,
+def plot_pareto(force_rms: ArrayLike, moment_rms: ArrayLike,
+                torque_fluct: ArrayLike, ax: Any = None,
                 points: Mapping[str, tuple[float, float]] | None = None,
-                dominated: Sequence[bool] | None = None) -> dict[str, Any]:
+                dominated: ArrayLike | None = None) -> dict[str, Any]:
     """Trade-off of optimal balancing: RMS shaking force vs RMS shaking moment.
 
     Colour = driving-torque fluctuation. ``points`` adds labelled comparison designs
@@ -132,3 +150,135 @@ def plot_pareto(force_rms: Sequence[float], moment_rms: Sequence[float],
     ax.legend(fontsize=8)
     ax.grid(True, alpha=0.3)
     return out
+
+
+def plot_bars(values: Mapping[str, float], ax: Any = None, ylabel: str = "",
+              fmt: str = "%.4g") -> dict[str, Any]:
+    """One labelled bar per entry of ``values`` (label -> number), values written on the bars.
+
+    Returns ``{"ax": ax, "bars": BarContainer}``.
+    """
+    ax = _ax(ax)
+    bars = ax.bar(list(values), [float(v) for v in values.values()],
+                  color=[f"C{i % 10}" for i in range(len(values))])
+    ax.bar_label(bars, fmt=fmt, fontsize=8)
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, axis="y", alpha=0.3)
+    return {"ax": ax, "bars": bars}
+
+
+def axis_offset_figure(r: AxisOffset, ax: Any = None) -> Figure:
+    """Residual moment before and after moving the counterweight axis to O1 (1 axes)."""
+    out = plot_moments(r.phi1, {"before": r.moment,
+                                f"after ({r.method}), O1 = ({r.x * 1e3:.4g}, {r.y * 1e3:.4g})"
+                                " mm": r.residual}, ax=ax, ylabel="residual moment [N·m]")
+    return Figure.of(out)
+
+
+def counterweights_figure(counterweights: Sequence[Counterweight], ax: Any = None) -> Figure:
+    """Each counterweight as its first moment of mass S [kg·m], drawn as a vector at its angle
+    in the frame of its link, from the link's hinge (1 axes)."""
+    ax = axes_or_new(ax, figsize=(5, 5))
+    arrows = {}
+    for i, cw in enumerate(counterweights):
+        sx, sy = cw.static_moment * np.cos(cw.angle), cw.static_moment * np.sin(cw.angle)
+        r = f", r = {cw.radius * 1e3:.4g} mm" if cw.radius is not None else ""
+        (arrows[cw.link],) = ax.plot([0.0, sx], [0.0, sy], "-o", color=f"C{i % 10}",
+                                     markevery=[1], label=f"{cw.link}: S = "
+                                     f"{cw.static_moment:.4g} kg·m at "
+                                     f"{np.degrees(cw.angle):.4g}°{r}")
+    ax.plot([0], [0], "k+")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.set_xlabel("S along the link [kg·m]")
+    ax.set_ylabel("S normal to the link [kg·m]")
+    ax.legend(fontsize=8)
+    ax.grid(True, alpha=0.3)
+    return Figure.of(ax, lines=arrows)
+
+
+def force_balance_figure(fb: ForceBalance, ax: Any = None) -> Figure:
+    """RMS shaking force before and after the counterweights (1 axes, bars)."""
+    out = plot_bars({"unbalanced": fb.force_rms_before, "balanced": fb.force_rms_after}, ax=ax,
+                    ylabel="RMS shaking force [N]")
+    out["ax"].set_title("full force balance" if fb.full else "partial force balance",
+                        fontsize=9)
+    return Figure.of(out)
+
+
+def optimal_balance_figure(ob: OptimalBalance, ax: Any = None) -> Figure:
+    """The three criteria of an optimal design (1 axes, bars): RMS shaking force [N], RMS
+    shaking moment [N·m], driving-torque fluctuation [N·m]."""
+    out = plot_bars({"force RMS [N]": ob.force_rms, "moment RMS [N·m]": ob.moment_rms,
+                     "torque fluct. [N·m]": ob.torque_fluct}, ax=ax, ylabel="criterion")
+    out["ax"].set_title("weights (w_F, w_M, w_Q) = ({:g}, {:g}, {:g})".format(*ob.weights),
+                        fontsize=9)
+    return Figure.of(out)
+
+
+def pareto_figure(ps: ParetoSet, ax: Any = None) -> Figure:
+    """The trade-off of a Pareto set (1 axes): :func:`plot_pareto` with the unbalanced and the
+    statically balanced mechanism as reference points."""
+    return Figure.of(plot_pareto(ps.force_rms, ps.moment_rms, ps.torque_fluct, ax=ax,
+                                 points={"unbalanced": ps.unbalanced[:2],
+                                         "static": ps.static[:2]},
+                                 dominated=ps.dominated))
+
+
+def shaking_loads_figure(sl: ShakingLoads, axes: Any = None) -> Figure:
+    """Shaking-force hodograph and shaking moment over the crank angle (2 axes)."""
+    ax = axes_or_new(axes, 1, 2, figsize=(12, 4.5))
+    force = plot_force_hodograph({"shaking force": sl.force}, ax=ax[0])
+    moment = plot_moments(sl.phi1, {"M": sl.moment}, ax=ax[1],
+                          ylabel="shaking moment about ({:g}, {:g}) mm [N·m]".format(
+                              *(1e3 * np.asarray(sl.point, dtype=float))))
+    return Figure.of(ax, force=force, moment=moment)
+
+
+def cycle_comparison_figure(c: CycleComparison, axes: Any = None) -> Figure:
+    """The paper-001 comparison over a cycle (3 axes): shaking moments M, dM1, dM2, dM3; the
+    shaking-force hodographs unbalanced and static; the driving torques."""
+    ax = axes_or_new(axes, 1, 3, figsize=(17, 4.5))
+    moments = plot_moments(c.phi1, {"M unbalanced": c.M, "ΔM1 static": c.dM1,
+                                    "ΔM2 1st harmonic": c.dM2, "ΔM3 least sq.": c.dM3},
+                           ax=ax[0])
+    force = plot_force_hodograph({"unbalanced": c.F0, "static": c.F1}, ax=ax[1])
+    torque = plot_torques(c.phi1, {"unbalanced": c.Q0, "balanced": c.Q1}, ax=ax[2])
+    return Figure.of(ax, moments=moments, force=force, torque=torque)
+
+
+def balancing_comparison_figure(bc: BalancingComparison, ax: Any = None) -> Figure:
+    """The paper-001 table as grouped bars (1 axes): M, dM1, dM2, dM3 at the table positions,
+    with R2 and R3 in the title."""
+    ax = _ax(ax)
+    deg = np.degrees(np.asarray(bc.phi1, dtype=float))
+    cols = {"M unbalanced": bc.M, "ΔM1 static": bc.dM1, "ΔM2 1st harmonic": bc.dM2,
+            "ΔM3 least sq.": bc.dM3}
+    width = 0.8 / len(cols)
+    pos = np.arange(deg.size)
+    bars = {}
+    for i, (label, v) in enumerate(cols.items()):
+        bars[label] = ax.bar(pos + (i - 1.5) * width, np.asarray(v, dtype=float), width,
+                             label=label)
+    ax.set_xticks(pos, [f"{d:.0f}" for d in deg])
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("crank angle φ1 [deg]")
+    ax.set_ylabel("shaking moment [N·m]")
+    ax.set_title(f"R2 = {bc.R2:.1f} %, R3 = {bc.R3:.1f} %", fontsize=9)
+    ax.legend(fontsize=8)
+    ax.grid(True, axis="y", alpha=0.3)
+    return Figure.of(ax, bars=bars)
+
+
+def harmonics_figure(h: Harmonics, ax: Any = None) -> Figure:
+    """Amplitudes A_j of the harmonics as bars over their order j, the mean a0 as a line
+    (1 axes)."""
+    ax = _ax(ax)
+    bars = ax.bar(np.asarray(h.order), np.asarray(h.amplitude), color="C0", label="A_j")
+    line = ax.axhline(h.mean, color="C1", ls="--", label=f"mean a0 = {h.mean:.4g}")
+    ax.set_xticks(np.asarray(h.order))
+    ax.set_xlabel("harmonic order j")
+    ax.set_ylabel("amplitude A_j [unit of the quantity]")
+    ax.legend(fontsize=8)
+    ax.grid(True, axis="y", alpha=0.3)
+    return Figure.of(ax, bars=bars, mean=line)

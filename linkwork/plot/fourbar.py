@@ -1,25 +1,30 @@
 """Figures of the closed-form four-bar: the linkage drawn at some positions, its motion and loads.
 
-Every function takes ``ax=None`` (a new figure then) and returns what it drew.
+Every function takes ``ax=None`` (a new figure then) and returns what it drew; the
+``*_figure`` functions return a :class:`~linkwork.plot.Figure` (what ``result.plot()`` gives).
 """
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from linkwork.models.fourbar import FourbarForces, FourbarResult
-from linkwork.plot import pyplot
+from linkwork.plot._base import (
+    Figure,
+    axes_or_new,
+    pyplot,  # noqa: F401  (importable here, as before)
+)
 
-__all__ = ["plot_fourbar_forces", "plot_fourbar_linkage", "plot_fourbar_motion"]
+if TYPE_CHECKING:
+    from linkwork.models.fourbar import FourbarForces, FourbarResult
+
+__all__ = ["fourbar_figure", "fourbar_forces_figure", "plot_fourbar_forces",
+           "plot_fourbar_linkage", "plot_fourbar_motion"]
 
 
 def _axes(ax: Any, ncols: int = 1) -> Any:
-    if ax is not None:
-        return ax
-    _, ax = pyplot().subplots(1, ncols, figsize=(6 * ncols, 4.5))
-    return ax
+    return axes_or_new(ax, 1, ncols, figsize=(6 * ncols, 4.5))
 
 
 def plot_fourbar_linkage(result: FourbarResult, indices: Any = None, ax: Any = None) -> Any:
@@ -89,3 +94,13 @@ def plot_fourbar_forces(forces: FourbarForces, axes: Any = None) -> Any:
     axes[1].set_xlabel("theta2 [deg]")
     axes[1].set_ylabel("driving moment Q [N m]")
     return axes
+
+
+def fourbar_figure(result: FourbarResult, ax: Any = None, **kw: Any) -> Figure:
+    """The linkage at some positions with the path of B (and P): :func:`plot_fourbar_linkage`."""
+    return Figure.of(plot_fourbar_linkage(result, ax=ax, **kw))
+
+
+def fourbar_forces_figure(forces: FourbarForces, axes: Any = None, **kw: Any) -> Figure:
+    """Joint reactions and driving moment: :func:`plot_fourbar_forces` (2 axes)."""
+    return Figure.of(plot_fourbar_forces(forces, axes=axes, **kw))

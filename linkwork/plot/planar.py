@@ -1,31 +1,43 @@
 """Figures of the planar engine's results: skeleton, paths, driving torque, reactions, shaking.
 
 Every function takes ``ax=None`` (a new figure is made) and returns what it drew. Angles are
-shown in degrees, lengths in mm.
+shown in degrees, lengths in mm. The ``*_figure`` functions return a
+:class:`~linkwork.plot.Figure` (what ``result.plot()`` gives).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from linkwork.plot import pyplot
+from linkwork.cycles import mean_over_range
+from linkwork.plot._base import (
+    Figure,
+    axes_or_new,
+    pyplot,  # noqa: F401  (importable here, as before)
+)
 
-__all__ = ["plot_driving_torque", "plot_reactions", "plot_shaking", "plot_skeleton"]
+if TYPE_CHECKING:
+    from linkwork.planar.dynamics import Dynamics
+    from linkwork.planar.kinematics import Kinematics, PointMotion
+
+__all__ = ["dynamics_figure", "kinematics_figure", "plot_driving_torque", "plot_reactions",
+           "plot_shaking", "plot_skeleton", "point_motion_figure"]
 
 
 def _ax(ax: Any) -> Any:
-    if ax is None:
-        _, ax = pyplot().subplots()
-    return ax
+    return axes_or_new(ax)
+
+
+def _linear(result: Any) -> bool:
+    """A linear driver: its positions are in m (the result relabels ``phi1``'s unit)."""
+    return bool(result.units.get("phi1") == "m")
 
 
 def _x(kin: Any) -> tuple[np.ndarray, str]:
-    from linkwork.planar.model import Crank
-
-    if isinstance(kin.mechanism.driver, Crank):
+    if not _linear(kin):
         return np.degrees(kin.phi1), "driver angle φ1 [deg]"
     return kin.phi1 * 1e3, "driver position s1 [mm]"
 
@@ -83,12 +95,10 @@ def _draw_guides(ax: Any, kin: Any, positions: Sequence[int], colours: dict[str,
                  ) -> list[Any]:
     """Guides (prismatic joints) and slots (pin-in-slot joints) as wide translucent segments
     on their body, over the stretch the slider point or pin travels (plus a margin)."""
-    from linkwork.planar.model import PinInSlot, Prismatic
-
     mech = kin.mechanism
     out = []
     for j in mech.joints:
-        if not isinstance(j, Prismatic | PinInSlot):
+        if j.code not in ("P", "S"):  # prismatic joints and pin-in-slot joints have a line
             continue
         qa, pb, ang = mech.joint_geometry(j)
         ia = mech.index[j.a]
@@ -108,7 +118,7 @@ def _draw_guides(ax: Any, kin: Any, positions: Sequence[int], colours: dict[str,
             lo, hi = lo - pad, hi + pad
             x0, y0, ex, ey = qx[idx], qy[idx], ux[idx], uy[idx]
             colour = "k" if j.a == mech.frame.name else colours.get(j.a, "0.4")
-            kind = "slot" if isinstance(j, PinInSlot) else "guide"
+            kind = "slot" if j.code == "S" else "guide"
             label = kind if j.name.lower() == kind else f"{kind} {j.name}"
             (ln,) = ax.plot([(x0 + lo * ex) * 1e3, (x0 + hi * ex) * 1e3],
                             [(y0 + lo * ey) * 1e3, (y0 + hi * ey) * 1e3], "-", lw=6,
@@ -131,15 +141,11 @@ def _prefixed(unit: str, *values: Any) -> tuple[float, str]:
 
 def plot_driving_torque(dyn: Any, ax: Any = None) -> dict[str, Any]:
     """Driving torque (or force) over the cycle, with its mean. Returns ``{"ax", "line"}``."""
-    from linkwork.planar.model import Crank
-
     ax = _ax(ax)
     x, label = _x(dyn.kinematics)
-    crank = isinstance(dyn.kinematics.mechanism.driver, Crank)
+    crank = not _linear(dyn.kinematics)
     div, unit = _prefixed("N·m" if crank else "N", dyn.Q)
     (ln,) = ax.plot(x, dyn.Q / div, label="Q")
-    from linkwork.balancing.loads import mean_over_range
-
     mean = mean_over_range(dyn.kinematics.phi1, dyn.Q) / div
     ax.axhline(mean, color="k", lw=0.8, ls=":", label=f"mean {mean:.4g} {unit} (work / range)")
     ax.set_xlabel(label)
@@ -167,8 +173,7 @@ def plot_reactions(dyn: Any, joints: Sequence[str] | None = None, ax: Any = None
 
 def plot_shaking(dyn: Any, axes: Any = None) -> dict[str, Any]:
     """Shaking force components and shaking moment. Returns ``{"axes", "lines"}``."""
-    if axes is None:
-        _, axes = pyplot().subplots(2, 1, sharex=True)
+    axes = axes_or_new(axes, 2, 1, sharex=True)
     x, label = _x(dyn.kinematics)
     fdiv, funit = _prefixed("N", dyn.shaking_fx, dyn.shaking_fy)
     mdiv, munit = _prefixed("N·m", dyn.shaking_m)
@@ -182,3 +187,58 @@ def plot_shaking(dyn: Any, axes: Any = None) -> dict[str, Any]:
     axes[0].legend()
     axes[1].legend()
     return {"axes": axes, "lines": lines}
+
+
+def _pva_axes(axes: Any) -> Any:
+    return axes_or_new(axes, 3, 1, figsize=(8, 8.5), sharex=True)
+
+
+def kinematics_figure(kin: Kinematics, bodies: Sequence[str] | None = None, axes: Any = None
+                      ) -> Figure:
+    """Angles [deg], angular velocities [rad/s] and angular accelerations [rad/s²] of the moving
+    bodies over the driver (3 axes, one line per body)."""
+    ax = _pva_axes(axes)
+    x, label = _x(kin)
+    names = list(kin.bodies[1:]) if bodies is None else list(bodies)
+    lines: dict[str, list[Any]] = {}
+    for name in names:
+        i = kin.bodies.index(name)
+        lines[name] = [
+            ax[0].plot(x, np.degrees(np.unwrap(kin.theta[i])), label=name)[0],
+            ax[1].plot(x, kin.omega[i], label=name)[0],
+            ax[2].plot(x, kin.eps[i], label=name)[0]]
+    for a, ylab in zip(ax, ("angle θ [deg]", "angular velocity ω [rad/s]",
+                            "angular acceleration ε [rad/s²]"), strict=True):
+        a.set_ylabel(ylab)
+        a.grid(True, alpha=0.3)
+    ax[0].legend(fontsize="small", ncol=2)
+    ax[-1].set_xlabel(label)
+    return Figure.of(ax, lines=lines)
+
+
+def point_motion_figure(pm: PointMotion, axes: Any = None) -> Figure:
+    """Position [mm], velocity [m/s] and acceleration [m/s²] components of a point over the
+    driver positions (3 axes, x and y in each)."""
+    ax = _pva_axes(axes)
+    linear = _linear(pm)
+    x = pm.phi1 * 1e3 if linear else np.degrees(pm.phi1)
+    for a, (qx, qy, ylab) in zip(ax, ((pm.x * 1e3, pm.y * 1e3, "position [mm]"),
+                                      (pm.vx, pm.vy, "velocity [m/s]"),
+                                      (pm.ax, pm.ay, "acceleration [m/s²]")), strict=True):
+        a.plot(x, qx, label="x")
+        a.plot(x, qy, label="y")
+        a.set_ylabel(ylab)
+        a.grid(True, alpha=0.3)
+        a.legend(fontsize="small")
+    ax[-1].set_xlabel("driver position s1 [mm]" if linear else "driver angle φ1 [deg]")
+    return Figure.of(ax)
+
+
+def dynamics_figure(dyn: Dynamics, joints: Sequence[str] | None = None, axes: Any = None
+                    ) -> Figure:
+    """Driving torque (or force) with its mean, and the joint reaction magnitudes over the
+    driver positions (2 axes): :func:`plot_driving_torque`, :func:`plot_reactions`."""
+    ax = axes_or_new(axes, 2, 1, figsize=(8, 7), sharex=True)
+    torque = plot_driving_torque(dyn, ax=ax[0])
+    reactions = plot_reactions(dyn, joints, ax=ax[1])
+    return Figure.of(ax, torque=torque, reactions=reactions)

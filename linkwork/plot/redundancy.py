@@ -4,13 +4,22 @@ moments, Monte-Carlo histograms of the peaks."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from linkwork.plot import pyplot
+from linkwork.plot._base import (
+    Figure,
+    axes_or_new,
+    pyplot,  # noqa: F401  (importable here, as before)
+)
 
-__all__ = ["plot_bending", "plot_components", "plot_peak_histogram"]
+if TYPE_CHECKING:
+    from linkwork.redundancy.core import SpatialReactions
+    from linkwork.redundancy.tolerance import ToleranceStudy
+
+__all__ = ["plot_bending", "plot_components", "plot_peak_histogram", "reactions_figure",
+           "tolerance_figure"]
 
 _UNIT = {"fx": "N", "fy": "N", "fz": "N", "mx": "N·m", "my": "N·m", "mz": "N·m",
          "bending": "N·m", "Q": "N·m"}
@@ -26,9 +35,7 @@ def _driver_axis(result: Any) -> tuple[np.ndarray, str]:
 
 
 def _ax(ax: Any) -> Any:
-    if ax is None:
-        _, ax = pyplot().subplots(figsize=(7, 4))
-    return ax
+    return axes_or_new(ax, figsize=(7, 4))
 
 
 def plot_components(result: Any, component: str = "fz", joints: Sequence[str] | None = None,
@@ -70,8 +77,7 @@ def plot_bending(result: Any, axes: Any = None) -> dict[str, Any]:
 
     Returns ``{"axes": axes, "fz": {...}, "mx": {...}, "my": {...}, "Q": Line2D}``.
     """
-    if axes is None:
-        _, axes = pyplot().subplots(2, 2, figsize=(11, 7), sharex=True)
+    axes = axes_or_new(axes, 2, 2, figsize=(11, 7), sharex=True)
     ax = np.asarray(axes).ravel()
     out: dict[str, Any] = {"axes": axes}
     for a, comp in zip(ax[:3], ("fz", "mx", "my"), strict=True):
@@ -130,3 +136,19 @@ def plot_peak_histogram(study: Any, joint: str, quantity: str = "bending", ax: A
     ax.set_ylabel(f"samples (N = {study.n_samples})")
     ax.legend(fontsize=8)
     return out
+
+
+def reactions_figure(result: SpatialReactions, axes: Any = None) -> Figure:
+    """Axial forces, bending moments and the driving torque (4 axes): :func:`plot_bending`."""
+    return Figure.of(plot_bending(result, axes=axes))
+
+
+def tolerance_figure(study: ToleranceStudy, quantity: str = "bending", axes: Any = None,
+                     **kw: Any) -> Figure:
+    """Histograms of the peak ``quantity`` over the samples, one axes per joint:
+    :func:`plot_peak_histogram`."""
+    n = len(study.joints)
+    ax = np.atleast_1d(axes_or_new(axes, n, 1, figsize=(7, 3.2 * n), squeeze=False)).ravel()
+    hists = {name: plot_peak_histogram(study, name, quantity, ax=a, **kw)
+             for a, name in zip(ax, study.joints, strict=True)}
+    return Figure.of(ax, histograms=hists)

@@ -1,30 +1,35 @@
 """Kinematic diagrams of the variable-structure sine press drive (paper 000).
 
 Every function takes ``axes=None`` (or ``ax=None``), draws, and returns what it drew; figures are
-created through :func:`linkwork.plot.pyplot` only when no axes are given.  Lengths are shown in
-mm, angles in degrees; the models stay in SI.
+created through :func:`linkwork.plot.axes_or_new` only when no axes are given.  Lengths are shown
+in mm, angles in degrees; the models stay in SI. The ``*_figure`` functions return a
+:class:`~linkwork.plot.Figure` (what ``result.plot()`` gives).
 """
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
-from linkwork.models.crank_slider import CrankSliderResult
-from linkwork.models.sine import InclinedSlotResult, force_ratio, working_range
-from linkwork.models.variable_structure import ScheduleResult
-from linkwork.plot import pyplot
+from linkwork.plot._base import (
+    Figure,
+    axes_or_new,
+    pyplot,  # noqa: F401  (importable here, as before)
+)
 
-__all__ = ["plot_cycle", "plot_force_ratio", "plot_schedule"]
+if TYPE_CHECKING:
+    from linkwork.models.crank_slider import CrankSliderResult
+    from linkwork.models.sine import InclinedSlotResult
+    from linkwork.models.variable_structure import ScheduleResult
+
+__all__ = ["crank_slider_figure", "inclined_slot_figure", "plot_cycle", "plot_force_ratio",
+           "plot_force_ratio_curve", "plot_schedule", "schedule_figure"]
 
 
 def _axes3(axes: Any, sharex: bool = True) -> Any:
-    if axes is not None:
-        return axes
-    plt = pyplot()
-    _, ax = plt.subplots(3, 1, figsize=(8, 8.5), sharex=sharex)
-    return ax
+    return axes_or_new(axes, 3, 1, figsize=(8, 8.5), sharex=sharex)
 
 
 def plot_cycle(idle: CrankSliderResult | None, working: InclinedSlotResult | None,
@@ -107,15 +112,37 @@ def plot_force_ratio(f_slot: float, f_guide: float, alpha: float | None = None,
     """Worst-case force ratio (friction model of :func:`linkwork.models.sine.force_ratio`)
     against the slot angle, with the working range and optionally the chosen ``alpha`` [rad].
 
+    The one plotting function that evaluates a model (kept for its callers): it computes the
+    curve with :mod:`linkwork.models.sine`, imported here rather than at the top so that no
+    plot module imports a model at import time, and draws it with
+    :func:`plot_force_ratio_curve`.
+
     Returns
     -------
     ax : matplotlib Axes.
     """
-    if ax is None:
-        _, ax = pyplot().subplots(figsize=(7, 3.5))
+    from linkwork.models.sine import force_ratio, working_range  # see the docstring
+
     a = np.linspace(1e-3, np.pi - 1e-3, 721)
-    ax.plot(np.degrees(a), force_ratio(a, f_slot, f_guide), label="worst-case force ratio η")
     lo, hi = working_range(f_slot, f_guide)
+    return plot_force_ratio_curve(a, force_ratio(a, f_slot, f_guide), (float(lo), float(hi)),
+                                  alpha=alpha, ax=ax)
+
+
+def plot_force_ratio_curve(slot_angle: ArrayLike, eta: ArrayLike,
+                           working: tuple[float, float], alpha: float | None = None,
+                           ax: Any = None) -> Any:
+    """Draw a force-ratio curve ``eta`` [-] over ``slot_angle`` [rad], the working range
+    ``working`` = (alpha_min, alpha_max) [rad] shaded and the chosen ``alpha`` [rad] if given.
+
+    Returns
+    -------
+    ax : matplotlib Axes.
+    """
+    ax = axes_or_new(ax, figsize=(7, 3.5))
+    a = np.asarray(slot_angle, dtype=float)
+    ax.plot(np.degrees(a), np.asarray(eta, dtype=float), label="worst-case force ratio η")
+    lo, hi = working
     ax.axvspan(float(np.degrees(lo)), float(np.degrees(hi)), color="C2", alpha=0.1,
                label="working range")
     if alpha is not None:
@@ -127,3 +154,18 @@ def plot_force_ratio(f_slot: float, f_guide: float, alpha: float | None = None,
     ax.grid(True, alpha=0.3)
     ax.legend(loc="lower center", fontsize=8)
     return ax
+
+
+def crank_slider_figure(result: CrankSliderResult, axes: Any = None) -> Figure:
+    """Slider position, velocity and acceleration over the crank angle (3 axes)."""
+    return Figure.of(plot_cycle(result, None, axes=axes))
+
+
+def inclined_slot_figure(result: InclinedSlotResult, axes: Any = None) -> Figure:
+    """Ram position, velocity and acceleration of the sine mechanism (3 axes)."""
+    return Figure.of(plot_cycle(None, result, axes=axes))
+
+
+def schedule_figure(result: ScheduleResult, axes: Any = None, ram: bool = True) -> Figure:
+    """Output-link motion over a duty schedule (3 axes): :func:`plot_schedule`."""
+    return Figure.of(plot_schedule(result, axes=axes, ram=ram))

@@ -1,21 +1,30 @@
 """Figures of the swash-plate (inclined-disk) drive of rotor machines (paper 003).
 
 Every function takes ``axes=None`` (or ``ax=None``), draws, and returns what it drew; figures are
-created through :func:`linkwork.plot.pyplot` only when no axes are given. Lengths in mm, angles in
-degrees on the figures; the models stay in SI.
+created through :func:`linkwork.plot.axes_or_new` only when no axes are given. Lengths in mm,
+angles in degrees on the figures; the models stay in SI. The ``*_figure`` functions return a
+:class:`~linkwork.plot.Figure` (what ``result.plot()`` gives).
 """
 
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from linkwork.models.swashplate import DriveForces, KinematicsResult
-from linkwork.plot import pyplot
+from linkwork.plot._base import (
+    Figure,
+    axes_or_new,
+    pyplot,  # noqa: F401  (importable here, as before)
+)
 
-__all__ = ["plot_drive_forces", "plot_feasible_region", "plot_kinematics"]
+if TYPE_CHECKING:
+    from linkwork.models.swashplate import Characteristics, DriveForces, KinematicsResult
+    from linkwork.synthesis.swashplate import FeasibleRegion
+
+__all__ = ["characteristics_figure", "drive_forces_figure", "feasible_region_figure",
+           "kinematics_figure", "plot_drive_forces", "plot_feasible_region", "plot_kinematics"]
 
 
 def plot_kinematics(res: KinematicsResult, axes: Any = None, label: str | None = None) -> Any:
@@ -26,8 +35,7 @@ def plot_kinematics(res: KinematicsResult, axes: Any = None, label: str | None =
     -------
     axes : array of 3 matplotlib Axes (s [mm], delta_z [deg], Pi_v [mm/rad]).
     """
-    if axes is None:
-        _, axes = pyplot().subplots(3, 1, figsize=(8, 8.5), sharex=True)
+    axes = axes_or_new(axes, 3, 1, figsize=(8, 8.5), sharex=True)
     deg = np.degrees(res.phi)
     c = res.characteristics
     lab = label or f"scheme {res.design.scheme}"
@@ -54,8 +62,7 @@ def plot_kinematics(res: KinematicsResult, axes: Any = None, label: str | None =
 
 def plot_drive_forces(f: DriveForces, ax: Any = None) -> Any:
     """Load on one slide, rod force and the drive torque (one slide and all ``u`` slides)."""
-    if ax is None:
-        _, ax = pyplot().subplots(2, 1, figsize=(8, 6), sharex=True)
+    ax = axes_or_new(ax, 2, 1, figsize=(8, 6), sharex=True)
     deg = np.degrees(f.phi)
     ax[0].plot(deg, f.F * 1e-3, label="technological force F [kN]")
     ax[0].plot(deg, f.S * 1e-3, label="rod force S [kN]")
@@ -79,12 +86,11 @@ def _label(name: str) -> tuple[str, float]:
     return f"{name} / R", 1.0
 
 
-def plot_feasible_region(region: Any, ax: Any = None, best: Any = None) -> Any:
+def plot_feasible_region(region: FeasibleRegion, ax: Any = None, best: Any = None) -> Any:
     """The feasible set of a :class:`~linkwork.synthesis.swashplate.FeasibleRegion` over its two
     parameters (shaded), objective contours inside it, the failing constraint elsewhere, and
     the ``best`` design (a Design) if given."""
-    if ax is None:
-        _, ax = pyplot().subplots(figsize=(7, 5.5))
+    ax = axes_or_new(ax, figsize=(7, 5.5))
     xl, xs = _label(region.x_name)
     yl, ys = _label(region.y_name)
     X, Y = np.meshgrid(region.x * xs, region.y * ys)
@@ -128,3 +134,38 @@ def plot_feasible_region(region: Any, ax: Any = None, best: Any = None) -> Any:
 _CONSTRAINT_LABEL = {"H": "stroke H", "delta_f": "δz on the forward stroke",
                      "delta_r": "δz on the return stroke", "Pi_v": "max |Πv|",
                      "point": "s(φp) = sp", "phi_f": "forward-stroke angle φf"}
+
+
+def kinematics_figure(res: KinematicsResult, axes: Any = None, label: str | None = None
+                      ) -> Figure:
+    """Position, pressure angle and transfer function over the rotor angle (3 axes)."""
+    return Figure.of(plot_kinematics(res, axes=axes, label=label))
+
+
+def drive_forces_figure(f: DriveForces, ax: Any = None) -> Figure:
+    """Slide load, rod force and drive torque over the rotor angle (2 axes)."""
+    return Figure.of(plot_drive_forces(f, ax=ax))
+
+
+def feasible_region_figure(region: FeasibleRegion, ax: Any = None, best: Any = None) -> Figure:
+    """The feasible region of a synthesis slice (1 axes): :func:`plot_feasible_region`."""
+    return Figure.of(plot_feasible_region(region, ax=ax, best=best))
+
+
+def characteristics_figure(c: Characteristics, ax: Any = None) -> Figure:
+    """The characteristics of a design as bars: stroke H [mm], forward- and return-stroke angles
+    and the largest pressure angles on each stroke [deg] (1 axes; of the first design when the
+    characteristics cover several)."""
+    ax = axes_or_new(ax, figsize=(7, 3.5))
+    first = {k: float(np.ravel(getattr(c, k))[0]) for k in
+             ("H", "phi_f", "phi_r", "delta_f", "delta_r")}
+    names = ["H [mm]", "φf [deg]", "φr [deg]", "max δz fwd [deg]", "max δz ret [deg]"]
+    vals = [first["H"] * 1e3, *(math.degrees(first[k])
+                                for k in ("phi_f", "phi_r", "delta_f", "delta_r"))]
+    bars = ax.bar(names, vals, color=["C0", "C1", "C4", "C2", "C3"])
+    ax.bar_label(bars, fmt="%.4g", fontsize=8)
+    n = int(np.size(c.H))
+    ax.set_title("characteristics" + (f" of design 1 of {n}" if n > 1 else ""), fontsize=9)
+    ax.grid(True, axis="y", alpha=0.3)
+    return Figure.of(ax, bars=bars)
+

@@ -34,13 +34,16 @@ Conventions
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.errors import ParameterError, StructureError, require_finite, require_positive
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "COMPONENTS",
@@ -723,20 +726,17 @@ class SpatialReactions(Result):
         cols["Q"] = np.asarray(self.Q)
         return cols
 
-    def to_csv(self, path: Any) -> Any:
-        """CSV of :meth:`columns` with units in the header."""
-        import csv
-        from pathlib import Path
+    def _unit_of(self, column: str) -> str:
+        """Unit of a CSV column: that of its component (``fz_B`` -> ``fz``); the CSV (written by
+        :meth:`Result.to_csv`) has the columns of :meth:`columns`."""
+        return self.units.get(column.split("_")[0], "")
 
-        p = Path(path)
-        cols = self.columns()
-        header = [f"{k} [{self.units.get(k.split('_')[0], '')}]" for k in cols]
-        with p.open("w", newline="") as fh:
-            wr = csv.writer(fh)
-            wr.writerow(header)
-            for row in zip(*cols.values(), strict=True):
-                wr.writerow([repr(float(x)) for x in row])
-        return p
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """Axial forces fz, bending moments mx, my of every joint and the driving torque over
+        the driver positions: a :class:`linkwork.plot.Figure` with 4 axes."""
+        from linkwork.plot.redundancy import reactions_figure
+
+        return reactions_figure(self, axes=axes, **kw)
 
 
 def _to_result(model: SpatialModel, geom: SpatialGeometry, r: np.ndarray, phi1: np.ndarray,

@@ -13,11 +13,10 @@ seeded generator, so the result does not depend on chunking or on the cluster.
 from __future__ import annotations
 
 import functools
-import json
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -32,6 +31,10 @@ from linkwork.redundancy.core import (
     influence,
     misfit,
 )
+from linkwork.results import write_csv, write_json
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = ["PEAK_QUANTITIES", "Tolerance", "ToleranceStudy", "tolerance_study"]
 
@@ -140,27 +143,24 @@ class ToleranceStudy:
 
     def to_json(self, path: str | Path, q: Sequence[float] = (50.0, 95.0, 99.0)) -> Path:
         """Write the percentiles, the tolerances and N as JSON; return the path."""
-        p = Path(path)
         data = {"type": "ToleranceStudy", "n_samples": self.n_samples, "seed": self.seed,
                 "units": {"f*": "N", "m*": "N*m", "bending": "N*m"},
                 "tolerances": [t.__dict__ for t in self.tolerances],
                 "percentiles": self.percentiles(q)}
-        p.write_text(json.dumps(data, indent=1))
-        return p
+        return write_json(path, data)
 
     def to_csv(self, path: str | Path) -> Path:
         """One row per sample: the peaks of every joint and quantity."""
-        import csv
+        return write_csv(path, {
+            f"{qu}_{j}": (self.peaks[:, jj, k], "N" if qu.startswith("f") else "N*m")
+            for jj, j in enumerate(self.joints) for k, qu in enumerate(self.quantities)})
 
-        p = Path(path)
-        header = [f"{qu}_{j} [{'N' if qu.startswith('f') else 'N*m'}]"
-                  for j in self.joints for qu in self.quantities]
-        with p.open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(header)
-            for row in self.peaks.reshape(self.n_samples, -1):
-                w.writerow([repr(float(x)) for x in row])
-        return p
+    def plot(self, quantity: str = "bending", axes: Any = None, **kw: Any) -> Figure:
+        """Histograms of the peak ``quantity`` over the samples, one axes per joint: a
+        :class:`linkwork.plot.Figure` (:func:`linkwork.plot.redundancy.plot_peak_histogram`)."""
+        from linkwork.plot.redundancy import tolerance_figure
+
+        return tolerance_figure(self, quantity, axes=axes, **kw)
 
 
 def _global(model: SpatialModel, frames: list[np.ndarray], r: np.ndarray) -> np.ndarray:

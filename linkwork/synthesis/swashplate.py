@@ -38,7 +38,7 @@ import functools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Any, ClassVar, Literal
+from typing import TYPE_CHECKING, Any, ClassVar, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -53,6 +53,9 @@ from linkwork.errors import (
 from linkwork.models import swashplate as sw
 from linkwork.results import Result
 from linkwork.sweep import Progress, evaluate
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = [
     "CONSTRAINTS",
@@ -331,6 +334,18 @@ class SynthesisResult(Result):
     @property
     def best(self) -> sw.Design:
         return self.designs[0]
+
+    def plot(self, x_name: str | None = None, y_name: str | None = None, n: int = 60,
+             ax: Any = None, **kw: Any) -> Figure:
+        """The feasible region around the best design over two free parameters (default the
+        first two of the scheme), the best design starred: a :class:`linkwork.plot.Figure`
+        with 1 axes. Maps :func:`feasible_region` on an ``n`` x ``n`` grid first."""
+        from linkwork.plot.swashplate import feasible_region_figure
+
+        free = list(self.request.free)
+        region = feasible_region(self.request, self.best, x_name or free[0],
+                                 y_name or free[1], n=n)
+        return feasible_region_figure(region, ax=ax, best=self.best, **kw)
 
     def at_bounds(self, i: int = 0, tol: float = 1e-4) -> list[tuple[str, str, float]]:
         """Free parameters of design ``i`` that lie on a bound of the search box.
@@ -793,6 +808,13 @@ class FeasibleRegion(Result):
     def scalars(self) -> dict[str, Any]:
         return {"x_name": self.x_name, "y_name": self.y_name,
                 "feasible_fraction": float(np.mean(self.feasible))}
+
+    def plot(self, ax: Any = None, **kw: Any) -> Figure:
+        """The feasible set over the two parameters with objective contours and the failing
+        limits: a :class:`linkwork.plot.Figure` with 1 axes."""
+        from linkwork.plot.swashplate import feasible_region_figure
+
+        return feasible_region_figure(self, ax=ax, **kw)
 
 
 def feasible_region(req: Request, base: sw.Design, x_name: str, y_name: str, *,
