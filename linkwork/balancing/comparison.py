@@ -29,7 +29,6 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.balancing.loads import Harmonics, harmonics, peak, rms
 from linkwork.balancing.mechanism import ForceBalance, cycle, force_balance, frame_hinge
 from linkwork.balancing.partial import (
     counterweight_axis_moment,
@@ -39,6 +38,7 @@ from linkwork.balancing.partial import (
     rms_offset,
 )
 from linkwork.balancing.static import Counterweight
+from linkwork.cycles import Harmonics, harmonics, peak, rms
 from linkwork.errors import ParameterError, require_finite
 from linkwork.planar.dynamics import BodyTorque, Dynamics, PointForce, inverse_dynamics
 from linkwork.planar.kinematics import Kinematics, kinematics

@@ -38,7 +38,6 @@ from numpy.typing import ArrayLike
 from scipy import optimize
 
 from linkwork.balancing.comparison import crank_axis
-from linkwork.balancing.loads import rms
 from linkwork.balancing.mechanism import (
     _cw_force_basis,
     add_counterweights,
@@ -47,8 +46,8 @@ from linkwork.balancing.mechanism import (
     frame_hinge,
     frame_hinged_links,
 )
-from linkwork.balancing.partial import periodic_weights
 from linkwork.balancing.static import Counterweight
+from linkwork.cycles import periodic_weights, rms
 from linkwork.errors import ParameterError, require_finite
 from linkwork.planar.dynamics import inverse_dynamics
 from linkwork.planar.kinematics import kinematics

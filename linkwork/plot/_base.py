@@ -115,7 +115,7 @@ class Figure:
 
     figure: Any
     axes: np.ndarray
-    artists: dict[str, Any] = field(default_factory=dict)
+    artists: dict[str, Any] = field(default_factory=dict, repr=False)
 
     @classmethod
     def of(cls, drawn: Any, **artists: Any) -> Figure:
