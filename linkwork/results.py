@@ -15,14 +15,11 @@ import dataclasses
 import functools
 import json
 from pathlib import Path
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
 from linkwork.errors import ParameterError
-
-if TYPE_CHECKING:
-    from linkwork.plot import Figure
 
 __all__ = ["Result", "all_true", "write_csv", "write_json"]
 
@@ -168,11 +165,12 @@ class Result:
         """Unit of a CSV column: that of its field (``R[0]`` -> ``R``)."""
         return self.units.get(column.split("[")[0], "")
 
-    def plot(self, **kwargs: Any) -> Figure:
+    def plot(self, **kwargs: Any) -> Any:
         """The default figure of this result family, a :class:`linkwork.plot.Figure`.
 
         Each result family overrides this (importing :mod:`linkwork.plot` lazily, since it
-        imports matplotlib); keyword arguments go to the family's plotting function.
+        imports matplotlib); keyword arguments go to the family's plotting function. (Typed
+        ``Any`` here so that this base module does not refer to the plot layer above it.)
         """
         raise NotImplementedError(f"{type(self).__name__} has no default figure")
 
