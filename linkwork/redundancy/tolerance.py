@@ -16,7 +16,7 @@ import functools
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -31,7 +31,7 @@ from linkwork.redundancy.core import (
     influence,
     misfit,
 )
-from linkwork.results import write_csv, write_json
+from linkwork.results import Result, write_json
 
 if TYPE_CHECKING:
     from linkwork.plot import Figure
@@ -90,7 +90,7 @@ class Tolerance:
 
 
 @dataclass(frozen=True)
-class ToleranceStudy:
+class ToleranceStudy(Result):
     """Peaks over the cycle of the spatial reactions for N Monte-Carlo samples of deviations.
 
     Attributes
@@ -115,6 +115,8 @@ class ToleranceStudy:
     draws: np.ndarray
     tolerances: tuple[Tolerance, ...]
     seed: int | None
+    units: ClassVar[dict[str, str]] = {"fx": "N", "fy": "N", "fz": "N", "mx": "N*m",
+                                       "my": "N*m", "mz": "N*m", "bending": "N*m"}
 
     @property
     def n_samples(self) -> int:
@@ -149,11 +151,15 @@ class ToleranceStudy:
                 "percentiles": self.percentiles(q)}
         return write_json(path, data)
 
-    def to_csv(self, path: str | Path) -> Path:
-        """One row per sample: the peaks of every joint and quantity."""
-        return write_csv(path, {
-            f"{qu}_{j}": (self.peaks[:, jj, k], "N" if qu.startswith("f") else "N*m")
-            for jj, j in enumerate(self.joints) for k, qu in enumerate(self.quantities)})
+    def columns(self) -> dict[str, np.ndarray]:
+        """One column per joint and quantity, ``<quantity>_<joint>`` (``bending_B``), one row per
+        sample: what :meth:`to_csv` writes (through :meth:`Result.to_csv`) and
+        :meth:`to_frame` returns."""
+        return {f"{qu}_{j}": self.peaks[:, jj, k]
+                for jj, j in enumerate(self.joints) for k, qu in enumerate(self.quantities)}
+
+    def _unit_of(self, column: str) -> str:
+        return self.units.get(column.split("_")[0], "")
 
     def plot(self, quantity: str = "bending", axes: Any = None, **kw: Any) -> Figure:
         """Histograms of the peak ``quantity`` over the samples, one axes per joint: a
