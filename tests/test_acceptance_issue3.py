@@ -963,7 +963,7 @@ def _example(name):
 
 
 def _group_builders():
-    import test_planar_groups as tg
+    import _mechanisms as tg
     return [(b.__name__, b) for b in tg.BUILDERS]
 
 

@@ -10,7 +10,7 @@ import pytest
 from linkwork.cli import main
 from linkwork.models import swashplate as sw
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def test_analyze_example_4a_writes_outputs(tmp_path, capsys):
@@ -120,7 +120,7 @@ def test_cycle_files_without_rotor_speed_have_no_zero_speed_columns(tmp_path):
     import re
 
     from linkwork.cli import main
-    src = (Path(__file__).resolve().parents[1] / "examples" / "swashplate_1.toml").read_text()
+    src = (Path(__file__).resolve().parents[2] / "examples" / "swashplate_1.toml").read_text()
     no_speed = re.sub(r"(?m)^speed = .*$\n", "", src, count=1)
     assert no_speed != src
     for text, out in ((no_speed, tmp_path / "a"), (src, tmp_path / "b")):

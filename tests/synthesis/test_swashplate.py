@@ -165,7 +165,7 @@ def test_benchmark_script_runs_tiny(capsys):
     import sys
     from pathlib import Path
 
-    path = Path(__file__).resolve().parents[1] / "benchmarks" / "swashplate_synthesis.py"
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "swashplate_synthesis.py"
     spec = importlib.util.spec_from_file_location("linkwork_bench_swashplate", path)
     mod = importlib.util.module_from_spec(spec)
     sys.modules[spec.name] = mod

@@ -69,13 +69,3 @@ def ref_stroke(*p, n=721):
                               method="bounded", options={"xatol": 1e-12})
         out.append(max(sign * s[k], -res.fun) * sign)
     return out[0] - out[1], out
-
-
-def test_reference_rod_length_and_datum():
-    p = (0.1, 0.09, 0.2, math.radians(20), 0.02, -0.01)
-    for phi in (0.3, 2.0, 4.0):
-        B = disk_point(phi, *p)
-        A = slide_point(phi, p[0], ref_z(phi, *p))
-        assert abs(np.linalg.norm(A - B) - p[2]) < 1e-12
-        assert A[2] > B[2]
-    assert ref_s(0.0, *p) == 0.0

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
-from test_redundancy_fourbar_ref import geometry, spatial_model, wrenches
+from _fourbar_reference import geometry, spatial_model, wrenches
 
 from linkwork.plot import pyplot
 from linkwork.plot.redundancy import plot_bending, plot_components, plot_peak_histogram

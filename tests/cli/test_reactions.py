@@ -6,8 +6,8 @@ import json
 
 import numpy as np
 import pytest
+from _fourbar_reference import INERTIA, M_EXT, MASS, OMEGA1
 from rich.console import Console
-from test_redundancy_fourbar_ref import INERTIA, M_EXT, MASS, OMEGA1
 
 from linkwork.cli.reactions import run
 from linkwork.errors import FileFormatError, ParameterError

@@ -3,7 +3,7 @@
 Each printed formula is evaluated literally (``printed=True``) and compared with
 
 * the independent derivation in :func:`linkwork.models.fourbar.fourbar_kinetostatics`, itself
-  checked against a 9x9 equilibrium solve in ``tests/test_fourbar.py``, and
+  checked against a 9x9 equilibrium solve in ``tests/models/test_fourbar.py``, and
 * the power balance  Q omega1 + sum(F_i . v_Si) + sum(M_i omega_i) = 0  of the d'Alembert
   loads (F_i, M_i already contain the inertia forces and couples), computed here.
 

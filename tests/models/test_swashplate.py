@@ -6,9 +6,7 @@ import math
 import numpy as np
 import pytest
 from _strategies import reals
-from hypothesis import given, settings
-from hypothesis import strategies as st
-from test_swashplate_reference import (
+from _swashplate_reference import (
     disk_point,
     ref_delta,
     ref_s,
@@ -16,6 +14,8 @@ from test_swashplate_reference import (
     ref_z,
     slide_point,
 )
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from linkwork.errors import AssemblyError, ParameterError
 from linkwork.models import swashplate as sw
@@ -373,3 +373,13 @@ def test_drive_forces_two_point_guide_by_slide_equilibrium():
         assert abs(f.S[i] - S) < 1e-9 * abs(S)
     with pytest.raises(ParameterError, match="overhang"):
         sw.drive_forces(d, F, overhang=0.01)
+
+
+def test_reference_rod_length_and_datum():
+    p = (0.1, 0.09, 0.2, math.radians(20), 0.02, -0.01)
+    for phi in (0.3, 2.0, 4.0):
+        B = disk_point(phi, *p)
+        A = slide_point(phi, p[0], ref_z(phi, *p))
+        assert abs(np.linalg.norm(A - B) - p[2]) < 1e-12
+        assert A[2] > B[2]
+    assert ref_s(0.0, *p) == 0.0

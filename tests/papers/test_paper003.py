@@ -1,12 +1,12 @@
 """Paper 003 (Kryukov & Preis 2012), formula by formula, against the independent 3-D reference
-(rotation matrices + brentq, tests/test_swashplate_reference.py) and finite differences. Each
+(rotation matrices + brentq, tests/_swashplate_reference.py) and finite differences. Each
 test names the equation; docs/errata.md cites these tests."""
 
 import math
 
 import numpy as np
 import pytest
-from test_swashplate_reference import disk_point, ref_delta, ref_s, ref_z, slide_point
+from _swashplate_reference import disk_point, ref_delta, ref_s, ref_z, slide_point
 
 from linkwork.models import swashplate as sw
 

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _fourbar_reference import geometry, planar_reactions, spatial_model, wrenches
 from _strategies import reals
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from test_redundancy_fourbar_ref import geometry, planar_reactions, spatial_model, wrenches
 
 from linkwork.errors import ParameterError, StructureError
 from linkwork.redundancy import (

@@ -12,7 +12,7 @@ from linkwork import files
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.planar import BodyTorque, PointForce, crank_slider, inverse_dynamics, kinematics
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 G = (1.5, -9.81)
 ABOUT = (0.03, -0.07)
 

@@ -1,5 +1,6 @@
 """An independent four-bar (kinematics, planar kinetostatics, spatial loads) for the redundancy
-tests, written from scratch here (not linkwork's four-bar or engine), and its own checks.
+tests, written from scratch here (not linkwork's four-bar or engine); its own checks are in
+``tests/redundancy/test_fourbar_reference.py``.
 
 The mechanism is the four-bar of paper 001 (used by paper 004's loom example): O = (0, 0),
 C = (0.3, 0); OA = 0.1 m, AB = 0.3 m, BC = 0.2 m; centres of mass 0.05 m from O on the crank,
@@ -161,40 +162,3 @@ def wrenches(phi1, z_g=(0.0, 0.0, 0.0), out_of_plane=None, **kw):
         m3[..., 0] += oop[..., 1]
         m3[..., 1] += oop[..., 2]
     return wrench_about_origin(f3, m3, p3)
-
-
-# ------------------------------------------------------------------------------------------------
-# checks of the reference itself
-
-
-def test_reference_loop_closure():
-    phi = np.linspace(0, 2 * np.pi, 37)
-    k = kinematics(phi)
-    assert np.allclose(np.linalg.norm(k["B"] - k["A"], axis=-1), L2, atol=1e-12)
-    assert np.allclose(np.linalg.norm(k["B"] - k["C"], axis=-1), L3, atol=1e-12)
-
-
-def test_reference_velocities_and_accelerations_by_finite_differences():
-    phi = np.linspace(0.1, 6.0, 25)
-    h = 1e-5
-    kp, km, k0 = kinematics(phi + h), kinematics(phi - h), kinematics(phi)
-    dphi = (np.unwrap(np.stack([km["phi"], kp["phi"]]), axis=0)[1]
-            - np.unwrap(np.stack([km["phi"], kp["phi"]]), axis=0)[0]) / (2 * h)
-    assert np.allclose(dphi * OMEGA1, k0["omega"], rtol=1e-7, atol=1e-7)
-    dw = (kp["omega"] - km["omega"]) / (2 * h)
-    assert np.allclose(dw * OMEGA1, k0["eps"], rtol=1e-6, atol=1e-5)
-
-
-def test_reference_power_balance():
-    """Q omega1 + power of all loads = 0 (the reactions do no work in a rigid mechanism)."""
-    phi = np.linspace(0, 2 * np.pi, 19)
-    _, q = planar_reactions(phi)
-    k = kinematics(phi)
-    _, forces, moments = loads(phi)
-    # velocities of centres by finite differences of positions
-    h = 1e-6
-    cp, _, _ = loads(phi + h)
-    cm, _, _ = loads(phi - h)
-    v = (cp - cm) / (2 * h) * OMEGA1
-    power = np.sum(forces * v, axis=(1, 2)) + np.sum(moments * k["omega"], axis=1)
-    assert np.allclose(q * OMEGA1 + power, 0.0, atol=1e-6 * np.max(np.abs(q * OMEGA1)))

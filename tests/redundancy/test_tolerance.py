@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_redundancy_fourbar_ref import geometry, spatial_model, wrenches
+from _fourbar_reference import geometry, spatial_model, wrenches
 
 from linkwork.errors import ParameterError
 from linkwork.redundancy import Tolerance, solve_reactions, tolerance_study

@@ -250,7 +250,7 @@ def test_every_result_field_documented_with_unit():
 
     from linkwork.models.sine import InclinedSlotResult
     doc = InclinedSlotResult.__doc__ or ""
-    nomenclature = (Path(__file__).resolve().parents[1] / "docs" / "nomenclature.md").read_text()
+    nomenclature = (Path(__file__).resolve().parents[2] / "docs" / "nomenclature.md").read_text()
     for f in dataclasses.fields(InclinedSlotResult):
         assert f.name in InclinedSlotResult.units, f.name
         assert f.name in doc, f.name

@@ -233,7 +233,7 @@ def test_every_result_field_documented_with_unit():
 
     from linkwork.models.crank_slider import CrankSliderResult
     doc = CrankSliderResult.__doc__ or ""
-    nomenclature = (Path(__file__).resolve().parents[1] / "docs" / "nomenclature.md").read_text()
+    nomenclature = (Path(__file__).resolve().parents[2] / "docs" / "nomenclature.md").read_text()
     for f in dataclasses.fields(CrankSliderResult):
         assert f.name in CrankSliderResult.units, f.name
         assert f.name in doc, f.name

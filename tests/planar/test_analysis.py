@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import sys
 from pathlib import Path
 
 import numpy as np
 import pytest
+from _mechanisms import m_rpr, m_triad
 
 from linkwork.planar import (
     crank_slider,
@@ -17,9 +17,6 @@ from linkwork.planar import (
     mobility,
     transmission_angles,
 )
-
-sys.path.insert(0, str(Path(__file__).parent))
-from test_planar_groups import m_rpr, m_triad
 
 
 def test_structure_classes_orders():
@@ -145,7 +142,7 @@ def test_plots_of_large_forces_are_in_kN():
     from linkwork.plot import planar as pp
     from linkwork.plot import pyplot
 
-    doc = files.load(Path(__file__).resolve().parents[1] / "examples" / "loom_sixbar.toml")
+    doc = files.load(Path(__file__).resolve().parents[2] / "examples" / "loom_sixbar.toml")
     kin = kinematics(doc.mechanism(), doc.positions())
     d = inverse_dynamics(kin, gravity=doc.analysis.gravity, loads=doc.loads(kin.phi1))
     r = pp.plot_reactions(d, ["R", "O"])

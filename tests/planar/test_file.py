@@ -14,7 +14,7 @@ from linkwork.cli import main
 from linkwork.errors import FileFormatError
 from linkwork.planar import fourbar, inverse_dynamics, kinematics
 
-EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def test_paper001_file_equals_builder():

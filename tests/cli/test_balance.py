@@ -13,7 +13,7 @@ from linkwork.cli import main
 from linkwork.cli.balance import BalanceSection, run_balance
 from linkwork.planar.model import crank_slider, fourbar
 
-DATA = Path(__file__).parent / "data"
+DATA = Path(__file__).parents[1] / "data"
 PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.00567),
              coms=(0.05, 0.15, 0.1), omega1=10.0)
 
@@ -113,7 +113,7 @@ def test_balance_command_bad_balance_table(tmp_path, capsys):
     assert "--angles" in capsys.readouterr().err
 
 
-EXAMPLE = Path(__file__).parents[1] / "examples" / "fourbar_paper001.toml"
+EXAMPLE = Path(__file__).parents[2] / "examples" / "fourbar_paper001.toml"
 
 
 @pytest.mark.skipif(not EXAMPLE.exists(), reason="bundled example not present")

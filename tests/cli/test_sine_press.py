@@ -13,7 +13,7 @@ from _paper000_geometry import crank_slider_positions, slot_positions
 from linkwork import files
 from linkwork.cli import main
 
-EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "sine_press.toml"
+EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "sine_press.toml"
 
 BASE = """
 type = "sine_press"

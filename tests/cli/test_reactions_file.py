@@ -15,7 +15,7 @@ from linkwork.cli import main
 from linkwork.planar import BodyTorque, kinematics
 from linkwork.redundancy import Deviation, spatial_reactions
 
-EXAMPLE = str(Path(__file__).resolve().parents[1] / "examples" / "loom_fourbar_spatial.toml")
+EXAMPLE = str(Path(__file__).resolve().parents[2] / "examples" / "loom_fourbar_spatial.toml")
 
 
 def _expected(phi):

@@ -1,14 +1,14 @@
 """Spatial reactions fed by the planar engine: in-plane parts equal the engine's inverse
-dynamics and the independent four-bar of test_redundancy_fourbar_ref."""
+dynamics and the independent four-bar of tests/_fourbar_reference.py."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_redundancy_fourbar_ref import INERTIA, M_EXT, MASS, OMEGA1
-from test_redundancy_fourbar_ref import geometry as ref_geometry
-from test_redundancy_fourbar_ref import spatial_model as ref_model
-from test_redundancy_fourbar_ref import wrenches as ref_wrenches
+from _fourbar_reference import INERTIA, M_EXT, MASS, OMEGA1
+from _fourbar_reference import geometry as ref_geometry
+from _fourbar_reference import spatial_model as ref_model
+from _fourbar_reference import wrenches as ref_wrenches
 
 from linkwork.errors import ParameterError
 from linkwork.planar import (
@@ -67,7 +67,7 @@ def test_engine_fourbar_inplane_equals_engine_inverse_dynamics():
 
 def test_engine_fourbar_equals_independent_reference_with_deviations():
     """Same four-bar, same joints and deviations: the engine-fed result equals the one fed by
-    the independent kinematics of test_redundancy_fourbar_ref (body frames coincide: link x-axes
+    the independent kinematics of tests/_fourbar_reference.py (body frames coincide: link x-axes
     O2->A, A->B, O4->B)."""
     mech = _fourbar()
     z = tuple(JOINTS[k]["z"] for k in ("O2", "A", "B", "O4"))

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from test_redundancy_fourbar_ref import L1, L2, L3, geometry, kinematics, loads, spatial_model
+from _fourbar_reference import L1, L2, L3, geometry, kinematics, loads, spatial_model
 
 from linkwork.redundancy import solve_reactions, wrench_about_origin
 

@@ -43,7 +43,7 @@ def test_help_exits_0(capsys):
 
 def _edited_example(tmp_path, name, old, new):
     from pathlib import Path
-    text = (Path(__file__).resolve().parents[1] / "examples" / name).read_text()
+    text = (Path(__file__).resolve().parents[2] / "examples" / name).read_text()
     assert old in text
     p = tmp_path / name
     p.write_text(text.replace(old, new, 1))
@@ -105,7 +105,7 @@ def test_absurd_speed_stops_with_one_line_instead_of_writing_inf(cmd, name, tmp_
     0; NumPy overflow inside the CLI and infinite result columns now stop with exit 2."""
     import re
     from pathlib import Path
-    text = (Path(__file__).resolve().parents[1] / "examples" / name).read_text()
+    text = (Path(__file__).resolve().parents[2] / "examples" / name).read_text()
     p = tmp_path / name
     p.write_text(re.sub(r"(?m)^speed = .*$", "speed = 1e200", text, count=1))
     assert "speed = 1e200" in p.read_text()
@@ -130,7 +130,7 @@ def test_result_with_infinite_column_refuses_to_be_written(tmp_path):
     nan.to_csv(tmp_path / "nan.csv")  # NaN (unassembled positions) is still written
 
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 @pytest.mark.parametrize("command", [
