@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 
+import linkwork.planar as pl
 from linkwork.planar import (
     Body,
     Crank,
@@ -153,3 +154,62 @@ def m_triad():
 
 BUILDERS = [m_rrr, m_rrp, m_prr, m_rpr, m_rpp, m_ppr, m_prp, m_rs_slot_in_body,
             m_rs_pin_in_known_slot, m_ps_sine, m_linear_driver, m_triad]
+
+
+def _rot(t):
+    return np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]])
+
+
+def _circles(P, rp, Q, rq, branch):
+    """Intersection of circles (P, rp), (Q, rq); branch +1 on the left of P -> Q."""
+    d = Q - P
+    L = np.hypot(*d)
+    a = (rp**2 - rq**2 + L**2) / (2 * L)
+    ex = d / L
+    return P + a * ex + branch * np.sqrt(rp**2 - a**2) * np.array([-ex[1], ex[0]])
+
+
+def _angle(v):
+    return np.arctan2(v[1], v[0])
+
+
+def stephenson_sixbar():
+    """Stephenson III: four-bar O2-A-B-O4 with a ternary coupler (A, B, C), dyad C-D-O6 on
+    its coupler point C (branch -1: D right of C -> O6)."""
+
+    O6, Cl, S3 = np.array([0.5, 0.35]), np.array([0.12, 0.1]), np.array([0.14, 0.03])
+    mech = pl.Mechanism(
+        pl.Body("frame", {"O2": (0.0, 0.0), "O4": (0.3, 0.0), "O6": tuple(O6)}),
+        (pl.bar("crank", "O2", "A", 0.1, mass=1.0),
+         pl.Body("coupler", {"A": (0.0, 0.0), "B": (0.3, 0.0), "C": tuple(Cl)}, mass=3.0,
+              com=tuple(S3), inertia=0.03),
+         pl.bar("rocker", "O4", "B", 0.25, mass=2.0), pl.bar("link5", "C", "D", 0.45, mass=1.5),
+         pl.bar("link6", "O6", "D", 0.25, mass=1.2, com=0.05)),
+        (pl.Revolute("O2", "frame", "crank"), pl.Revolute("A", "crank", "coupler"),
+         pl.Revolute("B", "coupler", "rocker"), pl.Revolute("O4", "frame", "rocker"),
+         pl.Revolute("C", "coupler", "link5"), pl.Revolute("D", "link5", "link6"),
+         pl.Revolute("O6", "frame", "link6")), pl.Crank("O2"), {"B": 1, "D": -1})
+
+    def poses(p):
+        A, O4 = 0.1 * np.array([np.cos(p), np.sin(p)]), np.array([0.3, 0.0])
+        B = _circles(A, 0.3, O4, 0.25, 1)
+        t3, t4 = _angle(B - A), _angle(B - O4)
+        C = A + _rot(t3) @ Cl
+        D = _circles(C, 0.45, O6, 0.25, -1)
+        t6 = _angle(D - O6)
+        return {"crank": (A / 2, p), "coupler": (A + _rot(t3) @ S3, t3),
+                "rocker": ((O4 + B) / 2, t4), "link5": ((C + D) / 2, _angle(D - C)),
+                "link6": (O6 + 0.05 * np.array([np.cos(t6), np.sin(t6)]), t6)}
+
+    def loads(ph):
+        return [pl.PointForce("link6", "D", fx=50 * np.cos(2 * ph), fy=20.0),
+                pl.PointForce("coupler", (0.05, 0.05), fx=-5.0, fy=np.sin(ph))]
+    return mech, poses, loads
+
+
+def _rates(f, p, h=2e-3):
+    """f, df/dphi, d2f/dphi2 by fourth-order central differences (angles unwrapped)."""
+    v = [np.asarray(f(p + k * h), dtype=float) for k in (-2, -1, 0, 1, 2)]
+    d1 = (v[0] - 8 * v[1] + 8 * v[3] - v[4]) / (12 * h)
+    d2 = (-v[0] + 16 * v[1] - 30 * v[2] + 16 * v[3] - v[4]) / (12 * h * h)
+    return v[2], d1, d2

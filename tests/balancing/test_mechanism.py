@@ -4,9 +4,13 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _balancing_cases import com_positions
+from _balancing_cases import paper_fourbar as paper001_fourbar
+from _mechanisms import _rates
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from linkwork import balancing as bal
 from linkwork.balancing import moment_about
 from linkwork.balancing.mechanism import (
     add_counterweights,
@@ -20,7 +24,8 @@ from linkwork.balancing.static import (
     crank_slider_counterweight,
     fourbar_counterweights,
 )
-from linkwork.errors import InfeasibleError, ParameterError
+from linkwork.errors import InfeasibleError, LinkworkError, ParameterError
+from linkwork.planar.dynamics import inverse_dynamics
 from linkwork.planar.kinematics import kinematics
 from linkwork.planar.model import crank_slider, fourbar
 
@@ -291,3 +296,199 @@ def test_shaking_loads_equal_engine_inverse_dynamics():
         np.testing.assert_allclose(sl.fx, d.shaking_fx, atol=1e-9 * scale)
         np.testing.assert_allclose(sl.fy, d.shaking_fy, atol=1e-9 * scale)
         np.testing.assert_allclose(sl.moment, d.shaking_m, atol=1e-9 * np.abs(sl.moment).max())
+
+
+def test_force_balance_radius_for_an_unknown_link_is_named():
+    """A radius keyed by a misspelt link was silently ignored (the default radius was used)."""
+    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0), omega1=10.0)
+    with pytest.raises(ParameterError) as err:
+        bal.force_balance(mech, radii={"crnk": 0.05, "rocker": 0.1})
+    assert "radii" in str(err.value) and "crnk" in str(err.value)
+    assert "crank" in str(err.value)  # the links that do carry counterweights
+    # the correctly spelt table is used as given
+    fb = bal.force_balance(mech, radii={"crank": 0.05, "rocker": 0.1})
+    assert [c.radius for c in fb.counterweights] == [0.05, 0.1]
+
+
+def test_inclined_offset_crank_slider_rotating_balance_leaves_only_the_guide_force():
+    """Crank-slider with a guide at 35 deg and 30 mm offset, crank centre off its line: after
+    crank_slider_balance(k) only the reciprocating mass m3 + m2 s2/l2 (slider acceleration a_B
+    from its position written out here) and the over-balance k of it rotating with the crank
+    remain: across the guide -k r w^2 m_rec sin(phi - gamma) (0 for k = 0, to 1e-9 of the
+    unbalanced force)."""
+    from linkwork.planar import inverse_dynamics, kinematics
+    from linkwork.planar.model import crank_slider
+
+    r, l, ecc, gam, w = 0.05, 0.2, 0.03, np.radians(35.0), 30.0
+    m = crank_slider(r, l, ecc, guide_angle=gam, masses=(2.0, 3.0, 4.0),
+                     coms=((0.02, 0.01), 0.08), omega1=w)
+    u, nrm = np.array([np.cos(gam), np.sin(gam)]), np.array([-np.sin(gam), np.cos(gam)])
+    phi = bal.cycle(72)
+    F0 = inverse_dynamics(kinematics(m, phi)).shaking_fx
+    m_rec = 4.0 + 3.0 * 0.08 / l
+
+    def slide(p):  # slider position along the guide, B = ecc n + s u, |B - A| = l
+        A = r * np.array([np.cos(p), np.sin(p)])
+        b = (ecc * nrm - A) @ u
+        return -b + np.sqrt(b * b - ((ecc * nrm - A) @ (ecc * nrm - A) - l * l))
+
+    aB = np.array([_rates(slide, p)[2] * w**2 for p in phi])
+    for k in (0.0, 0.5, 1.0):
+        d = inverse_dynamics(kinematics(bal.crank_slider_balance(m, k, radius=0.04), phi))
+        F = np.stack([d.shaking_fx, d.shaking_fy], -1)
+        # the counterweight's extra first moment -k l1 m_rec e^(i phi) adds the rotating force
+        # -k r w^2 m_rec e^(i phi): across the guide it is all there is
+        across_expected = -k * r * w**2 * m_rec * np.sin(phi - gam)
+        assert np.max(np.abs(F @ nrm - across_expected)) <= 1e-9 * np.max(np.abs(F0))
+        along_expected = -m_rec * aB - k * r * w**2 * m_rec * np.cos(phi - gam)
+        assert np.max(np.abs(F @ u - along_expected)) <= 1e-5 * np.max(np.abs(F0))
+
+
+def test_force_balance_of_a_fourbar_whose_body_frames_are_off_the_links():
+    """Bodies given by arbitrary local points (origins off the hinges, x axes not along the
+    links), frame not along x: full force balance, the shaking force of the balanced
+    mechanism <= 1e-9 of the unbalanced one under a varying crank speed with eps1 != 0."""
+    from linkwork.planar import Body, Crank, Mechanism, Revolute, inverse_dynamics, kinematics
+
+    m = Mechanism(
+        Body("ground", {"P": (0.1, 0.2), "Q": (0.35, 0.05)}),
+        (Body("crank", {"P": (0.01, 0.02), "A": (0.06, 0.1)}, mass=1.2, com=(0.0, 0.05),
+              inertia=0.002),
+         Body("coupler", {"A": (0.0, 0.0), "B": (-0.05, 0.3)}, mass=2.5, com=(0.03, 0.12),
+              inertia=0.02),
+         Body("rocker", {"B": (0.1, -0.2), "Q": (0.0, 0.0)}, mass=1.7, com=(0.07, -0.05),
+              inertia=0.01)),
+        (Revolute("P", "ground", "crank"), Revolute("A", "crank", "coupler"),
+         Revolute("B", "rocker", "coupler"), Revolute("Q", "rocker", "ground")),
+        Crank("P", omega1=12.0))
+    fb = bal.force_balance(m)
+    assert fb.full and fb.reason == ""
+    phi = bal.cycle(360)
+    w, e = 12 * (1 + 0.3 * np.cos(phi)), 5.0 * np.sin(phi)
+    before = inverse_dynamics(kinematics(m, phi, w, e))
+    after = inverse_dynamics(kinematics(fb.mechanism, phi, w, e))
+    f0 = np.hypot(before.shaking_fx, before.shaking_fy).max()
+    assert f0 > 10.0
+    assert np.hypot(after.shaking_fx, after.shaking_fy).max() <= 1e-9 * f0
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_shaking_force_and_moment_are_minus_rates_of_momentum(branch):
+    """F = -dp/dt and M_P = -dH_P/dt, p and H from the engine's *positions* only, time
+    derivatives by central differences (constant omega: d/dt = omega d/dphi)."""
+    mech = paper001_fourbar(branch)
+    w = 10.0
+    phi = np.radians(np.arange(0.0, 360.0, 7.5))
+    h = 1e-4  # [rad]
+    m = np.array([b.mass for b in mech.bodies])
+    J = np.array([b.inertia for b in mech.bodies])
+    P = np.array([0.03, -0.02])
+
+    def momenta(q):
+        r0, kin = com_positions(mech, q)
+        rm, km = com_positions(mech, q - h)
+        rp, kp = com_positions(mech, q + h)
+        v = (rp - rm) / (2 * h) * w
+        th = np.stack([kin.angle(b.name) for b in mech.bodies])
+        thm = np.stack([km.angle(b.name) for b in mech.bodies])
+        thp = np.stack([kp.angle(b.name) for b in mech.bodies])
+        om = np.angle(np.exp(1j * (thp - thm))) / (2 * h) * w
+        p = np.einsum("b,bnk->nk", m, v)
+        d = r0 - P
+        H = np.einsum("b,bn->n", m, d[..., 0] * v[..., 1] - d[..., 1] * v[..., 0]) + J @ om
+        del th
+        return p, H
+
+    H2 = 1e-3
+    pp, Hp = momenta(phi + H2)
+    pm, Hm = momenta(phi - H2)
+    F_ref = -(pp - pm) / (2 * H2) * w
+    M_ref = -(Hp - Hm) / (2 * H2) * w
+    kin = kinematics(mech, phi)
+    sl = bal.shaking_loads(kin, point=P)
+    scale = np.max(np.abs(F_ref))
+    assert np.max(np.abs(sl.force - F_ref)) <= 2e-5 * scale
+    assert np.max(np.abs(sl.moment - M_ref)) <= 2e-5 * np.max(np.abs(M_ref))
+    # the engine's inverse dynamics report the same loads (moment about O)
+    dyn = inverse_dynamics(kin, about=(0.0, 0.0))
+    sl0 = bal.shaking_loads(kin)
+    assert np.allclose(dyn.shaking_m, sl0.moment, atol=1e-10 * scale)
+    # moment transfer to another point
+    assert np.allclose(bal.moment_about(sl0.moment, sl0.force, P), sl.moment, atol=1e-10 * scale)
+
+
+def test_force_balance_random_fourbars_with_off_line_centres():
+    rng = np.random.default_rng(4)
+    phi = np.linspace(0, 2 * np.pi, 180, endpoint=False)
+    done = 0
+    while done < 5:
+        a, b, c, d = rng.uniform(0.5, 2.0, 4)
+        a = 0.3 * min(b, c, d)  # a Grashof crank
+        coms = tuple(complex(*rng.uniform(-0.3, 0.7, 2)) * L for L in (a, b, c))
+        try:
+            mech = fourbar(a, b, c, d, masses=tuple(rng.uniform(0.5, 3, 3)), coms=tuple(
+                (z.real, z.imag) for z in coms), omega1=3.0)
+            kinematics(mech, phi)
+        except LinkworkError:
+            continue
+        fb = bal.force_balance(mech, radii=0.1)
+        F0 = bal.shaking_loads(kinematics(mech, phi)).force
+        F1 = bal.shaking_loads(kinematics(fb.mechanism, phi)).force
+        assert fb.full
+        assert np.max(np.abs(F1)) <= 1e-9 * np.max(np.abs(F0))
+        done += 1
+
+
+def test_crank_slider_rotating_balance_and_fraction_and_impossible_full_balance():
+    m = crank_slider(0.05, 0.2, masses=(1.0, 2.0, 1.5), omega1=20.0)
+    phi = np.linspace(0, 2 * np.pi, 360, endpoint=False)
+    kin = kinematics(m, phi)
+    # independent: the slider position along x by trigonometry; reciprocating mass
+    # m3 + m2 s2/l2 = 1.5 + 1 = 2.5 kg; rotating balance leaves F = -m_rec a_B along the guide
+    for k in (0.0, 0.5, 1.0):
+        mb = bal.crank_slider_balance(m, fraction=k, radius=0.05)
+        F = bal.shaking_loads(kinematics(mb, phi)).force
+        xB = 0.05 * np.cos(phi) + np.sqrt(0.2**2 - (0.05 * np.sin(phi)) ** 2)
+        h = 1e-4
+        xBp = 0.05 * np.cos(phi + h) + np.sqrt(0.2**2 - (0.05 * np.sin(phi + h)) ** 2)
+        xBm = 0.05 * np.cos(phi - h) + np.sqrt(0.2**2 - (0.05 * np.sin(phi - h)) ** 2)
+        aB = (xBp - 2 * xB + xBm) / h**2 * 20.0**2
+        # a fraction k of the reciprocating mass at the crank pin, on the crank's extension
+        Fk = np.stack([-2.5 * aB, np.zeros_like(aB)], -1) \
+            - k * 2.5 * 0.05 * 20.0**2 * np.stack([np.cos(phi), np.sin(phi)], -1)
+        assert np.max(np.abs(F - Fk)) <= 1e-5 * np.max(np.abs(Fk))
+    fb = bal.force_balance(m, radii=0.05)
+    assert not fb.full
+    assert "slider" in fb.reason
+    with pytest.raises(InfeasibleError) as exc:
+        bal.force_balance(m, radii=0.05, require_full=True)
+    assert "slider" in str(exc.value)
+    del kin
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: bal.fourbar_counterweights(0.1, 0.3, 0.2, -1.0, 0.05, 3, 0.15, 2, 0.1), "m1"),
+    (lambda: bal.fourbar_counterweights(0.0, 0.3, 0.2, 1.0, 0.05, 3, 0.15, 2, 0.1), "l1"),
+    (lambda: bal.crank_slider_counterweight(0.05, 0.2, 1, 0.02, 2, 0.1, 1, fraction=1.5),
+     "fraction"),
+    (lambda: bal.counterweight_axis_offset([0, 1, 2], [1, 2, 3], 0.0, 10.0), "static_moment"),
+    (lambda: bal.counterweight_axis_offset([0, 1, 2], [1, 2, 3], -0.2, 10.0), "static_moment"),
+    (lambda: bal.counterweight_axis_offset([0, 1, 2], [1, 2], 0.2, 10.0), "moment"),
+    (lambda: bal.counterweight_axis_offset([0, 1, 2], [1, np.nan, 3], 0.2, 10.0), "moment"),
+    (lambda: bal.counterweight_axis_offset([0.5], [1.0], 0.2, 10.0), "phi"),
+    (lambda: bal.counterweight_axis_offset([0.5, 0.5 + np.pi], [1.0, 2.0], 0.2, 10.0), "phi"),
+    (lambda: bal.counterweight_axis_offset([0, 1, 2], [1, 2, 3], 0.2, 10.0, method="x"),
+     "method"),
+    (lambda: bal.counterweight_axis_offset([0, 1, 2], [1, 2, 3], 0.2, 0.0), "omega"),
+    (lambda: bal.efficiency([0.0, 0.0], [1.0, 2.0]), "before"),
+    (lambda: bal.efficiency([], [1.0]), "before"),
+    (lambda: bal.Counterweight.from_mass("crank", -1.0, 0.05, 0.0), "mass"),
+    (lambda: bal.Counterweight("crank", 0.2, 0.0, radius=0.0), "radius"),
+    (lambda: bal.harmonics(np.linspace(0, 6, 10), np.ones(10), k=0), "k"),
+    (lambda: bal.force_balance(paper001_fourbar(), links=["coupler"]), "counterweight.link"),
+    (lambda: bal.force_balance(paper001_fourbar(), links=["nope"]), "nope"),
+])
+def test_bad_inputs_are_named(call, name):
+    with pytest.raises(LinkworkError) as exc:
+        call()
+    assert name in str(exc.value)

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _balancing_cases import paper_fourbar as paper001_fourbar
 
+from linkwork import balancing as bal
 from linkwork.balancing import add_counterweights, rms
 from linkwork.balancing.optimal import (
     BalancingProblem,
@@ -96,3 +98,55 @@ def test_analytic_gradient_matches_finite_differences(mech, gravity):
         e[j] = h
         fd = (np.array(prob.evaluate(x + e)) - np.array(prob.evaluate(x - e))) / (2 * h)
         np.testing.assert_allclose(grad[:, j], fd, rtol=1e-5, atol=1e-7)
+
+
+def test_optimal_balance_not_worse_than_a_brute_force_grid():
+    """Tiny problem: one counterweight (mass, radius, angle) on the crank only. The objective
+    of a design is recomputed here with the engine (add_counterweights + inverse dynamics);
+    the optimiser's design must be at least as good as the best of a grid."""
+    from linkwork.balancing.optimal import BalancingProblem, optimal_balance
+
+    mech = paper001_fourbar()
+    n = 72
+    prob = BalancingProblem(mech, links=["crank"], n=n)
+    phi = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    d0 = inverse_dynamics(kinematics(mech, phi), about=(0, 0))
+
+    def engine_values(m, r, a):
+        mb = bal.add_counterweights(mech, [bal.Counterweight.from_mass("crank", m, r, a)]) \
+            if m > 0 else mech
+        d = inverse_dynamics(kinematics(mb, phi), about=(0, 0))
+        F = np.hypot(d.shaking_fx, d.shaking_fy)
+        Q = d.Q - d.Q.mean()
+        return np.sqrt(np.mean(F**2)), np.sqrt(np.mean(d.shaking_m**2)), np.sqrt(np.mean(Q**2))
+
+    ref = np.array(engine_values(0.0, 0.1, 0.0))
+    assert np.allclose(ref, [np.sqrt(np.mean(d0.shaking_fx**2 + d0.shaking_fy**2)),
+                             np.sqrt(np.mean(d0.shaking_m**2)),
+                             np.sqrt(np.mean((d0.Q - d0.Q.mean()) ** 2))])
+    # the superposition used by the optimiser equals the engine at a few designs
+    for des in ((2.0, 0.1, 3.0), (6.0, 0.04, -1.0)):
+        assert np.allclose(prob.evaluate(des), engine_values(*des), rtol=1e-9)
+    wts = np.array([1.0, 1.0, 1.0])
+    opt = optimal_balance(prob, wts, mass=(0.0, 8.0), radius=(0.02, 0.15))
+    cw = opt.counterweights[0]
+    got = wts @ (np.array(engine_values(cw.mass(), cw.radius, cw.angle)) / ref)
+    assert got == pytest.approx(opt.objective, rel=1e-9)
+    best = np.inf
+    for m in np.linspace(0.0, 8.0, 17):
+        for r in np.linspace(0.02, 0.15, 6):
+            for a in np.linspace(-np.pi, np.pi, 24, endpoint=False):
+                best = min(best, wts @ (np.array(prob.evaluate((m, r, a))) / ref))
+    assert got <= best + 1e-9
+
+
+def test_pareto_set_flags_dominated_designs_correctly():
+    from linkwork.balancing.optimal import pareto_set
+
+    p = pareto_set(paper001_fourbar(), n=72, weights=np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1],
+                                                            [1, 1, 1], [1, 1, 0]], float))
+    V = np.stack([p.force_rms, p.moment_rms, p.torque_fluct], -1)
+    for i in range(len(V)):
+        dom = any(np.all(V[j] <= V[i] + 1e-12) and np.any(V[j] < V[i] - 1e-9)
+                  for j in range(len(V)) if j != i)
+        assert bool(p.dominated[i]) == dom

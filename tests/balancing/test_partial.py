@@ -2,12 +2,16 @@
 
 from __future__ import annotations
 
+import itertools
+
 import numpy as np
 import pytest
+from _balancing_cases import normal_equations
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import integrate, optimize
 
+from linkwork import balancing as bal
 from linkwork.balancing import (
     counterweight_axis_moment,
     counterweight_axis_offset,
@@ -257,3 +261,117 @@ def test_myp_for_counterweight_at_any_angle_uses_opposite_direction():
     ref = res[0] - res[1]
     got = counterweight_axis_moment(theta + alpha - np.pi, x, y, m * r, omega, eps)
     np.testing.assert_allclose(got, ref, atol=1e-5 * np.abs(ref).max())
+
+
+def test_harmonics_rms_peak_against_a_known_series():
+    phi = np.linspace(0, 2 * np.pi, 360, endpoint=False)
+    f = 0.5 + 3.0 * np.cos(phi - 0.4) + 1.5 * np.cos(2 * phi + 1.0) - 0.25 * np.sin(4 * phi)
+    hm = bal.harmonics(phi, f, 4)
+    assert hm.mean == pytest.approx(0.5, abs=1e-12)
+    assert np.allclose(hm.amplitude, [3.0, 1.5, 0.0, 0.25], atol=1e-12)
+    assert hm.phase[0] == pytest.approx(0.4, abs=1e-12)
+    assert hm.phase[1] == pytest.approx(-1.0, abs=1e-12)
+    assert hm.phase[3] == pytest.approx(np.arctan2(-0.25, 0.0), abs=1e-12)
+    # RMS by Parseval, peak by dense sampling
+    assert bal.rms(phi, f) == pytest.approx(np.sqrt(0.25 + (9 + 2.25 + 0.0625) / 2), rel=1e-12)
+    assert bal.peak(f) == pytest.approx(np.max(np.abs(f)))
+    F = np.stack([3 * np.cos(phi), 4 * np.sin(phi)], -1)
+    assert bal.rms(phi, F) == pytest.approx(np.sqrt((9 + 16) / 2), rel=1e-12)
+    assert bal.peak(F) == pytest.approx(4.0, rel=1e-12)
+
+
+def test_axis_offset_exact_least_squares_for_any_positions():
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        n = rng.integers(3, 15)
+        phi = np.sort(rng.uniform(0, 2 * np.pi, n))
+        M = rng.normal(0, 5, n)
+        S, w = rng.uniform(0.05, 1), rng.uniform(1, 50)
+        x, y = bal.counterweight_axis_offset(phi, M, S, w)
+        assert np.allclose([x, y], normal_equations(phi, M, S, w), rtol=1e-9, atol=1e-12)
+        # and it is the minimum: no neighbour of (x, y) does better
+
+        def cost(xx, yy, phi=phi, M=M, S=S, w=w):
+            return np.sum((M + S * w**2 * (yy * np.cos(phi) - xx * np.sin(phi))) ** 2)
+
+        best = cost(x, y)
+        for dx, dy in itertools.product((-1e-4, 0, 1e-4), repeat=2):
+            assert cost(x + dx, y + dy) >= best - 1e-12 * max(best, 1.0)
+
+
+def test_paper_formula_1_holds_only_when_sum_sin_cos_vanishes():
+    rng = np.random.default_rng(2)
+    M12 = rng.normal(0, 3, 12)
+    even = np.radians(np.arange(0, 360, 30.0))
+    lsq = bal.counterweight_axis_offset(even, M12, 0.2, 10.0)
+    pap = bal.counterweight_axis_offset(even, M12, 0.2, 10.0, method="paper")
+    assert np.allclose(lsq.offset, pap.offset, rtol=1e-12, atol=1e-15)
+    half = np.radians(np.arange(0, 150, 30.0))[:5]  # 0..120 deg: sum sin cos != 0
+    assert abs(np.sum(np.sin(half) * np.cos(half))) > 0.4
+    M5 = M12[:5]
+    lsq = bal.counterweight_axis_offset(half, M5, 0.2, 10.0)
+    pap = bal.counterweight_axis_offset(half, M5, 0.2, 10.0, method="paper")
+    assert np.allclose(lsq.offset, normal_equations(half, M5, 0.2, 10.0), rtol=1e-9)
+    assert np.hypot(*(np.subtract(lsq.offset, pap.offset))) > 1e-3
+    assert np.sum(lsq.residual**2) < np.sum(pap.residual**2)
+
+
+def test_moved_axis_moment_with_angular_acceleration_by_finite_differences():
+    """The counterweight centre O1 + r(-cos phi, -sin phi) with phi(t) = phi0 + w t + e t^2/2:
+    its inertia force by central differences in time, moment about O minus that with O1 = O,
+    against counterweight_axis_moment (the eps term included)."""
+    m_cw, r = 4.0, 0.05
+    x, y = -0.07, 0.19
+    phi0 = np.linspace(0, 2 * np.pi, 37)
+    for w, e in ((10.0, 0.0), (10.0, 35.0), (-6.0, -80.0)):
+        h = 1e-4
+
+        def centre(t, ox, oy, w=w, e=e):
+            p = phi0 + w * t + 0.5 * e * t * t
+            return ox - r * np.cos(p), oy - r * np.sin(p)
+
+        def moment(ox, oy, h=h):
+            (xm, ym), (x0, y0), (xp, yp) = (centre(t, ox, oy) for t in (-h, 0.0, h))
+            fx = -m_cw * (xp - 2 * x0 + xm) / h**2
+            fy = -m_cw * (yp - 2 * y0 + ym) / h**2
+            return x0 * fy - y0 * fx
+
+        ref = moment(x, y) - moment(0.0, 0.0)
+        got = bal.counterweight_axis_moment(phi0, x, y, m_cw * r, w, e)
+        assert np.max(np.abs(got - ref)) <= 1e-5 * np.max(np.abs(ref))
+        # and the least squares with eps != 0 still solves the normal equations exactly
+        M = np.cos(2 * phi0) + 0.3 * np.sin(phi0)
+        fit = bal.counterweight_axis_offset(phi0, M, m_cw * r, w, e)
+        Bx = bal.counterweight_axis_moment(phi0, 1.0, 0.0, m_cw * r, w, e)
+        By = bal.counterweight_axis_moment(phi0, 0.0, 1.0, m_cw * r, w, e)
+        A = np.stack([Bx, By], -1)
+        ref_xy = np.linalg.solve(A.T @ A, -A.T @ M)
+        assert np.allclose(fit.offset, ref_xy, rtol=1e-9, atol=1e-12)
+
+
+def test_first_harmonic_and_rms_offsets_over_a_cycle():
+    phi = np.linspace(0, 2 * np.pi, 360, endpoint=False)
+    M = 2.0 * np.cos(phi) - 1.0 * np.sin(phi) + 0.7 * np.cos(3 * phi)
+    S, w = 0.2, 10.0
+    fh = bal.first_harmonic_offset(phi, M, S, w)
+    rm = bal.rms_offset(phi, M, S, w)
+    # by hand: M_yp = S w^2 (y cos - x sin) cancels a1 cos + b1 sin: y = -a1/(Sw2), x = b1/(Sw2)
+    assert np.allclose(fh.offset, (-1.0 / 20.0, -2.0 / 20.0), atol=1e-12)
+    assert np.allclose(rm.offset, fh.offset, atol=1e-12)
+    assert np.allclose(fh.residual, 0.7 * np.cos(3 * phi), atol=1e-12)
+
+
+def test_axis_offset_at_zero_speed_names_omega():
+    """omega = 0 (and eps = 0): the lsq path named 'phi' ('positions that determine (x, y)'),
+    the paper's formula divided by zero (RuntimeWarning, inf)."""
+    for method in ("lsq", "paper"):
+        with pytest.raises(ParameterError) as exc:
+            bal.counterweight_axis_offset([0.0, 1.0, 2.0], [1.0, 2.0, 3.0], 0.2, 0.0,
+                                          method=method)
+        assert exc.value.parameter == "omega"
+    with pytest.raises(ParameterError) as exc:
+        bal.first_harmonic_offset(np.linspace(0, 6, 12), np.ones(12), 0.2, 0.0)
+    assert exc.value.parameter == "omega"
+    # eps alone determines the axis: accepted
+    r = bal.counterweight_axis_offset([0.0, 1.0, 2.0], [1.0, 2.0, 3.0], 0.2, 0.0, 5.0)
+    assert np.all(np.isfinite(r.offset))

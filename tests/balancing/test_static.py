@@ -4,15 +4,18 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _balancing_cases import com_positions, paper_fourbar
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from linkwork import balancing as bal
 from linkwork.balancing.static import (
     Counterweight,
     crank_slider_counterweight,
     fourbar_counterweights,
 )
 from linkwork.errors import ParameterError
+from linkwork.planar.kinematics import kinematics
 
 
 def fourbar_angles(l0, l1, l2, l3, th1, branch):
@@ -133,3 +136,44 @@ def test_point_mass_method_equals_linearly_independent_vectors():
             assert abs(x.first_moment - y.first_moment) < 1e-12
     with pytest.raises(ParameterError, match="com"):
         statically_equivalent_masses(1.0, 0.3, 0.4)
+
+
+def test_paper_fourbar_counterweights_by_hand_and_stationary_centre_of_mass():
+    """Counterweights by the statically equivalent split done by hand; the balanced
+    mechanism's total centre of mass (engine positions + counterweight points placed here by
+    trigonometry) is stationary, and its engine shaking force is <= 1e-9 of the unbalanced."""
+    # hand: crank m1 s1 + m2 (1 - s2/l2) l1 = 0.05 + 0.15 = 0.2; rocker m3 s3 + m2 s2/l2 l3 =
+    # 0.2 + 0.3 = 0.5 kg m, both opposite the moving joint
+    cw1, cw3 = bal.fourbar_counterweights(0.1, 0.3, 0.2, 1.0, 0.05, 3.0, 0.15, 2.0, 0.1)
+    assert (cw1.link, cw3.link) == ("crank", "rocker")
+    assert cw1.static_moment == pytest.approx(0.2, rel=1e-12)
+    assert cw3.static_moment == pytest.approx(0.5, rel=1e-12)
+    assert abs(cw1.angle) == pytest.approx(np.pi, abs=1e-12)
+    assert abs(cw3.angle) == pytest.approx(np.pi, abs=1e-12)
+    pm = bal.fourbar_counterweights_point_masses(0.1, 0.3, 0.2, 1.0, 0.05, 3.0, 0.15, 2.0, 0.1)
+    assert [c.static_moment for c in pm] == pytest.approx([0.2, 0.5], rel=1e-12)
+
+    mech = paper_fourbar()
+    fb = bal.force_balance(mech, radii={"crank": 0.05, "rocker": 0.1})
+    assert fb.full and fb.reason == ""
+    got = {c.link: c for c in fb.counterweights}
+    assert got["crank"].static_moment == pytest.approx(0.2, rel=1e-9)
+    assert got["rocker"].static_moment == pytest.approx(0.5, rel=1e-9)
+    assert got["crank"].mass() == pytest.approx(4.0, rel=1e-9)
+    assert got["rocker"].mass() == pytest.approx(5.0, rel=1e-9)
+
+    phi = np.linspace(0, 2 * np.pi, 720, endpoint=False)
+    r, kin = com_positions(mech, phi)
+    th1, th3 = kin.angle("crank"), kin.angle("rocker")
+    cw_crank = 4.0 * 0.05 * np.stack([-np.cos(th1), -np.sin(th1)], -1)
+    cw_rocker = 5.0 * (np.array([0.3, 0.0]) + 0.1 * np.stack([-np.cos(th3), -np.sin(th3)], -1))
+    first = np.einsum("b,bnk->nk", [1.0, 3.0, 2.0], r) + cw_crank + cw_rocker
+    spread = np.max(np.abs(first - first.mean(axis=0)))
+    F_unbal = bal.shaking_loads(kinematics(mech, phi, 10.0)).force
+    # |F| = omega^2 * |d^2 (first moment)/dphi^2|; stationary to 1e-9 of the unbalanced force
+    assert spread * 10.0**2 <= 1e-9 * np.max(np.abs(F_unbal))
+    F_bal = bal.shaking_loads(kinematics(fb.mechanism, phi, 10.0)).force
+    assert np.max(np.abs(F_bal)) <= 1e-9 * np.max(np.abs(F_unbal))
+    # the balanced mechanism is a new description: every analysis runs on it
+    assert fb.mechanism.body("crank").mass == pytest.approx(5.0)
+    assert mech.body("crank").mass == pytest.approx(1.0)

@@ -50,3 +50,19 @@ def test_helpers():
     assert deg(180) == pytest.approx(math.pi)
     assert to_deg(math.pi / 2) == pytest.approx(90)
     assert rpm(60) == pytest.approx(2 * math.pi)
+
+
+def test_unit_conversions_keep_their_angle():
+    from linkwork.units import to_si
+    # independent values: 1 rev = 2 pi rad
+    assert to_si("120 rpm", "angular_velocity") == pytest.approx(120 * 2 * math.pi / 60)
+    assert to_si("2 rps", "angular_velocity") == pytest.approx(4 * math.pi)
+    assert to_si("720 deg/s", "angular_velocity") == pytest.approx(4 * math.pi)
+    assert to_si("2 1/s", "angular_velocity") == 2.0  # SI: omega in 1/s is rad/s
+    assert to_si("600 1/min", "frequency") == pytest.approx(10.0)
+    assert to_si("10 Hz", "frequency") == 10.0
+    assert to_si("0.5", "angle") == 0.5
+    with pytest.raises(ParameterError, match="ambiguous"):
+        to_si("2 Hz", "angular_velocity", "speed")
+    with pytest.raises(ParameterError, match="angle unit"):
+        to_si("600 rpm", "frequency", "productivity")

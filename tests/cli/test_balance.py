@@ -7,10 +7,14 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _balancing_cases import paper_fourbar
+from _cli_files import run_cli
 from rich.console import Console
 
 from linkwork.cli import main
 from linkwork.cli.balance import BalanceSection, run_balance
+from linkwork.planar.dynamics import inverse_dynamics
+from linkwork.planar.kinematics import kinematics
 from linkwork.planar.model import crank_slider, fourbar
 
 DATA = Path(__file__).parents[1] / "data"
@@ -174,3 +178,153 @@ def test_balance_cli_angles_beyond_float_precision_are_refused(tmp_path, capsys)
     err = capsys.readouterr().err.strip()
     assert rc == 2 and len(err.splitlines()) == 1, err
     assert "--angles = -1e+300" in err and "must lie within +-5.72958e+07 deg" in err, err
+
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_cli_balance_radius_for_an_unknown_link_one_line_exit_2(tmp_path, capsys):
+    text = (ROOT / "examples" / "fourbar_paper001.toml").read_text()
+    f = tmp_path / "m.toml"
+    f.write_text(text + '\n[balance]\nradii = { crnk = "50 mm", rocker = "100 mm" }\n')
+    code, _, err = run_cli(["balance", str(f), "--out", str(tmp_path / "o")], capsys)
+    assert code == 2
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert "radii" in err and "crnk" in err
+
+
+def test_cli_balance_bundled_example(tmp_path, capsys):
+    out = tmp_path / "o"
+    assert main(["balance", str(EXAMPLE), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    for f in ("balance_table.csv", "balance_table.json", "balance_cycle.csv",
+              "balance_summary.json", "balancing_moments.png", "balancing_force.png",
+              "balancing_torque.png", "balancing_bearings.png"):
+        assert (out / f).stat().st_size > 0
+    assert "R_j" in text and "φ1 [deg]" in text
+    assert "S = 0.2 kg*m" in text and "S = 0.5 kg*m" in text
+
+
+def _write(tmp_path, text, name="m.toml"):
+    p = tmp_path / name
+    p.write_text(text)
+    return p
+
+
+BROKEN_BALANCE = {
+    "unknown_key": "[balance]\nlinx = ['crank']\n",
+    "radius_units": "[balance]\nradii = { crank = '50 kg' }\n",
+    "radius_negative": "[balance]\nradii = { crank = '-50 mm' }\n",
+    "radius_zero": "[balance]\nradii = '0 mm'\n",
+    "not_hinged": "[balance]\nlinks = ['coupler']\n",
+    "unknown_link": "[balance]\nlinks = ['crnak']\n",
+    "no_crank": "[balance]\nlinks = ['rocker']\n",
+    "n_small": "[balance]\nn = 5\n",
+    "angles_text": "[balance]\nangles = ['a']\n",
+    "angles_nan": "[balance]\nangles = [nan]\n",
+    "balance_not_table": "balance = 3\n",
+}
+
+
+@pytest.mark.parametrize("case", sorted(BROKEN_BALANCE))
+def test_cli_balance_broken_files_one_line_exit_2(tmp_path, capsys, case):
+    text = EXAMPLE.read_text() + "\n" + BROKEN_BALANCE[case]
+    f = _write(tmp_path, text)
+    rc = main(["balance", str(f), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2, err
+    assert len(err.strip().splitlines()) == 1, err
+    assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("args", [
+    ["balance", "/nonexistent/x.toml"],
+    ["balance", str(EXAMPLE), "--angles", "a,b"],
+    ["balance", str(EXAMPLE), "--angles", ","],
+    ["balance", str(EXAMPLE), "--bogus"],
+])
+def test_cli_balance_bad_arguments_one_line_exit_2(tmp_path, capsys, args):
+    rc = main([*args, "--out", str(tmp_path / "o")] if "--bogus" not in args else args)
+    err = capsys.readouterr().err
+    assert rc == 2, err
+    assert len(err.strip().splitlines()) == 1, err
+
+
+@pytest.mark.parametrize("text", [
+    "type = 'planar'\n[frame\n",                                     # invalid TOML
+    "type = 'sine'\nname = 'x'\n",                                   # not a planar file
+])
+def test_cli_balance_broken_toml_one_line_exit_2(tmp_path, capsys, text):
+    rc = main(["balance", str(_write(tmp_path, text)), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2, err
+    assert len(err.strip().splitlines()) == 1, err
+
+
+def test_cli_balance_wrong_units_in_the_mechanism(tmp_path, capsys):
+    text = EXAMPLE.read_text().replace('mass = "3 kg"', 'mass = "3 m"')
+    rc = main(["balance", str(_write(tmp_path, text)), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and len(err.strip().splitlines()) == 1, err
+    assert "mass" in err
+
+
+@pytest.mark.parametrize("radii, words", [
+    ("{ crank = '50 kg' }", ["balance.radii", "crank", "length"]),
+    ("'0 mm'", ["balance.radii", "> 0"]),
+    ("{ crank = '-5 mm', rocker = 0.1 }", ["balance.radii", "crank", "> 0"]),
+    ("true", ["balance.radii", "length"]),
+])
+def test_cli_balance_bad_radii_named_plainly(tmp_path, capsys, radii, words):
+    """The error named pydantic's internal union types
+    ('balance.radii.dict[str,function-before[convert(), float]].crank'), a zero radius was
+    reported without the file or key ('radius = 0 is invalid'), 'true' was taken as 1 m."""
+    text = EXAMPLE.read_text() + f"\n[balance]\nradii = {radii}\n"
+    rc = main(["balance", str(_write(tmp_path, text)), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and len(err.strip().splitlines()) == 1, err
+    assert "function-before" not in err and "dict[" not in err
+    for w in words:
+        assert w in err
+
+
+@pytest.mark.parametrize("angles", ["90", "30,210"])
+def test_cli_balance_table_positions_that_cannot_fit_the_axis(tmp_path, capsys, angles):
+    """One table angle (or two half a turn apart) cannot determine (x, y): the error named
+    'phi = 1 positions', a parameter the user never gave; now it names the positions."""
+    rc = main(["balance", str(EXAMPLE), "--angles", angles, "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and len(err.strip().splitlines()) == 1, err
+    assert "positions" in err and "phi =" not in err
+
+
+def test_cli_cycle_csv_has_shaking_force_and_bearing_reactions(tmp_path, capsys):
+    """balance_cycle.csv had only M, dM1..3, Q0, Q1: the shaking force before/after and the
+    frame-bearing reactions (which the command reports as raised) were in no output file."""
+    import csv
+
+    out = tmp_path / "o"
+    assert main(["balance", str(EXAMPLE), "--out", str(out)]) == 0
+    capsys.readouterr()
+    with (out / "balance_cycle.csv").open() as fh:
+        rows = list(csv.reader(fh))
+    head, data = rows[0], np.array(rows[1:], float)
+    for col in ("Fx0 [N]", "Fy0 [N]", "Fx1 [N]", "Fy1 [N]", "R0_O [N]", "R1_C [N]", "R3_O [N]",
+                "R3_O1 [N]", "Q1 [N*m]", "phi1 [rad]"):
+        assert col in head, head
+    # independent: the engine's shaking force and reaction at C of the unbalanced mechanism
+    phi = data[:, head.index("phi1 [rad]")]
+    mech = paper_fourbar()
+    d = inverse_dynamics(kinematics(mech, phi), about=(0, 0))
+    assert np.allclose(data[:, head.index("Fx0 [N]")], d.shaking_fx, rtol=1e-9, atol=1e-9)
+    i = [j.name for j in mech.joints][3]  # O4 = C of the example
+    assert np.allclose(data[:, head.index("R0_C [N]")], d.reaction_magnitude(i), rtol=1e-9)
+    assert np.max(np.abs(data[:, head.index("Fx1 [N]")])) < 1e-9
+
+
+def test_cli_balance_negative_mass_is_short_and_keyed(tmp_path, capsys):
+    text = EXAMPLE.read_text().replace('mass = "3 kg"', 'mass = "-3 kg"')
+    rc = main(["balance", str(_write(tmp_path, text)), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and len(err.strip().splitlines()) == 1
+    assert "coupler.mass" in err and len(err) < 300

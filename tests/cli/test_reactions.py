@@ -3,9 +3,11 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
+from _cli_files import LINEAR_SLIDER_CRANK, run_cli
 from _fourbar_reference import INERTIA, M_EXT, MASS, OMEGA1
 from rich.console import Console
 
@@ -102,3 +104,55 @@ def test_run_tolerance_study_needs_tolerances(tmp_path):
     with pytest.raises(ParameterError, match="tolerance"):
         run(_mech(), spec, out=tmp_path, angles=np.zeros(1), console=Console(),
             tolerance_study=10, plots=False)
+
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def test_cli_reactions_linear_driver_positions_in_mm_and_force_in_newtons(tmp_path, capsys):
+    """With a linear driver the table said 'φ1 = 9.74 deg' for s1 = 170 mm and gave the
+    driving force in N·m; the CSV/JSON said phi1 [rad] and Q [N*m]."""
+    import csv
+
+    from linkwork.files import load
+    from linkwork.planar import inverse_dynamics, kinematics
+
+    f = tmp_path / "lin.toml"
+    f.write_text(LINEAR_SLIDER_CRANK)
+    out = tmp_path / "o"
+    code, text, err = run_cli(["reactions", str(f), "--out", str(out), "--angles", "170,200",
+                               "--no-plots"], capsys)
+    assert code == 0, err
+    assert "s1 = 170 mm" in text and "s1 = 200 mm" in text
+    assert "deg" not in text and "N·m" not in text.split("driving")[1].splitlines()[0]
+    # the driving force against the planar engine at s1 = 0.17 m (v1 = 1 m/s)
+    doc = load(f)
+    kin = kinematics(doc.mechanism(), [0.17, 0.2])
+    q = inverse_dynamics(kin).Q
+    assert f"driving force Q = {q[0]:.4g} N" in text
+    with (out / "reactions.csv").open() as fh:
+        head = next(csv.reader(fh))
+    assert head[0] == "phi1 [m]" and head[-1] == "Q [N]"
+    units = json.loads((out / "reactions.json").read_text())["units"]
+    assert units["phi1"] == "m" and units["Q"] == "N"
+    assert json.loads((out / "reactions_peaks.json").read_text())["units"]["Q"] == "N"
+
+
+SPATIAL_FOURBAR = (ROOT / "examples" / "loom_fourbar_spatial.toml").read_text()
+
+
+@pytest.mark.parametrize("old, new, key", [
+    ('tx = "0.2 mrad"', "tx = 30", "spatial.deviation.0.tx"),        # 30 rad, meant 30 urad?
+    ('ty = "-0.1 mrad"', 'ty = "-10 deg"', "spatial.deviation.1.ty"),
+    ('limit = "0.3 mrad"', 'limit = 0.3', "spatial.tolerance.0.limit"),  # 0.3 rad
+])
+def test_tilt_deviations_beyond_first_order_theory_are_named(tmp_path, capsys, old, new, key):
+    """Tilts are small rotations in a first-order theory; a plain number is radians, so
+    'tx = 30' (30 rad) ran silently and gave reactions 1e5 times those of 0.3 mrad."""
+    f = tmp_path / "s.toml"
+    assert old in SPATIAL_FOURBAR
+    f.write_text(SPATIAL_FOURBAR.replace(old, new, 1))
+    code, _, err = run_cli(["reactions", str(f), "--out", str(tmp_path / "o"), "--no-plots",
+                            "--tolerance-study", "2"], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
+    assert key in err and "0.1 rad" in err

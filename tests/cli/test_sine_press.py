@@ -7,11 +7,15 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
+from _cli_files import edit_example_and_run
 from _paper000_geometry import crank_slider_positions, slot_positions
 
 from linkwork import files
 from linkwork.cli import main
+from linkwork.models import crank_slider as cs
+from linkwork.models import sine
 
 EXAMPLE = Path(__file__).resolve().parents[2] / "examples" / "sine_press.toml"
 
@@ -152,3 +156,109 @@ def test_bad_angles_option(tmp_path, capsys):
 def test_non_finite_angles_are_named(cmd, file, text, value, tmp_path, capsys):
     err = _fail(capsys, [cmd, str(file), "--out", str(tmp_path / "o"), "--angles", text])
     assert f"--angles = {value} is invalid: must be finite numbers in degrees" in err
+
+
+SP_BROKEN = [
+    ('L1 = "50 mm"', 'L1 = "50 mm', ["invalid toml"]),
+    ('type = "sine_press"', 'type = "sine_pres"', ["type", "sine_pres"]),
+    ('type = "sine_press"', '', ["type", "missing"]),
+    ('L1 = "50 mm"', 'L1 = "100 kg"', ["crank.L1", "100 kg", "length"]),
+    ('L1 = "50 mm"', 'L1 = "-50 mm"', ["crank.L1", "-50 mm"]),
+    ('L1 = "50 mm"', '', ["crank.L1", "missing"]),
+    ('L1 = "50 mm"', 'L1 = nan', ["crank.L1", "nan"]),
+    ('L1 = "50 mm"', 'L1 = "fifty mm"', ["crank.L1", "fifty"]),
+    ('speed = "120 rpm"', 'speed = "120 mm"', ["crank.speed", "120 mm"]),
+    ('lambda2 = 4.0', 'lambda2 = 1.2', ["idle.lambda2", "1.2", "1.5"]),
+    ('alpha = "60 deg"', 'alpha = "5 deg"', ["working.alpha", "5 deg", "12.55"]),
+    ('alpha = "60 deg"', 'alpha = "200 deg"', ["working.alpha", "200"]),
+    ('alpha = "60 deg"', 'alpha = 60', ["working.alpha", "3437.75 deg", "plain number",
+                                        "radians"]),
+    ('alpha = "45 deg"', 'alpha = "175 deg"', ["schedule", "175 deg", "167.4"]),
+    ('lambda_e = 0.5', 'lambda_e = 0.5\nfoo = 1', ["idle.foo", "unknown key"]),
+    ('branch = 1', 'branch = 0', ["idle.branch", "0"]),
+    ('revolutions = 5', 'revolutions = 0', ["schedule.0.revolutions", "0"]),
+    ('revolutions = 5', 'revolutions = 2.5', ["schedule.0.revolutions", "2.5"]),
+    ('mode = "idle"', 'mode = "sleep"', ["schedule.0.mode", "sleep"]),
+    ('f_slot = 0.12', 'f_slot = -0.12', ["working.f_slot", "-0.12"]),
+    ('f_slot = 0.12', 'f_slot = 5.0', ["working.alpha", "84.4"]),
+    ('samples_per_revolution = 360', 'samples_per_revolution = 3',
+     ["output.samples_per_revolution", "3"]),
+]
+
+
+@pytest.mark.parametrize("old,new,words", SP_BROKEN)
+def test_cli_broken_sine_press_files_one_line_exit_2(old, new, words, tmp_path, capsys):
+    from pathlib import Path
+
+    from linkwork.cli import main
+    text = (Path(__file__).resolve().parents[2] / "examples" / "sine_press.toml").read_text()
+    assert old in text
+    p = tmp_path / "press.toml"
+    p.write_text(text.replace(old, new, 1))
+    rc = main(["analyze", str(p), "--out", str(tmp_path / "out")])
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert len(err.strip().splitlines()) == 1, err
+    assert "Traceback" not in err and "press.toml" in err
+    for w in words:
+        assert w.lower() in err.lower(), (w, err)
+    assert not (tmp_path / "out").exists() or not any((tmp_path / "out").iterdir())
+
+
+def test_cli_missing_file(tmp_path, capsys):
+    from linkwork.cli import main
+    assert main(["analyze", str(tmp_path / "none.toml")]) == 2
+    err = capsys.readouterr().err
+    assert len(err.strip().splitlines()) == 1 and "none.toml" in err
+
+
+def test_cli_sine_press_outputs_match_the_functions(tmp_path, capsys, monkeypatch):
+    """The CSV written by `linkwork analyze` carries the same numbers as the public functions
+    (SI columns), for both modes, and the schedule switches at 5 T, 8 T, 10 T."""
+    import csv
+    import json
+    from pathlib import Path
+
+    from linkwork.cli import main
+    monkeypatch.setenv("COLUMNS", "250")
+    src = Path(__file__).resolve().parents[2] / "examples" / "sine_press.toml"
+    out = tmp_path / "out"
+    assert main(["analyze", str(src), "--out", str(out)]) == 0
+    table = capsys.readouterr().out
+    # the switch instants say which mode is entered (was "duration, switches: 6, 2.5 s, ...")
+    assert "2.5 (→ working), 4 (→ idle), 5 (→ working)" in table
+    with (out / "idle_cycle.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    phi = np.array([float(r["phi1 [rad]"]) for r in rows])
+    w1 = 120 * 2 * np.pi / 60
+    ref = cs.offset_crank_slider(phi, 0.05, 4.0, 0.5, w1)
+    np.testing.assert_allclose([float(r["a_C [m/s^2]"]) for r in rows], ref.a_C, rtol=1e-12)
+    with (out / "working_cycle.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    phi = np.array([float(r["phi1 [rad]"]) for r in rows])
+    ref2 = sine.inclined_slot(phi, 0.05, math.radians(60), w1)
+    np.testing.assert_allclose([float(r["X3 [m]"]) for r in rows], ref2.X3, rtol=1e-12,
+                               atol=1e-15)
+    data = json.loads((out / "schedule.json").read_text())
+    T = 2 * np.pi / w1
+    np.testing.assert_allclose([s["t"] for s in data["switches"]], [5 * T, 8 * T, 10 * T],
+                               rtol=1e-12)
+    for png in ("kinematics.png", "schedule.png", "working_range.png"):
+        assert (out / png).stat().st_size > 10_000
+
+
+@pytest.mark.parametrize("old,new,key", [
+    ('L1 = "50 mm"', 'L1 = inf', "crank.L1"),
+    ('speed = "120 rpm"', 'speed = inf', "crank.speed"),
+    ('eps1 = "0 rad/s^2"', 'eps1 = nan', "crank.eps1"),
+    ('lambda2 = 4.0', 'lambda2 = inf', "idle.lambda2"),
+    ('lambda_e = 0.5', 'lambda_e = inf', "idle.lambda_e"),
+    ('lambda_e = 0.5', 'lambda_e = nan', "idle.lambda_e"),
+    ('f_slot = 0.12', 'f_slot = inf', "working.f_slot"),
+    ('alpha = "45 deg"', 'alpha = nan', "schedule.3.alpha"),
+])
+def test_cli_sine_press_non_finite_values_name_file_and_key(old, new, key, tmp_path, capsys):
+    # they used to reach the models: 'omega1 = inf is invalid' without file or key, or
+    # 'lambda2 = 4 must be > |lambda_e| + 1 = inf', or f_slot = inf blamed on working.alpha
+    err = edit_example_and_run(tmp_path, capsys, "sine_press.toml", old, new)
+    assert f"{key}:" in err and "finite" in err, err

@@ -6,6 +6,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _cli_files import edit_example_and_run
+from _swashplate_construction import ref_delta, ref_extremes, ref_max_on, ref_s
 
 from linkwork.cli import main
 from linkwork.models import swashplate as sw
@@ -136,3 +138,196 @@ def test_cycle_files_without_rotor_speed_have_no_zero_speed_columns(tmp_path):
     assert w > 0
     for r in rows[::40]:
         assert float(r["v [m/s]"]) == pytest.approx(float(r["Pi_v [m/rad]"]) * w, rel=1e-12)
+
+
+def test_cli_swashplate_jamming_load_one_line(tmp_path, capsys):
+    err = edit_example_and_run(tmp_path, capsys, "swashplate_4a.toml", 'rho_guide = "5 deg"',
+               'rho_guide = "89 deg"', cmd=("swashplate", "analyze"))
+    assert "jams" in err
+
+
+@pytest.mark.parametrize("example,old,new,words", [
+    # a geometry value the scheme constructor rejects: the key and, for a plain alpha, the hint
+    ("swashplate_4a.toml", 'alpha = "15 deg"', 'alpha = 15', ["geometry.alpha", "859.4",
+                                                              "(0, 90) deg", "radians"]),
+    ("swashplate_4a.toml", 'alpha = "15 deg"', 'alpha = "0 deg"', ["geometry.alpha", "(0, 90)"]),
+    # the rod cannot reach: said at load time, with the file name
+    ("swashplate_4a.toml", 'alpha = "15 deg"', 'alpha = "89.9 deg"', ["geometry", "cannot reach"]),
+    ("swashplate_1.toml", 'b = "0 mm"', 'b = "1000 mm"', ["geometry", "cannot reach"]),
+    # non-finite numbers: named with their key (they used to lose the file and the key)
+    ("swashplate_4a.toml", 'R = "100 mm"', 'R = inf', ["geometry.R", "finite"]),
+    ("swashplate_4a.toml", 'l = "200 mm"', 'l = inf', ["geometry.l", "finite"]),
+    ("swashplate_1.toml", 'a = "20 mm"', 'a = nan', ["geometry.a", "finite"]),
+    ("swashplate_1.toml", 'speed = "50 rpm"', 'speed = inf', ["operation.speed", "finite"]),
+    ("swashplate_4a.toml", 'productivity = "600 1/min"', 'productivity = inf',
+     ["operation.productivity", "finite"]),
+    ("swashplate_4a.toml", 'forces = ["0 kN", "0 kN", "20 kN"', 'forces = [0, 0, nan',
+     ["load.forces.2", "finite"]),
+    ("swashplate_4a.toml", 'guide_length = "120 mm"', 'guide_length = inf',
+     ["load.guide_length", "finite"]),
+])
+def test_cli_swashplate_file_errors_name_file_and_key(example, old, new, words, tmp_path,
+                                                      capsys):
+    err = edit_example_and_run(tmp_path, capsys, example, old, new, cmd=("swashplate", "analyze"))
+    for w in words:
+        assert w.lower() in err.lower(), (w, err)
+
+
+@pytest.mark.parametrize("argv,words", [
+    # a plain number is radians: 8 -> 458 deg; the error named only 'delta_f', a field of the
+    # Request the user never typed, without the hint
+    (["--delta", "8"], ["delta_f = 458.366 deg", "(0, 90]", "--delta '8'", "radians"]),
+    (["--delta-r", "0 deg"], ["delta_r = 0 deg", "--delta-r '0 deg'", "(0, 90]"]),
+    (["-R", "-100 mm"], ["R = -0.1", "--rotor-radius '-100 mm'", "> 0"]),
+    (["-H", "0 mm"], ["--stroke '0 mm'", "> 0"]),
+    (["--stroke-tol", "-1 mm"], ["--stroke-tol '-1 mm'", ">= 0"]),
+    (["--phi-f", "400 deg"], ["--phi-f '400 deg'", "(0, 360)"]),
+])
+def test_cli_synthesize_errors_name_the_option_as_typed(argv, words, tmp_path, capsys):
+    base = {"-R": "100 mm", "-H": "60 mm"}
+    for k, v in zip(argv[::2], argv[1::2], strict=True):
+        base[k] = v
+    args = [x for kv in base.items() for x in kv]
+    rc = main(["swashplate", "synthesize", *args, "--candidates", "64", "--refine", "0",
+               "--out", str(tmp_path)])
+    err = capsys.readouterr().err
+    assert rc == 2 and len(err.strip().splitlines()) == 1, err
+    for w in words:
+        assert w in err, (w, err)
+
+
+def test_cli_swashplate_without_speed_shows_no_zero_slide_speeds(tmp_path, capsys):
+    text = (EXAMPLES / "swashplate_1.toml").read_text()
+    assert 'speed = "50 rpm"' in text
+    p = tmp_path / "mech.toml"
+    p.write_text(text.replace('speed = "50 rpm"', "", 1))
+    assert main(["swashplate", "analyze", str(p), "--out", str(tmp_path / "o"),
+                 "--angles", "90"]) == 0
+    out = capsys.readouterr().out
+    # the slide moves at 90 deg (Pi_v = 23.9 mm/rad): a speed of 0.0000 m/s was printed
+    assert "slide v" not in out and "slide speeds omitted" in out
+
+
+DEG = math.pi / 180
+
+
+EX4A = ["swashplate", "analyze", str(EXAMPLES / "swashplate_4a.toml")]
+
+
+SYN = ["swashplate", "synthesize", "-R", "100 mm", "-H", "50 mm", "--candidates", "64"]
+
+
+@pytest.mark.parametrize("argv", [
+    ["swashplate", "synthesize", "-R", "100 mm", "-H", "50 kg"],
+    [*SYN[:-2], "--scheme", "7"],
+    [*SYN, "--map", "alpha,alpha"],
+    [*SYN, "--map", "alpha"],
+    [*SYN, "--map", "q,l"],
+    [*SYN, "--delta", "95 deg"],
+    [*SYN, "--delta", "-5 deg"],
+    [*SYN, "--point", "90 deg"],
+    [*SYN, "--point", "90 deg,20 kg"],
+    [*SYN, "--phi-f", "400 deg"],
+    [*SYN, "--v-allow", "0.3 m/s"],
+    [*SYN, "--speed", "50 rpm", "--productivity", "600 1/min"],
+    [*SYN, "--objective", "cost"],
+    [*SYN, "--positions", "0"],
+    [*SYN, "--stroke-tol", "-1 mm"],
+    [*SYN, "--candidates", "abc"],
+    [*SYN, "--bogus"],
+    [*SYN, "--delta-f", "0 deg"],
+    [*SYN, "--delta-r", "0 deg"],
+    [*SYN, "--positions", "0", "--productivity", "600 1/min"],
+    [*SYN, "--positions", "0", "--productivity", "600 1/min", "--v-allow", "0.3 m/s"],
+    [*SYN, "--best", "0"],
+    [*SYN, "--candidates", "0"],
+    [*SYN, "--refine", "-1"],
+    [*SYN, "--speed", "0 rpm", "--v-allow", "0.3 m/s"],
+    [*SYN, "--speed", "-5 rpm"],
+    [*SYN, "--productivity", "0 1/min"],
+    [*SYN, "--point", "90 deg,25 mm", "--point-tol", "-1 mm"],
+    [*SYN, "--phi-f", "185 deg", "--phi-f-tol", "-1 deg"],
+    [*SYN, "--point", "90 deg,nan mm"],
+    ["swashplate", "synthesize", "-R", "100 mm"],
+    [*EX4A, "--angles", "0,x"],
+    ["swashplate", "analyze", "/nonexistent/file.toml"],
+])
+def test_cli_bad_options_one_line_exit_2(argv, capsys, tmp_path):
+    rc = main([*argv, "--out", str(tmp_path)] if "--bogus" not in argv else argv)
+    cap = capsys.readouterr()
+    assert rc == 2, cap.out + cap.err
+    assert cap.err.count("\n") == 1 and cap.err.strip(), repr(cap.err)
+    assert "Traceback" not in cap.err + cap.out
+
+
+@pytest.mark.parametrize("extra, needle", [
+    (["--delta-f", "0 deg"], "delta_f = 0 deg"),  # was silently replaced by --delta
+    (["--delta-r", "0 deg"], "delta_r = 0 deg"),
+    (["--positions", "0", "--productivity", "600 1/min"], "--positions = 0"),  # was a traceback
+    (["--best", "0"], "--best = 0"),  # listed every design
+    (["--speed", "0 rpm", "--v-allow", "0.3 m/s"], "--speed = 0 rpm"),
+    (["--point", "90 deg,25 mm", "--point-tol", "-1 mm"], "point_tol = -0.001"),
+    (["--point", "90 deg,nan mm"], "point position s_p = nan"),
+])
+def test_cli_bad_values_named(extra, needle, capsys, tmp_path):
+    assert main([*SYN, *extra, "--out", str(tmp_path)]) == 2
+    err = capsys.readouterr().err
+    assert needle in err, err
+
+
+@pytest.mark.parametrize("text", [
+    "this is not toml = = =",
+    'type = "swashplate"\nscheme = "4a"\n[geometry]\nR = "100 mm"\nl = "200 mm"\n',
+    'type = "swashplate"\nscheme = "4a"\n[geometry]\nR = "100 mm"\nl = "200 mm"\n'
+    'alpha = "15 deg"\n[operation]\npositions = 0\n',
+    'type = "swashplate"\nscheme = "4a"\n[geometry]\nR = "-100 mm"\nl = "200 mm"\n'
+    'alpha = "15 deg"\n',
+    'type = "swashplate"\nscheme = "4a"\n[geometry]\nR = "100 mm"\nl = "200 mm"\n'
+    'alpha = "15 deg"\n[load]\nforce = "5 kN"\nrho_guide = "89.9 deg"\n',
+    'type = "swashplate"\nscheme = "1"\n[geometry]\nR = "100 mm"\nl = "20 mm"\nr = "50 mm"\n'
+    'alpha = "15 deg"\na = "30 mm"\n',
+])
+def test_cli_broken_files_one_line_exit_2(text, capsys, tmp_path):
+    f = tmp_path / "bad.toml"
+    f.write_text(text)
+    rc = main(["swashplate", "analyze", str(f), "--out", str(tmp_path / "o")])
+    cap = capsys.readouterr()
+    assert rc == 2, cap.out + cap.err
+    assert cap.err.count("\n") == 1 and cap.err.strip(), repr(cap.err)
+    assert "Traceback" not in cap.err
+
+
+def test_example_scheme_1_is_asymmetric_as_its_comment_says(tmp_path, capsys):
+    # the example claims a lower pressure angle on the forward than on the return stroke, and a
+    # stroke different from s(pi) - s(0); it had r = R, for which the offset a changes nothing
+    text = (EXAMPLES / "swashplate_1.toml").read_text()
+    assert main(["swashplate", "analyze", str(EXAMPLES / "swashplate_1.toml"), "--out",
+                 str(tmp_path)]) == 0
+    capsys.readouterr()
+    data = json.loads((tmp_path / "characteristics.json").read_text())
+    p = tuple(data["design"][k] for k in ("R", "r", "l", "alpha", "a", "b"))
+    xmin, smin, xmax, smax = ref_extremes(p, n=720)
+    phi_f = (xmax - xmin) % (2 * math.pi)
+    df = ref_max_on(lambda t: ref_delta(t, *p), xmin, xmin + phi_f)
+    dr = ref_max_on(lambda t: ref_delta(t, *p), xmax, xmax + 2 * math.pi - phi_f)
+    assert dr - df > 1.5 * DEG
+    assert f"{math.degrees(df):.3g} deg against {math.degrees(dr):.4g} deg" in text
+    assert f"{(smax - smin) * 1e3:.4g} mm" in text
+    assert f"{(ref_s(math.pi, *p) - ref_s(0.0, *p)) * 1e3:.4g} mm" in text
+    assert f"({math.degrees(phi_f):.4g} deg)" in text
+
+
+def test_cli_analyze_and_synthesize_run(capsys, tmp_path):
+    assert main([*EX4A, "--out", str(tmp_path / "a")]) == 0
+    out = capsys.readouterr().out
+    assert "53.59 mm" in out and "1.011 / 1.011 deg" in out
+    # the acceleration column must not read like the offset a of the title ("a = 0 mm")
+    assert "slide acc. [m/s²]" in out and "a [m/s²]" not in out.replace("acc. [m/s²]", "")
+    rc = main(["swashplate", "synthesize", "-R", "100 mm", "-H", "53.59 mm", "--scheme", "4a",
+               "--delta", "1.1 deg", "--candidates", "256", "--refine", "1", "--best", "2",
+               "--out", str(tmp_path / "s")])
+    cap = capsys.readouterr()
+    assert rc == 0, cap.err
+    assert (tmp_path / "s" / "feasible_region.png").stat().st_size > 0
+    rows = np.genfromtxt(tmp_path / "s" / "synthesis.csv", delimiter=",", names=True)
+    assert rows.size >= 1

@@ -7,13 +7,23 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _paper000_geometry import crank_slider_positions, time_derivatives, unwrap_pair
+from _paper000_geometry import (
+    _crank_phi,
+    _time_derivs,
+    crank_slider_positions,
+    time_derivatives,
+    unwrap_pair,
+)
+from _paper000_loop_equations import DEV, _close, _cs_reference
 from _strategies import reals
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scipy.optimize import minimize_scalar
+from scipy.optimize import brentq, minimize_scalar
 
 from linkwork.errors import AssemblyError, LinkworkError, ParameterError
+from linkwork.models import crank_slider, sine
+from linkwork.models import crank_slider as cs
+from linkwork.models import crank_slider as cs_model
 from linkwork.models.crank_slider import (
     dead_centres,
     max_pressure_angle,
@@ -348,3 +358,189 @@ def test_valid_mask_of_a_fully_assembled_cycle_is_shared_and_read_only():
     phi = np.radians(np.arange(0.0, 360.0, 1.0))
     c = offset_crank_slider(phi, 0.05, 1.2, 0.5, on_failure="nan")
     assert not c.valid.all() and offset_crank_slider(phi, 0.05, 4.0, 0.5).valid.all()
+
+
+@pytest.mark.parametrize("lambda_e, words", [(np.nan, "must be finite"),
+                                             (None, "must be a number")])
+def test_crank_slider_assembly_limit_refuses_non_numbers(lambda_e, words):
+    """Was NaN, returned silently; the limit of a real offset is |lambda_e| + 1."""
+    with pytest.raises(ParameterError, match=rf"^lambda_e = .*{words}"):
+        cs_model.assembly_limit(lambda_e)
+    assert cs_model.assembly_limit(-0.5) == 1.5
+
+
+CS_DESIGNS = [  # L1 [m], lambda2, lambda_e, omega1 [rad/s], eps1 [rad/s^2], branch
+    (0.05, 4.0, 0.5, 12.566, 0.0, 1),
+    (0.05, 4.0, 0.5, 12.566, 35.0, 1),
+    (0.12, 2.6, -1.3, -7.0, -20.0, 1),
+    (0.03, 3.0, 0.8, 20.0, 150.0, -1),
+]
+
+
+def _near_dead_centres(lam2, lame, branch):
+    # 7 angles: the two dead centres found numerically (+1e-4 rad) and 5 spread angles
+    def yc(p, s):
+        return s * (math.sin(p) + branch * math.sqrt(lam2**2 - (lame - math.cos(p))**2))
+    tops = []
+    for s in (1.0, -1.0):
+        best = min((minimize_scalar(lambda p, s=s: -yc(p, s), bounds=(b0, b0 + 2.5),
+                                    method="bounded", options={"xatol": 1e-12})
+                    for b0 in np.linspace(-np.pi, np.pi, 5)), key=lambda r: r.fun)
+        tops.append(best.x)
+    return [tops[0] + 1e-4, tops[1] - 1e-4, 0.3, 1.7, 2.9, 4.1, 5.5]
+
+
+@pytest.mark.parametrize("L1,lam2,lame,w1,e1,branch", CS_DESIGNS)
+def test_offset_crank_slider_against_loop_equations(L1, lam2, lame, w1, e1, branch):
+    angles = _near_dead_centres(lam2, lame, branch)
+    res = cs.offset_crank_slider(np.array(angles), L1, lam2, lame, w1, e1, branch)
+    for k, p in enumerate(angles):
+        ref = _cs_reference(L1, lam2, lame, w1, e1, branch, p)
+        L = L1
+        w = max(abs(w1), 1.0)
+        _close(res.Y_C[k], ref["Y_C"], L, "Y_C")
+        # phi2 is an angle: compare modulo 2 pi
+        d = math.remainder(res.phi2[k] - ref["phi2"], 2 * math.pi)
+        assert abs(d) <= 1e-9, ("phi2", res.phi2[k], ref["phi2"])
+        _close(res.V_C[k], ref["V_C"], L * w, "V_C")
+        _close(res.omega2[k], ref["omega2"], w, "omega2")
+        _close(res.a_C[k], ref["a_C"], L * (w * w + abs(e1)), "a_C")
+        _close(res.eps2[k], ref["eps2"], w * w + abs(e1), "eps2")
+        # transfer functions: the derivatives with respect to phi1 (omega1 = 1, eps1 = 0)
+        r1 = _cs_reference(L1, lam2, lame, 1.0, 0.0, branch, p)
+        _close(res.V_qC[k], r1["V_C"], L, "V_qC")
+        _close(res.U21[k], r1["omega2"], 1.0, "U21")
+        _close(res.eps_q2[k], r1["eps2"], 1.0, "eps_q2")
+        _close(res.a_qC[k], r1["a_C"], L, "a_qC")
+        # conventions: X_C = e, the '+' root for branch=+1 (slider above the pin)
+        assert res.X_C[k] == pytest.approx(lame * L1, rel=1e-12)
+        assert branch * (res.Y_C[k] - L1 * math.sin(p)) > 0
+        # pressure angle: acute angle between rod (B->C) and guide (Y axis)
+        bc = np.array([lame * L1 - L1 * math.cos(p), ref["Y_C"] - L1 * math.sin(p)])
+        mu = math.acos(abs(bc[1]) / np.hypot(*bc))
+        _close(res.pressure_angle[k], mu, 1.0, "pressure_angle")
+        _close(cs.pressure_angle(p, lam2, lame), mu, 1.0, "pressure_angle()")
+
+
+@pytest.mark.parametrize("L1,lam2,lame,w1,e1,branch", CS_DESIGNS)
+def test_crank_slider_stroke_and_dead_centres_by_search(L1, lam2, lame, w1, e1, branch):
+    def yc(p):
+        return float(cs.offset_crank_slider(p, L1, lam2, lame, branch=branch).Y_C)
+    # independent: maximise the slider position from the loop equations directly
+    def y_ref(p):
+        return _cs_reference(L1, lam2, lame, 1.0, 0.0, branch, p)["Y_C"]
+    grid = np.linspace(0, 2 * np.pi, 721)
+    ys = np.array([L1 * (math.sin(p) + branch * math.sqrt(lam2**2 - (lame - math.cos(p))**2))
+                   for p in grid])
+    out = {}
+    for sgn, key in ((1.0, "top"), (-1.0, "bottom")):
+        i = int(np.argmax(sgn * ys))
+        r = minimize_scalar(lambda p, sgn=sgn: -sgn * y_ref(p),
+                            bounds=(grid[i] - 0.02, grid[i] + 0.02),
+                            method="bounded", options={"xatol": 1e-10})
+        out[key] = (r.x % (2 * np.pi), y_ref(r.x))
+    dc = cs.dead_centres(lam2, lame, branch)
+    # the position is stationary there, so the angle is only determined to ~sqrt(eps)
+    assert abs(math.remainder(float(dc.phi1_top) - out["top"][0], 2 * np.pi)) < 1e-5
+    assert abs(math.remainder(float(dc.phi1_bottom) - out["bottom"][0], 2 * np.pi)) < 1e-5
+    assert yc(float(dc.phi1_top)) == pytest.approx(out["top"][1], rel=1e-9)
+    assert yc(float(dc.phi1_bottom)) == pytest.approx(out["bottom"][1], rel=1e-9)
+    assert float(cs.stroke(L1, lam2, lame)) == pytest.approx(out["top"][1] - out["bottom"][1],
+                                                           rel=1e-8)
+    # max pressure angle by brute force
+    mus = [math.asin(min(1.0, abs(lame - math.cos(p)) / lam2)) for p in grid]
+    assert float(cs.max_pressure_angle(lam2, lame)) == pytest.approx(max(mus), rel=1e-6)
+
+
+def test_assembly_error_lists_the_ranges():
+    phi = np.linspace(0, 2 * np.pi, 361)
+    with pytest.raises(AssemblyError) as ei:
+        cs.offset_crank_slider(phi, 0.05, 1.4, 0.5)
+    # the rod (1.4) cannot reach the guide where |0.5 - cos phi| >= 1.4: cos phi <= -0.9
+    bad = np.degrees(phi[np.abs(0.5 - np.cos(phi)) >= 1.4])
+    rng = ei.value.ranges
+    assert rng, "no ranges in the AssemblyError"
+    lo, hi = np.degrees(rng[0][0]), np.degrees(rng[-1][1])
+    assert lo == pytest.approx(bad.min(), abs=1.01) and hi == pytest.approx(bad.max(), abs=1.01)
+    msg = str(ei.value)
+    assert "deg" in msg or "rad" in msg
+    # on_failure="nan" gives NaN exactly there, with a mask
+    r = cs.offset_crank_slider(phi, 0.05, 1.4, 0.5, on_failure="nan")
+    assert np.array_equal(~r.valid, np.abs(0.5 - np.cos(phi)) >= 1.4)
+    assert np.all(np.isfinite(r.Y_C[r.valid]))
+
+
+def test_non_broadcasting_inputs_name_the_shapes():
+    """Designs that do not broadcast against the angles gave NumPy's bare broadcast error."""
+    with pytest.raises(ParameterError, match=r"shapes.*'L1': \(3,\)"):
+        cs.offset_crank_slider([0.1, 0.2], [0.05, 0.06, 0.07], 4.0, 0.5)
+    with pytest.raises(ParameterError, match=r"shapes.*'L1': \(3,\)"):
+        sine.inclined_slot([0.1, 0.2], [0.05, 0.06, 0.07], 1.0)
+    assert cs.offset_crank_slider([], 0.05, 4.0, 0.5).Y_C.shape == (0,)
+    assert sine.inclined_slot([], 0.05, 1.0).X3.shape == (0,)
+
+
+def test_zz_report_deviations():
+    """Print the largest relative deviation per quantity (run with -s to see it)."""
+    for k, v in sorted(DEV.items()):
+        print(f"issue2 max rel. deviation {k:24s} {v:.2e}")
+
+
+def _slider_y(phi1: float, L1: float, L2: float, e: float, branch: int) -> float:
+    """Y of the slider on the guide X = e: root of |C - B| = L2 on the branch's side of B."""
+    bx, by = L1 * math.cos(phi1), L1 * math.sin(phi1)
+    f = lambda y: (e - bx) ** 2 + (y - by) ** 2 - L2 * L2  # noqa: E731
+    if branch == 1:
+        return brentq(f, by, by + L2, xtol=1e-15, rtol=1e-15)
+    return brentq(f, by - L2, by, xtol=1e-15, rtol=1e-15)
+
+
+CS_REVIEW = [  # L1, lambda2, lambda_e, omega1, eps1, branch, phi0
+    (0.037, 2.9, -1.3, 7.3, -41.0, 1, 2.61),
+    (0.081, 3.3, 0.9, -15.0, 120.0, -1, 4.9),
+    (0.012, 5.7, 0.0, 31.0, 7.5, 1, 0.05),
+]
+
+
+@pytest.mark.parametrize("L1,lam2,lame,w1,e1,branch,phi0", CS_REVIEW)
+def test_crank_slider_against_construction_and_time_differences(L1, lam2, lame, w1, e1,
+                                                                branch, phi0):
+    L2, e = lam2 * L1, lame * L1
+    res = crank_slider.offset_crank_slider(phi0, L1, lam2, lame, w1, e1, branch)
+    y_ref = _slider_y(phi0, L1, L2, e, branch)
+    assert float(res.Y_C) == pytest.approx(y_ref, rel=1e-12, abs=1e-15)
+    # rod angle from +Y towards +X: atan2(X_C - X_B, Y_C - Y_B)
+    phi2_ref = math.atan2(e - L1 * math.cos(phi0), y_ref - L1 * math.sin(phi0))
+    assert math.remainder(float(res.phi2) - phi2_ref, 2 * math.pi) == pytest.approx(0, abs=1e-12)
+    # motion in time with eps1 != 0: phi1(t) = phi0 + w1 t + e1 t^2 / 2, derivatives at t = 0
+    v, a = _time_derivs(lambda t: _slider_y(_crank_phi(t, phi0, w1, e1), L1, L2, e, branch), 0.0,
+                        h=1e-4 / abs(w1))
+    assert float(res.V_C) == pytest.approx(v, rel=1e-7)
+    assert float(res.a_C) == pytest.approx(a, rel=1e-5)
+
+    def rod_angle(t):
+        p = _crank_phi(t, phi0, w1, e1)
+        return math.atan2(e - L1 * math.cos(p), _slider_y(p, L1, L2, e, branch) - L1 * math.sin(p))
+
+    w2, e2 = _time_derivs(lambda t: np.unwrap([phi2_ref, rod_angle(t)])[1], 0.0, h=1e-4 / abs(w1))
+    assert float(res.omega2) == pytest.approx(w2, rel=1e-7)
+    assert float(res.eps2) == pytest.approx(e2, rel=1e-5)
+    # pressure angle: acute angle between the rod and the guide, computed from the vectors
+    rod = np.array([e - L1 * math.cos(phi0), y_ref - L1 * math.sin(phi0)])
+    mu = math.acos(abs(rod[1]) / np.linalg.norm(rod))
+    assert float(res.pressure_angle) == pytest.approx(mu, abs=1e-12)
+
+
+@pytest.mark.parametrize("lam2,lame,branch", [(2.9, -1.3, 1), (3.3, 0.9, -1), (2.05, 1.0, -1)])
+def test_crank_slider_characteristics_against_a_dense_scan(lam2, lame, branch):
+    L1 = 0.037
+    grid = np.linspace(0.0, 2 * math.pi, 200001)
+    ys = np.array([_slider_y(p, L1, lam2 * L1, lame * L1, branch) for p in grid[::10]])
+    g = grid[::10]
+    assert float(crank_slider.stroke(L1, lam2, lame)) == pytest.approx(np.ptp(ys), rel=1e-8)
+    top, bottom = crank_slider.dead_centres(lam2, lame, branch)
+    assert math.remainder(float(top) - g[np.argmax(ys)], 2 * math.pi) == pytest.approx(0, abs=4e-4)
+    assert math.remainder(float(bottom) - g[np.argmin(ys)], 2 * math.pi) == pytest.approx(
+        0, abs=4e-4)
+    mu = np.arcsin(np.abs(lame - np.cos(g)) / lam2)
+    assert float(crank_slider.max_pressure_angle(lam2, lame)) == pytest.approx(mu.max(), abs=1e-9)

@@ -11,12 +11,30 @@ import math
 
 import numpy as np
 import pytest
+from _fourbar_newton_euler import (
+    DESIGNS,
+    _assembled,
+    _fourbar_closed,
+    _shaking_ref,
+    _speeds,
+    body_point,
+    check_reactions,
+    close,
+    e,
+    ep,
+    fourbar_positions,
+    fourbar_rates,
+    fourbar_reference,
+)
+from _planar_newton_euler import PHI7, _angle_close, _close, _fb_full, _motion, _newton, _rot
 from _strategies import reals
 from hypothesis import HealthCheck, assume, example, given, settings
 from hypothesis import strategies as st
-from scipy.optimize import brentq, fsolve
+from scipy.optimize import brentq, fsolve, minimize_scalar
 
 from linkwork.errors import AssemblyError, LinkworkError, ParameterError
+from linkwork.models import fourbar as fb
+from linkwork.models import fourbar as fourbar_cf
 from linkwork.models.fourbar import (
     FourbarResult,
     fourbar,
@@ -26,6 +44,8 @@ from linkwork.models.fourbar import (
     transmission_angle,
     transmission_angle_extremes,
 )
+from linkwork.planar import dead_centres, kinematics
+from linkwork.planar import fourbar as engine_fourbar
 
 # paper 001's example four-bar: l_OA = 0.1, l_AB = 0.3, l_BC = 0.2, l_OC = 0.3 m
 A1, B1, C1, D1 = 0.1, 0.3, 0.2, 0.3
@@ -785,3 +805,479 @@ def test_non_finite_crank_angle_is_named_without_warnings(bad):
         with pytest.raises(ParameterError) as ei:
             fourbar(t2, 0.1, 0.3, 0.2, 0.3, **kw)
         assert ei.value.parameter == "theta2"
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+@pytest.mark.parametrize("name", list(DESIGNS))
+def test_fourbar_kinematics_against_root_finding_and_differentiated_loop(name, branch):
+    design = DESIGNS[name]
+    a, b, c, d = design
+    t2, th3, th4 = _assembled(design, branch)
+    w2, e2 = _speeds(t2)
+    w3, w4, al3, al4 = fourbar_rates(t2, th3, th4, a, b, c, w2, e2)
+    r = fourbar(t2, a, b, c, d, w2, e2, branch)
+    close(wrap(r.theta3 - th3), 0.0, 1.0)
+    close(wrap(r.theta4 - th4), 0.0, 1.0)
+    B = np.array([d, 0.0])[:, None] + c * e(th4)
+    close(r.xB, B[0], a + b + c + d)
+    close(r.yB, B[1], a + b + c + d)
+    close(r.omega3, w3)
+    close(r.omega4, w4)
+    close(r.alpha3, al3)
+    close(r.alpha4, al4)
+    # a coupler point off the line
+    p, q = 0.13, -0.06
+    x, y, vx, vy, ax, ay = r.point("coupler", p, q)
+    A, vA, aA = a * e(t2), a * w2 * ep(t2), a * (e2 * ep(t2) - w2**2 * e(t2))
+    P, vP, aP = body_point(A, vA, aA, th3, w3, al3, (p, q))
+    for got, want in ((x, P[0]), (y, P[1]), (vx, vP[0]), (vy, vP[1]), (ax, aP[0]),
+                      (ay, aP[1])):
+        close(got, want)
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+@pytest.mark.parametrize("name", ["crank-rocker", "non-Grashof"])
+def test_newton_euler_reference_rates_equal_finite_differences_in_time(name, branch):
+    """The hand-differentiated loop (the reference) against central differences in time of
+    positions solved by root finding, theta2(t) = theta0 + w t + eps t^2 / 2."""
+    design = DESIGNS[name]
+    a, b, c, _d = design
+    t2, _th3, _th4 = _assembled(design, branch)
+    w, eps, h = 6.0, -40.0, 1e-4
+    checked = 0
+    for t0 in t2[:: max(1, len(t2) // 6)]:
+        ts = np.arange(-3, 4) * h
+        th2 = t0 + w * ts + eps * ts**2 / 2
+        p3, p4 = fourbar_positions(th2, *design, branch)
+        if not np.all(np.isfinite(p3)):
+            continue
+        p3, p4 = np.unwrap(p3), np.unwrap(p4)
+        c1 = np.array([-1, 9, -45, 0, 45, -9, 1]) / (60 * h)
+        c2 = np.array([2, -27, 270, -490, 270, -27, 2]) / (180 * h * h)
+        w3, w4, al3, al4 = fourbar_rates(np.array([t0]), p3[3:4], p4[3:4], a, b, c, w, eps)
+        np.testing.assert_allclose([c1 @ p3, c1 @ p4], [w3[0], w4[0]], rtol=1e-7, atol=1e-7 * w)
+        np.testing.assert_allclose([c2 @ p3, c2 @ p4], [al3[0], al4[0]], rtol=1e-4,
+                                   atol=1e-4 * w * w)
+        checked += 1
+    assert checked >= 5
+
+
+def _omega4(t, design, branch):
+    th3, th4 = fourbar_positions(np.array([t]), *design, branch)
+    return fourbar_rates(np.array([t]), th3, th4, *design[:3], 1.0, 0.0)[1][0]
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+@pytest.mark.parametrize("name", ["crank-rocker", "general", "non-Grashof"])
+def test_limit_positions_and_transmission_angle_against_the_reference(name, branch):
+    """Rocker limits = zeros of the reference's omega4(theta2); input toggles = ends of the
+    assembled range; mu = angle ABO4 of the solved positions."""
+    design = DESIGNS[name]
+    a, b, c, d = design
+    lim = limit_positions(*design, branch=branch)
+    t2 = np.linspace(-np.pi, np.pi, 721)
+    th3, th4 = fourbar_positions(t2, *design, branch)
+    ok = np.isfinite(th3)
+    # rocker limits: omega4 changes sign between assembled neighbours
+    zeros = []
+    for k in np.nonzero(ok[:-1] & ok[1:])[0]:
+        w_lo, w_hi = _omega4(t2[k], design, branch), _omega4(t2[k + 1], design, branch)
+        if w_lo * w_hi < 0:
+            zeros.append(brentq(_omega4, t2[k], t2[k + 1], args=(design, branch), xtol=1e-14))
+    got = [t for t in (lim.theta2_rocker_extended, lim.theta2_rocker_folded) if np.isfinite(t)]
+    assert len(zeros) == len(got) >= 1
+    for t in got:
+        assert np.min(np.abs(wrap(np.array(zeros) - t))) < 1e-10
+    for t2l, t4l in ((lim.theta2_rocker_extended, lim.theta4_rocker_extended),
+                     (lim.theta2_rocker_folded, lim.theta4_rocker_folded)):
+        if np.isfinite(t2l):
+            assert abs(wrap(fourbar_positions(np.array([t2l]), *design, branch)[1][0] - t4l)
+                       ) < 1e-9
+    # input toggles: the crank's assembled range ends there (or the crank turns fully)
+    if ok.all():
+        assert np.isnan(lim.theta2_toggle_extended) or np.isnan(lim.theta2_toggle_folded)
+    else:
+        ends = t2[np.nonzero(ok[:-1] != ok[1:])[0]]
+        toggles = [t for t in (lim.theta2_toggle_extended, lim.theta2_toggle_folded)
+                   if np.isfinite(t)]
+        for t in ends:
+            assert min(abs(abs(t) - tt) for tt in toggles) < 2 * np.pi / 720
+    # transmission angle: angle ABO4 of the solved positions
+    A = a * e(t2[ok])
+    B = np.array([d, 0.0])[:, None] + c * e(th4[ok])
+    ba, bo = A - B, np.array([d, 0.0])[:, None] - B
+    mu = np.arccos(np.sum(ba * bo, 0) / (b * c))
+    close(transmission_angle(t2[ok], *design), mu, 1.0)
+    close(fourbar(t2[ok], *design, 1.0, 0.0, branch).transmission_angle, mu, 1.0)
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+@pytest.mark.parametrize("name", list(DESIGNS))
+def test_fourbar_kinetostatics_against_newton_euler(name, branch):
+    design = DESIGNS[name]
+    ref = fourbar_reference(design, branch)
+    f = _fourbar_closed(design, branch, ref)
+    scale = check_reactions(((f.R_Ox, f.R_Oy), (f.R_Ax, f.R_Ay), (f.R_Bx, f.R_By),
+                             (f.R_Cx, f.R_Cy)), f.Q, ref["x"])
+    sf, sm_o2 = _shaking_ref(ref, (0.0, 0.0))
+    close(f.shaking_force_x, sf[0], scale)
+    close(f.shaking_force_y, sf[1], scale)
+    close(f.shaking_moment, sm_o2)
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+@pytest.mark.parametrize("name", list(DESIGNS))
+def test_assembly_and_dead_centres_against_the_reference(name, branch):
+    """Where the four-bar assembles (closed form and engine, on_fail="nan") and the engine's
+    dead centres (rocker reversals) against root finding."""
+    design = DESIGNS[name]
+    t2 = np.linspace(0.0, 2 * np.pi, 361) + 0.001
+    ok = np.isfinite(fourbar_positions(t2, *design, branch)[0])
+    r = fourbar(t2, *design, 1.0, 0.0, branch, on_fail="nan")
+    kin = kinematics(engine_fourbar(*design, branch=branch), t2, on_fail="nan")
+    np.testing.assert_array_equal(r.assembled, ok)
+    np.testing.assert_array_equal(kin.assembled, ok)
+    assert np.all(np.isnan(r.theta4[~ok])) and np.all(np.isfinite(r.theta4[ok]))
+    if not ok.all():
+        return
+    zeros = [brentq(_omega4, t2[k], t2[k + 1], args=(design, branch), xtol=1e-14)
+             for k in range(len(t2) - 1)
+             if _omega4(t2[k], design, branch) * _omega4(t2[k + 1], design, branch) < 0]
+    got = sorted(dc.phi1 for dc in dead_centres(kin) if dc.body == "rocker")
+    assert len(got) == len(zeros) == (0 if name == "double-crank" else 2)
+    if zeros:
+        close(wrap(np.array(got) - np.array(zeros)), 0.0, 1.0)
+
+
+def test_kinetostatics_load_array_of_the_wrong_length_is_named():
+    """A per-position load whose length does not match the positions raised numpy's bare
+    broadcast ValueError ('shape mismatch: objects cannot be broadcast ... arg 8'), naming
+    neither the load nor the positions."""
+    from linkwork.errors import ParameterError
+
+    t2 = np.linspace(0.0, 2 * np.pi, 13)
+    with pytest.raises(ParameterError, match=r"'positions': \(13,\), 'force\[1\]\[0\]': \(5,\)"):
+        fourbar_kinetostatics(t2, *DESIGNS["crank-rocker"], 10.0, 0.0, 1,
+                              force=((0, 0), (np.ones(5), 0.0), (0, 0)))
+    with pytest.raises(ParameterError, match=r"'moment\[2\]': \(4,\)"):
+        fourbar_kinetostatics(t2, *DESIGNS["crank-rocker"], 10.0, 0.0, 1,
+                              moment=(0.0, 0.0, np.ones(4)))
+
+
+# -- closed forms and result helpers --------------------------------------------------------------
+@pytest.mark.parametrize("theta2, match", [
+    (None, r"^theta2 = None is invalid: must be a number"),        # was 'theta2 = nan'
+    (np.array([1.0 + 2.0j]), r"^theta2 = .*not complex"),         # ComplexWarning, result for 1
+    (True, r"^theta2 = True .*not a boolean"),                     # computed at 1 rad
+])
+def test_fourbar_closed_form_crank_angle_is_checked(theta2, match):
+    with pytest.raises(ParameterError, match=match):
+        fourbar_cf.fourbar(theta2, 0.1, 0.3, 0.2, 0.3)
+
+
+def test_fourbar_that_never_assembles_names_its_lengths_and_intervals():
+    """The message had neither the lengths nor the intervals: '(|d - a|, d + a) does not meet
+    (|b - c|, b + c)'. Here |A O4| in [0.9, 1.1] m and the dyad reaches [0.25, 0.35] m."""
+    with pytest.raises(AssemblyError, match=r"\[\|d - a\|, d \+ a\] = \[0\.9, 1\.1\], which "
+                                            r"does not meet \[\|b - c\|, b \+ c\] = \[0\.25, "
+                                            r"0\.35\] \(a=0\.1, b=0\.3, c=0\.05, d=1 m\)"):
+        fourbar_cf.transmission_angle_extremes(0.1, 0.3, 0.05, 1.0)
+
+
+def _fourbar_solutions(a, b, c, d, t2):
+    """All assemblies (theta3, theta4) at real t2 from the loop equation."""
+    def res(q, t):
+        return np.array([a * np.cos(t2) + b * np.cos(q[0]) - c * np.cos(q[1]) - d,
+                         a * np.sin(t2) + b * np.sin(q[0]) - c * np.sin(q[1])])
+    sols = []
+    for s3 in np.linspace(-np.pi, np.pi, 8, endpoint=False):
+        for s4 in np.linspace(-np.pi, np.pi, 8, endpoint=False):
+            q = np.array([s3, s4])
+            for _ in range(80):
+                r = res(q, 0)
+                J = np.array([[-b * np.sin(q[0]), c * np.sin(q[1])],
+                              [b * np.cos(q[0]), -c * np.cos(q[1])]])
+                if abs(np.linalg.det(J)) < 1e-14:
+                    break
+                q = q - np.linalg.solve(J, r)
+            if np.max(np.abs(res(q, 0))) < 1e-13:
+                q = np.remainder(q + np.pi, 2 * np.pi) - np.pi
+                if not any(np.allclose(q, s, atol=1e-8) for s in sols):
+                    sols.append(q)
+    return sols
+
+
+def _fourbar_reference(a, b, c, d, w2, e2, branch, t20, pq=(0.0, 0.0), step=2e-3):
+    """theta3, theta4, points and their rates; branch = side of B w.r.t. A -> O4."""
+    sols = _fourbar_solutions(a, b, c, d, t20)
+    A = np.array([a * math.cos(t20), a * math.sin(t20)])
+    chosen = None
+    for q in sols:
+        B = A + b * np.array([math.cos(q[0]), math.sin(q[0])])
+        u = np.array([d, 0.0]) - A
+        cross = u[0] * (B - A)[1] - u[1] * (B - A)[0]
+        if np.sign(cross) == branch:
+            chosen = q
+    assert chosen is not None, "no assembly on the requested branch"
+
+    def res(q, t):
+        t2 = t20 + w2 * t + 0.5 * e2 * t * t
+        return np.array([a * np.cos(t2) + b * np.cos(q[0]) - c * np.cos(q[1]) - d,
+                         a * np.sin(t2) + b * np.sin(q[0]) - c * np.sin(q[1])])
+
+    def position(t):
+        q = _newton(res, chosen, np.asarray(t, dtype=complex))
+        t2 = t20 + w2 * t + 0.5 * e2 * t * t
+        xa, ya = a * np.cos(t2), a * np.sin(t2)
+        xb, yb = xa + b * np.cos(q[0]), ya + b * np.sin(q[0])
+        p, qq = pq
+        xp = xa + p * np.cos(q[0]) - qq * np.sin(q[0])
+        yp = ya + p * np.sin(q[0]) + qq * np.cos(q[0])
+        # a rocker point (0.07, 0.03) in the rocker's frame (origin O4, x along O4 -> B)
+        xr = d + 0.07 * np.cos(q[1]) - 0.03 * np.sin(q[1])
+        yr = 0.07 * np.sin(q[1]) + 0.03 * np.cos(q[1])
+        return np.array([q[0], q[1], xa, ya, xb, yb, xp, yp, xr, yr])
+
+    x, v, acc = _motion(position, hd=step / max(abs(w2), 1.0))
+    return x, v, acc
+
+
+FOURBARS = [  # a, b, c, d, omega2, alpha2, angles
+    (0.1, 0.3, 0.2, 0.3, 10.0, 0.0, None),                     # paper 001 (crank-rocker)
+    (0.1, 0.3, 0.2, 0.3, -7.0, 25.0, None),
+    (0.3, 0.25, 0.28, 0.1, 5.0, -12.0, None),                  # double-crank
+    (0.2, 0.2, 0.2, 0.45, 3.0, 4.0, "triple"),                 # non-Grashof triple rocker
+]
+
+
+def _angles_for(a, b, c, d, kind):
+    if kind == "triple":
+        # assembles for cos t2 >= ((a^2 + d^2) - (b + c)^2) / (2 a d); toggles at +-t
+        tg = math.acos((a * a + d * d - (b + c) ** 2) / (2 * a * d))
+        return np.array([-tg + 1e-3, -0.8, -0.3, 0.0, 0.4, 0.9, tg - 1e-3])
+    lim = fb.limit_positions(a, b, c, d)
+    return np.array([lim.theta2_rocker_extended + 1e-4, lim.theta2_rocker_folded - 1e-4,
+                     0.2, 1.3, 2.5, 3.8, 5.2]) if not math.isnan(lim.theta2_rocker_extended) \
+        else np.array([0.0, 0.7, 1.5, 2.5, 3.3, 4.4, 5.6])
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+@pytest.mark.parametrize("a,b,c,d,w2,e2,kind", FOURBARS)
+def test_fourbar_against_loop_equation(a, b, c, d, w2, e2, kind, branch):
+    angles = _angles_for(a, b, c, d, kind)
+    pq = (0.12, -0.05)
+    res = fb.fourbar(angles, a, b, c, d, w2, e2, branch, coupler_point=pq)
+    L = max(a, b, c, d)
+    W = max(abs(w2), 1.0) * 3
+    for k, t2 in enumerate(angles):
+        step = 1e-5 if kind == "triple" else 2e-3
+        x, v, acc = _fourbar_reference(a, b, c, d, w2, e2, branch, float(t2), pq, step)
+        _angle_close(res.theta3[k], x[0], "theta3")
+        _angle_close(res.theta4[k], x[1], "theta4")
+        _close(res.omega3[k], v[0], W, "omega3")
+        _close(res.omega4[k], v[1], W, "omega4")
+        _close(res.alpha3[k], acc[0], W * W + abs(e2), "alpha3")
+        _close(res.alpha4[k], acc[1], W * W + abs(e2), "alpha4")
+        for name, i in (("xA", 2), ("yA", 3), ("xB", 4), ("yB", 5), ("xP", 6), ("yP", 7)):
+            _close(getattr(res, name)[k], x[i], L, "points")
+        for link, (p_, q_), i in (("coupler", pq, 6), ("rocker", (0.07, 0.03), 8)):
+            px, py, pvx, pvy, pax, pay = (np.asarray(z)[k] for z in res.point(link, p_, q_))
+            _close([px, py], x[i:i + 2], L, "point()")
+            _close([pvx, pvy], v[i:i + 2], L * W, "point() velocity")
+            _close([pax, pay], acc[i:i + 2], L * (W * W + abs(e2)), "point() acceleration")
+        # transmission angle: angle A-B-O4 between coupler and rocker at B
+        BA = x[2:4] - x[4:6]
+        BO = np.array([d, 0.0]) - x[4:6]
+        mu = math.acos(np.dot(BA, BO) / np.linalg.norm(BA) / np.linalg.norm(BO))
+        _close(fb.transmission_angle(t2, a, b, c, d), mu, 1.0, "transmission_angle")
+        _close(fb.transmission_angle(t2, a, b, c, d, acute=True), min(mu, np.pi - mu), 1.0,
+               "transmission_angle")
+    # theta3/theta4 in (-pi, pi] as documented
+    assert np.all(res.theta3 > -np.pi) and np.all(res.theta3 <= np.pi)
+
+
+def _rotates(a, b, c, d, which):
+    """Brute force: can link 'a' (crank) or 'c' (rocker) turn a full circle?"""
+    t = np.linspace(0, 2 * np.pi, 20001)
+    if which == "crank":
+        f = np.sqrt(a * a + d * d - 2 * a * d * np.cos(t))
+        return bool(np.all((f <= b + c + 1e-12) & (f >= abs(b - c) - 1e-12)))
+    f = np.sqrt(c * c + d * d - 2 * c * d * np.cos(t))
+    return bool(np.all((f <= a + b + 1e-12) & (f >= abs(a - b) - 1e-12)))
+
+
+@pytest.mark.parametrize("abcd,motion", [
+    ((0.1, 0.3, 0.2, 0.3), "crank-rocker"),
+    ((0.3, 0.25, 0.28, 0.1), "double-crank"),
+    ((0.28, 0.1, 0.22, 0.25), "double-rocker"),
+    ((0.22, 0.25, 0.15, 0.3), "rocker-crank"),
+    ((0.2, 0.2, 0.2, 0.45), "triple-rocker"),
+    ((0.1, 0.3, 0.2, 0.2), "change-point"),
+])
+def test_grashof_type_against_brute_force(abcd, motion):
+    g = fb.grashof(*abcd)
+    assert g.motion == motion
+    assert bool(g.crank_rotates) == _rotates(*abcd, "crank")
+    assert bool(g.rocker_rotates) == _rotates(*abcd, "rocker")
+    s, l = min(abcd), max(abcd)
+    rest = sorted(abcd)[1:3]
+    expected_class = "I" if s + l < sum(rest) - 1e-12 else ("II" if s + l > sum(rest) + 1e-12
+                                                          else "III")
+    assert g.grashof_class == expected_class
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+@pytest.mark.parametrize("abcd", [(0.1, 0.3, 0.2, 0.3), (0.05, 0.2, 0.12, 0.18)])
+def test_fourbar_limit_positions_by_search(abcd, branch):
+    a, b, c, d = abcd
+    lim = fb.limit_positions(a, b, c, d, branch)
+
+    def t4(t2):
+        return float(fb.fourbar(t2, a, b, c, d, branch=branch).theta4)
+    grid = np.linspace(0, 2 * np.pi, 721)
+    vals = np.unwrap([t4(t) for t in grid])
+    found = []
+    for sgn in (1.0, -1.0):
+        i = int(np.argmax(sgn * vals))
+        ref0 = vals[i]
+        r = minimize_scalar(
+            lambda t, sgn=sgn, ref0=ref0: -sgn * (ref0 + math.remainder(t4(t) - ref0, 2 * np.pi)),
+            bounds=(grid[i] - 0.02, grid[i] + 0.02), method="bounded", options={"xatol": 1e-11})
+        found.append((r.x, t4(r.x)))
+    # which extreme is 'extended': |O2 B| = a + b there
+    for t2_, t4_ in found:
+        B = np.array([d + c * math.cos(t4_), c * math.sin(t4_)])
+        if abs(np.linalg.norm(B) - (a + b)) < 1e-6:
+            ext = (t2_, t4_)
+        else:
+            assert abs(np.linalg.norm(B) - abs(a - b)) < 1e-6
+            fold = (t2_, t4_)
+    _angle_close(lim.theta2_rocker_extended, ext[0], "limit theta2", tol=1e-5)
+    _angle_close(lim.theta4_rocker_extended, ext[1], "limit theta4", tol=1e-9)
+    _angle_close(lim.theta2_rocker_folded, fold[0], "limit theta2", tol=1e-5)
+    _angle_close(lim.theta4_rocker_folded, fold[1], "limit theta4", tol=1e-9)
+    swing = abs(math.remainder(ext[1] - fold[1], 2 * np.pi))
+    _close(lim.rocker_swing, swing, 1.0, "rocker_swing")
+    fwd = (ext[0] - fold[0]) % (2 * np.pi)
+    _close(lim.time_ratio, fwd / (2 * np.pi - fwd), 1.0, "time_ratio")
+
+
+def test_fourbar_input_toggles_by_root_finding():
+    a, b, c, d = 0.2, 0.2, 0.2, 0.45
+    lim = fb.limit_positions(a, b, c, d)
+
+    def f(t, L):
+        return math.hypot(a * math.cos(t) - d, a * math.sin(t)) - L
+    t_ext = brentq(f, 0.0, np.pi, args=(b + c,), xtol=1e-15)
+    _close(lim.theta2_toggle_extended, t_ext, 1.0, "toggle")
+    assert math.isnan(lim.theta2_toggle_folded)  # |b - c| = 0 is never reached (d - a > 0)
+    ext = fb.transmission_angle_extremes(a, b, c, d)
+    t = np.linspace(-t_ext, t_ext, 20001)
+    mus = fb.transmission_angle(t, a, b, c, d)
+    _close(ext.mu_min, np.nanmin(mus), 1.0, "transmission extremes")
+    _close(ext.mu_max, np.nanmax(mus), 1.0, "transmission extremes")
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_fourbar_kinetostatics_against_free_body_equations(branch):
+    a, b, c, d = 0.1, 0.3, 0.2, 0.3
+    w2, e2 = -9.0, 35.0
+    masses = (1.0, 3.0, 2.0)
+    inert = (0.004, 0.03, 0.01)
+    coms = ((0.04, 0.01), (0.12, -0.03), (0.09, 0.02))
+    forces = ((3.0, -2.0), (15.0, -40.0), (-8.0, 5.0))
+    fpts = ((0.1, 0.0), (0.2, 0.05), (0.2, 0.0))
+    moments = (-1.2, 0.7, 3.5)
+    g = (0.0, -9.81)
+    res = fb.fourbar_kinetostatics(PHI7, a, b, c, d, w2, e2, branch, mass=masses,
+                                   inertia=inert, com=coms, gravity=g, force=forces,
+                                   force_point=fpts, moment=moments)
+    for k, t2 in enumerate(PHI7):
+        x, v, acc = _fourbar_reference(a, b, c, d, w2, e2, branch, float(t2))
+        th = (float(t2), x[0], x[1])
+        om = (w2, v[0], v[1])
+        al = (e2, acc[0], acc[1])
+        origin = [np.zeros(2), x[2:4], np.array([d, 0.0])]
+        aorig = [np.zeros(2), acc[2:4], np.zeros(2)]
+        # unknowns: R_O(2), R_A(2), R_B(2), R_C(2), Q: by frame on crank at O2, crank on
+        # coupler at A, coupler on rocker at B, frame on rocker at O4; Q motor on crank
+        M = np.zeros((9, 9))
+        rhs = np.zeros(9)
+        O2, A, B, O4 = np.zeros(2), x[2:4], x[4:6], np.array([d, 0.0])
+
+        def put(body, col, f, P, m=0.0, M=M):
+            M[3 * body:3 * body + 3, col] += [f[0], f[1], P[0] * f[1] - P[1] * f[0] + m]
+        ex, ey = np.array([1.0, 0.0]), np.array([0.0, 1.0])
+        for base, P, on, by in ((0, O2, 0, None), (2, A, 1, 0), (4, B, 2, 1), (6, O4, 2, None)):
+            for col, e_ in ((base, ex), (base + 1, ey)):
+                put(on, col, e_, P)
+                if by is not None:
+                    put(by, col, -e_, P)
+        put(0, 8, (0, 0), (0, 0), 1.0)
+        for i in range(3):
+            p = coms[i]
+            r = _rot(th[i], p)
+            C = origin[i] + r
+            ac = aorig[i] + al[i] * np.array([-r[1], r[0]]) - om[i] ** 2 * r
+            m = masses[i]
+            W = m * np.array(g)
+            fp = origin[i] + _rot(th[i], fpts[i])
+            Fe = np.array(forces[i])
+            rhs[3 * i:3 * i + 3] = [m * ac[0] - W[0] - Fe[0], m * ac[1] - W[1] - Fe[1],
+                                    C[0] * m * ac[1] - C[1] * m * ac[0] + inert[i] * al[i]
+                                    - (C[0] * W[1] - C[1] * W[0])
+                                    - (fp[0] * Fe[1] - fp[1] * Fe[0]) - moments[i]]
+        sol = np.linalg.lstsq(M, rhs, rcond=None)[0]
+        assert np.max(np.abs(M @ sol - rhs)) < 1e-9 * np.max(np.abs(rhs))
+        F = np.max(np.abs(sol[:8]))
+        for name, val in zip(("R_Ox", "R_Oy", "R_Ax", "R_Ay", "R_Bx", "R_By", "R_Cx", "R_Cy"),
+                             sol[:8], strict=True):
+            _close(getattr(res, name)[k], val, F, "fourbar_kinetostatics R")
+        _close(res.Q[k], sol[8], F * d, "fourbar_kinetostatics Q")
+        # shaking: force of the moving links on the frame, moment about O2
+        sf = -(sol[0:2] + sol[6:8])
+        sm = -sol[8] - (O4[0] * sol[7] - O4[1] * sol[6])
+        _close(res.shaking_force_x[k], sf[0], F, "fourbar_kinetostatics shaking")
+        _close(res.shaking_force_y[k], sf[1], F, "fourbar_kinetostatics shaking")
+        _close(res.shaking_moment[k], sm, F * d, "fourbar_kinetostatics shaking")
+
+
+def test_non_grashof_full_rotation_lists_the_ranges():
+    a, b, c, d = 0.2, 0.2, 0.2, 0.45
+    with pytest.raises(AssemblyError) as ei:
+        fb.fourbar(_fb_full(), a, b, c, d)
+    tg = math.degrees(math.acos((a * a + d * d - (b + c) ** 2) / (2 * a * d)))
+    lo, hi = (math.degrees(v) for v in ei.value.ranges[0])
+    assert lo == pytest.approx(tg, abs=1.01) and hi == pytest.approx(360 - tg, abs=1.01)
+    r = fb.fourbar(_fb_full(), a, b, c, d, on_fail="nan")
+    assert np.all(np.isnan(r.theta3[~r.assembled])) and np.all(np.isfinite(r.theta3[r.assembled]))
+
+
+def test_fourbar_singular_position_is_never_silent_nan():
+    """a = d, b = c (a kite): at theta2 = 0 the crank pin A lies on O4 and B is undetermined.
+    The closed form returned NaN there with ``assembled`` True and no error."""
+    t = np.array([0.0, 1.0, np.pi])
+    with pytest.raises(AssemblyError) as ei:
+        fb.fourbar(t, 0.1, 0.2, 0.2, 0.1)
+    assert "singular" in str(ei.value) and ei.value.ranges == [(0.0, 0.0)]
+    r = fb.fourbar(t, 0.1, 0.2, 0.2, 0.1, on_fail="nan", coupler_point=(0.1, 0.02))
+    assert list(r.assembled) == [False, True, True]
+    for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xB", "yB", "xP"):
+        v = getattr(r, name)
+        assert np.isnan(v[0]) and np.all(np.isfinite(v[1:])), name
+    with pytest.raises(AssemblyError):
+        fb.fourbar_kinetostatics(0.0, 0.1, 0.2, 0.2, 0.1, mass=(1, 1, 1))
+    # the engine agrees: the same position is refused
+    with pytest.raises(AssemblyError):
+        kinematics(engine_fourbar(0.1, 0.2, 0.2, 0.1), t)
+
+
+def test_fourbar_empty_and_non_broadcasting_inputs():
+    """An empty theta2 raised NumPy's 'zero-size array to reduction operation'; lengths that
+    do not broadcast against the angles raised NumPy's broadcast error."""
+    r = fb.fourbar(np.array([]), 0.1, 0.3, 0.2, 0.3)
+    assert r.theta3.shape == (0,) and r.assembled.shape == (0,)
+    assert fb.fourbar_kinetostatics(np.array([]), 0.1, 0.3, 0.2, 0.3).Q.shape == (0,)
+    for n in (2, 20000):
+        with pytest.raises(ParameterError, match=r"shapes.*'a': \(3,\)"):
+            fb.fourbar(np.zeros(n), np.array([0.1, 0.2, 0.3]), 0.3, 0.2, 0.3)

@@ -7,13 +7,15 @@ import math
 
 import numpy as np
 import pytest
-from _paper000_geometry import slot_positions, time_derivatives
+from _paper000_geometry import _crank_phi, _time_derivs, slot_positions, time_derivatives
+from _paper000_loop_equations import _close, _sine_reference
 from _strategies import reals
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from scipy.optimize import minimize_scalar
+from scipy.optimize import brentq, minimize_scalar
 
 from linkwork.errors import InfeasibleError, LinkworkError, ParameterError
+from linkwork.models import sine
 from linkwork.models.sine import (
     alpha_for_stroke,
     check_alpha,
@@ -256,3 +258,168 @@ def test_every_result_field_documented_with_unit():
         assert f.name in doc, f.name
         if f.name not in ("L1", "alpha", "omega1", "eps1", "phi1", "X_B", "Y_B"):
             assert f"`{f.name}`" in nomenclature, f.name
+
+
+SINE_DESIGNS = [  # L1, alpha, omega1, eps1
+    (0.05, math.radians(90.0), 12.566, 0.0),
+    (0.05, math.radians(60.0), 12.566, 40.0),
+    (0.08, math.radians(127.0), -9.0, -15.0),
+    (0.02, math.radians(25.0), 30.0, 200.0),
+]
+
+
+@pytest.mark.parametrize("L1,alpha,w1,e1", SINE_DESIGNS)
+def test_inclined_slot_against_loop_equations(L1, alpha, w1, e1):
+    ext = [alpha - np.pi / 2 + 1e-4, alpha + np.pi / 2 - 1e-4]
+    angles = np.array([*ext, 0.0, 0.9, 2.2, 3.6, 5.1])
+    res = sine.inclined_slot(angles, L1, alpha, w1, e1)
+    r1 = sine.inclined_slot(angles, L1, alpha)
+    w = max(abs(w1), 1.0)
+    scale = L1 / math.sin(alpha)
+    for k, p in enumerate(angles):
+        ref = _sine_reference(L1, alpha, w1, e1, p)
+        _close(res.X3[k], ref["X3"], scale, "X3")
+        _close(res.X32[k], ref["X32"], scale, "X32")
+        _close(res.V3[k], ref["V3"], scale * w, "V3")
+        _close(res.V32[k], ref["V32"], scale * w, "V32")
+        _close(res.a3[k], ref["a3"], scale * (w * w + abs(e1)), "a3")
+        _close(res.a32[k], ref["a32"], scale * (w * w + abs(e1)), "a32")
+        ref1 = _sine_reference(L1, alpha, 1.0, 0.0, p)
+        _close(r1.U31[k], ref1["V3"], scale, "U31")
+    # Eq. (14): X3 = L1 (1 - cos phi1) at alpha = 90 deg, X32 = L1 sin phi1
+    r90 = sine.inclined_slot(angles, L1, np.pi / 2)
+    np.testing.assert_allclose(r90.X3, L1 * (1 - np.cos(angles)), rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(r90.X32, L1 * np.sin(angles), rtol=1e-12, atol=1e-15)
+
+
+@pytest.mark.parametrize("L1,alpha,w1,e1", SINE_DESIGNS)
+def test_sine_stroke_and_extremes_by_search(L1, alpha, w1, e1):
+    def x3(p):
+        return _sine_reference(L1, alpha, 1.0, 0.0, p)["X3"]
+    grid = np.linspace(0, 2 * np.pi, 361)
+    vals = np.array([L1 * (1 - math.cos(p) + math.sin(p) / math.tan(alpha)) for p in grid])
+    found = {}
+    for sgn, key in ((1.0, "max"), (-1.0, "min")):
+        i = int(np.argmax(sgn * vals))
+        r = minimize_scalar(lambda p, sgn=sgn: -sgn * x3(p),
+                            bounds=(grid[i] - 0.03, grid[i] + 0.03),
+                            method="bounded", options={"xatol": 1e-10})
+        found[key] = (r.x % (2 * np.pi), x3(r.x))
+    ex = sine.extreme_positions(alpha)
+    assert abs(math.remainder(float(ex.phi1_max) - found["max"][0], 2 * np.pi)) < 1e-5
+    assert abs(math.remainder(float(ex.phi1_min) - found["min"][0], 2 * np.pi)) < 1e-5
+    H = found["max"][1] - found["min"][1]
+    assert float(sine.stroke(L1, alpha)) == pytest.approx(H, rel=1e-9)
+    lo, hi = sine.alpha_for_stroke(L1, H)
+    for a_ in (float(lo), float(hi)):
+        assert 0 < a_ < np.pi
+        gridv = [_sine_reference(L1, a_, 1.0, 0.0, p)["X3"] for p in (a_ - np.pi / 2,
+                                                                        a_ + np.pi / 2)]
+        assert gridv[1] - gridv[0] == pytest.approx(H, rel=1e-9)
+    assert min(abs(float(lo) - alpha), abs(float(hi) - alpha)) < 1e-9
+    assert float(lo) + float(hi) == pytest.approx(np.pi, rel=1e-12)
+
+
+def _slider_load(alpha, f1, f2, sigma):
+    """Load P the ram carries against its motion (+x) for block normal force N = 1.
+
+    Newton's law of the ram, written from scratch: unknowns N-direction fixed (N = 1), guide
+    normal G, load P.  Block on slot: N n + sigma f1 N d (friction dragging the ram along the
+    block's relative sliding direction sigma d), n the slot normal with n_x > 0; guide: G along
+    y and friction -f2 |G| along x; load -P along x.
+    """
+    d = np.array([math.cos(alpha), math.sin(alpha)])
+    n = np.array([math.sin(alpha), -math.cos(alpha)])
+    fb = n + sigma * f1 * d
+    G = -fb[1]
+    return fb[0] - f2 * abs(G)
+
+
+@pytest.mark.parametrize("f1,f2", [(0.12, 0.10), (0.3, 0.05), (0.0, 0.2), (0.5, 0.5)])
+def test_working_range_from_ram_equilibrium(f1, f2):
+    lo, hi = sine.working_range(f1, f2)
+
+    def worst(a):
+        return min(_slider_load(a, f1, f2, s) for s in (1.0, -1.0))
+    a_lo = brentq(worst, 1e-6, np.pi / 2, xtol=1e-14)
+    a_hi = brentq(worst, np.pi / 2, np.pi - 1e-6, xtol=1e-14)
+    assert float(lo) == pytest.approx(a_lo, rel=1e-9)
+    assert float(hi) == pytest.approx(a_hi, rel=1e-9)
+    for a in np.linspace(float(lo) + 1e-3, float(hi) - 1e-3, 7):
+        eta = worst(a) / math.sin(a)
+        assert float(sine.force_ratio(a, f1, f2)) == pytest.approx(eta, rel=1e-9, abs=1e-12)
+    sine.check_alpha(0.5 * (float(lo) + float(hi)), f1, f2)
+    with pytest.raises(ParameterError, match="alpha"):
+        sine.check_alpha(float(lo) * 0.99, f1, f2)
+
+
+def _ram_x(phi1: float, L1: float, alpha: float) -> float:
+    """x of the slot's crossing with y = 0: the point of the line through B along alpha."""
+    bx, by = L1 * math.cos(phi1), L1 * math.sin(phi1)
+    d = np.array([math.cos(alpha), math.sin(alpha)])
+    # solve B + t d = (x, 0) as a 2x2 system
+    _t, x = np.linalg.solve(np.array([[d[0], -1.0], [d[1], 0.0]]), np.array([-bx, -by]))
+    return float(x)
+
+
+SINE_REVIEW = [  # L1, alpha, omega1, eps1, phi0
+    (0.043, math.radians(23.0), 9.1, -17.0, 1.2),
+    (0.11, math.radians(151.0), -4.4, 33.0, 5.7),
+    (0.02, math.radians(97.0), 50.0, 0.0, 3.3),
+]
+
+
+@pytest.mark.parametrize("L1,alpha,w1,e1,phi0", SINE_REVIEW)
+def test_inclined_slot_against_construction_and_time_differences(L1, alpha, w1, e1, phi0):
+    res = sine.inclined_slot(phi0, L1, alpha, w1, e1)
+    x0 = _ram_x(0.0, L1, alpha)  # ram position at phi1 = 0 (X3 = 0 there)
+    ram = lambda t: x0 - _ram_x(_crank_phi(t, phi0, w1, e1), L1, alpha)  # noqa: E731
+    assert float(res.X3) == pytest.approx(ram(0.0), rel=1e-12, abs=1e-15)
+    v, a = _time_derivs(ram, 0.0, h=1e-4 / abs(w1))
+    assert float(res.V3) == pytest.approx(v, rel=1e-7)
+    assert float(res.a3) == pytest.approx(a, rel=1e-5)
+    # block in the slot: distance along d from the crossing point to the crank pin
+    blk = lambda t: ((L1 * math.sin(_crank_phi(t, phi0, w1, e1)))  # noqa: E731
+                     / math.sin(alpha))
+    assert float(res.X32) == pytest.approx(blk(0.0), rel=1e-12, abs=1e-15)
+    v, a = _time_derivs(blk, 0.0, h=1e-4 / abs(w1))
+    assert float(res.V32) == pytest.approx(v, rel=1e-7)
+    assert float(res.a32) == pytest.approx(a, rel=1e-5)
+    # stroke and extremes by a dense scan of the construction
+    grid = np.linspace(0.0, 2 * math.pi, 20001)
+    xs = np.array([x0 - _ram_x(p, L1, alpha) for p in grid])
+    assert float(sine.stroke(L1, alpha)) == pytest.approx(np.ptp(xs), rel=1e-7)
+    ext = sine.extreme_positions(alpha)
+    assert math.remainder(float(ext.phi1_max) - grid[np.argmax(xs)], 2 * math.pi) == \
+        pytest.approx(0.0, abs=1e-3)
+    assert math.remainder(float(ext.phi1_min) - grid[np.argmin(xs)], 2 * math.pi) == \
+        pytest.approx(0.0, abs=1e-3)
+
+
+def test_working_range_against_direct_statics():
+    """Slider statics solved as a linear system: jamming exactly at alpha = rho1 + rho2."""
+    f1, f2 = 0.17, 0.08
+
+    def load_over_normal(alpha: float, sigma: float) -> float:
+        # block pushes the slider with N along n = (sin a, -cos a) plus friction sigma f1 N d;
+        # the guide reacts with Ny (normal) and friction -f2 |Ny| against +x motion; F the load.
+        n = np.array([math.sin(alpha), -math.cos(alpha)])
+        d = np.array([math.cos(alpha), math.sin(alpha)])
+        push = n + sigma * f1 * d
+        return push[0] - f2 * abs(push[1])
+
+    lo, hi = sine.working_range(f1, f2)
+    grid = np.linspace(1e-3, math.pi - 1e-3, 200001)
+    worst = np.minimum(*[np.array([load_over_normal(a, s) for a in grid[::50]])
+                         for s in (1.0, -1.0)])
+    ok = grid[::50][worst > 0]
+    assert ok.min() == pytest.approx(float(lo), abs=2e-3)
+    assert ok.max() == pytest.approx(float(hi), abs=2e-3)
+
+
+def test_alpha_for_stroke_shape_mismatch_is_named():
+    with pytest.raises(ParameterError, match=r"shapes.*L1.*H"):
+        sine.alpha_for_stroke(np.full(2, 0.05), np.full(3, 0.2))
+    lo, hi = sine.alpha_for_stroke(np.array([[0.05], [0.04]]), np.array([0.2, 0.1]))
+    np.testing.assert_allclose(2 * np.array([[0.05], [0.04]]) / np.sin(lo), [[0.2, 0.1]] * 2)
+    np.testing.assert_allclose(lo + hi, np.pi)

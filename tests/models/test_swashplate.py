@@ -16,6 +16,7 @@ from _swashplate_reference import (
 )
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from scipy.optimize import brentq
 
 from linkwork.errors import AssemblyError, ParameterError
 from linkwork.models import swashplate as sw
@@ -383,3 +384,68 @@ def test_reference_rod_length_and_datum():
         assert abs(np.linalg.norm(A - B) - p[2]) < 1e-12
         assert A[2] > B[2]
     assert ref_s(0.0, *p) == 0.0
+
+
+def _sw_z(phi: float, R: float, r: float, l: float, alpha: float, a: float, b: float) -> float:
+    ca, sa = math.cos(alpha), math.sin(alpha)
+    rx = np.array([[1, 0, 0], [0, ca, -sa], [0, sa, ca]])
+    rz = np.array([[math.cos(phi), -math.sin(phi), 0], [math.sin(phi), math.cos(phi), 0],
+                   [0, 0, 1]])
+    B = np.array([a, b, 0.0]) + rx @ rz @ np.array([0.0, -r, 0.0])
+    Axy = np.array([R * math.sin(phi), -R * math.cos(phi)])
+    return brentq(lambda z: float(np.sum((np.r_[Axy, z] - B) ** 2) - l * l), B[2], B[2] + l,
+                  xtol=1e-15, rtol=1e-15)
+
+
+SW_REVIEW = [  # R, r, l, alpha, a, b (scheme 1 with both offsets, 4b, 2)
+    (0.12, 0.093, 0.31, math.radians(27.0), -0.017, 0.023),
+    (0.08, 0.1, 0.17, math.radians(11.0), 0.0, -0.012),
+    (0.1, 0.045, 0.4, math.pi / 2, 0.0, 0.03),
+]
+
+
+@pytest.mark.parametrize("p", SW_REVIEW)
+def test_swashplate_against_own_construction(p):
+    phis = np.array([0.4, 1.9, 2.8, 4.1, 5.95])
+    z0 = _sw_z(0.0, *p)
+    s_ref = np.array([_sw_z(x, *p) - z0 for x in phis])
+    np.testing.assert_allclose(sw.position(phis, *p), s_ref, rtol=1e-10, atol=1e-13)
+    h = 1e-4
+    d1 = np.array([(_sw_z(x - 2 * h, *p) - 8 * _sw_z(x - h, *p) + 8 * _sw_z(x + h, *p)
+                    - _sw_z(x + 2 * h, *p)) / (12 * h) for x in phis])
+    np.testing.assert_allclose(sw.first_transfer(phis, *p), d1, rtol=1e-7, atol=1e-11)
+    h = 1e-3
+    d2 = np.array([(-_sw_z(x - 2 * h, *p) + 16 * _sw_z(x - h, *p) - 30 * _sw_z(x, *p)
+                    + 16 * _sw_z(x + h, *p) - _sw_z(x + 2 * h, *p)) / (12 * h * h)
+                   for x in phis])
+    np.testing.assert_allclose(sw.second_transfer(phis, *p), d2, rtol=1e-5, atol=1e-9)
+    grid = np.linspace(0, 2 * math.pi, 4001)
+    zs = np.array([_sw_z(x, *p) for x in grid])
+    assert float(sw.stroke(*p)) == pytest.approx(np.ptp(zs), rel=1e-6)
+
+
+def test_drive_forces_jamming_with_several_slides_names_the_angles():
+    # the two-point guide with rho = 60 deg jams where tan(delta_z) >= 1 / (k tan rho); with
+    # u > 1 slides the error used to crash in angle_ranges (a (u, n) array of angles).
+    d = sw.scheme_1(0.1, 0.07, 0.25, math.radians(20.0), 0.02, 0.0)
+    with pytest.raises(AssemblyError, match="jams") as exc:
+        sw.drive_forces(d, 1000.0, u=12, rho_guide=math.radians(80.0), guide_length=0.12,
+                        overhang=0.04, n=361)
+    # the jam ranges are angles of a slide over one revolution, in [0, 360] deg
+    for lo, hi in exc.value.ranges:
+        assert 0.0 <= lo <= hi <= 2 * math.pi + 1e-12
+
+
+def test_swashplate_shape_mismatch_and_sample_count_are_named():
+    with pytest.raises(ParameterError, match="shapes"):  # was numpy's raw broadcast ValueError
+        sw.position(np.zeros(3), 0.1, np.full(4, 0.07), 0.25, 0.3)
+    with pytest.raises(ParameterError, match="shapes"):
+        sw.stroke(0.1, np.full(4, 0.07), np.full(3, 0.25), 0.3)
+    d = sw.scheme_1(0.1, 0.07, 0.25, 0.35, 0.02, 0.0)
+    with pytest.raises(ParameterError, match="n = 0"):  # was an IndexError
+        sw.drive_forces(d, 1000.0, n=0)
+    with pytest.raises(ParameterError, match="phi"):  # one angle: the cycle integrals are 0/0
+        sw.drive_forces(d, 1000.0, phi=[0.3])
+    # designs (m, 1) against angles (n,) still broadcast
+    s = sw.position(np.linspace(0, 6, 5), 0.1, np.array([[0.07], [0.09]]), 0.25, 0.3)
+    assert s.shape == (2, 5)

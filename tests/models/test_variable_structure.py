@@ -7,10 +7,13 @@ import math
 import numpy as np
 import pytest
 from _paper000_geometry import crank_slider_positions, slot_positions
+from _paper000_loop_equations import _close, _cs_reference, _sine_reference
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from linkwork.errors import ParameterError
+from linkwork.errors import LinkworkError, ParameterError
+from linkwork.models import crank_slider, sine
+from linkwork.models import crank_slider as cs
 from linkwork.models.variable_structure import (
     IDLE,
     WORKING,
@@ -153,3 +156,106 @@ def test_property_schedule_timing_and_ram_continuity(mech, segs, rpm):
     np.testing.assert_allclose(r.switch_ram_dv, r.ram_v[idx] - r.ram_v[idx - 1], atol=1e-14)
     assert np.all(r.ram_v[r.mode == 0] == 0.0)
     assert np.all(np.diff(r.t) >= 0)
+
+
+def test_duty_schedule_against_references():
+    L1, lam2, lame, w1 = 0.05, 4.0, 0.5, 4 * np.pi
+    m = VariableStructureMechanism(L1, lam2, lame, math.radians(60), f_slot=0.12, f_guide=0.1)
+    res = m.run([("idle", 5), ("working", 3, math.radians(60))], w1, samples_per_revolution=72)
+    T = 2 * np.pi / w1
+    assert res.switch_t == pytest.approx([5 * T], rel=1e-12)
+    assert list(res.switch_to) == [1]
+    assert res.t[-1] == pytest.approx(8 * T, rel=1e-12)
+    assert res.switch.sum() == 1
+    # sample values at a few instants against the loop-equation references
+    for k in (7, 100, 300, 359, 361 + 10, 361 + 130, len(res.t) - 5):
+        p = float(res.phi1[k])
+        if res.mode[k] == 0:
+            ref = _cs_reference(L1, lam2, lame, w1, 0.0, 1, p)
+            _close(res.s[k], ref["Y_C"], L1, "s idle")
+            _close(res.v[k], ref["V_C"], L1 * w1, "v idle")
+            _close(res.a[k], ref["a_C"], L1 * w1 * w1, "a idle")
+            assert res.ram_s[k] == 0 and res.ram_v[k] == 0
+        else:
+            ref = _sine_reference(L1, math.radians(60), w1, 0.0, p)
+            for a_, b_ in ((res.s[k], "X3"), (res.ram_s[k], "X3")):
+                _close(a_, ref[b_], L1, b_)
+            _close(res.v[k], ref["V3"], L1 * w1, "V3")
+            _close(res.a[k], ref["a3"], L1 * w1 * w1, "a3")
+    # ram velocity jump at engagement: V3(phi1 = 0) = omega1 L1 cot(alpha)
+    assert res.switch_ram_dv[0] == pytest.approx(w1 * L1 / math.tan(math.radians(60)),
+                                                 rel=1e-12)
+
+
+@pytest.mark.parametrize("call,words", [
+    (lambda: cs.offset_crank_slider(np.linspace(0, 6, 50), 0.05, 1.2, 0.5), ["lambda2", "1.5"]),
+    (lambda: cs.offset_crank_slider(0.3, -0.05, 4.0, 0.5), ["L1", "-0.05"]),
+    (lambda: cs.offset_crank_slider(0.3, 0.05, -4.0, 0.5), ["lambda2", "-4"]),
+    (lambda: cs.offset_crank_slider(np.nan, 0.05, 4.0, 0.5), ["phi1", "nan"]),
+    (lambda: cs.offset_crank_slider(0.3, 0.05, np.nan, 0.5), ["lambda2", "nan"]),
+    (lambda: cs.offset_crank_slider(0.3, 0.05, 4.0, np.inf), ["lambda_e", "inf"]),
+    (lambda: cs.offset_crank_slider(0.3, 0.05, 4.0, 0.5, omega1=np.nan), ["omega1", "nan"]),
+    (lambda: cs.offset_crank_slider(0.3, 0.05, 4.0, 0.5, branch=0), ["branch", "0"]),
+    (lambda: cs.stroke(0.05, 1.4, 0.5), ["lambda2", "1.4", "1.5"]),
+    (lambda: cs.dead_centres(1.4, 0.5), ["lambda2", "1.4", "1.5"]),
+    (lambda: cs.max_pressure_angle(1.4, 0.5), ["lambda2", "1.4", "1.5"]),
+    (lambda: sine.inclined_slot(0.3, 0.05, 0.0), ["alpha", "0"]),
+    (lambda: sine.inclined_slot(0.3, 0.05, np.pi), ["alpha", "180"]),
+    (lambda: sine.inclined_slot(0.3, 0.05, np.nan), ["alpha", "nan"]),
+    (lambda: sine.inclined_slot(0.3, 0.0, 1.0), ["L1", "0"]),
+    (lambda: sine.stroke(-1.0, 1.0), ["L1", "-1"]),
+    (lambda: sine.alpha_for_stroke(0.05, 0.09), ["H", "0.09", "0.1"]),
+    (lambda: sine.alpha_for_stroke(0.05, np.nan), ["H", "nan"]),
+    (lambda: sine.alpha_for_stroke(0.05, -0.2), ["H", "-0.2"]),
+    (lambda: sine.working_range(-0.1, 0.1), ["f_slot", "-0.1"]),
+    (lambda: sine.working_range(np.nan, 0.1), ["f_slot", "nan"]),
+    (lambda: sine.working_range(1.5, 1.0), ["f_slot", "1.5"]),
+    (lambda: sine.check_alpha(math.radians(5), 0.12, 0.1), ["alpha", "5", "12.55", "167.4"]),
+    (lambda: VariableStructureMechanism(0.05, 1.2, 0.5, 1.0), ["lambda2", "1.2", "1.5"]),
+    (lambda: VariableStructureMechanism(0.05, 4.0, 0.5, math.radians(5), f_slot=0.12,
+                                        f_guide=0.1), ["alpha", "5"]),
+    (lambda: VariableStructureMechanism(0.05, 4.0, 0.5, 1.0).run([("idle", 0)], 1.0),
+     ["revolutions", "0"]),
+    (lambda: VariableStructureMechanism(0.05, 4.0, 0.5, 1.0).run([("boring", 1)], 1.0),
+     ["mode", "boring"]),
+    (lambda: VariableStructureMechanism(0.05, 4.0, 0.5, 1.0).run([("idle", 1)], np.nan),
+     ["omega1", "nan"]),
+    (lambda: VariableStructureMechanism(0.05, 4.0, 0.5, 1.0).run([("idle", 1)], -3.0),
+     ["omega1", "-3"]),
+    (lambda: VariableStructureMechanism(0.05, 4.0, 0.5, 1.0, f_slot=0.12, f_guide=0.1).run(
+        [("working", 1, math.radians(5))], 1.0), ["alpha", "5"]),
+])
+def test_impossible_parameters_give_clear_errors(call, words):
+    with pytest.raises(LinkworkError) as ei:
+        call()
+    msg = str(ei.value).lower()
+    for w in words:
+        assert w.lower() in msg, (w, msg)
+    assert isinstance(ei.value, ValueError)
+
+
+def test_branch_array_is_named():
+    from linkwork.models.variable_structure import VariableStructureMechanism
+    with pytest.raises(ParameterError, match="branch"):
+        crank_slider.offset_crank_slider(0.3, 0.05, 4.0, 0.5, branch=np.array([1, -1]))
+    with pytest.raises(ParameterError, match="branch"):
+        crank_slider.dead_centres(4.0, 0.5, branch=np.array([1, -1]))
+    with pytest.raises(ParameterError, match="branch"):
+        VariableStructureMechanism(0.05, 4.0, 0.5, 1.0, branch=np.array([1, -1]))
+    # a scalar branch still works, as a numpy integer too
+    res = crank_slider.offset_crank_slider(0.3, 0.05, 4.0, 0.5, branch=np.int64(-1))
+    assert float(res.Y_C) < 0
+
+
+@pytest.mark.parametrize("schedule,spr,needle", [
+    ([("idle", 1)], 10.5, "samples_per_revolution"),
+    ([("idle", 1)], "360", "samples_per_revolution"),
+    ([("idle",)], 36, "schedule entry"),
+    (["idle"], 36, "schedule entry"),
+    ([("working", 1, 1.0, 2)], 36, "schedule entry"),
+])
+def test_run_malformed_schedule_is_named(schedule, spr, needle):
+    from linkwork.models.variable_structure import VariableStructureMechanism
+    mech = VariableStructureMechanism(0.05, 4.0, 0.5, 1.0)
+    with pytest.raises(ParameterError, match=needle):  # were TypeErrors from Python internals
+        mech.run(schedule, 10.0, samples_per_revolution=spr)

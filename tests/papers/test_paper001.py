@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from linkwork import balancing as bal
 from linkwork.balancing import counterweight_axis_moment, counterweight_axis_offset, efficiency
 
 # The paper's table, columns as printed (N*m); crank angle in degrees.
@@ -161,3 +162,28 @@ def test_paper001_table_means_not_explained_by_gravity():
 def test_paper001_axis_offset_unpacks_as_xy():
     x, y = counterweight_axis_offset(np.radians(PHI_DEG), DM1_TABLE, 0.2, OMEGA)
     assert (round(x, 3), round(y, 3)) == (-0.071, 0.189)
+
+
+# the paper's printed table (phi [deg], M, dM1, dM2, dM3) [N m]
+TABLE = np.array([
+    [0, -5.43, -7.23, -4.56, -3.33], [30, -0.96, -5.52, -4.14, -1.50],
+    [60, -3.99, -2.39, 0.49, 0.71], [90, -5.55, -0.63, -1.47, 0.67],
+    [120, -4.14, 0.50, -2.404, -0.30], [150, -1.92, 1.38, -2.76, -1.32],
+    [180, 0.36, 1.94, -2.61, -2.00], [210, 1.71, 2.19, -2.15, -1.87],
+    [240, 2.01, 2.59, -2.04, -1.55], [270, 1.71, 2.38, -1.63, 1.01],
+    [300, -2.10, 0.22, 0.29, 0.52], [330, -3.99, -3.52, -3.42, -1.22]])
+
+
+def test_paper001_axis_offset_and_efficiency_from_the_printed_table():
+    phi = np.radians(TABLE[:, 0])
+    dM1 = TABLE[:, 2]
+    # S = 0.2 kg m (the crank counterweight by hand above), omega = 10 1/s
+    for method in ("lsq", "paper"):
+        x, y = bal.counterweight_axis_offset(phi, dM1, 0.2, 10.0, method=method)
+        assert round(x, 3) == -0.071
+        assert round(y, 3) == 0.189
+    assert round(bal.efficiency(TABLE[:, 2], TABLE[:, 3]), 1) == 36.9
+    assert round(bal.efficiency(TABLE[:, 2], TABLE[:, 4]), 1) == 53.9
+    # the printed formula (max|dM1| + max|dM2|)/max|dMj| does not give the printed numbers
+    p1, p2 = (np.max(np.abs(TABLE[:, k])) for k in (2, 3))
+    assert abs((p1 + p2) / p2 * 100 - 36.9) > 100

@@ -16,7 +16,15 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from _fourbar_newton_euler import DESIGNS, check_reactions, fourbar_positions, fourbar_reference
+from _fourbar_newton_euler import GRAV as NE_GRAV
+from _fourbar_newton_euler import INERTIA as NE_INERTIA
+from _fourbar_newton_euler import LOADS as NE_LOADS
+from _fourbar_newton_euler import M_EXT as NE_M_EXT
+from _fourbar_newton_euler import MASS as NE_MASS
+from _planar_newton_euler import PHI7, _close
 
+from linkwork.models import fourbar as fb
 from linkwork.models.fourbar import (
     fourbar_kinetostatics,
     paper004_eq8,
@@ -27,6 +35,8 @@ from linkwork.models.fourbar import (
     paper004_eq13,
     paper004_planar,
 )
+from linkwork.planar import BodyTorque, inverse_dynamics, kinematics
+from linkwork.planar import fourbar as engine_fourbar
 
 # paper 001's four-bar as a loom linkage stand-in: l1 = 0.1, l2 = 0.3, l3 = 0.2, frame 0.3 m
 L1, L2, L3, D = 0.1, 0.3, 0.2, 0.3
@@ -227,3 +237,61 @@ def test_paper004_eq7_third_row_signs_of_F1_and_M1(branch):
     mom_f1 = L1 / 2 * (np.cos(phi[0]) * F[0][1] - np.sin(phi[0]) * F[0][0])
     np.testing.assert_allclose(eq7, -2 * mom_f1 - 2 * M[0], atol=1e-10 * _scale(res))
     assert np.abs(eq7).max() > 1e-2 * np.abs(res.Q).max()
+
+
+@pytest.mark.parametrize("branch", [+1, -1])
+@pytest.mark.parametrize("name", ["crank-rocker", "general"])
+def test_paper004_corrected_equations_against_newton_euler(name, branch):
+    """Paper 004's Eqs. (8)-(13) as corrected (printed=False), centres of mass and forces at
+    the link midpoints: F_i = m_i (g - a_Si) + F_ext, M_i = M_ext - J_i eps_i."""
+    design = DESIGNS[name]
+    mids = tuple((length / 2, 0.0) for length in design[:3])
+    loads = {"force": NE_LOADS["force"], "point": mids, "moment": NE_M_EXT}
+    ref = fourbar_reference(design, branch, loads=loads, coms=mids)
+    g = np.array(NE_GRAV)[:, None]
+    F = [NE_MASS[i] * (g - ref["aG"][i]) + np.array(NE_LOADS["force"][i])[:, None]
+         for i in range(3)]
+    Mz = [NE_M_EXT[i] - NE_INERTIA[i] * ref["al"][i] for i in range(3)]
+    th3, th4 = fourbar_positions(ref["t2"], *design, branch)
+    r = paper004_planar(ref["t2"], th3, th4 + np.pi, *design[:3], tuple(F[0]), tuple(F[1]),
+                        tuple(F[2]), *Mz, printed=False)
+    check_reactions(((r.R_0x, r.R_0y), (r.R_Ax, r.R_Ay), (r.R_Bx, r.R_By), (r.R_Cx, r.R_Cy)),
+                    r.Q, ref["x"])
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_paper004_eqs_8_to_13_against_the_engine(branch):
+    """Paper 004's chained planar kinetostatics (8)-(13), corrected, equal the engine's
+    reactions and driving moment (paper 001's four-bar, gravity, couples, eps1 != 0); as
+    printed, (8) is right and (9), (13) are not (docs/errata.md)."""
+    a, b, c, d = 0.1, 0.3, 0.2, 0.3
+    masses, inert = (1.0, 3.0, 2.0), (0.002, 0.03, 0.008)
+    mech = engine_fourbar(a, b, c, d, masses=masses, inertias=inert, branch=branch)
+    g = np.array([0.0, -9.81])
+    couples = (0.5, -1.5, 2.0)
+    kin = kinematics(mech, PHI7, 10.0, 25.0)
+    dyn = inverse_dynamics(kin, gravity=g, loads=[BodyTorque(n, m) for n, m in zip(
+        ("crank", "coupler", "rocker"), couples, strict=True)])
+    F, M = [], []
+    for i, name in enumerate(("crank", "coupler", "rocker")):
+        s = kin.point(name, "com")                    # the midpoint (bar default)
+        F.append((masses[i] * (g[0] - s.ax), masses[i] * (g[1] - s.ay)))
+        M.append(-inert[i] * kin.eps[i + 1] + couples[i])
+    phi1, phi2 = kin.angle("crank"), kin.angle("coupler")
+    phi3 = kin.angle("rocker") + np.pi                # paper 004: phi3 is B -> C
+    for printed in (False, True):
+        p = fb.paper004_planar(phi1, phi2, phi3, a, b, c, *F, *M, printed=printed)
+        scale = np.max(np.abs(dyn.fx))
+        got = {"R_B": (p.R_Bx, p.R_By), "R_C": (p.R_Cx, p.R_Cy), "R_A": (p.R_Ax, p.R_Ay),
+               "R_0": (p.R_0x, p.R_0y)}
+        want = {"R_B": dyn.reaction("B"), "R_C": dyn.reaction("O4"), "R_A": dyn.reaction("A"),
+                "R_0": dyn.reaction("O2")}
+        if not printed:
+            for k in got:
+                _close(got[k][0], want[k][0], scale, "paper004 corrected vs engine")
+                _close(got[k][1], want[k][1], scale, "paper004 corrected vs engine")
+            _close(p.Q, dyn.Q, scale * a, "paper004 corrected vs engine")
+        else:
+            _close(p.R_Bx, want["R_B"][0], scale, "paper004 printed (8) vs engine")
+            assert np.max(np.abs(p.R_By - want["R_B"][1])) > 1e-3 * scale     # (9) wrong
+            assert np.max(np.abs(p.Q - dyn.Q)) > 1e-3 * scale * a             # (13) wrong

@@ -2,21 +2,28 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
 import pytest
 from _mechanisms import m_rpr, m_triad
 
+from linkwork.errors import ParameterError
+from linkwork.models import fourbar as fb
 from linkwork.planar import (
+    analyse,
     crank_slider,
     dead_centres,
     fourbar,
     inverse_dynamics,
     kinematics,
+    kinetic_energy,
     mobility,
     transmission_angles,
 )
+from linkwork.planar import crank_slider as engine_crank_slider
+from linkwork.planar import fourbar as engine_fourbar
 
 
 def test_structure_classes_orders():
@@ -155,3 +162,53 @@ def test_plots_of_large_forces_are_in_kN():
     s = pp.plot_shaking(d)
     assert s["axes"][0].get_ylabel() == "shaking force [N]"
     pyplot().close("all")
+
+
+def test_result_helpers_name_a_wrong_argument():
+    """AttributeError ('str' object has no attribute 'mechanism' / 'bodies') before."""
+    for f in (transmission_angles, dead_centres, kinetic_energy):
+        with pytest.raises(ParameterError, match=r"^kin = k is invalid: must be the Kinematics"):
+            f("k")
+    with pytest.raises(ParameterError, match=r"^mech = m is invalid: must be a Mechanism"):
+        analyse("m")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_engine_dead_centres_are_exact(branch):
+    """The engine's dead centres were linearly interpolated between samples (6e-6 rad off at
+    1 deg sampling); they must agree with the closed forms' limit positions."""
+    from linkwork.models import crank_slider as cs
+    from linkwork.planar import dead_centres
+    lim = fb.limit_positions(0.1, 0.3, 0.2, 0.3, branch)
+    kin = kinematics(engine_fourbar(0.1, 0.3, 0.2, 0.3, branch=branch),
+                     np.linspace(0, 2 * np.pi, 361))
+    got = sorted(d.phi1 for d in dead_centres(kin))
+    want = sorted(float(np.mod(x, 2 * np.pi)) for x in (lim.theta2_rocker_extended,
+                                                        lim.theta2_rocker_folded))
+    np.testing.assert_allclose(got, want, rtol=0, atol=1e-10)
+    # crank-slider with the guide along +y at x = e (paper 000's idle mode)
+    mech = engine_crank_slider(0.05, 0.2, -0.025, guide_angle=math.radians(90), branch=branch)
+    kin = kinematics(mech, np.linspace(0, 2 * np.pi, 361))
+    dc = cs.dead_centres(4.0, 0.5, branch)
+    got = {d.kind: d.phi1 for d in dead_centres(kin)}
+    np.testing.assert_allclose([got["max"], got["min"]],
+                               [float(dc.phi1_top), float(dc.phi1_bottom)], rtol=0, atol=1e-10)
+
+
+@pytest.mark.parametrize("branch", [1, -1])
+def test_engine_transmission_angle_full_precision(branch):
+    """mu from the law of cosines (closed form) and the engine's mu, delta agree to 1e-14 over
+    the cycle; the engine's arccos lost half the digits near mu = 90 deg (1.5e-8 rad)."""
+    phi = np.linspace(0, 2 * np.pi, 37)
+    kin = kinematics(engine_fourbar(0.1, 0.3, 0.2, 0.3, branch=branch), phi)
+    from linkwork.planar import transmission_angles
+    mu, delta = transmission_angles(kin)["B"]
+    # independent: angle at B between B->A and B->O4, from the engine's own points
+    A = kin.point("coupler", "A")
+    B = kin.point("coupler", "B")
+    ux, uy = A.x - B.x, A.y - B.y
+    vx, vy = 0.3 - B.x, -B.y
+    ang = np.arctan2(np.abs(ux * vy - uy * vx), ux * vx + uy * vy)
+    ref = np.minimum(ang, np.pi - ang)
+    np.testing.assert_allclose(mu, ref, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(delta, np.pi / 2 - ref, rtol=0, atol=1e-14)

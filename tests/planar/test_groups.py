@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from _mechanisms import BUILDERS, m_linear_driver, m_ps_sine, m_rpr, m_rs_pin_in_known_slot
+from _planar_newton_euler import _check_engine
 
 from linkwork.planar import (
     Body,
@@ -237,3 +238,23 @@ def test_linear_driver_results_export_slide_and_force_units(tmp_path):
     # a crank keeps the class's units
     crank = kinematics(crank_slider(0.1, 0.35, 0.03, masses=(1, 2, 3)), np.linspace(0, 1, 5))
     assert crank.units["phi1"] == "rad" and inverse_dynamics(crank).units["Q"] == "N*m"
+
+
+def _group_builders():
+    import _mechanisms as tg
+    return [(b.__name__, b) for b in tg.BUILDERS]
+
+
+@pytest.mark.parametrize("name,builder", _group_builders())
+def test_engine_every_group_kind_against_newton_euler(name, builder):
+    """Every group kind of the engine (the seven dyads, both slot groups, a linear driver and a
+    triad; mechanisms as built in test_planar_groups) against the raw-constraint reference and
+    Newton-Euler, with gravity, a point force, a couple and eps1 != 0."""
+    mech, positions, _kind = builder()
+    idx = np.linspace(0, len(positions) - 1, 7).round().astype(int)
+    phi = np.asarray(positions)[idx]
+    last = mech.bodies[-1].name
+    loads = [PointForce(last, "com", fx=12.0, fy=-7.0), BodyTorque(mech.bodies[0].name, 0.8)]
+    crank = isinstance(mech.driver, Crank)
+    _check_engine(mech, phi, 6.0 if crank else 0.7, 15.0 if crank else 0.4, (0.0, -9.81),
+                  loads, about=(0.02, 0.01), label="groups ", step=2e-4)

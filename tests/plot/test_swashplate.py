@@ -35,3 +35,23 @@ def test_plot_drive_forces_and_feasible_region():
     star = next(ln for ln in ax2.lines if ln.get_marker() == "*")
     assert abs(star.get_xdata()[0] - 15.0) < 1e-12 and abs(star.get_ydata()[0] - 2.0) < 1e-12
     pyplot().close("all")
+
+
+DEG = math.pi / 180
+
+
+def test_feasible_region_plot_names_each_limit_and_says_when_empty():
+    from linkwork.plot import pyplot
+    from linkwork.plot.swashplate import plot_feasible_region
+
+    req = syn.Request(scheme="4b", R=0.1, H=0.06, H_tol=3e-4, delta_f=8 * DEG,
+                      delta_r=8 * DEG, point=(math.pi / 2, 0.03), point_tol=1e-3)
+    base = sw.scheme_4b(0.1, 0.105, 0.25, 16 * DEG, 0.01)
+    reg = syn.feasible_region(req, base, "r", "l", n=12)
+    ax = plot_feasible_region(reg, best=base)
+    labels = [h.get_label() for h in ax.get_legend().legend_handles]
+    assert "limit: δz on the forward stroke" in labels and "best design" in labels
+    empty = syn.FeasibleRegion(**{**reg.__dict__, "feasible": np.zeros_like(reg.feasible)})
+    ax2 = plot_feasible_region(empty)
+    assert "no feasible grid point" in ax2.get_title()
+    pyplot().close("all")

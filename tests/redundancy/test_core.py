@@ -3,14 +3,22 @@ an independent finite-element-like assembly of the joint springs, analytic two-b
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from _fourbar_reference import geometry, planar_reactions, spatial_model, wrenches
+from _spatial_cases import JOINTS as LOOM_JOINTS
+from _spatial_cases import spatial
 from _strategies import reals
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from linkwork import redundancy as rd
+from linkwork.cli.reactions import load_problem
 from linkwork.errors import ParameterError, StructureError
+from linkwork.planar import crank_slider, kinematics
+from linkwork.planar.model import fourbar
 from linkwork.redundancy import (
     SpatialGeometry,
     SpatialJoint,
@@ -378,3 +386,142 @@ def test_count_crank_slider_round_guide_q2():
                                               e=0.05))
     c = count_redundancy(SpatialModel(model.bodies, joints, "O"), geom)
     assert (c.p, c.mobility_formula, c.mobility, c.redundant) == ({5: 3, 4: 1}, -1, 1, 2)
+
+
+def test_tilt_deviations_beyond_first_order_theory_are_named_in_the_api():
+    from linkwork.redundancy import Deviation, Tolerance, spatial_reactions
+
+    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0), omega1=10.0)
+    with pytest.raises(ParameterError, match="tx"):
+        spatial_reactions(mech, [0.0, 1.0], deviations=[Deviation("O4", "frame", tx=0.5)])
+    with pytest.raises(ParameterError, match="ty"):
+        Tolerance("O4", "a", "ty", 0.05, "uniform", mean=0.08)
+    # small ones are fine
+    spatial_reactions(mech, [0.0, 1.0], deviations=[Deviation("O4", "frame", tx=0.01)])
+
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+SIXBAR = ROOT / "examples" / "loom_sixbar.toml"
+
+
+def _model(joints, bodies, driver, kinds=None):
+    kinds = kinds or {}
+    return rd.SpatialModel(tuple(bodies), tuple(
+        rd.SpatialJoint(n, a, b, kind=kinds.get(n, "revolute")) for n, a, b in joints), driver)
+
+
+def _geom(points, nb):
+    return rd.SpatialGeometry(np.asarray(points, float)[None], np.zeros((1, nb)))
+
+
+FOURBAR = [("O", "ground", "crank"), ("A", "crank", "coupler"), ("B", "coupler", "rocker"),
+           ("C", "ground", "rocker")]
+
+
+FOURBAR_PTS = [(0, 0), (0.03, 0.09), (0.28, 0.2), (0.3, 0)]
+
+
+@pytest.mark.parametrize("kinds, w0, w, q", [
+    ({}, 6 * 3 - 5 * 4, 1, 3),                                   # 4 R (class V)
+    ({"B": "spherical", "C": "cylindrical"}, 18 - (5 + 5 + 3 + 4), 1, 0),   # R-R-S-C
+    ({"A": "spherical", "B": "spherical"}, 18 - (5 + 3 + 3 + 5), 2, 0),     # R-S-S-R, spin
+])
+def test_count_fourbar_by_hand(kinds, w0, w, q):
+    c = rd.count_redundancy(_model(FOURBAR, ["crank", "coupler", "rocker"], "O", kinds),
+                            _geom(FOURBAR_PTS, 3))
+    assert (c.mobility_formula, c.mobility, c.redundant) == (w0, w, q)
+    if not kinds:
+        # in-plane components unique, out-of-plane ones not
+        ind = set(c.indeterminate_labels())
+        assert ind == {(j, k) for j in "OABC" for k in ("fz", "mx", "my")}
+
+
+def test_count_crank_slider_by_hand():
+    """3 moving bodies, 3 R + 1 P, all class V: W0 = 18 - 20 = -2, W = 1, q = 3."""
+    mech = crank_slider(0.05, 0.2, 0.01, masses=(1, 1, 1))
+    kin = kinematics(mech, np.radians([37.0]))
+    c = rd.count_redundancy(rd.spatial_model(mech), rd.geometry(mech, kin))
+    assert (c.n_bodies, c.mobility_formula, c.mobility, c.redundant) == (3, -2, 1, 3)
+    assert c.p == {5: 4}
+
+
+def test_count_watt_sixbar_by_hand():
+    """Watt six-bar, 5 moving bodies, 7 R: W0 = 30 - 35 = -5, W = 1, q = 6 (two loops x 3)."""
+    joints = [("O2", "ground", "crank"), ("A", "crank", "c1"), ("B", "c1", "tern"),
+              ("O4", "ground", "tern"), ("C", "tern", "c2"), ("D", "c2", "rock"),
+              ("O6", "ground", "rock")]
+    pts = [(0, 0), (0.05, 0.08), (0.3, 0.25), (0.35, 0), (0.45, 0.15), (0.7, 0.3), (0.8, 0.0)]
+    c = rd.count_redundancy(_model(joints, ["crank", "c1", "tern", "c2", "rock"], "O2"),
+                            _geom(pts, 5))
+    assert (c.mobility_formula, c.mobility, c.redundant) == (-5, 1, 6)
+
+
+def test_count_loom_sixbar_example_by_hand():
+    """The bundled loom six-bar: 5 moving bodies, 6 R + 1 P (class V): q = 6."""
+    mech, kw, _ = load_problem(SIXBAR)
+    kin = kinematics(mech, kw["cycle"][[17]])
+    c = rd.count_redundancy(rd.spatial_model(mech), rd.geometry(mech, kin))
+    assert (c.n_bodies, c.mobility_formula, c.mobility, c.redundant) == (5, -5, 1, 6)
+
+
+def test_force_and_displacement_methods_agree_to_1e_9():
+    oop = [rd.OutOfPlaneLoad("coupler", fz=3.0, mx=0.5, my=-0.2)]
+    a = spatial(method="force", oop=oop).components()
+    b = spatial(method="displacement", oop=oop).components()
+    for k in range(6):
+        scale = np.max(np.abs(a[:, k]))
+        assert np.max(np.abs(a[:, k] - b[:, k])) <= 1e-9 * max(scale, 1e-300)
+
+
+def test_stiffness_scaling_invariances():
+    base = {j: dict(LOOM_JOINTS[j], k_bearing=1e8) for j in LOOM_JOINTS}
+    scaled = {j: dict(LOOM_JOINTS[j], k_bearing=7e8) for j in LOOM_JOINTS}
+    a = spatial(joints=base, devs=[]).components()
+    b = spatial(joints=scaled, devs=[]).components()
+    assert np.max(np.abs(a - b)) <= 1e-9 * np.max(np.abs(a))
+    da = spatial(joints=base).components() - a
+    db = spatial(joints=scaled).components() - b
+    assert np.max(np.abs(da)) > 1e-3
+    assert np.max(np.abs(db - 7 * da)) <= 1e-8 * np.max(np.abs(db))
+
+
+def test_reactions_vary_with_e_as_the_shaft_model_predicts():
+    """A shaft (one body) in two coaxial bearings a distance L apart, bearing length e, an
+    offset d of the second bearing: bending by hand. Each bearing: radial k, tilt k e^2/12.
+    Shaft rotation theta and translation u: the springs give
+    F = k d e^2 / (6 L^2 + 2 e^2) at each bearing (derived below by energy minimisation)."""
+    k, L, d = 1e8, 0.2, 1e-5
+    for e in (0.01, 0.03, 0.06):
+        # the shaft's axis is z: bearings at z = 0 and z = L, same plane point
+        model = rd.SpatialModel(("shaft",), (
+            rd.SpatialJoint("J1", "ground", "shaft", e=e, z=0.0, k_bearing=k),
+            rd.SpatialJoint("J2", "ground", "shaft", e=e, z=L, k_bearing=k)), "J1")
+        geom = rd.SpatialGeometry(np.zeros((1, 2, 2)), np.zeros((1, 1)))
+        dev = np.zeros((2, 2, 6))
+        dev[1, 0, 0] = d  # ground's bore of J2 offset by d along x
+        r = rd.solve_reactions(model, geom, np.zeros((1, 1, 6)), dev)
+        # by hand: minimise 1/2 k (u + 0)^2 + 1/2 k (u + L th - d)^2 + 2 * 1/2 kt th^2 with
+        # u the x translation at z = 0 and th the rotation about y (x = u + z th)
+        kt = k * e * e / 12
+        Kmat = np.array([[2 * k, k * L], [k * L, k * L * L + 2 * kt]])
+        u, th = np.linalg.solve(Kmat, [k * d, k * L * d])
+        F1 = -k * u
+        assert r.fx[0, 0] == pytest.approx(F1, rel=1e-9)
+        assert F1 == pytest.approx(-k * d * e * e / (6 * L * L + 2 * e * e), rel=1e-12)
+        assert r.my[0, 0] == pytest.approx(-kt * th, rel=1e-9)
+
+
+@pytest.mark.parametrize("joints, name", [
+    ({"A": dict(e=0.03, z=0.03, stiffness=(1e20, 1e20, 1e20, 1e-20, 1e-20, 0))}, "stiffness"),
+    ({j: dict(e=1e-300) for j in "OABC"}, ".e"),
+])
+def test_ill_conditioned_or_underflowing_compliance_is_named(joints, name):
+    """Stiffnesses 1e20 and 1e-20 in one joint gave numpy's 'LinAlgError: Singular matrix'
+    (a traceback through the CLI); e = 1e-300 m made k_b e^2/12 underflow to 0 and divided by
+    zero (RuntimeWarning, inf/NaN reactions)."""
+    for method in ("force", "displacement"):
+        with pytest.raises(ParameterError) as exc:
+            spatial(joints=joints, method=method)
+        assert name in exc.value.parameter

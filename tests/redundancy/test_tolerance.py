@@ -6,7 +6,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from _fourbar_reference import geometry, spatial_model, wrenches
+from _spatial_cases import TOLS as LOOM_TOLS
+from _spatial_cases import _problem
 
+from linkwork import redundancy as rd
 from linkwork.errors import ParameterError
 from linkwork.redundancy import Tolerance, solve_reactions, tolerance_study
 
@@ -141,3 +144,44 @@ def test_tolerance_percentiles_half_normal_analytic():
     pc = st.percentiles((50, 95))["B"]["bending"]
     assert np.isclose(pc["p50"], 0.67449 * sigma * gmax, rtol=0.03)
     assert np.isclose(pc["p95"], 1.95996 * sigma * gmax, rtol=0.03)
+
+
+def test_tolerance_study_percentiles_against_brute_force_per_sample_solves():
+    model, geom, w = _problem()
+    st = rd.tolerance_study(model, geom, w, LOOM_TOLS, 120, seed=11, chunk_size=50)
+    # the draws follow the distributions
+    assert np.all(np.abs(st.draws[:, 2]) <= 3e-5)
+    # brute force: one full solve per sample (displacement method: another formulation)
+    slot = {"a": 0, "b": 1}
+    names = [j.name for j in model.joints]
+    comps = ("dx", "dy", "dz", "tx", "ty", "tz")
+    peaks = np.zeros_like(st.peaks)
+    for i in range(st.n_samples):
+        dev = np.zeros((len(names), 2, 6))
+        for t, v in zip(LOOM_TOLS, st.draws[i], strict=True):
+            dev[names.index(t.joint), slot[t.side], comps.index(t.component)] += v
+        r = rd.solve_reactions(model, geom, w, dev, method="displacement")
+        c = r.components()
+        peaks[i, :, :6] = np.max(np.abs(c), axis=-1)
+        peaks[i, :, 6] = np.max(np.hypot(c[:, 3], c[:, 4]), axis=-1)
+    assert np.max(np.abs(peaks - st.peaks)) <= 1e-9 * np.max(np.abs(peaks))
+    pct = st.percentiles((50, 95))
+    for j, name in enumerate(st.joints):
+        for k, q in enumerate(st.quantities):
+            assert pct[name][q]["p95"] == pytest.approx(np.percentile(peaks[:, j, k], 95),
+                                                        rel=1e-9, abs=1e-12)
+    nom = rd.solve_reactions(model, geom, w).components()
+    assert np.allclose(st.nominal[:, :6], np.max(np.abs(nom), axis=-1), rtol=1e-9, atol=1e-12)
+
+
+def test_tolerance_study_on_dask_equals_in_process():
+    distributed = pytest.importorskip("distributed")
+    model, geom, w = _problem(24)
+    local = rd.tolerance_study(model, geom, w, LOOM_TOLS, 60, seed=5, chunk_size=25)
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=":0") as cluster, \
+            distributed.Client(cluster) as client:
+        remote = rd.tolerance_study(model, geom, w, LOOM_TOLS, 60, seed=5, chunk_size=25,
+                                    client=client)
+    assert np.array_equal(local.peaks, remote.peaks)
+    assert np.array_equal(local.draws, remote.draws)

@@ -3,6 +3,7 @@
 from pathlib import Path
 
 import pytest
+from _cli_files import edit_example_and_run
 
 from linkwork.cli import main
 
@@ -158,3 +159,53 @@ def test_unusable_out_folder_is_named_before_the_work(command, tmp_path, capsys,
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "--out" in err[0] and "a file of that name exists" in err[0]
     assert blocker.read_text() == "not a folder"
+
+
+def _help_texts() -> list[tuple[list[str], str]]:
+    """(command path, help text as it should read) of every option and argument."""
+    import typer.main
+
+    from linkwork.cli import app
+
+    out: list[tuple[list[str], str]] = []
+
+    def walk(cmd: typer.main.TyperCommand | typer.main.TyperGroup, path: list[str]) -> None:
+        if isinstance(cmd, typer.main.TyperGroup):
+            for name, sub in cmd.commands.items():
+                walk(sub, [*path, name])
+            return
+        for p in cmd.params:
+            text = getattr(p, "help", None)
+            if text:
+                out.append((path, text.replace("\\[", "[")))
+
+    walk(typer.main.get_command(app), [])
+    return out
+
+
+def test_every_option_help_prints_as_written(capsys, monkeypatch):
+    """'linkwork balance --help' printed '(overrides .angles)': the '[balance]' of the help
+    text was taken for Rich markup and dropped. Every option's help must print whole."""
+    monkeypatch.setenv("COLUMNS", "200")
+    helps = _help_texts()
+    assert len(helps) > 30
+    for path, text in helps:
+        assert main([*path, "--help"]) == 0
+        shown = " ".join(capsys.readouterr().out.replace("│", " ").split())
+        assert " ".join(text.split()) in shown, (path, text)
+
+
+@pytest.mark.parametrize("example,old,new,words,cmd", [
+    # pint reads the radian as dimensionless: "2 Hz" passed as 2 rad/s (an engineer means
+    # 2 rev/s = 12.57 rad/s), "600 rpm" as a productivity of 62.8 /s (meant: 10 /s)
+    ("sine_press.toml", 'speed = "120 rpm"', 'speed = "2 Hz"', ["crank.speed", "2 Hz", "rpm"],
+     ("analyze",)),
+    ("swashplate_1.toml", 'speed = "50 rpm"', 'speed = "0.8 Hz"', ["operation.speed", "Hz"],
+     ("swashplate", "analyze")),
+    ("swashplate_4a.toml", 'productivity = "600 1/min"', 'productivity = "600 rpm"',
+     ["operation.productivity", "angle unit", "1/min"], ("swashplate", "analyze")),
+])
+def test_cli_angle_unit_traps_are_refused(example, old, new, words, cmd, tmp_path, capsys):
+    err = edit_example_and_run(tmp_path, capsys, example, old, new, cmd=cmd)
+    for w in words:
+        assert w in err, (w, err)

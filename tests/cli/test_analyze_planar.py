@@ -1,9 +1,6 @@
-"""Review of issue 3's examples through ``linkwork analyze``: the paper-001 four-bar, the six-bar
-press drive and the sine press of paper 000 built in the engine.
-
-Expected values come from constructions written here with plain numpy (positions from the
-geometry, torque from the power balance ``Q omega1 = dT/dt - P_loads``), never from linkwork.
-"""
+"""``linkwork analyze`` on planar-engine files: the cycle extremes, dead centres, mean torque and
+power, the JSON's sign statements and the table titles, against hand computations (power
+balance, written-out positions) and the library's own results."""
 
 from __future__ import annotations
 
@@ -12,10 +9,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _planar_references import _crank_rod_slider_energy, _fourbar_paper001_torque, _fourbar_torque
 
 from linkwork.cli import main
 
-EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 
 def _analyze(example: str, out: Path, capsys: pytest.CaptureFixture[str], *extra: str
@@ -42,46 +40,6 @@ def _sine_press_by_hand(phi: np.ndarray) -> dict[str, np.ndarray]:
     slot = np.abs(F + m_ram * g - m_ram * a) / np.sin(al)
     x32 = L1 * np.sin(phi) / np.sin(al)                        # pin to S along the slot
     return {"Q": Q, "slot": slot, "guide_couple": np.abs(x32) * slot}
-
-
-def _fourbar_torque(phi: np.ndarray, inertia: tuple[float, float, float], gy: float = 0.0,
-                    fy_B: float = 0.0, mz_rocker: float = 0.0) -> np.ndarray:
-    """Paper 001's four-bar (O at 0, C at 0.3 m on +x; 0.1/0.3/0.2 m; 1/3/2 kg at the
-    midpoints; 10 rad/s; B on the left of A -> C) with gravity ``gy`` along y, a force ``fy_B``
-    at B and a torque ``mz_rocker`` on the rocker: Q omega1 = dT/dt - P_loads, with T and the
-    loads' power from finite differences of the positions written out here."""
-    a, b, c, d, w = 0.1, 0.3, 0.2, 0.3, 10.0
-    m = np.array([1.0, 3.0, 2.0])
-
-    def coords(p: np.ndarray) -> np.ndarray:
-        A = np.stack([a * np.cos(p), a * np.sin(p)])
-        C = np.array([[d], [0.0]])
-        AC = C - A
-        L = np.hypot(*AC)
-        x = (b * b - c * c + L * L) / (2 * L)
-        u = AC / L
-        B = A + x * u + np.sqrt(b * b - x * x) * np.stack([-u[1], u[0]])  # left of A -> C
-        th2 = np.unwrap(np.arctan2(B[1] - A[1], B[0] - A[0]))
-        th3 = np.unwrap(np.arctan2(B[1] - C[1], B[0] - C[0]))
-        return np.stack([*(A / 2), p, *((A + B) / 2), th2, *((B + C) / 2), th3, B[1]])
-
-    def rates(p: np.ndarray, h: float = 1e-6) -> np.ndarray:
-        return (coords(p + h) - coords(p - h)) / (2 * h) * w
-
-    def energy(p: np.ndarray) -> np.ndarray:
-        qd = rates(p)
-        return sum(0.5 * (m[k] * (qd[3 * k] ** 2 + qd[3 * k + 1] ** 2)
-                          + inertia[k] * qd[3 * k + 2] ** 2) for k in range(3))
-
-    h = 1e-4
-    qd = rates(phi)
-    power = gy * sum(m[k] * qd[3 * k + 1] for k in range(3)) + fy_B * qd[9] + mz_rocker * qd[8]
-    return (energy(phi + h) - energy(phi - h)) / (2 * h) - power / w
-
-
-def _fourbar_paper001_torque(phi: np.ndarray) -> np.ndarray:
-    """examples/fourbar_paper001.toml: the inertias of its file, no gravity, no loads."""
-    return _fourbar_torque(phi, (0.000833, 0.0225, 0.00567))
 
 
 def test_analyze_reports_cycle_extremes_of_torque_and_reactions(tmp_path, capsys):
@@ -122,15 +80,7 @@ def test_fourbar_paper001_torque_extremes_against_the_power_balance(tmp_path, ca
     assert np.degrees(peaks["Q min"]["phi1"]) == pytest.approx(356.0)
 
 
-LINEAR = Path(__file__).parent / "data" / "slider_driven_crank.toml"
-
-
-def _crank_rod_slider_energy(qd: np.ndarray, r: float, l: float) -> np.ndarray:
-    """Kinetic energy [J] of a crank r and rod l (thin rods of 1 and 2 kg) and a 3 kg slider
-    from the rates of (crank centre x, y, angle, rod centre x, y, angle, slider x)."""
-    return (0.5 * (1.0 * (qd[0] ** 2 + qd[1] ** 2) + 1.0 * r * r / 12 * qd[2] ** 2)
-            + 0.5 * (2.0 * (qd[3] ** 2 + qd[4] ** 2) + 2.0 * l * l / 12 * qd[5] ** 2)
-            + 0.5 * 3.0 * qd[6] ** 2)
+LINEAR = Path(__file__).parents[1] / "data" / "slider_driven_crank.toml"
 
 
 def _slider_driven_crank_force(s: np.ndarray) -> np.ndarray:
@@ -241,92 +191,6 @@ def test_mean_driving_torque_and_power_are_work_per_cycle(tmp_path, capsys):
     assert data["means"]["Q_mean"] == pytest.approx(work / (2 * np.pi), rel=0.03)  # step load
 
 
-def _help_texts() -> list[tuple[list[str], str]]:
-    """(command path, help text as it should read) of every option and argument."""
-    import typer.main
-
-    from linkwork.cli import app
-
-    out: list[tuple[list[str], str]] = []
-
-    def walk(cmd: typer.main.TyperCommand | typer.main.TyperGroup, path: list[str]) -> None:
-        if isinstance(cmd, typer.main.TyperGroup):
-            for name, sub in cmd.commands.items():
-                walk(sub, [*path, name])
-            return
-        for p in cmd.params:
-            text = getattr(p, "help", None)
-            if text:
-                out.append((path, text.replace("\\[", "[")))
-
-    walk(typer.main.get_command(app), [])
-    return out
-
-
-def test_every_option_help_prints_as_written(capsys, monkeypatch):
-    """'linkwork balance --help' printed '(overrides .angles)': the '[balance]' of the help
-    text was taken for Rich markup and dropped. Every option's help must print whole."""
-    monkeypatch.setenv("COLUMNS", "200")
-    helps = _help_texts()
-    assert len(helps) > 30
-    for path, text in helps:
-        assert main([*path, "--help"]) == 0
-        shown = " ".join(capsys.readouterr().out.replace("│", " ").split())
-        assert " ".join(text.split()) in shown, (path, text)
-
-
-def _crank_slider_torque(phi: np.ndarray) -> np.ndarray:
-    """crank_slider(0.05, 0.2, 0.025, masses=(1, 2, 3), omega1=12.566) written out: guide along
-    +x through (0, 25 mm), B = (r cos + sqrt(l^2 - (e - r sin)^2), e); thin rods; no loads.
-    Q = dT/d phi1 at constant omega1."""
-    r, l, e, w = 0.05, 0.2, 0.025, 12.566
-
-    def energy(p: np.ndarray) -> np.ndarray:
-        def coords(p: np.ndarray) -> np.ndarray:
-            A = np.stack([r * np.cos(p), r * np.sin(p)])
-            B = np.stack([A[0] + np.sqrt(l * l - (e - A[1]) ** 2), np.full_like(p, e)])
-            th = np.arctan2(B[1] - A[1], B[0] - A[0])
-            return np.stack([*(A / 2), p, *((A + B) / 2), th, B[0]])
-
-        h = 1e-6
-        return _crank_rod_slider_energy((coords(p + h) - coords(p - h)) / (2 * h) * w, r, l)
-
-    h = 1e-4
-    return (energy(phi + h) - energy(phi - h)) / (2 * h)
-
-
-def test_docs_planar_examples_run_and_match_hand_computations(monkeypatch):
-    """docs/planar.md showed how to build the four-bar in Python but not how the same
-    mechanism loads from its TOML file in Python, nor the crank-slider shortcut in use. Its
-    Python blocks must run as printed, and their torques match the power balance written out
-    here: the engine-built four-bar with gravity and loads, the fourbar() and crank_slider()
-    shortcuts, and paper 001's four-bar loaded from examples/fourbar_paper001.toml."""
-    import re
-
-    from linkwork.planar import inverse_dynamics, kinematics
-
-    root = EXAMPLES.parent
-    blocks = re.findall(r"```python\n(.*?)```", (root / "docs" / "planar.md").read_text(),
-                        flags=re.S)
-    assert len(blocks) >= 2
-    monkeypatch.chdir(root)
-    ns: dict = {}
-    for block in blocks:
-        exec(compile(block, "docs/planar.md", "exec"), ns)
-    deg = np.radians(np.arange(0, 360))
-    thin = (1.0 * 0.1**2 / 12, 3.0 * 0.3**2 / 12, 2.0 * 0.2**2 / 12)
-    Q = _fourbar_torque(deg, thin, gy=-9.81, fy_B=-20.0, mz_rocker=1.5)
-    np.testing.assert_allclose(ns["dyn"].Q, Q, atol=1e-5 * np.abs(Q).max())
-    Q = _fourbar_torque(deg, thin)
-    got = inverse_dynamics(kinematics(ns["fb"], deg)).Q
-    np.testing.assert_allclose(got, Q, atol=1e-5 * np.abs(Q).max())
-    Q = _crank_slider_torque(deg)
-    np.testing.assert_allclose(ns["dyn_cs"].Q, Q, atol=1e-5 * np.abs(Q).max())
-    np.testing.assert_allclose(ns["phi1"], np.radians(np.linspace(0.0, 360.0, 361)))
-    Q = _fourbar_paper001_torque(ns["phi1"])
-    np.testing.assert_allclose(ns["dyn_f"].Q, Q, atol=1e-5)
-
-
 def test_one_planar_file_serves_analyze_balance_and_reactions(tmp_path, capsys):
     """'linkwork analyze examples/loom_fourbar_spatial.toml' failed with 'spatial: unknown key'
     (and a file with a [balance] table likewise; 'balance' refused [spatial], 'reactions'
@@ -380,23 +244,6 @@ def test_extremes_include_the_worst_transmission_angle(tmp_path, capsys):
     _, data = _analyze("sine_press_planar.toml", tmp_path, capsys)
     pk = next(p for p in data["peaks"] if p["name"] == "μ slot min")
     assert pk["value"] == pytest.approx(np.radians(60.0), abs=1e-12)
-
-
-def test_skeleton_draws_each_point_path_once():
-    """The skeleton plot of paper 001's four-bar listed 'path coupler.B' and 'path rocker.B',
-    one curve drawn twice (B is the joint of both); the knuckle press drew K twice."""
-    from linkwork import files
-    from linkwork.cli._planar import _distinct_paths
-    from linkwork.planar import kinematics
-
-    for example, expected in (("fourbar_paper001.toml", [("crank", "A"), ("coupler", "B")]),
-                              ("loom_sixbar.toml", [("crank", "A"), ("rod", "K"),
-                                                    ("lower", "R")])):
-        doc = files.load(EXAMPLES / example)
-        mech = doc.mechanism()
-        cands = [(b.name, pt) for b in mech.bodies for pt in list(b.points)[1:2]]
-        assert len(cands) > len(expected)
-        assert _distinct_paths(kinematics(mech, doc.positions()), cands) == expected
 
 
 def test_table_title_names_driving_force_and_the_moment_reference(tmp_path, capsys,
