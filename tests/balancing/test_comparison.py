@@ -213,6 +213,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_compare_balancing_on_the_paper_fourbar_is_consistent():
+    """Reference: paper 001's data and hand-written normal equations
+    (tests/_balancing_cases.py). Tolerance: atol=1e-9, atol=1e-9 * np.max(np.abs(ref)),
+    rtol=1e-9, rel=1e-12."""
     comp = bal.compare_balancing(paper001_fourbar(), radii={"crank": 0.05, "rocker": 0.1})
     phi = np.radians(np.arange(0, 360, 30.0))
     assert np.allclose(comp.phi1, phi)

@@ -92,6 +92,7 @@ def test_shaking_moment_about_any_point_consistent():
 
 @pytest.mark.parametrize("branch", [1, -1])
 def test_paper001_static_balance_zero_shaking_force(branch):
+    """Reference: paper 001. Tolerance: < 1e-9 * before.force_peak(), rel=1e-10, abs=1e-12."""
     mech = paper_fourbar(branch)
     fb = force_balance(mech, radii={"crank": 0.05, "rocker": 0.1})
     assert fb.full

@@ -88,6 +88,7 @@ def test_weight_grid_and_errors(mech):
 
 @pytest.mark.parametrize("gravity", [None, (0.3, -9.81)])
 def test_analytic_gradient_matches_finite_differences(mech, gravity):
+    """Reference: central finite differences. Tolerance: rtol=1e-12, rtol=1e-5, atol=1e-7."""
     prob = BalancingProblem(mech, n=48, gravity=gravity)
     x = np.array([2.0, 0.06, 2.9, 3.0, 0.09, -2.5])
     vals, grad = prob.evaluate_with_gradient(x)

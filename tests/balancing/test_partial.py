@@ -47,6 +47,7 @@ def _cw_moment_by_finite_differences(phi0, x, y, m, r, omega, eps, h=1e-4):
 
 @pytest.mark.parametrize("eps", [0.0, 7.0, -25.0])
 def test_paper001_myp_derivation_matches_finite_differences(eps):
+    """Reference: paper 001. Tolerance: atol=1e-5 * np.abs(ref).max()."""
     phi = np.linspace(0, 2 * np.pi, 13)
     m, r, omega, x, y = 4.0, 0.05, 10.0, -0.07, 0.19
     ref = _cw_moment_by_finite_differences(phi, x, y, m, r, omega, eps)
@@ -80,6 +81,7 @@ def test_lsq_offset_is_the_minimum_of_I(seed, accelerating):
 @pytest.mark.parametrize("n", [3, 7, 12, 36])
 @pytest.mark.parametrize("phase", [0.0, 0.3])
 def test_paper001_eq1_exact_for_uniform_full_cycle(n, phase):
+    """Reference: paper 001, Eq. (1). Tolerance: < 1e-12, rtol=1e-12, atol=1e-15."""
     rng = np.random.default_rng(n)
     phi = phase + 2 * np.pi * np.arange(n) / n
     M = rng.normal(0, 3, n)
@@ -90,6 +92,7 @@ def test_paper001_eq1_exact_for_uniform_full_cycle(n, phase):
 
 
 def test_paper001_eq1_exact_for_symmetric_non_uniform_set():
+    """Reference: paper 001, Eq. (1). Tolerance: < 1e-12, rtol=1e-12."""
     # sum sin*cos = 0 without even spacing: {10, 80, 100, 170} deg (sin 2phi cancels in pairs)
     phi = np.radians([10.0, 80.0, 190.0, 200.0])
     assert abs(np.sum(np.sin(2 * phi))) > 0.1  # this one does not cancel ...
@@ -103,6 +106,7 @@ def test_paper001_eq1_exact_for_symmetric_non_uniform_set():
 
 def test_paper001_eq1_not_optimal_on_half_cycle():
     # 0..120 deg (a working stroke): sum sin cos != 0.  (0..150 deg in 30 deg steps would
+    """Reference: paper 001, Eq. (1). Tolerance: < I_paper * (1 - 1e-3)."""
     # still satisfy (1): sin 2phi then runs over a full cycle.)
     phi = np.radians(np.arange(0.0, 150.0, 30.0))
     assert abs(np.sum(np.sin(phi) * np.cos(phi))) > 0.1
@@ -300,6 +304,8 @@ def test_axis_offset_exact_least_squares_for_any_positions():
 
 
 def test_paper_formula_1_holds_only_when_sum_sin_cos_vanishes():
+    """Reference: paper 001's data and hand-written normal equations
+    (tests/_balancing_cases.py). Tolerance: rtol=1e-12, atol=1e-15, rtol=1e-9."""
     rng = np.random.default_rng(2)
     M12 = rng.normal(0, 3, 12)
     even = np.radians(np.arange(0, 360, 30.0))

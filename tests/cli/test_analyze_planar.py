@@ -69,6 +69,8 @@ def test_analyze_reports_cycle_extremes_of_torque_and_reactions(tmp_path, capsys
 
 
 def test_fourbar_paper001_torque_extremes_against_the_power_balance(tmp_path, capsys):
+    """Reference: hand computations of tests/_planar_references.py (power balance). Tolerance:
+    atol=1e-5, abs=1e-5, abs=1e-12."""
     _text, data = _analyze("fourbar_paper001.toml", tmp_path, capsys)
     phi = np.radians(np.linspace(0.0, 360.0, 361))
     Q = _fourbar_paper001_torque(phi)

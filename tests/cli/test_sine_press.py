@@ -75,6 +75,8 @@ def test_example_runs_and_writes_everything(tmp_path, capsys):
 
 
 def test_example_cycle_csv_matches_independent_construction(tmp_path, capsys):
+    """Reference: the geometric construction of tests/_paper000_geometry.py. Tolerance:
+    rel=1e-12, abs=1e-14."""
     out = tmp_path / "out"
     assert main(["analyze", str(EXAMPLE), "--out", str(out)]) == 0
     capsys.readouterr()

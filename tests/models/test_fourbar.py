@@ -109,6 +109,7 @@ def B_by_fsolve(t2, a, b, c, d, guess):
 
 def test_norton_example_4_1_open():
     # Norton, Design of Machinery, Example 4-1: a=40, b=120, c=80, d=100, theta2=40 deg:
+    """Reference: Norton's example (module docstring). Tolerance: abs=5e-4."""
     # open circuit theta3 = 20.298 deg, theta4 = 57.325 deg.
     r = fourbar(np.radians(40.0), 40.0, 120.0, 80.0, 100.0, branch=+1)
     assert np.degrees(r.theta3) == pytest.approx(20.298, abs=5e-4)
@@ -810,6 +811,9 @@ def test_non_finite_crank_angle_is_named_without_warnings(bad):
 @pytest.mark.parametrize("branch", [+1, -1])
 @pytest.mark.parametrize("name", list(DESIGNS))
 def test_fourbar_kinematics_against_root_finding_and_differentiated_loop(name, branch):
+    """Reference: the from-scratch four-bar of tests/_fourbar_newton_euler.py (root finding,
+    differentiated loop, Newton-Euler). Tolerance: close (RTOL = 1e-9 relative to the largest
+    value)."""
     design = DESIGNS[name]
     a, b, c, d = design
     t2, th3, th4 = _assembled(design, branch)
@@ -914,6 +918,9 @@ def test_limit_positions_and_transmission_angle_against_the_reference(name, bran
 @pytest.mark.parametrize("branch", [+1, -1])
 @pytest.mark.parametrize("name", list(DESIGNS))
 def test_fourbar_kinetostatics_against_newton_euler(name, branch):
+    """Reference: the from-scratch four-bar of tests/_fourbar_newton_euler.py (root finding,
+    differentiated loop, Newton-Euler). Tolerance: check_reactions (RTOL = 1e-9 relative to
+    the largest value), close (RTOL = 1e-9 relative to the largest value)."""
     design = DESIGNS[name]
     ref = fourbar_reference(design, branch)
     f = _fourbar_closed(design, branch, ref)
@@ -1064,6 +1071,9 @@ def _angles_for(a, b, c, d, kind):
 @pytest.mark.parametrize("branch", [1, -1])
 @pytest.mark.parametrize("a,b,c,d,w2,e2,kind", FOURBARS)
 def test_fourbar_against_loop_equation(a, b, c, d, w2, e2, kind, branch):
+    """Reference: the loop equations solved in this module (_fourbar_reference, Newton + time
+    differences). Tolerance: _angle_close (1e-9 rad), _close (RTOL = 1e-6 relative, floor 1e-9
+    of the scale)."""
     angles = _angles_for(a, b, c, d, kind)
     pq = (0.12, -0.05)
     res = fb.fourbar(angles, a, b, c, d, w2, e2, branch, coupler_point=pq)
@@ -1129,6 +1139,9 @@ def test_grashof_type_against_brute_force(abcd, motion):
 @pytest.mark.parametrize("branch", [1, -1])
 @pytest.mark.parametrize("abcd", [(0.1, 0.3, 0.2, 0.3), (0.05, 0.2, 0.12, 0.18)])
 def test_fourbar_limit_positions_by_search(abcd, branch):
+    """Reference: tests/_planar_newton_euler.py (Newton on the loop equations, complex-step
+    rates, free-body equations); scipy minimize_scalar. Tolerance: _angle_close (1e-9 rad),
+    tol=1e-5, tol=1e-9, _close (RTOL = 1e-6 relative, floor 1e-9 of the scale), < 1e-6."""
     a, b, c, d = abcd
     lim = fb.limit_positions(a, b, c, d, branch)
 
@@ -1163,6 +1176,9 @@ def test_fourbar_limit_positions_by_search(abcd, branch):
 
 
 def test_fourbar_input_toggles_by_root_finding():
+    """Reference: tests/_planar_newton_euler.py (Newton on the loop equations, complex-step
+    rates, free-body equations); scipy brentq. Tolerance: _close (RTOL = 1e-6 relative, floor
+    1e-9 of the scale)."""
     a, b, c, d = 0.2, 0.2, 0.2, 0.45
     lim = fb.limit_positions(a, b, c, d)
 
@@ -1180,6 +1196,9 @@ def test_fourbar_input_toggles_by_root_finding():
 
 @pytest.mark.parametrize("branch", [1, -1])
 def test_fourbar_kinetostatics_against_free_body_equations(branch):
+    """Reference: the loop equations solved in this module (_fourbar_reference, Newton + time
+    differences). Tolerance: < 1e-9 * np.max(np.abs(rhs)), _close (RTOL = 1e-6 relative, floor
+    1e-9 of the scale)."""
     a, b, c, d = 0.1, 0.3, 0.2, 0.3
     w2, e2 = -9.0, 35.0
     masses = (1.0, 3.0, 2.0)

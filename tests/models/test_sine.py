@@ -43,6 +43,8 @@ def _X3_construction(phi, L1, alpha):
 
 @pytest.mark.parametrize("L1,alpha,w1,e1", CASES)
 def test_positions_match_independent_construction(L1, alpha, w1, e1):
+    """Reference: the geometric construction of tests/_paper000_geometry.py. Tolerance:
+    abs=1e-13 * L1 / 0.05."""
     r = inclined_slot(PHI, L1, alpha, w1, e1)
     for i, p in enumerate(PHI):
         assert r.X3[i] == pytest.approx(_X3_construction(p, L1, alpha), abs=1e-13 * L1 / 0.05)
@@ -52,6 +54,8 @@ def test_positions_match_independent_construction(L1, alpha, w1, e1):
 
 @pytest.mark.parametrize("L1,alpha,w1,e1", CASES)
 def test_velocities_accelerations_match_time_differences_of_construction(L1, alpha, w1, e1):
+    """Reference: the geometric construction of tests/_paper000_geometry.py. Tolerance: < 1e-8,
+    < 1e-7."""
     phis = PHI[:-1:3]
     r = inclined_slot(phis, L1, alpha, w1, e1)
     vscale = (abs(w1) + 1e-3 * abs(e1)) * L1 / math.sin(alpha)
@@ -270,6 +274,9 @@ SINE_DESIGNS = [  # L1, alpha, omega1, eps1
 
 @pytest.mark.parametrize("L1,alpha,w1,e1", SINE_DESIGNS)
 def test_inclined_slot_against_loop_equations(L1, alpha, w1, e1):
+    """Reference: the loop equations solved by Newton with complex-step rates
+    (tests/_paper000_loop_equations.py). Tolerance: rtol=1e-12, atol=1e-15, _close (RTOL =
+    1e-6 relative, floor 1e-9 of the scale)."""
     ext = [alpha - np.pi / 2 + 1e-4, alpha + np.pi / 2 - 1e-4]
     angles = np.array([*ext, 0.0, 0.9, 2.2, 3.6, 5.1])
     res = sine.inclined_slot(angles, L1, alpha, w1, e1)
@@ -294,6 +301,9 @@ def test_inclined_slot_against_loop_equations(L1, alpha, w1, e1):
 
 @pytest.mark.parametrize("L1,alpha,w1,e1", SINE_DESIGNS)
 def test_sine_stroke_and_extremes_by_search(L1, alpha, w1, e1):
+    """Reference: the loop equations solved by Newton with complex-step rates
+    (tests/_paper000_loop_equations.py); scipy minimize_scalar. Tolerance: < 1e-5, < 1e-9,
+    rel=1e-9, rel=1e-12."""
     def x3(p):
         return _sine_reference(L1, alpha, 1.0, 0.0, p)["X3"]
     grid = np.linspace(0, 2 * np.pi, 361)
@@ -371,6 +381,8 @@ SINE_REVIEW = [  # L1, alpha, omega1, eps1, phi0
 
 @pytest.mark.parametrize("L1,alpha,w1,e1,phi0", SINE_REVIEW)
 def test_inclined_slot_against_construction_and_time_differences(L1, alpha, w1, e1, phi0):
+    """Reference: the geometric construction of tests/_paper000_geometry.py; central finite
+    differences. Tolerance: rel=1e-12, abs=1e-15, rel=1e-7, rel=1e-5, abs=1e-3."""
     res = sine.inclined_slot(phi0, L1, alpha, w1, e1)
     x0 = _ram_x(0.0, L1, alpha)  # ram position at phi1 = 0 (X3 = 0 there)
     ram = lambda t: x0 - _ram_x(_crank_phi(t, phi0, w1, e1), L1, alpha)  # noqa: E731

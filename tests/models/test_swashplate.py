@@ -35,6 +35,8 @@ PHI = np.radians([0.0, 17.0, 45.0, 90.0, 133.0, 180.0, 222.0, 270.0, 301.0, 359.
 
 @pytest.mark.parametrize("name", sorted(DESIGNS))
 def test_position_and_pressure_angle_match_3d_construction(name):
+    """Reference: the 3-D construction of tests/_swashplate_reference.py (rotation matrices +
+    brentq). Tolerance: atol=1e-12, atol=1e-7."""
     p = DESIGNS[name]
     s = sw.position(PHI, *p)
     d = sw.pressure_angle(PHI, *p)
@@ -47,6 +49,8 @@ def test_position_and_pressure_angle_match_3d_construction(name):
 
 @pytest.mark.parametrize("name", sorted(DESIGNS))
 def test_transfer_functions_match_finite_differences_of_3d_construction(name):
+    """Reference: the 3-D construction of tests/_swashplate_reference.py (rotation matrices +
+    brentq); central finite differences. Tolerance: atol=1e-9, atol=2e-6."""
     p = DESIGNS[name]
     h = 1e-4
     fd1 = np.array([(ref_s(x + h, *p) - ref_s(x - h, *p)) / (2 * h) for x in PHI])
@@ -57,6 +61,8 @@ def test_transfer_functions_match_finite_differences_of_3d_construction(name):
 
 
 def test_points_satisfy_rod_length_and_match_reference():
+    """Reference: the 3-D construction of tests/_swashplate_reference.py (rotation matrices +
+    brentq). Tolerance: rtol=1e-13, atol=1e-12."""
     p = DESIGNS["1"]
     A, B = sw.points(PHI, *p)
     np.testing.assert_allclose(np.linalg.norm(A - B, axis=-1), p[2], rtol=1e-13)
@@ -158,6 +164,8 @@ def test_stroke_vectorised_matches_scalar():
 
 
 def test_characteristics_against_reference_scan():
+    """Reference: the 3-D construction of tests/_swashplate_reference.py (rotation matrices +
+    brentq). Tolerance: < 1e-12, < 1e-5, < 1e-15, < 1e-7, < 2e-3, < 1e-6."""
     p = DESIGNS["1b"]
     c = sw.characteristics(*p)
     ph = np.linspace(0, 2 * math.pi, 3601)
@@ -277,6 +285,8 @@ def test_drive_forces_power_balance_without_friction():
 
 def test_drive_forces_torque_by_virtual_work_on_3d_reference():
     # independent: the torque on the disk alone = - dW/dphi of the rod force moving B, and
+    """Reference: the 3-D construction of tests/_swashplate_reference.py (rotation matrices +
+    brentq); central finite differences. Tolerance: < 1e-8."""
     # the rotor torque likewise, from the 3-D reference points by finite differences
     p = DESIGNS["1"]
     d = sw.Design(*p)
@@ -377,6 +387,8 @@ def test_drive_forces_two_point_guide_by_slide_equilibrium():
 
 
 def test_reference_rod_length_and_datum():
+    """Reference: the 3-D construction of tests/_swashplate_reference.py (rotation matrices +
+    brentq). Tolerance: < 1e-12."""
     p = (0.1, 0.09, 0.2, math.radians(20), 0.02, -0.01)
     for phi in (0.3, 2.0, 4.0):
         B = disk_point(phi, *p)
@@ -406,6 +418,8 @@ SW_REVIEW = [  # R, r, l, alpha, a, b (scheme 1 with both offsets, 4b, 2)
 
 @pytest.mark.parametrize("p", SW_REVIEW)
 def test_swashplate_against_own_construction(p):
+    """Reference: central finite differences. Tolerance: rtol=1e-10, atol=1e-13, rtol=1e-7,
+    atol=1e-11, rtol=1e-5, atol=1e-9, rel=1e-6."""
     phis = np.array([0.4, 1.9, 2.8, 4.1, 5.95])
     z0 = _sw_z(0.0, *p)
     s_ref = np.array([_sw_z(x, *p) - z0 for x in phis])

@@ -109,6 +109,7 @@ def _paper_comparison(rocker_inertia=0.00567):
 
 
 def test_paper001_example_static_moment_and_counterweights():
+    """Reference: paper 001. Tolerance: rel=1e-12."""
     c = _paper_comparison()
     assert c.static_moment == pytest.approx(crank_static_moment_by_hand(), rel=1e-12)
     masses = {cw.link: cw.mass() for cw in c.counterweights}

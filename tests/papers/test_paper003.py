@@ -36,6 +36,8 @@ def fd(f, x, h=1e-5):
 
 @pytest.mark.parametrize("p", [P1, P4A, P4B])
 def test_paper003_eq5_pressure_angle_as_printed(p):
+    """Reference: paper 003, Eq. (5); the 3-D construction of tests/_swashplate_reference.py
+    (rotation matrices + brentq). Tolerance: atol=1e-12."""
     ref = np.array([math.sin(ref_delta(x, *p)) ** 2 for x in PHI])
     np.testing.assert_allclose(printed_sin2_delta(PHI, *p), ref, atol=1e-12)
     np.testing.assert_allclose(np.sin(sw.pressure_angle(PHI, *p)) ** 2, ref, atol=1e-12)
@@ -43,6 +45,8 @@ def test_paper003_eq5_pressure_angle_as_printed(p):
 
 @pytest.mark.parametrize("p", [P1, P4A, P4B])
 def test_paper003_eq4_position_as_printed(p):
+    """Reference: paper 003, Eq. (4); the 3-D construction of tests/_swashplate_reference.py
+    (rotation matrices + brentq). Tolerance: atol=1e-12."""
     ref = np.array([ref_s(x, *p) for x in PHI])
     np.testing.assert_allclose(printed_s(PHI, *p), ref, atol=1e-12)
     np.testing.assert_allclose(sw.position(PHI, *p), ref, atol=1e-12)
@@ -50,6 +54,8 @@ def test_paper003_eq4_position_as_printed(p):
 
 def test_paper003_datum_offset_c_depends_on_alpha():
     # c = z_O - z_O1 (paper: c = c(R, r, l, a, b)); from the 3-D reference: O1 is at z = 0
+    """Reference: paper 003; the 3-D construction of tests/_swashplate_reference.py (rotation
+    matrices + brentq). Tolerance: < 1e-12."""
     # there, and z_A(0) is the height of O
     for al in (10 * DEG, 30 * DEG):
         p = (0.1, 0.09, 0.2, al, 0.02, -0.01)
@@ -61,6 +67,8 @@ def test_paper003_datum_offset_c_depends_on_alpha():
 @pytest.mark.parametrize("p", [P1, P4B])
 def test_paper003_eq6_harmonic_form_is_the_small_angle_expansion(p):
     # independent: r sin(alpha)(1 - cos phi) - (q(phi) - q(0)) / (2 l), q = squared horizontal
+    """Reference: paper 003, Eq. (6); the 3-D construction of tests/_swashplate_reference.py
+    (rotation matrices + brentq). Tolerance: atol=1e-15, rtol=1e-15."""
     # rod projection from the 3-D points (cos d ~ 1 - sin^2 d / 2)
     R, r, l, al, a, b = p
 
@@ -84,6 +92,8 @@ def test_paper003_eq6_harmonic_form_is_the_small_angle_expansion(p):
 
 def test_paper003_eq6_accuracy_against_exact():
     # the expansion drops O(l sin^4 delta): its error against the exact 3-D position is small
+    """Reference: paper 003, Eq. (6); the 3-D construction of tests/_swashplate_reference.py
+    (rotation matrices + brentq). Tolerance: < 0.2 * errs[-1] + 1e-9, < 5e-5."""
     # and shrinks as l grows
     errs = []
     for l in (0.2, 0.4):
@@ -95,6 +105,9 @@ def test_paper003_eq6_accuracy_against_exact():
 
 
 def test_paper003_eq7_eq8_eq9_relative_units():
+    """Reference: paper 003, Eq. (7), (8), (9); the 3-D construction of
+    tests/_swashplate_reference.py (rotation matrices + brentq). Tolerance: atol=1e-15,
+    atol=1e-12."""
     R = P1[0]
     rel = sw.relative(R, r=P1[1], l=P1[2], a=P1[4], b=P1[5])
     prel = (1.0, float(rel["r"]), float(rel["l"]), P1[3], float(rel["a"]), float(rel["b"]))
@@ -121,6 +134,8 @@ def printed_eq10(phi, R, r, l, alpha, a, b, first_term_sin=False):
 
 @pytest.mark.parametrize("p", [P1, P4B])
 def test_paper003_eq10_first_term_should_be_sin_phi(p):
+    """Reference: paper 003, Eq. (10); the 3-D construction of tests/_swashplate_reference.py
+    (rotation matrices + brentq); central finite differences. Tolerance: atol=1e-8."""
     R = p[0]
     prel = (1.0, p[1] / R, p[2] / R, p[3], p[4] / R, p[5] / R)
     ph = PHI[1:]  # avoid phi = 0 where the printed form is 0/0 for some designs
@@ -133,6 +148,8 @@ def test_paper003_eq10_first_term_should_be_sin_phi(p):
 
 def test_paper003_eq10_zero_over_zero_where_pressure_angle_vanishes():
     # a design with the rod parallel to the axis at phi = 0 (X = Y = 0 exactly): the printed
+    """Reference: paper 003, Eq. (10); the 3-D construction of tests/_swashplate_reference.py
+    (rotation matrices + brentq); central finite differences. Tolerance: atol=1e-9."""
     # d(delta)/d(phi) is 0/0 there; the corrected form is finite and matches the reference
     r, al = 1.1, 25 * DEG
     prel = (1.0, r, 2.2, al, 0.0, r * np.cos(al) - 1.0)
@@ -146,6 +163,7 @@ def test_paper003_eq10_zero_over_zero_where_pressure_angle_vanishes():
 
 
 def test_paper003_eq11_harmonic_transfer_function_factor_one_half():
+    """Reference: paper 003, Eq. (11); central finite differences. Tolerance: atol=1e-9."""
     p = P1
     h = 1e-6
     deriv = (sw.position_harmonic(PHI + h, *p) - sw.position_harmonic(PHI - h, *p)) / (2 * h)
@@ -158,6 +176,9 @@ def test_paper003_eq11_harmonic_transfer_function_factor_one_half():
 
 
 def test_paper003_eq1_eq2_eq3_eq14_velocity_limit():
+    """Reference: paper 003, Eq. (1), (2), (3), (14); the 3-D construction of
+    tests/_swashplate_reference.py (rotation matrices + brentq). Tolerance: < 1e-4 * v_ref, <
+    1e-12, < 1e-15."""
     # Pi_T = 600 pieces/min on u = 12 positions: n = 50 rpm, omega = pi n / 30
     Pi_T, u = 600.0, 12
     n = Pi_T / u
@@ -177,6 +198,8 @@ def test_paper003_eq1_eq2_eq3_eq14_velocity_limit():
 
 
 def test_paper003_eq13_axial_size_is_an_upper_bound():
+    """Reference: paper 003, Eq. (13); the 3-D construction of tests/_swashplate_reference.py
+    (rotation matrices + brentq). Tolerance: < 1e-15."""
     for p in (P1, P4A, P4B):
         c = sw.characteristics(*p)
         ph = np.linspace(0, 2 * math.pi, 1441)
@@ -187,6 +210,8 @@ def test_paper003_eq13_axial_size_is_an_upper_bound():
 
 
 def test_paper003_symmetry_of_schemes_with_a_zero():
+    """Reference: paper 003; the 3-D construction of tests/_swashplate_reference.py (rotation
+    matrices + brentq). Tolerance: atol=1e-12, < 1e-9, < 1e-12."""
     # "for schemes 2 and 4 (a = 0) all characteristics are symmetric about phi = pi"
     for p in (P4A, P4B, (0.1, 0.03, 0.25, 90 * DEG, 0.0, 0.02)):
         s = np.array([ref_s(x, *p) for x in PHI])
@@ -197,6 +222,8 @@ def test_paper003_symmetry_of_schemes_with_a_zero():
 
 
 def test_paper003_scheme3_symmetric_after_shifting_the_origin():
+    """Reference: paper 003; the 3-D construction of tests/_swashplate_reference.py (rotation
+    matrices + brentq). Tolerance: atol=1e-12, < 1e-9."""
     R, r, l, a, b = 0.1, 0.07, 0.2, 0.03, 0.02
     p = (R, r, l, 0.0, a, b)
     centre = math.atan2(b, a) + math.pi / 2  # q = const - 2 (R - r) rho sin(phi - psi)
@@ -209,6 +236,8 @@ def test_paper003_scheme3_symmetric_after_shifting_the_origin():
 
 
 def test_paper003_scheme_4a_pressure_angle_zero_at_extremes_and_stroke():
+    """Reference: paper 003; the 3-D construction of tests/_swashplate_reference.py (rotation
+    matrices + brentq). Tolerance: < 1e-12, < 1e-7."""
     # 4a: R = r cos(alpha) puts the rod parallel to the axis at phi = 0 and pi; H = 2 r sin a
     assert ref_delta(0.0, *P4A) < 1e-7 and ref_delta(math.pi, *P4A) < 1e-7
     H = sw.stroke(*P4A)

@@ -80,6 +80,7 @@ def _scale(res):
 
 @pytest.mark.parametrize("branch", [+1, -1])
 def test_paper004_eq8_RBx_as_printed(branch):
+    """Reference: paper 004, Eq. (8). Tolerance: rtol=0, atol=1e-10 * _scale(res)."""
     res, phi, F, M, _, _ = _case(branch)
     got = paper004_eq8(phi[1], phi[2], L2, L3, F[1], F[2], M[1], M[2], printed=True)
     np.testing.assert_allclose(got, res.R_Bx, rtol=0, atol=1e-10 * _scale(res))
@@ -105,6 +106,7 @@ def test_paper004_eq9_RBy_printed_is_wrong(branch):
 
 @pytest.mark.parametrize("branch", [+1, -1])
 def test_paper004_eq9_RBy_corrected(branch):
+    """Reference: paper 004, Eq. (9). Tolerance: rtol=0, atol=1e-10 * _scale(res)."""
     res, phi, F, M, _, _ = _case(branch)
     got = paper004_eq9(phi[1], phi[2], L2, L3, F[1], F[2], M[1], M[2], printed=False)
     np.testing.assert_allclose(got, res.R_By, rtol=0, atol=1e-10 * _scale(res))
@@ -130,6 +132,7 @@ def test_paper004_eq9_each_printed_error_matters():
 
 @pytest.mark.parametrize("branch", [+1, -1])
 def test_paper004_eq10_RC(branch):
+    """Reference: paper 004, Eq. (10). Tolerance: atol=1e-10 * _scale(res)."""
     res, _, F, _, _, _ = _case(branch)
     rcx, rcy = paper004_eq10(F[2], (res.R_Bx, res.R_By))
     np.testing.assert_allclose(rcx, res.R_Cx, atol=1e-10 * _scale(res))
@@ -138,6 +141,7 @@ def test_paper004_eq10_RC(branch):
 
 @pytest.mark.parametrize("branch", [+1, -1])
 def test_paper004_eq11_RA(branch):
+    """Reference: paper 004, Eq. (11). Tolerance: atol=1e-10 * _scale(res)."""
     res, _, F, _, _, _ = _case(branch)
     rax, ray = paper004_eq11(F[1], (res.R_Bx, res.R_By))
     np.testing.assert_allclose(rax, res.R_Ax, atol=1e-10 * _scale(res))
@@ -146,6 +150,7 @@ def test_paper004_eq11_RA(branch):
 
 @pytest.mark.parametrize("branch", [+1, -1])
 def test_paper004_eq12_R0(branch):
+    """Reference: paper 004, Eq. (12). Tolerance: atol=1e-10 * _scale(res)."""
     res, _, F, _, _, _ = _case(branch)
     r0x, r0y = paper004_eq12(F[0], (res.R_Ax, res.R_Ay))
     np.testing.assert_allclose(r0x, res.R_Ox, atol=1e-10 * _scale(res))
@@ -154,6 +159,7 @@ def test_paper004_eq12_R0(branch):
 
 @pytest.mark.parametrize("branch", [+1, -1])
 def test_paper004_eq13_Q_printed_violates_power_balance(branch):
+    """Reference: paper 004, Eq. (13). Tolerance: atol=1e-10 * scale."""
     res, phi, F, M, V, om = _case(branch)
     q = paper004_eq13(phi[0], L1, (res.R_Ax, res.R_Ay), F[0], M[0], printed=True)
     scale = np.abs(res.Q * W1).max()
@@ -165,6 +171,8 @@ def test_paper004_eq13_Q_printed_violates_power_balance(branch):
 
 @pytest.mark.parametrize("branch", [+1, -1])
 def test_paper004_eq13_Q_corrected_satisfies_power_balance(branch):
+    """Reference: paper 004, Eq. (13). Tolerance: atol=1e-10 * np.abs(res.Q).max(), atol=1e-10 *
+    scale."""
     res, phi, F, M, V, om = _case(branch)
     q = paper004_eq13(phi[0], L1, (res.R_Ax, res.R_Ay), F[0], M[0], printed=False)
     scale = np.abs(res.Q * W1).max()
@@ -183,6 +191,7 @@ def test_paper004_eq13_printed_is_right_when_F1_vanishes():
 
 @pytest.mark.parametrize("branch", [+1, -1])
 def test_paper004_planar_chain_corrected_equals_derivation(branch):
+    """Reference: paper 004. Tolerance: rtol=0, atol=tol."""
     res, phi, F, M, _, _ = _case(branch)
     p = paper004_planar(*phi, L1, L2, L3, *F, *M, printed=False)
     tol = 1e-10 * _scale(res)
@@ -215,6 +224,7 @@ def _moment_rows(branch):
 
 @pytest.mark.parametrize("branch", [+1, -1])
 def test_paper004_eq5_third_row_coupler_moments_about_A(branch):
+    """Reference: paper 004, Eq. (5). Tolerance: atol=1e-10 * _scale(res)."""
     res, _, _, _, _, eq5, _ = _moment_rows(branch)
     np.testing.assert_allclose(eq5, 0, atol=1e-10 * _scale(res))
 

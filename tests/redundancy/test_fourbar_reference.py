@@ -8,6 +8,8 @@ from _fourbar_reference import L2, L3, OMEGA1, kinematics, loads, planar_reactio
 
 
 def test_reference_loop_closure():
+    """Reference: the independent four-bar of tests/_fourbar_reference.py. Tolerance:
+    atol=1e-12."""
     phi = np.linspace(0, 2 * np.pi, 37)
     k = kinematics(phi)
     assert np.allclose(np.linalg.norm(k["B"] - k["A"], axis=-1), L2, atol=1e-12)
@@ -15,6 +17,8 @@ def test_reference_loop_closure():
 
 
 def test_reference_velocities_and_accelerations_by_finite_differences():
+    """Reference: the independent four-bar of tests/_fourbar_reference.py; central finite
+    differences. Tolerance: rtol=1e-7, atol=1e-7, rtol=1e-6, atol=1e-5."""
     phi = np.linspace(0.1, 6.0, 25)
     h = 1e-5
     kp, km, k0 = kinematics(phi + h), kinematics(phi - h), kinematics(phi)
