@@ -35,6 +35,8 @@ def _fourbar_B_reference(phi, a, b, c, d, branch):
 
 @pytest.mark.parametrize("branch", [1, -1])
 def test_fourbar_positions_against_trigonometry(branch):
+    """Reference: circle-circle intersection written out here (``_fourbar_B_reference``).
+    Tolerance: 1e-14 m on B (links of 0.1-0.3 m), 1e-13 relative on the coupler length."""
     a, b, c, d = 0.1, 0.3, 0.2, 0.3
     k = kinematics(fourbar(a, b, c, d, branch=branch), PHI)
     Bx, By = _fourbar_B_reference(PHI, a, b, c, d, branch)
@@ -74,6 +76,8 @@ def test_crank_slider_velocity_acceleration_finite_differences():
 
 @pytest.mark.parametrize("branch", [1, -1])
 def test_crank_slider_positions_against_quadratic(branch):
+    """Reference: the slider's quadratic solved here in closed form. Tolerance: 1e-14 m on B
+    (crank 0.1 m, rod 0.35 m)."""
     r, l, e = 0.1, 0.35, 0.04
     k = kinematics(crank_slider(r, l, e, branch=branch), PHI)
     Ax, Ay = r * np.cos(PHI), r * np.sin(PHI)
