@@ -73,3 +73,14 @@ def time_derivatives(fun, phi0: float, omega1: float, eps1: float, dphi: float =
 def unwrap_pair(a: float, b: float) -> float:
     """b - a wrapped into (-pi, pi]."""
     return (b - a + math.pi) % (2 * math.pi) - math.pi
+
+
+def _crank_phi(t: float, phi0: float, w1: float, e1: float) -> float:
+    return phi0 + w1 * t + 0.5 * e1 * t * t
+
+
+def _time_derivs(fun, t: float, h: float = 1e-4) -> tuple[float, float]:
+    f = [fun(t + k * h) for k in (-2, -1, 0, 1, 2)]
+    v = (f[0] - 8 * f[1] + 8 * f[3] - f[4]) / (12 * h)
+    a = (-f[0] + 16 * f[1] - 30 * f[2] + 16 * f[3] - f[4]) / (12 * h * h)
+    return v, a

@@ -1,0 +1,211 @@
+"""The CLI's failure policy: one line on stderr and exit code 2, never a traceback."""
+
+from pathlib import Path
+
+import pytest
+from _cli_files import edit_example_and_run
+
+from linkwork.cli import main
+
+
+def test_missing_file_one_line_exit_2(tmp_path, capsys):
+    rc = main(["analyze", str(tmp_path / "nope.toml")])
+    err = capsys.readouterr().err
+    assert rc == 2
+    assert err.count("\n") == 1 and "file not found" in err and "Traceback" not in err
+
+
+def test_invalid_toml(tmp_path, capsys):
+    f = tmp_path / "bad.toml"
+    f.write_text("type = 'sine_press\n")
+    assert main(["analyze", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert "invalid TOML" in err and err.count("\n") == 1
+
+
+def test_unknown_type(tmp_path, capsys):
+    f = tmp_path / "x.toml"
+    f.write_text("type = 'perpetual_motion'\n")
+    assert main(["analyze", str(f)]) == 2
+    assert "unknown type 'perpetual_motion'" in capsys.readouterr().err
+
+
+def test_usage_errors(capsys):
+    assert main(["analyze"]) == 2
+    assert main(["--no-such-option"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 2
+
+
+def test_help_exits_0(capsys):
+    assert main(["--help"]) == 0
+    assert "analyze" in capsys.readouterr().out
+
+
+def _edited_example(tmp_path, name, old, new):
+    from pathlib import Path
+    text = (Path(__file__).resolve().parents[2] / "examples" / name).read_text()
+    assert old in text
+    p = tmp_path / name
+    p.write_text(text.replace(old, new, 1))
+    return p
+
+
+@pytest.mark.parametrize("new,shown", [('omega1 = "1e400 rad/s"', "'1e400 rad/s'"),
+                                       ("omega1 = nan", "nan"), ("omega1 = -inf", "-inf")])
+def test_non_finite_quantity_in_any_file_is_named_with_file_and_key(new, shown, tmp_path, capsys):
+    """The shared unit-aware field types reject inf/nan (also '1e400 rpm', which overflows in
+    the unit conversion) with file and key, before any model sees them."""
+    p = _edited_example(tmp_path, "fourbar_paper001.toml", 'omega1 = "10 rad/s"', new)
+    assert main(["analyze", str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"linkwork: error: {p}: driver.omega1: must be a finite number (got {shown})"
+
+
+def test_union_member_tags_do_not_leak_into_the_key(tmp_path, capsys):
+    """pydantic reports errors in a union member at e.g. ('load', 0, 'point', 'str'); the key
+    the user sees is the file's key, load.0.point, with the offending value."""
+    p = _edited_example(tmp_path, "loom_sixbar.toml", 'point = "R"\nfx', "point = [1, 2, 3]\nfx")
+    assert main(["analyze", str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert f"{p}: load.0.point: " in err and "(got [1, 2, 3])" in err, err
+    assert ".str" not in err and "list[" not in err, err
+
+
+def test_validator_error_is_keyed_by_its_parameter_and_short(tmp_path, capsys):
+    p = _edited_example(tmp_path, "fourbar_paper001.toml", 'mass = "3 kg"', 'mass = "-3 kg"')
+    assert main(["analyze", str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"linkwork: error: {p}: coupler.mass: -3 is invalid: must be finite and >= 0"
+
+
+@pytest.mark.parametrize("cmd", ["analyze", "balance", "reactions"])
+@pytest.mark.parametrize("name,old,new,expected", [
+    ("loom_sixbar.toml", 'body = "ram"', 'body = "frame"',
+     "load.0.body: frame is invalid: loads act on moving bodies, not on the frame"),
+    ("loom_sixbar.toml", 'point = "R"\nfx', 'point = "Z"\nfx',
+     "load.0.point: Z is invalid: no such point of body 'ram'"),
+    ("fourbar_paper001.toml", "branches = { B = 1 }", "branches = { Q = 1 }",
+     "analysis.branches: Q is invalid: no assembly group has this key; known: ['B']"),
+])
+def test_planar_file_errors_found_after_validation_carry_file_and_key(
+        cmd, name, old, new, expected, tmp_path, capsys):
+    """Loads on the frame or on a missing point and unknown branch keys used to be found when
+    the analysis ran, and the message lost the file's name."""
+    p = _edited_example(tmp_path, name, old, new)
+    assert main([cmd, str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"linkwork: error: {p}: {expected}"), err
+    assert len(err.splitlines()) == 1
+
+
+@pytest.mark.parametrize("cmd,name", [(["analyze"], "sine_press.toml"),
+                                      (["swashplate", "analyze"], "swashplate_1.toml")])
+def test_absurd_speed_stops_with_one_line_instead_of_writing_inf(cmd, name, tmp_path, capsys):
+    """speed = 1e200 rad/s overflowed (RuntimeWarnings), wrote inf into the outputs and exited
+    0; NumPy overflow inside the CLI and infinite result columns now stop with exit 2."""
+    import re
+    from pathlib import Path
+    text = (Path(__file__).resolve().parents[2] / "examples" / name).read_text()
+    p = tmp_path / name
+    p.write_text(re.sub(r"(?m)^speed = .*$", "speed = 1e200", text, count=1))
+    assert "speed = 1e200" in p.read_text()
+    assert main([*cmd, str(p), "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "too large for double precision" in err, err
+
+
+def test_result_with_infinite_column_refuses_to_be_written(tmp_path):
+    import numpy as np
+
+    from linkwork.errors import ParameterError
+    from linkwork.models.crank_slider import offset_crank_slider
+    r = offset_crank_slider(np.linspace(0, 1, 5), 0.05, 4.0, 0.3, omega1=1e200)  # a_C ~ 1e399
+    assert np.isinf(r.a_C).all() and np.isfinite(r.V_C).all()
+    with pytest.raises(ParameterError, match=r"(eps2|a_C) = inf at 5 of 5 positions .*too large"):
+        r.to_csv(tmp_path / "r.csv")
+    with pytest.raises(ParameterError, match="= inf at 5 of 5"):
+        r.to_json(tmp_path / "r.json")
+    nan = offset_crank_slider(np.linspace(0, 6, 7), 0.05, 1.1, 0.3, on_failure="nan")
+    assert np.isnan(nan.Y_C).any()
+    nan.to_csv(tmp_path / "nan.csv")  # NaN (unassembled positions) is still written
+
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+@pytest.mark.parametrize("command", [
+    ["analyze", str(EXAMPLES / "fourbar_paper001.toml")],
+    ["balance", str(EXAMPLES / "fourbar_paper001.toml"), "--pareto"],
+    ["reactions", str(EXAMPLES / "loom_fourbar_spatial.toml")],
+    ["swashplate", "analyze", str(EXAMPLES / "swashplate_1.toml")],
+    ["swashplate", "synthesize", "-H", "60 mm", "-R", "100 mm"],
+])
+def test_unusable_out_folder_is_named_before_the_work(command, tmp_path, capsys, monkeypatch):
+    """--out naming an existing file gave '[Errno 17] File exists: ...' without the option, and
+    balance/synthesize found it only after their optimisation; now one line naming --out, exit
+    2, before any computation (the solvers are made to fail loudly if they are reached)."""
+    import linkwork.balancing
+    import linkwork.synthesis.swashplate as syn
+
+    def reached(*args, **kwargs):
+        raise AssertionError("the work ran before --out was checked")
+
+    monkeypatch.setattr(linkwork.balancing, "compare_balancing", reached)
+    monkeypatch.setattr(syn, "synthesize", reached)
+    blocker = tmp_path / "results.txt"
+    blocker.write_text("not a folder")
+    assert main([*command, "--out", str(blocker)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and "--out" in err[0] and "a file of that name exists" in err[0]
+    assert blocker.read_text() == "not a folder"
+
+
+def _help_texts() -> list[tuple[list[str], str]]:
+    """(command path, help text as it should read) of every option and argument."""
+    import typer.main
+
+    from linkwork.cli import app
+
+    out: list[tuple[list[str], str]] = []
+
+    def walk(cmd: typer.main.TyperCommand | typer.main.TyperGroup, path: list[str]) -> None:
+        if isinstance(cmd, typer.main.TyperGroup):
+            for name, sub in cmd.commands.items():
+                walk(sub, [*path, name])
+            return
+        for p in cmd.params:
+            text = getattr(p, "help", None)
+            if text:
+                out.append((path, text.replace("\\[", "[")))
+
+    walk(typer.main.get_command(app), [])
+    return out
+
+
+def test_every_option_help_prints_as_written(capsys, monkeypatch):
+    """'linkwork balance --help' printed '(overrides .angles)': the '[balance]' of the help
+    text was taken for Rich markup and dropped. Every option's help must print whole."""
+    monkeypatch.setenv("COLUMNS", "200")
+    helps = _help_texts()
+    assert len(helps) > 30
+    for path, text in helps:
+        assert main([*path, "--help"]) == 0
+        shown = " ".join(capsys.readouterr().out.replace("│", " ").split())
+        assert " ".join(text.split()) in shown, (path, text)
+
+
+@pytest.mark.parametrize("example,old,new,words,cmd", [
+    # pint reads the radian as dimensionless: "2 Hz" passed as 2 rad/s (an engineer means
+    # 2 rev/s = 12.57 rad/s), "600 rpm" as a productivity of 62.8 /s (meant: 10 /s)
+    ("sine_press.toml", 'speed = "120 rpm"', 'speed = "2 Hz"', ["crank.speed", "2 Hz", "rpm"],
+     ("analyze",)),
+    ("swashplate_1.toml", 'speed = "50 rpm"', 'speed = "0.8 Hz"', ["operation.speed", "Hz"],
+     ("swashplate", "analyze")),
+    ("swashplate_4a.toml", 'productivity = "600 1/min"', 'productivity = "600 rpm"',
+     ["operation.productivity", "angle unit", "1/min"], ("swashplate", "analyze")),
+])
+def test_cli_angle_unit_traps_are_refused(example, old, new, words, cmd, tmp_path, capsys):
+    err = edit_example_and_run(tmp_path, capsys, example, old, new, cmd=cmd)
+    for w in words:
+        assert w in err, (w, err)
