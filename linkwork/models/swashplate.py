@@ -62,6 +62,7 @@ from typing import TYPE_CHECKING, Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
+from linkwork.deprecation import renamed_keywords
 from linkwork.errors import (
     AssemblyError,
     ParameterError,
@@ -114,7 +115,7 @@ TWO_PI = 2.0 * math.pi
 #: Number of grid points per revolution used to locate extremes before exact refinement.
 GRID = 720
 
-Invalid = Literal["raise", "nan"]
+OnFailure = Literal["raise", "nan"]
 
 
 # --------------------------------------------------------------------------------------------
@@ -132,12 +133,12 @@ def _params(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: Array
     return out
 
 
-def _check_reach(phi: np.ndarray, q: np.ndarray, l: np.ndarray, invalid: Invalid,
+def _check_reach(phi: np.ndarray, q: np.ndarray, l: np.ndarray, on_failure: OnFailure,
                  strict: bool) -> np.ndarray:
-    """Mask of positions where the rod cannot reach; raise unless ``invalid == 'nan'``."""
+    """Mask of positions where the rod cannot reach; raise unless ``on_failure == 'nan'``."""
     l2 = l * l
     bad = q >= l2 if strict else q > l2 * (1.0 + 1e-14)
-    if invalid == "nan" or not bad.any():
+    if on_failure == "nan" or not bad.any():
         return np.asarray(bad)
     worst = float(np.sqrt(np.max(np.where(bad, q / l2, 0.0))))
     msg = (f"rod cannot reach: |sin(delta_z)| = {worst:.6g} "
@@ -153,7 +154,7 @@ def _check_reach(phi: np.ndarray, q: np.ndarray, l: np.ndarray, invalid: Invalid
 
 
 def _kin(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
-         a: ArrayLike, b: ArrayLike, order: int, invalid: Invalid = "raise",
+         a: ArrayLike, b: ArrayLike, order: int, on_failure: OnFailure = "raise",
          check: bool = True) -> dict[str, np.ndarray]:
     """Exact position and derivatives; ``order`` = number of derivatives wanted (0, 1, 2).
 
@@ -177,8 +178,8 @@ def _kin(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayL
     Y0 = d - b_
     q0 = a_ * a_ + Y0 * Y0
     l2 = lv * lv
-    bad = _check_reach(ph, q, lv, invalid, strict=order > 0)
-    bad0 = _check_reach(np.zeros(()), q0, lv, invalid, strict=False)
+    bad = _check_reach(ph, q, lv, on_failure, strict=order > 0)
+    bad0 = _check_reach(np.zeros(()), q0, lv, on_failure, strict=False)
     h = np.sqrt(np.maximum(l2 - q, 0.0))
     h0 = np.sqrt(np.maximum(l2 - q0, 0.0))
     rs = rv * sa
@@ -198,7 +199,7 @@ def _kin(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayL
             with np.errstate(divide="ignore", invalid="ignore"):
                 h2 = (-g1 - h1 * h1) / h
             out["s2"] = rs * cp + h2
-    if invalid == "nan":
+    if on_failure == "nan":
         nan_mask = np.asarray(bad) | np.asarray(bad0)
         if nan_mask.any():
             for key in ("s", "delta", "s1", "s2"):
@@ -208,13 +209,15 @@ def _kin(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayL
 
 
 def _kp(x: ArrayLike, P: tuple[np.ndarray, ...], order: int,
-        invalid: Invalid = "nan") -> dict[str, np.ndarray]:
+        on_failure: OnFailure = "nan") -> dict[str, np.ndarray]:
     """:func:`_kin` on a tuple of already validated parameters ``(R, r, l, alpha, a, b)``."""
-    return _kin(x, P[0], P[1], P[2], P[3], P[4], P[5], order, invalid, check=False)
+    return _kin(x, P[0], P[1], P[2], P[3], P[4], P[5], order, on_failure, check=False)
 
 
+@renamed_keywords(invalid="on_failure")
 def position(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
-             a: ArrayLike = 0.0, b: ArrayLike = 0.0, *, invalid: Invalid = "raise") -> np.ndarray:
+             a: ArrayLike = 0.0, b: ArrayLike = 0.0, *,
+             on_failure: OnFailure = "raise") -> np.ndarray:
     r"""Exact slide position ``s(phi)`` [m], ``s(0) = 0``, Eq. (4) in [1]_.
 
     .. math::
@@ -244,7 +247,7 @@ def position(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: Ar
         "counter-clockwise" is seen from). ``b`` is along ``y0``: ``b > 0`` points away from
         the slide at ``phi = 0`` (towards the slide at ``phi = pi``). ``a != 0`` makes the
         axes of rotor and disk skew (scheme 1); with ``a = 0`` they intersect.
-    invalid : {"raise", "nan"}
+    on_failure : {"raise", "nan"}
         Where the rod cannot reach (``|sin delta_z| > 1``): raise :class:`AssemblyError` listing
         the rotor-angle ranges (default), or return NaN there.
 
@@ -260,12 +263,13 @@ def position(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: Ar
     AssemblyError
         The rod cannot reach at some ``phi`` (or at ``phi = 0``, the datum).
     """
-    return _kin(phi, R, r, l, alpha, a, b, 0, invalid)["s"]
+    return _kin(phi, R, r, l, alpha, a, b, 0, on_failure)["s"]
 
 
+@renamed_keywords(invalid="on_failure")
 def pressure_angle(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
                    a: ArrayLike = 0.0, b: ArrayLike = 0.0, *,
-                   invalid: Invalid = "raise") -> np.ndarray:
+                   on_failure: OnFailure = "raise") -> np.ndarray:
     r"""Pressure angle ``delta_z(phi)`` [rad], in [0, pi/2]: rod angle to the rotor axis, Eq. (5).
 
     .. math::
@@ -276,12 +280,13 @@ def pressure_angle(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alp
     Computed as ``atan2(sqrt(X**2 + Y**2), h)`` (exact near 0 and 90 deg). Parameters as in
     :func:`position`.
     """
-    return _kin(phi, R, r, l, alpha, a, b, 0, invalid)["delta"]
+    return _kin(phi, R, r, l, alpha, a, b, 0, on_failure)["delta"]
 
 
+@renamed_keywords(invalid="on_failure")
 def first_transfer(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
                    a: ArrayLike = 0.0, b: ArrayLike = 0.0, *,
-                   invalid: Invalid = "raise") -> np.ndarray:
+                   on_failure: OnFailure = "raise") -> np.ndarray:
     r"""First transfer function ``Pi_v = ds/dphi`` [m/rad], Eq. (10) in [1]_, corrected.
 
     .. math::
@@ -294,12 +299,13 @@ def first_transfer(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alp
     finite there (see ``docs/errata.md``). Slide speed: ``v = omega * Pi_v``, Eq. (1).
     Parameters as in :func:`position`; the rod must not be at 90 deg to the axis.
     """
-    return _kin(phi, R, r, l, alpha, a, b, 1, invalid)["s1"]
+    return _kin(phi, R, r, l, alpha, a, b, 1, on_failure)["s1"]
 
 
+@renamed_keywords(invalid="on_failure")
 def second_transfer(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike,
                     alpha: ArrayLike, a: ArrayLike = 0.0, b: ArrayLike = 0.0, *,
-                    invalid: Invalid = "raise") -> np.ndarray:
+                    on_failure: OnFailure = "raise") -> np.ndarray:
     r"""Second transfer function ``d2s/dphi2`` [m/rad^2] (exact; not in [1]_).
 
     .. math::
@@ -311,7 +317,7 @@ def second_transfer(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike,
     Slide acceleration at constant rotor speed: ``omega**2 * d2s/dphi2``. Parameters as in
     :func:`position`.
     """
-    return _kin(phi, R, r, l, alpha, a, b, 2, invalid)["s2"]
+    return _kin(phi, R, r, l, alpha, a, b, 2, on_failure)["s2"]
 
 
 def points(phi: ArrayLike, R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
@@ -523,8 +529,9 @@ def _design(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: Array
     return tuple(np.broadcast_arrays(*_params(R, r, l, alpha, a, b)))
 
 
+@renamed_keywords(invalid="on_failure")
 def extremes(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: ArrayLike = 0.0,
-             b: ArrayLike = 0.0, *, invalid: Invalid = "raise") -> dict[str, np.ndarray]:
+             b: ArrayLike = 0.0, *, on_failure: OnFailure = "raise") -> dict[str, np.ndarray]:
     """True extreme positions of the slide over a revolution.
 
     Returns a dict with ``phi_min``, ``s_min``, ``phi_max``, ``s_max`` (angles in [0, 2 pi),
@@ -532,33 +539,34 @@ def extremes(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: Arra
     :data:`GRID` angles and refined to machine precision by a bracketed root of ``ds/dphi``.
     """
     P = _design(R, r, l, alpha, a, b)
-    return _extremes(P, invalid)
+    return _extremes(P, on_failure)
 
 
-def _extremes(P: tuple[np.ndarray, ...], invalid: Invalid = "raise",
+def _extremes(P: tuple[np.ndarray, ...], on_failure: OnFailure = "raise",
               n_grid: int = GRID) -> dict[str, np.ndarray]:
     Rv, rv, lv, av, a_, b_ = (x[..., None] for x in P)
     grid = np.broadcast_to(np.linspace(0.0, TWO_PI, n_grid, endpoint=False),
                            (*Rv.shape[:-1], n_grid))
-    s = _kin(grid, Rv, rv, lv, av, a_, b_, 0, invalid, check=False)["s"]
+    s = _kin(grid, Rv, rv, lv, av, a_, b_, 0, on_failure, check=False)["s"]
 
     def ev(key: str, sign: float) -> Callable[[np.ndarray], np.ndarray]:
         return lambda x: sign * _kp(x, P, 1)[key]
 
-    if invalid == "nan":
+    if on_failure == "nan":
         s = np.where(np.isnan(s), 0.0, s)
     xmax, vmax = _refined_max(ev("s", 1.0), ev("s1", 1.0), grid, s)
     xmin, vmin = _refined_max(ev("s", -1.0), ev("s1", -1.0), grid, -s)
     out = {"phi_max": np.mod(xmax, TWO_PI), "s_max": vmax,
            "phi_min": np.mod(xmin, TWO_PI), "s_min": -vmin}
-    if invalid == "nan":
+    if on_failure == "nan":
         bad = np.isnan(_kin(grid, Rv, rv, lv, av, a_, b_, 0, "nan", check=False)["s"]).any(-1)
         out = {k: np.where(bad, np.nan, v) for k, v in out.items()}
     return out
 
 
+@renamed_keywords(invalid="on_failure")
 def stroke(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: ArrayLike = 0.0,
-           b: ArrayLike = 0.0, *, invalid: Invalid = "raise") -> np.ndarray:
+           b: ArrayLike = 0.0, *, on_failure: OnFailure = "raise") -> np.ndarray:
     """Stroke ``H = max s - min s`` [m] over a revolution, from the true extremes.
 
     Not ``s(pi) - s(0)``: with ``a != 0`` (schemes 1 and 3) the extremes are not at 0 and pi.
@@ -567,7 +575,7 @@ def stroke(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike, a: ArrayL
     ``R, r, l, alpha, a, b = 0.1, 0.05, 0.15, 20 deg, 0, -0.045``: ``s(pi) - s(0) = -2.04 mm``
     against ``H = 3.47 mm``. Parameters as in :func:`position`.
     """
-    e = extremes(R, r, l, alpha, a, b, invalid=invalid)
+    e = extremes(R, r, l, alpha, a, b, on_failure=on_failure)
     return e["s_max"] - e["s_min"]
 
 
@@ -690,25 +698,26 @@ class Characteristics(Result):
         return characteristics_figure(self, ax=ax, **kw)
 
 
+@renamed_keywords(invalid="on_failure")
 def characteristics(R: ArrayLike, r: ArrayLike, l: ArrayLike, alpha: ArrayLike,
                     a: ArrayLike = 0.0, b: ArrayLike = 0.0, *,
-                    invalid: Invalid = "raise") -> Characteristics:
+                    on_failure: OnFailure = "raise") -> Characteristics:
     """All technological characteristics of the drive, requirements 1-5 in [1]_.
 
     Vectorised over designs (parameters broadcast to a design shape ``P``; every field has shape
     ``P``). Extremes and maxima are located on a grid and refined to machine precision. With
-    ``invalid="nan"`` designs whose rod cannot reach somewhere get NaN (``unimodal`` False).
+    ``on_failure="nan"`` designs whose rod cannot reach somewhere get NaN (``unimodal`` False).
     """
     P = _design(R, r, l, alpha, a, b)
-    return _characteristics(P, invalid)
+    return _characteristics(P, on_failure)
 
 
-def _characteristics(P: tuple[np.ndarray, ...], invalid: Invalid = "raise",
+def _characteristics(P: tuple[np.ndarray, ...], on_failure: OnFailure = "raise",
                      n_grid: int = GRID) -> Characteristics:
     """Characteristics of validated, broadcast parameters; ``n_grid`` angles per revolution
     locate the extremes before refinement (fewer for fast screening)."""
     Rv, rv, lv, av = P[:4]
-    e = _extremes(P, invalid, n_grid)
+    e = _extremes(P, on_failure, n_grid)
     phi_f = np.mod(e["phi_max"] - e["phi_min"], TWO_PI)
     phi_r = TWO_PI - phi_f
 

@@ -117,7 +117,7 @@ def test_rod_cannot_reach_raises_with_angle_ranges():
         sw.position(np.linspace(0, 2 * math.pi, 73), 0.1, 0.05, 0.04, 20 * DEG, 0.0, 0.0)
     assert ei.value.ranges
     out = sw.position(np.linspace(0, 2 * math.pi, 73), 0.1, 0.05, 0.06, 20 * DEG, 0.0, 0.06,
-                      invalid="nan")
+                      on_failure="nan")
     assert np.isnan(out).all()
 
 

@@ -1,0 +1,23 @@
+"""Renamed public names keep working, with a DeprecationWarning that names the new one."""
+
+import numpy as np
+import pytest
+
+from linkwork.models import swashplate as sw
+
+
+def test_swashplate_invalid_keyword_is_the_former_name_of_on_failure() -> None:
+    """``invalid=`` (before the one-nomenclature change) gives the same NaN-marked values as
+    ``on_failure=``: NaN where the rod of a design cannot reach its disk, the exact position
+    (the same numbers) where it can."""
+    phi = np.linspace(0.0, 2.0 * np.pi, 73)
+    for args in ((phi, 0.1, 0.05, 0.06, np.radians(20.0), 0.0, 0.06),   # never reaches
+                 (phi, 0.1, 0.08, 0.10, np.radians(20.0))):             # reaches everywhere
+        new = sw.position(*args, on_failure="nan")
+        with pytest.warns(DeprecationWarning, match=r"position\(invalid=...\) is deprecated: "
+                          r"use on_failure="):
+            old = sw.position(*args, invalid="nan")
+        np.testing.assert_array_equal(old, new)
+    assert np.isfinite(new).all() and np.ptp(new) > 0.01   # the reachable design moves
+    with pytest.raises(TypeError, match="both invalid="):
+        sw.position(*args, invalid="nan", on_failure="nan")
