@@ -34,6 +34,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from linkwork.deprecation import renamed_attribute, warn_renamed
 from linkwork.errors import (
     AssemblyError,
     ParameterError,
@@ -137,8 +138,9 @@ class FourbarResult(Result):
         Crank pin A and coupler-rocker joint B [m].
     xP, yP : ndarray or None
         Coupler point P, when ``coupler_point`` was given [m].
-    assembled : ndarray of bool
-        True where the linkage assembles (always all True unless ``on_fail="nan"``).
+    valid : ndarray of bool
+        True where the linkage assembles (always all True unless ``on_failure="nan"``); also
+        readable under its former name ``assembled`` (deprecated).
     a, b, c, d : float or ndarray
         Crank, coupler, rocker, frame lengths [m].
     omega2, alpha2 : float or ndarray
@@ -160,7 +162,7 @@ class FourbarResult(Result):
     yB: np.ndarray
     xP: np.ndarray | None
     yP: np.ndarray | None
-    assembled: np.ndarray
+    valid: np.ndarray
     a: Any
     b: Any
     c: Any
@@ -172,11 +174,12 @@ class FourbarResult(Result):
     units: ClassVar[dict[str, str]] = {
         "theta2": "rad", "theta3": "rad", "theta4": "rad",
         "omega3": "rad/s", "omega4": "rad/s", "alpha3": "rad/s^2", "alpha4": "rad/s^2",
-        "xA": "m", "yA": "m", "xB": "m", "yB": "m", "xP": "m", "yP": "m", "assembled": "",
+        "xA": "m", "yA": "m", "xB": "m", "yB": "m", "xP": "m", "yP": "m", "valid": "",
         "a": "m", "b": "m", "c": "m", "d": "m", "omega2": "rad/s", "alpha2": "rad/s^2",
         "branch": "", "transmission_angle": "rad",
     }
     position_field: ClassVar[str] = "theta2"
+    assembled = renamed_attribute("valid", "assembled")
 
     def plot(self, ax: Any = None, **kw: Any) -> Figure:
         """Draw the linkage and the path of B (and P): a :class:`linkwork.plot.Figure` with one
@@ -274,7 +277,7 @@ def _show(x: Any) -> str:
 def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
             omega2: ArrayLike = 1.0, alpha2: ArrayLike = 0.0, branch: int = +1, *,
             coupler_point: tuple[ArrayLike, ArrayLike] | None = None,
-            on_fail: str = "raise") -> FourbarResult:
+            on_failure: str = "raise", on_fail: str | None = None) -> FourbarResult:
     r"""Closed-form position, velocity and acceleration analysis of a four-bar linkage.
 
     Parameters
@@ -293,10 +296,12 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     coupler_point : (p, q), optional
         A coupler point P in the coupler's frame [m]: ``P = A + p e3 + q e3_perp`` with ``e3``
         the unit vector A -> B and ``e3_perp`` it turned 90 deg counter-clockwise.
-    on_fail : {"raise", "nan"}, optional
+    on_failure : {"raise", "nan"}, optional
         What to do at crank angles where the linkage cannot be assembled: raise
         :class:`~linkwork.errors.AssemblyError` listing the crank-angle ranges (default), or
-        return NaN there with ``result.assembled`` False.
+        return NaN there with ``result.valid`` False.
+    on_fail : {"raise", "nan"}, optional
+        Deprecated name of ``on_failure``.
 
     Returns
     -------
@@ -328,7 +333,7 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     vector 90 deg counter-clockwise and ``x`` is the planar cross product.  They are the same
     as Norton's Eqs. (6.18) and (7.12) [1]_, written without trigonometric functions of
     theta3 and theta4.  Exactly at a toggle (``u x v = 0``) or with A on O4 the rates are
-    unbounded: such positions count as not assembled (AssemblyError, or NaN with ``assembled``
+    unbounded: such positions count as not assembled (AssemblyError, or NaN with ``valid``
     False), as in the planar engine; close to a toggle they are large but finite.  Long
     position arrays (>= 16384) are evaluated in blocks of 8192 positions so
     that the temporaries stay in the cache; the numbers are the same.
@@ -336,9 +341,9 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     Raises
     ------
     ParameterError
-        A length is not finite and > 0, ``branch`` is not +1/-1, or ``on_fail`` is unknown.
+        A length is not finite and > 0, ``branch`` is not +1/-1, or ``on_failure`` is unknown.
     AssemblyError
-        The linkage cannot be assembled at some crank angles (``on_fail="raise"``).
+        The linkage cannot be assembled at some crank angles (``on_failure="raise"``).
     """
     # The common call -- one design in Python numbers over a 1-D float64 array of crank angles
     # that assembles everywhere -- is checked with plain comparisons (the named checks below
@@ -352,7 +357,8 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
                 and 0.0 < bf < _INF and 0.0 < cf < _INF and 0.0 < df < _INF
                 and -_INF < w2f < _INF and -_INF < e2f < _INF
                 and type(branch) is int and (branch == 1 or branch == -1)
-                and (on_fail == "raise" or on_fail == "nan") and all_finite(theta2)):
+                and (on_failure == "raise" or on_failure == "nan") and on_fail is None
+                and all_finite(theta2)):
             res = _kernel(theta2, af, bf, cf, df, w2f, e2f, float(branch), None, None)
             if res[-1]:  # clean: every position assembles away from a toggle
                 return _result(theta2, res, af, bf, cf, df, w2f, e2f, branch)
@@ -363,8 +369,11 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     w2 = _finite("omega2", omega2)
     e2 = _finite("alpha2", alpha2)
     br = _branch(branch)
-    if on_fail not in ("raise", "nan"):
-        raise ParameterError("on_fail", on_fail, "must be 'raise' or 'nan'")
+    if on_fail is not None:
+        warn_renamed("fourbar(on_fail=...)", "on_failure=")
+        on_failure = on_fail
+    if on_failure not in ("raise", "nan"):
+        raise ParameterError("on_failure", on_failure, "must be 'raise' or 'nan'")
     # a finite float array as is; anything else by the named check (None was NaN, a complex
     # angle lost its imaginary part, True was 1 rad, inf made np.cos warn)
     t2 = theta2 if (type(theta2) is np.ndarray and theta2.dtype is _F64
@@ -392,12 +401,12 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
                       & np.isfinite(al4) & np.isfinite(th3))
         if sing.any():
             ok = ok & ~sing
-            if on_fail == "nan":
+            if on_failure == "nan":
                 th3, th4, w3, w4, al3, al4, xb, yb = (
                     np.where(sing, np.nan, x) for x in (th3, th4, w3, w4, al3, al4, xb, yb))
                 if xp is not None:
                     xp, yp = np.where(sing, np.nan, xp), np.where(sing, np.nan, yp)
-        if not ok.all() and on_fail == "raise":
+        if not ok.all() and on_failure == "raise":
             if sing.any():
                 raise _fail(t2, ~sing, a_, b_, c_, d_, singular=True)
             raise _fail(t2, ok, a_, b_, c_, d_)
@@ -411,7 +420,7 @@ def _result(t2: Any, res: tuple[Any, ...], a_: Any, b_: Any, c_: Any, d_: Any, w
     return FourbarResult._assemble({
         "theta2": t2, "theta3": th3, "theta4": th4, "omega3": w3, "omega4": w4, "alpha3": al3,
         "alpha4": al4, "xA": ax, "yA": ay, "xB": xb, "yB": yb, "xP": xp, "yP": yp,
-        "assembled": ok, "a": a_, "b": b_, "c": c_, "d": d_, "omega2": w2, "alpha2": e2,
+        "valid": ok, "a": a_, "b": b_, "c": c_, "d": d_, "omega2": w2, "alpha2": e2,
         "branch": int(br)})
 
 
@@ -864,7 +873,8 @@ def fourbar_kinetostatics(
     force: tuple[tuple[ArrayLike, ArrayLike], ...] | None = None,
     force_point: tuple[Any, Any, Any] | None = None,
     moment: tuple[ArrayLike, ArrayLike, ArrayLike] = (0.0, 0.0, 0.0),
-    on_fail: str = "raise",
+    on_failure: str = "raise",
+    on_fail: str | None = None,
 ) -> FourbarForces:
     r"""Joint reactions and driving moment of a four-bar, in closed form (inverse dynamics).
 
@@ -897,8 +907,10 @@ def fourbar_kinetostatics(
         means ``(p, 0)``); default: the centre of mass.
     moment : 3 floats, optional
         External moment (couple) on each link [N m], counter-clockwise positive.
-    on_fail : {"raise", "nan"}
+    on_failure : {"raise", "nan"}
         As in :func:`fourbar`.
+    on_fail : {"raise", "nan"}, optional
+        Deprecated name of ``on_failure``.
 
     Returns
     -------
@@ -922,7 +934,10 @@ def fourbar_kinetostatics(
     These are Eqs. (8)-(13) of paper 004 [2]_ generalised to any centre of mass and external
     load; the paper's printed (9) and (13) contain errors (``docs/errata.md``).
     """
-    kin = fourbar(theta2, a, b, c, d, omega2, alpha2, branch, on_fail=on_fail)
+    if on_fail is not None:
+        warn_renamed("fourbar_kinetostatics(on_fail=...)", "on_failure=")
+        on_failure = on_fail
+    kin = fourbar(theta2, a, b, c, d, omega2, alpha2, branch, on_failure=on_failure)
     m2, m3, m4 = (_finite(f"mass[{i}]", x) for i, x in enumerate(_triple("mass", mass, None)))
     lengths = (kin.a, kin.b, kin.c)
     j2, j3, j4 = (_finite(f"inertia[{i}]", x) if x is not None

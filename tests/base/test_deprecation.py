@@ -21,3 +21,25 @@ def test_swashplate_invalid_keyword_is_the_former_name_of_on_failure() -> None:
     assert np.isfinite(new).all() and np.ptp(new) > 0.01   # the reachable design moves
     with pytest.raises(TypeError, match="both invalid="):
         sw.position(*args, invalid="nan", on_failure="nan")
+
+
+def test_fourbar_on_fail_and_assembled_are_the_former_names_of_on_failure_and_valid() -> None:
+    """A double-rocker over a turn: the former keyword ``on_fail=`` and field ``assembled``
+    give the same mask and the same angles as ``on_failure=`` / ``valid``."""
+    from linkwork.models.fourbar import fourbar, fourbar_kinetostatics
+
+    t2 = np.linspace(0.0, 2.0 * np.pi, 73)
+    new = fourbar(t2, 0.3, 0.1, 0.25, 0.3, on_failure="nan")
+    assert 0 < new.valid.sum() < new.valid.size
+    with pytest.warns(DeprecationWarning, match=r"fourbar\(on_fail=...\) is deprecated"):
+        old = fourbar(t2, 0.3, 0.1, 0.25, 0.3, on_fail="nan")
+    with pytest.warns(DeprecationWarning, match=r"FourbarResult.assembled is deprecated: use "
+                      r"\.valid"):
+        np.testing.assert_array_equal(old.assembled, new.valid)
+    np.testing.assert_array_equal(old.theta4, new.theta4)
+    with pytest.warns(DeprecationWarning, match=r"fourbar_kinetostatics\(on_fail=...\)"):
+        f_old = fourbar_kinetostatics(t2, 0.3, 0.1, 0.25, 0.3, mass=(1.0, 2.0, 3.0),
+                                      on_fail="nan")
+    f_new = fourbar_kinetostatics(t2, 0.3, 0.1, 0.25, 0.3, mass=(1.0, 2.0, 3.0),
+                                  on_failure="nan")
+    np.testing.assert_array_equal(f_old.Q, f_new.Q)

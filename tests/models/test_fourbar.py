@@ -232,8 +232,8 @@ lengths = st.floats(0.2, 5.0)
 @given(a=lengths, b=lengths, c=lengths, d=lengths, t2=reals(-np.pi, np.pi),
        branch=st.sampled_from([1, -1]), w2=reals(-20, 20), e2=reals(-50, 50))
 def test_property_loop_closure_and_velocity_loop(a, b, c, d, t2, branch, w2, e2):
-    r = fourbar(t2, a, b, c, d, w2, e2, branch, on_fail="nan")
-    assume(bool(r.assembled))
+    r = fourbar(t2, a, b, c, d, w2, e2, branch, on_failure="nan")
+    assume(bool(r.valid))
     f = math.hypot(d - a * math.cos(t2), a * math.sin(t2))
     assume(min(b + c - f, f - abs(b - c)) > 1e-3 * (b + c))   # away from toggles
     # loop closure a e2 + b e3 - c e4 - d = 0
@@ -267,11 +267,11 @@ def test_property_omega_is_derivative_of_theta(a, b, c, d, branch):
     # near an assembly limit (a grid difference over the cycle did not, with a = d = 4, b = 0.5)
     t2 = np.linspace(-np.pi, np.pi, 2001)
     h = 1e-6
-    r = fourbar(t2, a, b, c, d, branch=branch, on_fail="nan")
-    rp = fourbar(t2 + h, a, b, c, d, branch=branch, on_fail="nan")
-    rm = fourbar(t2 - h, a, b, c, d, branch=branch, on_fail="nan")
+    r = fourbar(t2, a, b, c, d, branch=branch, on_failure="nan")
+    rp = fourbar(t2 + h, a, b, c, d, branch=branch, on_failure="nan")
+    rm = fourbar(t2 - h, a, b, c, d, branch=branch, on_failure="nan")
     f = np.hypot(d - a * np.cos(t2), a * np.sin(t2))
-    good = (r.assembled & rp.assembled & rm.assembled
+    good = (r.valid & rp.valid & rm.valid
             & (np.minimum(b + c - f, f - abs(b - c)) > 0.05 * (b + c)))
     assume(good.sum() > 10)
     for th, om, thp, thm in ((r.theta3, r.omega3, rp.theta3, rm.theta3),
@@ -298,15 +298,15 @@ def test_assembly_error_lists_crank_ranges():
     first = np.flatnonzero(bad)[0]
     assert lo == pytest.approx(t2[first])
     assert all(bad[(t2 >= lo - 1e-12) & (t2 <= hi + 1e-12)])
-    r = fourbar(t2, 0.3, 0.1, 0.25, 0.3, on_fail="nan")
-    np.testing.assert_array_equal(~r.assembled, bad)
+    r = fourbar(t2, 0.3, 0.1, 0.25, 0.3, on_failure="nan")
+    np.testing.assert_array_equal(~r.valid, bad)
     assert np.isnan(r.theta4[bad]).all() and np.isfinite(r.theta4[~bad]).all()
 
 
 @pytest.mark.parametrize(
     ("kwargs", "name"),
     [({"a": -0.1}, "a"), ({"b": 0.0}, "b"), ({"c": float("nan")}, "c"), ({"d": np.inf}, "d"),
-     ({"branch": 0}, "branch"), ({"omega2": np.nan}, "omega2"), ({"on_fail": "skip"}, "on_fail"),
+     ({"branch": 0}, "branch"), ({"omega2": np.nan}, "omega2"), ({"on_failure": "skip"}, "on_failure"),
      ({"a": np.array([0.1, -0.2])}, "a")],
 )
 def test_bad_parameters_are_named(kwargs, name):
@@ -348,7 +348,7 @@ def test_property_grashof_crank_rotates_iff_it_assembles_everywhere(a, b, c, d):
     f = np.hypot(d - a * np.cos(t2), a * np.sin(t2))
     margin = np.minimum(b + c - f, f - abs(b - c))
     assume(np.abs(margin).min() > 1e-4 or margin.min() < -1e-3)
-    everywhere = bool(fourbar(t2, a, b, c, d, on_fail="nan").assembled.all())
+    everywhere = bool(fourbar(t2, a, b, c, d, on_failure="nan").valid.all())
     assert g.crank_rotates == everywhere
     # Grashof's theorem: the crank turns fully iff class I and the crank or the frame is shortest
     assert g.crank_rotates == (g.grashof_class == "I" and g.motion in ("crank-rocker",
@@ -393,8 +393,8 @@ def test_input_toggle_positions_of_a_double_rocker():
     fold = brentq(f, 0.0, np.pi, args=(abs(b - c),), xtol=1e-15)
     assert lim.theta2_toggle_extended == pytest.approx(ext, abs=1e-12)
     assert lim.theta2_toggle_folded == pytest.approx(fold, abs=1e-12)
-    r = fourbar(np.array([fold + 1e-6, ext - 1e-6, ext + 1e-6]), a, b, c, d, on_fail="nan")
-    assert list(r.assembled) == [True, True, False]
+    r = fourbar(np.array([fold + 1e-6, ext - 1e-6, ext + 1e-6]), a, b, c, d, on_failure="nan")
+    assert list(r.valid) == [True, True, False]
     mu = transmission_angle(np.array([ext, fold]), a, b, c, d)
     assert mu == pytest.approx([np.pi, 0.0], abs=1e-6)
 
@@ -412,14 +412,14 @@ def test_transmission_angle_extremes_match_a_dense_cycle(design):
     at = transmission_angle(np.array([ext.theta2_at_min, ext.theta2_at_max]), *design)
     assert at == pytest.approx([ext.mu_min, ext.mu_max], abs=1e-7)
     assert ext.max_deviation == pytest.approx(np.nanmax(np.abs(mu - np.pi / 2)), abs=1e-2)
-    r = fourbar(t2, *design, on_fail="nan")
-    np.testing.assert_allclose(r.transmission_angle[r.assembled], mu[r.assembled], atol=1e-7)
+    r = fourbar(t2, *design, on_failure="nan")
+    np.testing.assert_allclose(r.transmission_angle[r.valid], mu[r.valid], atol=1e-7)
     # law of cosines on the drawn points (triangle A B O4)
     ab = np.hypot(r.xB - r.xA, r.yB - r.yA)
     bo = np.hypot(r.xB - design[3], r.yB)
     ao = np.hypot(r.xA - design[3], r.yA)
     cos_mu = (ab**2 + bo**2 - ao**2) / (2 * ab * bo)
-    ok = r.assembled
+    ok = r.valid
     np.testing.assert_allclose(np.cos(r.transmission_angle[ok]), cos_mu[ok], atol=1e-9)
 
 
@@ -621,7 +621,7 @@ def test_blocked_evaluation_equals_small_calls():
     e2 = -3.0
     big = fourbar(t2, a, B1, C1, D1, w2, e2, -1, coupler_point=(0.1, 0.02))
     names = ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xA", "yA", "xB",
-             "yB", "xP", "yP", "assembled")
+             "yB", "xP", "yP", "valid")
     for lo in range(0, n, 7000):
         sl = slice(lo, min(lo + 7000, n))
         small = fourbar(t2[sl], a, B1, C1, D1, w2[sl], e2, -1, coupler_point=(0.1, 0.02))
@@ -633,9 +633,9 @@ def test_blocked_evaluation_reports_assembly_failure():
     t2 = np.linspace(0, 2 * np.pi, 40000)
     with pytest.raises(AssemblyError, match="theta2"):
         fourbar(t2, 0.3, 0.1, 0.25, 0.3)
-    r = fourbar(t2, 0.3, 0.1, 0.25, 0.3, on_fail="nan")
+    r = fourbar(t2, 0.3, 0.1, 0.25, 0.3, on_failure="nan")
     f = np.hypot(0.3 - 0.3 * np.cos(t2), 0.3 * np.sin(t2))
-    np.testing.assert_array_equal(r.assembled, (f <= 0.35) & (f >= 0.15))
+    np.testing.assert_array_equal(r.valid, (f <= 0.35) & (f >= 0.15))
 
 
 @settings(max_examples=40, deadline=None)
@@ -737,9 +737,9 @@ def test_assembly_error_with_angles_per_design():
     with pytest.raises(AssemblyError, match="theta2") as info:
         fourbar(t2, np.array([[0.3], [0.3]]), 0.1, 0.25, 0.3)
     assert info.value.ranges
-    r = fourbar(t2, np.array([[0.3], [0.3]]), 0.1, 0.25, 0.3, on_fail="nan")
+    r = fourbar(t2, np.array([[0.3], [0.3]]), 0.1, 0.25, 0.3, on_failure="nan")
     f = np.hypot(0.3 - 0.3 * np.cos(t2), 0.3 * np.sin(t2))
-    np.testing.assert_array_equal(r.assembled, (f <= 0.35) & (f >= 0.15))
+    np.testing.assert_array_equal(r.valid, (f <= 0.35) & (f >= 0.15))
 
 
 @settings(max_examples=50, deadline=None)
@@ -750,10 +750,10 @@ def test_property_rocker_limits_are_stationary_points_of_theta4(a, b, c, d, bran
                      (lim.theta2_rocker_folded, lim.theta4_rocker_folded)):
         if np.isnan(t2l):
             continue
-        r = fourbar(t2l, a, b, c, d, branch=branch, on_fail="nan")
+        r = fourbar(t2l, a, b, c, d, branch=branch, on_failure="nan")
         f = math.hypot(d - a * math.cos(t2l), a * math.sin(t2l))
         assume(min(b + c - f, f - abs(b - c)) > 1e-6 * (b + c))   # not also an input toggle
-        assert bool(r.assembled)
+        assert bool(r.valid)
         assert abs(float(r.omega4)) < 1e-8 * (1 + a / c)
         assert abs(wrap(float(r.theta4) - t4l)) < 1e-9
     # crank-rockers: the sampled theta4 range lies within the limits and reaches them
@@ -793,7 +793,7 @@ def test_fast_path_equals_the_checked_path_exactly(branch, monkeypatch):
     part = fourbar(t2[:7001], 0.1, 0.3, 0.2, 0.3, 10.0, -3.0, branch)
     for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xB", "yB"):
         np.testing.assert_array_equal(getattr(big, name)[:7001], getattr(part, name))
-    assert big.assembled.all()
+    assert big.valid.all()
 
 
 @pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
@@ -935,14 +935,14 @@ def test_fourbar_kinetostatics_against_newton_euler(name, branch):
 @pytest.mark.parametrize("branch", [+1, -1])
 @pytest.mark.parametrize("name", list(DESIGNS))
 def test_assembly_and_dead_centres_against_the_reference(name, branch):
-    """Where the four-bar assembles (closed form and engine, on_fail="nan") and the engine's
+    """Where the four-bar assembles (closed form and engine, on_failure="nan") and the engine's
     dead centres (rocker reversals) against root finding."""
     design = DESIGNS[name]
     t2 = np.linspace(0.0, 2 * np.pi, 361) + 0.001
     ok = np.isfinite(fourbar_positions(t2, *design, branch)[0])
-    r = fourbar(t2, *design, 1.0, 0.0, branch, on_fail="nan")
+    r = fourbar(t2, *design, 1.0, 0.0, branch, on_failure="nan")
     kin = kinematics(engine_fourbar(*design, branch=branch), t2, on_fail="nan")
-    np.testing.assert_array_equal(r.assembled, ok)
+    np.testing.assert_array_equal(r.valid, ok)
     np.testing.assert_array_equal(kin.assembled, ok)
     assert np.all(np.isnan(r.theta4[~ok])) and np.all(np.isfinite(r.theta4[ok]))
     if not ok.all():
@@ -1268,8 +1268,8 @@ def test_non_grashof_full_rotation_lists_the_ranges():
     tg = math.degrees(math.acos((a * a + d * d - (b + c) ** 2) / (2 * a * d)))
     lo, hi = (math.degrees(v) for v in ei.value.ranges[0])
     assert lo == pytest.approx(tg, abs=1.01) and hi == pytest.approx(360 - tg, abs=1.01)
-    r = fb.fourbar(_fb_full(), a, b, c, d, on_fail="nan")
-    assert np.all(np.isnan(r.theta3[~r.assembled])) and np.all(np.isfinite(r.theta3[r.assembled]))
+    r = fb.fourbar(_fb_full(), a, b, c, d, on_failure="nan")
+    assert np.all(np.isnan(r.theta3[~r.valid])) and np.all(np.isfinite(r.theta3[r.valid]))
 
 
 def test_fourbar_singular_position_is_never_silent_nan():
@@ -1279,8 +1279,8 @@ def test_fourbar_singular_position_is_never_silent_nan():
     with pytest.raises(AssemblyError) as ei:
         fb.fourbar(t, 0.1, 0.2, 0.2, 0.1)
     assert "singular" in str(ei.value) and ei.value.ranges == [(0.0, 0.0)]
-    r = fb.fourbar(t, 0.1, 0.2, 0.2, 0.1, on_fail="nan", coupler_point=(0.1, 0.02))
-    assert list(r.assembled) == [False, True, True]
+    r = fb.fourbar(t, 0.1, 0.2, 0.2, 0.1, on_failure="nan", coupler_point=(0.1, 0.02))
+    assert list(r.valid) == [False, True, True]
     for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xB", "yB", "xP"):
         v = getattr(r, name)
         assert np.isnan(v[0]) and np.all(np.isfinite(v[1:])), name
@@ -1295,7 +1295,7 @@ def test_fourbar_empty_and_non_broadcasting_inputs():
     """An empty theta2 raised NumPy's 'zero-size array to reduction operation'; lengths that
     do not broadcast against the angles raised NumPy's broadcast error."""
     r = fb.fourbar(np.array([]), 0.1, 0.3, 0.2, 0.3)
-    assert r.theta3.shape == (0,) and r.assembled.shape == (0,)
+    assert r.theta3.shape == (0,) and r.valid.shape == (0,)
     assert fb.fourbar_kinetostatics(np.array([]), 0.1, 0.3, 0.2, 0.3).Q.shape == (0,)
     for n in (2, 20000):
         with pytest.raises(ParameterError, match=r"shapes.*'a': \(3,\)"):

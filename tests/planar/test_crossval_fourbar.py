@@ -157,8 +157,8 @@ def test_fourbar_assembly_failure_matches_engine(branch):
     t2 = np.linspace(0.0, 2 * np.pi, 721)
     kin = kinematics(engine_fourbar(*design, omega1=W2, eps1=E2, branch=branch), t2,
                      on_fail="nan")
-    r = fourbar(t2, *design, W2, E2, branch, on_fail="nan")
-    ok = r.assembled
+    r = fourbar(t2, *design, W2, E2, branch, on_failure="nan")
+    ok = r.valid
     assert 0 < ok.sum() < ok.size
     # the masks may differ only at a sample lying exactly on a toggle
     f = np.hypot(design[3] - design[0] * np.cos(t2), design[0] * np.sin(t2))

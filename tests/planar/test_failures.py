@@ -435,7 +435,7 @@ def test_bar_with_inconsistent_end_points_is_named(kw, words):
     (lambda: fb.fourbar(np.nan, 0.1, 0.3, 0.2, 0.3), ["theta2", "nan"]),
     (lambda: fb.fourbar(0.3, 0.1, 0.3, 0.2, 0.3, omega2=np.inf), ["omega2", "inf"]),
     (lambda: fb.fourbar(0.3, 0.1, 0.3, 0.2, 0.3, branch=2), ["branch", "2"]),
-    (lambda: fb.fourbar(0.3, 0.1, 0.3, 0.2, 0.3, on_fail="ignore"), ["on_fail", "ignore"]),
+    (lambda: fb.fourbar(0.3, 0.1, 0.3, 0.2, 0.3, on_failure="ignore"), ["on_failure", "ignore"]),
     (lambda: fb.grashof(0.1, -0.3, 0.2, 0.3), ["b", "-0.3"]),
     (lambda: fb.limit_positions(0.1, 0.3, 0.2, np.nan), ["d", "nan"]),
     (lambda: fb.transmission_angle_extremes(0.1, 0.1, 0.1, 1.0), ["assembled"]),
