@@ -84,8 +84,8 @@ class Result:
         evaluation); closed forms that are called in tight loops use this instead (1.3 us;
         the dict becomes the object's ``__dict__``, so the caller must not keep it).  Same
         object, same immutability; the field names are checked against the dataclass in the
-        tests (``tests/models/test_crank_slider.py``, ``test_fast_assembled_result_is_the_dataclass_...``),
-        not here.
+        tests (``tests/models/test_crank_slider.py``,
+        ``test_fast_assembled_result_is_the_dataclass_...``), not here.
         """
         obj = object.__new__(cls)
         object.__setattr__(obj, "__dict__", fields)

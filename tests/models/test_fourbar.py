@@ -306,7 +306,8 @@ def test_assembly_error_lists_crank_ranges():
 @pytest.mark.parametrize(
     ("kwargs", "name"),
     [({"a": -0.1}, "a"), ({"b": 0.0}, "b"), ({"c": float("nan")}, "c"), ({"d": np.inf}, "d"),
-     ({"branch": 0}, "branch"), ({"omega2": np.nan}, "omega2"), ({"on_failure": "skip"}, "on_failure"),
+     ({"branch": 0}, "branch"), ({"omega2": np.nan}, "omega2"),
+     ({"on_failure": "skip"}, "on_failure"),
      ({"a": np.array([0.1, -0.2])}, "a")],
 )
 def test_bad_parameters_are_named(kwargs, name):
