@@ -20,7 +20,7 @@ from typing import Annotated, Any
 import numpy as np
 import typer
 
-from linkwork.cli.analyze import output_dir
+from linkwork.cli._args import output_dir
 from linkwork.errors import ParameterError
 from linkwork.units import to_si
 
