@@ -80,18 +80,26 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
     output_dir(out)
     study = study_reactions.solve(mech, spec, angles=angles, cycle=cycle, gravity=gravity,
                                   loads=loads, method=method)
-    written = render(study, out=out, console=console, plots=plots)
-    tol = None
-    if tolerance_study:
-        tols = study_reactions.tolerances(study, tolerance_study)
-        with rich_progress("tolerance study", console=console) as progress:
-            tol = study_reactions.tolerance(study, tolerance_study, tols=tols, seed=seed,
-                                            scheduler=scheduler, chunk_size=chunk_size,
-                                            progress=progress)
-        written += render_tolerance(study, tol, out=out, console=console, plots=plots)
-    console.print("written: " + ", ".join(str(p) for p in written))
+    tol, written = _report(study, out=out, console=console, plots=plots, n=tolerance_study,
+                           seed=seed, scheduler=scheduler, chunk_size=chunk_size)
     return {"reactions": study.reactions, "table": study.table, "count": study.count,
             "study": tol, "files": written}
+
+
+def _report(study: ReactionsStudy, *, out: Path, console: Any, plots: bool, n: int, seed: int,
+            scheduler: str | None, chunk_size: int) -> tuple[ToleranceStudy | None, list[Path]]:
+    """Render the study, run and render its tolerance study of ``n`` samples (0: none), list
+    the files written; return (tolerance study or None, files)."""
+    written = render(study, out=out, console=console, plots=plots)
+    tol = None
+    if n:
+        tols = study_reactions.tolerances(study, n)  # its errors come before the progress bar
+        with rich_progress("tolerance study", console=console) as progress:
+            tol = study_reactions.tolerance(study, n, tols=tols, seed=seed, scheduler=scheduler,
+                                            chunk_size=chunk_size, progress=progress)
+        written += render_tolerance(study, tol, out=out, console=console, plots=plots)
+    console.print("written: " + ", ".join(str(p) for p in written))
+    return tol, written
 
 
 def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
@@ -205,15 +213,7 @@ def register(app: typer.Typer) -> None:
         table = parse_angles(angles)
         if doc.driver.type == "linear":    # positions in mm for a linear driver
             table = np.degrees(table) * 1e-3
-        console = make_console()
         output_dir(out)
         study = study_reactions.run(doc, angles=table, method=method)
-        written = render(study, out=out, console=console, plots=plots)
-        if tolerance_study:
-            tols = study_reactions.tolerances(study, tolerance_study)
-            with rich_progress("tolerance study", console=console) as progress:
-                tol = study_reactions.tolerance(study, tolerance_study, tols=tols, seed=seed,
-                                                scheduler=scheduler, chunk_size=chunk_size,
-                                                progress=progress)
-            written += render_tolerance(study, tol, out=out, console=console, plots=plots)
-        console.print("written: " + ", ".join(str(p) for p in written))
+        _report(study, out=out, console=make_console(), plots=plots, n=tolerance_study or 0,
+                seed=seed, scheduler=scheduler, chunk_size=chunk_size)
