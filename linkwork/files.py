@@ -58,6 +58,11 @@ __all__ = [
 
 M = TypeVar("M", bound=type[BaseModel])
 
+#: Deprecated: the modules that defined the file classes (the classes are found through
+#: :data:`linkwork.io.FILE_TYPES` now, not through these names).
+SCHEMA_MODULES: tuple[str, ...] = ("linkwork.sine_press_file", "linkwork.planar.file",
+                                   "linkwork.swashplate_file")
+
 
 def register_schema(type_name: str) -> Callable[[M], M]:
     """Class decorator: add a file class for ``type = type_name`` to

@@ -22,7 +22,7 @@ from linkwork.errors import FileFormatError
 from linkwork.io.planar import PlanarFile
 from linkwork.io.sine_press import SinePressFile
 from linkwork.io.swashplate import SwashplateFile
-from linkwork.io.toml import FileModel, read_toml
+from linkwork.io.toml import FileModel, read_toml, validate
 
 __all__ = ["FILE_TYPES", "FileModel", "PlanarFile", "SinePressFile", "SwashplateFile", "load",
            "read_toml"]
@@ -58,4 +58,7 @@ def load(path: str | Path, *, types: dict[str, type[FileModel]] | None = None) -
         raise FileFormatError(str(path), "type", f"missing required key; one of {sorted(known)}")
     if kind not in known:
         raise FileFormatError(str(path), "type", f"unknown type {kind!r}; one of {sorted(known)}")
-    return known[kind].from_data(path, data)
+    cls = known[kind]
+    if isinstance(cls, type) and issubclass(cls, FileModel):
+        return cls.from_data(path, data)
+    return validate(path, data, cls)  # a plain pydantic model (files.register_schema)

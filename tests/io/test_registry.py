@@ -68,3 +68,26 @@ def test_commands_are_found_through_modules_not_strings():
 
     assert set(ANALYZERS) == set(io.FILE_TYPES.values())
     assert all(callable(fn) for fn in ANALYZERS.values())
+
+
+def test_a_plain_pydantic_model_registered_the_old_way_loads(tmp_path):
+    """files.register_schema (deprecated) adds a class to io.FILE_TYPES; io.load validates a
+    plain pydantic model too, with the file and key in its errors."""
+    from pydantic import BaseModel
+
+    class Gear(BaseModel):
+        type: str
+        teeth: int
+
+    try:
+        assert files.register_schema("gear")(Gear) is Gear
+        assert io.FILE_TYPES["gear"] is Gear
+        f = tmp_path / "g.toml"
+        f.write_text("type = 'gear'\nteeth = 20\n")
+        assert io.load(f) == Gear(type="gear", teeth=20)
+        f.write_text("type = 'gear'\nteeth = 'many'\n")
+        with pytest.raises(FileFormatError) as exc:
+            io.load(f)
+        assert exc.value.key == "teeth"
+    finally:
+        io.FILE_TYPES.pop("gear", None)
