@@ -2,19 +2,21 @@
 
 A thin layer: it parses, calls the library and prints. Each command lives in its own module of
 this package and registers itself on :data:`app` through a ``register(app)`` function; the
-modules are listed in :data:`COMMAND_MODULES`. Every expected failure (bad file, bad parameter,
-impossible mechanism) prints one line on stderr and exits with code 2 -- see :func:`main`.
+modules are listed in :data:`COMMAND_MODULES`. A command parses its arguments, loads the file
+(:func:`linkwork.io.load`), runs a study (:mod:`linkwork.studies`) and renders its result.
+Every expected failure (bad file, bad parameter, impossible mechanism) prints one line on
+stderr and exits with code 2 -- see :func:`main`.
 """
 
 from __future__ import annotations
 
-import importlib
 import sys
 from collections.abc import Sequence
 
 import numpy as np
 import typer
 
+from linkwork.cli import analyze, balance, reactions, swashplate
 from linkwork.errors import LinkworkError
 
 __all__ = ["COMMAND_MODULES", "app", "main"]
@@ -28,7 +30,7 @@ app = typer.Typer(
 )
 
 #: Modules of linkwork.cli that define commands (each has ``register(app)``).
-COMMAND_MODULES: tuple[str, ...] = ("analyze", "balance", "reactions", "swashplate")
+COMMAND_MODULES = (analyze, balance, reactions, swashplate)
 
 
 
@@ -37,8 +39,8 @@ def _root() -> None:
     """Kinematics, kinetostatics, balancing and synthesis of machine mechanisms."""
 
 
-for _name in COMMAND_MODULES:
-    importlib.import_module(f"linkwork.cli.{_name}").register(app)
+for _module in COMMAND_MODULES:
+    _module.register(app)
 
 
 def _fail(message: str) -> int:

@@ -14,18 +14,21 @@ dead centres, working range), and writes into the output folder:
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from rich.markup import escape
+from rich.table import Table
 
-from linkwork.models import crank_slider, sine
-from linkwork.models.variable_structure import MODES, VariableStructureMechanism
-from linkwork.sine_press_file import SinePressFile
+from linkwork.io.sine_press import SinePressFile
+from linkwork.models.variable_structure import MODES
+from linkwork.results import write_json
+from linkwork.studies import sine_press as study_sine_press
+from linkwork.studies.sine_press import SinePressStudy
 
-__all__ = ["analyze_sine_press"]
+__all__ = ["analyze_sine_press", "render"]
 
 
 def _f(x: Any, nd: int = 4) -> str:
@@ -33,24 +36,18 @@ def _f(x: Any, nd: int = 4) -> str:
     return f"{(v if v != 0.0 else 0.0):.{nd}f}"
 
 
-def analyze_sine_press(doc: SinePressFile, out: Path, angles: np.ndarray, console: Any) -> None:
+def analyze_sine_press(doc: SinePressFile, out: Path, angles: np.ndarray, console: Any
+                       ) -> SinePressStudy:
     """Analyse a validated ``sine_press`` document; see the module docstring for the outputs."""
-    from rich.markup import escape
-    from rich.table import Table
+    study = study_sine_press.analyze(doc, angles=angles)
+    render(study, out=out, console=console)
+    return study
 
-    from linkwork.plot import pyplot, save
-    from linkwork.plot.sine import plot_cycle, plot_force_ratio, plot_schedule
 
+def _mode_tables(study: SinePressStudy) -> tuple[Table, Table]:
+    doc, cs, sn = study.doc, study.table_idle, study.table_working
     L1, w1, e1 = doc.crank.L1, doc.crank.speed, doc.crank.eps1
     idle, work = doc.idle, doc.working
-    mech = VariableStructureMechanism(L1=L1, lambda2=idle.lambda2, lambda_e=idle.lambda_e,
-                                      alpha=work.alpha, branch=idle.branch, f_slot=work.f_slot,
-                                      f_guide=work.f_guide)
-
-    # --- table at the chosen crank angles -------------------------------------------------
-    cs = crank_slider.offset_crank_slider(angles, L1, idle.lambda2, idle.lambda_e, w1, e1,
-                                          idle.branch)
-    sn = sine.inclined_slot(angles, L1, work.alpha, w1, e1)
     head = (f"{doc.name}: L1 = {L1 * 1e3:.4g} mm, n = {w1 * 30 / math.pi:.4g} rpm, "
             f"eps1 = {e1:.4g} rad/s²")
     l2_mm, e_mm = idle.lambda2 * L1 * 1e3, idle.lambda_e * L1 * 1e3
@@ -59,44 +56,23 @@ def analyze_sine_press(doc: SinePressFile, out: Path, angles: np.ndarray, consol
     for col in ("φ1 [deg]", "Y_C [mm]", "V_C [m/s]", "a_C [m/s²]", "φ2 [deg]", "ω2 [rad/s]",
                 "ε2 [rad/s²]", "pressure angle [deg]"):
         ti.add_column(escape(col), justify="right")
-    for i, p in enumerate(angles):
+    for i, p in enumerate(study.angles):
         ti.add_row(f"{math.degrees(p):.4g}", _f(cs.Y_C[i] * 1e3, 3), _f(cs.V_C[i]),
                    _f(cs.a_C[i], 3), _f(np.degrees(cs.phi2[i]), 3), _f(cs.omega2[i]),
                    _f(cs.eps2[i], 2), _f(np.degrees(cs.pressure_angle[i]), 3))
-    console.print(ti)
     tw = Table(title=escape(f"working mode: sine mechanism, slot at alpha = "
                             f"{math.degrees(work.alpha):.4g} deg"))
     for col in ("φ1 [deg]", "X3 [mm]", "V3 [m/s]", "a3 [m/s²]", "X32 [mm]", "V32 [m/s]",
                 "a32 [m/s²]"):
         tw.add_column(escape(col), justify="right")
-    for i, p in enumerate(angles):
+    for i, p in enumerate(study.angles):
         tw.add_row(f"{math.degrees(p):.4g}", _f(sn.X3[i] * 1e3, 3), _f(sn.V3[i]),
                    _f(sn.a3[i], 3), _f(sn.X32[i] * 1e3, 3), _f(sn.V32[i]), _f(sn.a32[i], 3))
-    console.print(tw)
+    return ti, tw
 
-    # --- summary ----------------------------------------------------------------------------
-    top, bottom = crank_slider.dead_centres(idle.lambda2, idle.lambda_e, idle.branch)
-    x_min, x_max = sine.extreme_positions(work.alpha)
-    lo, hi = sine.working_range(work.f_slot, work.f_guide)
-    si: dict[str, Any] = {
-        "L2_m": idle.lambda2 * L1, "e_m": idle.lambda_e * L1, "branch": idle.branch,
-        "stroke_m": float(crank_slider.stroke(L1, idle.lambda2, idle.lambda_e)),
-        "phi1_top_dead_centre_deg": float(np.degrees(top)),
-        "phi1_bottom_dead_centre_deg": float(np.degrees(bottom)),
-        "max_pressure_angle_deg": float(np.degrees(
-            crank_slider.max_pressure_angle(idle.lambda2, idle.lambda_e))),
-    }
-    sw: dict[str, Any] = {
-        "alpha_deg": float(np.degrees(work.alpha)),
-        "stroke_m": float(sine.stroke(L1, work.alpha)),
-        "phi1_X3_min_deg": float(np.degrees(x_min)),
-        "phi1_X3_max_deg": float(np.degrees(x_max)),
-        "working_range_deg": [float(np.degrees(lo)), float(np.degrees(hi))],
-        "worst_case_force_ratio": float(sine.force_ratio(work.alpha, work.f_slot,
-                                                         work.f_guide)),
-    }
-    summary: dict[str, Any] = {"name": doc.name, "L1_m": L1, "omega1_rad_s": w1,
-                               "eps1_rad_s2": e1, "idle": si, "working": sw}
+
+def _characteristics(study: SinePressStudy) -> Table:
+    si, sw = study.summary["idle"], study.summary["working"]
     s = Table(title="Characteristics", show_header=False)
     s.add_column("quantity")
     s.add_column("value", justify="right")
@@ -107,42 +83,45 @@ def analyze_sine_press(doc: SinePressFile, out: Path, angles: np.ndarray, consol
     add("idle: rod L2 / offset e [mm]", f"{si['L2_m'] * 1e3:.4g} / {si['e_m'] * 1e3:.4g}")
     add("idle: stroke of slider C [mm]", f"{si['stroke_m'] * 1e3:.4f}")
     add("idle: dead centres φ1 top / bottom [deg]",
-              f"{si['phi1_top_dead_centre_deg']:.3f} / {si['phi1_bottom_dead_centre_deg']:.3f}")
+        f"{si['phi1_top_dead_centre_deg']:.3f} / {si['phi1_bottom_dead_centre_deg']:.3f}")
     add("idle: max pressure angle [deg]", f"{si['max_pressure_angle_deg']:.3f}")
     add("working: α [deg], stroke of ram [mm]",
-              f"{sw['alpha_deg']:.4g}, {sw['stroke_m'] * 1e3:.4f}")
+        f"{sw['alpha_deg']:.4g}, {sw['stroke_m'] * 1e3:.4f}")
     add("working: extreme positions φ1 (X3 min / max) [deg]",
-              f"{sw['phi1_X3_min_deg']:.3f} / {sw['phi1_X3_max_deg']:.3f}")
+        f"{sw['phi1_X3_min_deg']:.3f} / {sw['phi1_X3_max_deg']:.3f}")
     add("working: α range free of jamming [deg]",
-              f"({sw['working_range_deg'][0]:.3f}, {sw['working_range_deg'][1]:.3f})")
+        f"({sw['working_range_deg'][0]:.3f}, {sw['working_range_deg'][1]:.3f})")
     add("working: worst-case force ratio η", f"{sw['worst_case_force_ratio']:.4f}")
+    sched = study.schedule
+    if sched is not None:
+        add("schedule: duration [s]", f"{sched.t[-1]:.4g}")
+        add("schedule: switches [s] (→ mode entered)", ", ".join(
+            f"{x:.4g} (→ {MODES[int(m)]})" for x, m in zip(sched.switch_t, sched.switch_to,
+                                                            strict=True)))
+    return s
 
-    # --- full cycle, files --------------------------------------------------------------------
-    n = doc.output.samples_per_revolution
-    phi = np.linspace(0.0, 2 * np.pi, n + 1)
-    cyc_idle = crank_slider.offset_crank_slider(phi, L1, idle.lambda2, idle.lambda_e, w1, e1,
-                                                idle.branch)
-    cyc_work = sine.inclined_slot(phi, L1, work.alpha, w1, e1)
+
+def render(study: SinePressStudy, *, out: Path, console: Any) -> None:
+    """Print a :class:`~linkwork.studies.sine_press.SinePressStudy` on ``console`` and write
+    its cycles, schedule, summary and plots into ``out``."""
+    from linkwork.plot import pyplot, save
+    from linkwork.plot.sine import plot_cycle, plot_force_ratio, plot_schedule
+
+    for table in _mode_tables(study):
+        console.print(table)
+    work = study.doc.working
+    cyc_idle, cyc_work = study.idle_cycle, study.working_cycle
     written = [cyc_idle.to_csv(out / "idle_cycle.csv"), cyc_idle.to_json(out / "idle_cycle.json"),
                cyc_work.to_csv(out / "working_cycle.csv"),
                cyc_work.to_json(out / "working_cycle.json")]
     written.append(save(plot_cycle(cyc_idle, cyc_work)[0].figure, out / "kinematics.png"))
     ax = plot_force_ratio(work.f_slot, work.f_guide, work.alpha)
     written.append(save(ax.figure, out / "working_range.png"))
-    if doc.schedule:
-        sched = mech.run(doc.segments(), w1, samples_per_revolution=n)
+    sched = study.schedule
+    if sched is not None:
         written += [sched.to_csv(out / "schedule.csv"), sched.to_json(out / "schedule.json")]
         written.append(save(plot_schedule(sched)[0].figure, out / "schedule.png"))
-        summary["schedule"] = {
-            "duration_s": float(sched.t[-1]),
-            "switches": sched.to_dict()["switches"],
-        }
-        add("schedule: duration [s]", f"{sched.t[-1]:.4g}")
-        add("schedule: switches [s] (→ mode entered)", ", ".join(
-            f"{x:.4g} (→ {MODES[int(m)]})" for x, m in zip(sched.switch_t, sched.switch_to,
-                                                            strict=True)))
-    (out / "summary.json").write_text(json.dumps(summary, indent=1))
-    written.append(out / "summary.json")
+    written.append(write_json(out / "summary.json", study.summary))
     pyplot().close("all")
-    console.print(s)
+    console.print(_characteristics(study))
     console.print("written: " + ", ".join(str(p) for p in written))

@@ -12,19 +12,29 @@
 
 from __future__ import annotations
 
-import json
 import math
 from pathlib import Path
 from typing import Annotated, Any
 
 import numpy as np
 import typer
+from rich.markup import escape
+from rich.table import Table
 
-from linkwork.cli.analyze import output_dir
-from linkwork.errors import ParameterError
+from linkwork import io
+from linkwork.cli._args import output_dir, parse_angles
+from linkwork.cli._console import console as make_console
+from linkwork.errors import FileFormatError, ParameterError
+from linkwork.io.swashplate import SwashplateFile
+from linkwork.models import swashplate as sw
+from linkwork.results import write_json
+from linkwork.studies import swashplate as study_swashplate
+from linkwork.studies.swashplate import SwashplateStudy, SwashplateSynthesis
+from linkwork.sweep import rich_progress
+from linkwork.synthesis import swashplate as syn
 from linkwork.units import to_si
 
-__all__ = ["analyze_swashplate", "register", "sub"]
+__all__ = ["analyze_swashplate", "register", "render", "render_synthesis", "sub"]
 
 sub = typer.Typer(name="swashplate", no_args_is_help=True, add_completion=False,
                   help="Swash-plate (inclined-disk) drive of rotor machines (paper 003).")
@@ -38,37 +48,37 @@ def _mm(x: Any) -> str:
     return f"{float(x) * 1e3:.4g}"
 
 
-def analyze_swashplate(doc: Any, out: Path, angles: np.ndarray, console: Any) -> None:
+def analyze_swashplate(doc: SwashplateFile, out: Path, angles: np.ndarray, console: Any
+                       ) -> SwashplateStudy:
     """Analyse a validated ``swashplate`` document; see the module docstring for the outputs."""
-    from rich.markup import escape
-    from rich.table import Table
+    study = study_swashplate.analyze(doc, angles=angles)
+    render(study, out=out, console=console)
+    return study
 
-    from linkwork.models import swashplate as sw
-    from linkwork.plot import save
-    from linkwork.plot.swashplate import plot_drive_forces, plot_kinematics
 
-    d = doc.design()
-    omega = doc.operation.omega
-    res_t = sw.analyze(d, angles, omega=omega)
-    t = Table(title=escape(f"{doc.name}: scheme {d.scheme}, R = {_mm(d.R)} mm, r = {_mm(d.r)} mm,"
-                           f" l = {_mm(d.l)} mm, alpha = {_deg(d.alpha)} deg, a = {_mm(d.a)} mm,"
-                           f" b = {_mm(d.b)} mm"))
+def _table(study: SwashplateStudy) -> Table:
+    d, res_t = study.design, study.table
+    t = Table(title=escape(f"{study.doc.name}: scheme {d.scheme}, R = {_mm(d.R)} mm, r = "
+                           f"{_mm(d.r)} mm, l = {_mm(d.l)} mm, alpha = {_deg(d.alpha)} deg, "
+                           f"a = {_mm(d.a)} mm, b = {_mm(d.b)} mm"))
     # without a rotor speed the slide speed is unknown: no columns of zeros that look measured
-    speeds = omega > 0
+    speeds = study.omega > 0
     cols = ["φ [deg]", "s [mm]", "δz [deg]", "Πv [mm/rad]", "d²s/dφ² [mm/rad²]"]
     for col in cols + (["slide v [m/s]", "slide acc. [m/s²]"] if speeds else []):
         t.add_column(escape(col), justify="right")
     if not speeds:
         t.caption = "no rotor speed in [operation] (speed or productivity): slide speeds omitted"
-    for i, p in enumerate(angles):
+    for i, p in enumerate(study.angles):
         row = [_deg(p), f"{res_t.s[i] * 1e3:.4f}", f"{math.degrees(res_t.delta_z[i]):.4f}",
                f"{res_t.Pi_v[i] * 1e3:.4f}", f"{res_t.Pi_a[i] * 1e3:.4f}"]
         if speeds:
             row += [f"{res_t.v[i]:.4f}", f"{res_t.acc[i]:.4f}"]
         t.add_row(*row)
-    console.print(t)
-    c = res_t.characteristics
-    summary: dict[str, Any] = {k: v for k, v in c.scalars().items()}
+    return t
+
+
+def _characteristics(study: SwashplateStudy) -> Table:
+    c, op, omega, err = study.characteristics, study.doc.operation, study.omega, study.summary
     rows = [("stroke H", f"{_mm(c.H)} mm"),
             ("extremes", f"s_min = {_mm(c.s_min)} mm at {_deg(c.phi_min)} deg, "
                          f"s_max = {_mm(c.s_max)} mm at {_deg(c.phi_max)} deg"),
@@ -76,53 +86,63 @@ def analyze_swashplate(doc: Any, out: Path, angles: np.ndarray, console: Any) ->
             ("max pressure angle fwd / ret", f"{_deg(c.delta_f)} / {_deg(c.delta_r)} deg"),
             ("max |Πv|", f"{_mm(c.Pi_v_max)} mm/rad at {_deg(c.phi_Pi_v_max)} deg"),
             ("axial size L ≈ 2 r sin α + l (exact)", f"{_mm(c.L)} ({_mm(c.L_exact)}) mm"),
-            ("unimodal s(φ)", "yes" if bool(c.unimodal) else "NO")]
-    err = sw.harmonic_error(*d.params)
-    rows.append(("harmonic form (6): max / RMS error", f"{_mm(err['max'])} / {_mm(err['rms'])} mm"))
-    summary["harmonic_error_max"] = float(err["max"])
-    summary["harmonic_error_rms"] = float(err["rms"])
-    op = doc.operation
+            ("unimodal s(φ)", "yes" if bool(c.unimodal) else "NO"),
+            ("harmonic form (6): max / RMS error",
+             f"{_mm(err['harmonic_error_max'])} / {_mm(err['harmonic_error_rms'])} mm")]
     if omega > 0:
-        v_max = omega * float(c.Pi_v_max)
         rows.append(("rotor speed / max slide speed",
-                     f"{omega * 30 / math.pi:.4g} rpm / {v_max:.4g} m/s"))
-        summary["omega"] = omega
-        summary["v_max"] = v_max
+                     f"{omega * 30 / math.pi:.4g} rpm / {study.v_max:.4g} m/s"))
         if op.v_allow is not None:
-            ok = v_max <= op.v_allow
-            rows.append(("speed limit [v]", f"{op.v_allow:.4g} m/s: {'met' if ok else 'EXCEEDED'}"))
-            summary["v_allow_met"] = ok
+            ok = study.summary["v_allow_met"]
+            rows.append(("speed limit [v]", f"{op.v_allow:.4g} m/s: "
+                         f"{'met' if ok else 'EXCEEDED'}"))
     if op.delta_allow is not None:
-        ok = max(float(c.delta_f), float(c.delta_r)) <= op.delta_allow
+        ok = study.summary["delta_allow_met"]
         rows.append(("pressure-angle limit [δz]",
                      f"{_deg(op.delta_allow)} deg: {'met' if ok else 'EXCEEDED'}"))
-        summary["delta_allow_met"] = ok
     ts = Table(title="characteristics (paper 003, requirements 1-5)")
     ts.add_column("quantity")
     ts.add_column("value", justify="right")
     for k, v in rows:
         ts.add_row(escape(k), escape(v))
-    console.print(ts)
+    return ts
 
-    full = sw.analyze(d, np.linspace(0.0, 2 * math.pi, doc.output.samples), omega=omega)
-    full.to_csv(out / "cycle.csv")
-    full.to_json(out / "cycle.json")
-    save(plot_kinematics(full)[0].figure, out / "kinematics.png")
-    f = doc.drive_forces(c)
+
+def _json_values(data: Any) -> Any:
+    """Plain floats for numpy scalars (as ``json.dumps(default=float)`` wrote them)."""
+    if isinstance(data, dict):
+        return {k: _json_values(v) for k, v in data.items()}
+    if isinstance(data, list | tuple):
+        return [_json_values(v) for v in data]
+    if isinstance(data, np.generic):
+        return float(data)
+    return data
+
+
+def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
+    """Print a :class:`~linkwork.studies.swashplate.SwashplateStudy` on ``console`` and write
+    its cycle, forces, characteristics and plots into ``out``."""
+    from linkwork.plot import save
+    from linkwork.plot.swashplate import plot_drive_forces, plot_kinematics
+
+    console.print(_table(study))
+    console.print(_characteristics(study))
+    study.cycle.to_csv(out / "cycle.csv")
+    study.cycle.to_json(out / "cycle.json")
+    save(plot_kinematics(study.cycle)[0].figure, out / "kinematics.png")
+    f = study.forces
     if f is not None:
         f.to_csv(out / "forces.csv")
         f.to_json(out / "forces.json")
         save(plot_drive_forces(f)[0].figure, out / "forces.png")
-        summary.update({"efficiency": f.efficiency, "peak_torque_total": float(
-            np.max(np.abs(f.M_total))), "peak_rod_force": float(np.max(np.abs(f.S)))})
-        slides = f"{op.positions} slide" + ("" if op.positions == 1 else "s")
+        u = study.doc.operation.positions
+        slides = f"{u} slide" + ("" if u == 1 else "s")
         console.print(f"drive: peak rod force {np.max(np.abs(f.S)) * 1e-3:.4g} kN, peak torque "
                       f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), "
                       f"efficiency {f.efficiency:.4f}")
-    (out / "characteristics.json").write_text(json.dumps(
-        {"design": d.as_dict(), **summary}, indent=1, default=float))
+    write_json(out / "characteristics.json", _json_values(study.to_dict()))
     console.print(f"written: {out}/cycle.csv, cycle.json, characteristics.json, kinematics.png"
-                  + (", forces.csv, forces.json, forces.png" if doc.load is not None else ""))
+                  + (", forces.csv, forces.json, forces.png" if f is not None else ""))
 
 
 def _q(value: str | None, kind: str, name: str) -> float | None:
@@ -145,17 +165,120 @@ def analyze_cmd(
                       ] = "0,30,60,90,120,150,180,210,240,270,300,330",
 ) -> None:
     """Analyse a swash-plate drive file: table, characteristics, CSV/JSON and plots."""
-    from linkwork import files
-    from linkwork.cli._console import console as make_console
-    from linkwork.cli.analyze import parse_angles
-    from linkwork.errors import FileFormatError
-
-    doc = files.load(file)
-    if getattr(doc, "type", None) != "swashplate":
+    doc = io.load(file)
+    if not isinstance(doc, SwashplateFile):
         raise FileFormatError(str(file), "type", f"is {doc.type!r}, expected 'swashplate'")
     table_angles = parse_angles(angles)
     output_dir(out)
     analyze_swashplate(doc, out=out, angles=table_angles, console=make_console())
+
+
+def _speed(speed: str | None, productivity: str | None, positions: int) -> float | None:
+    """Rotor speed [rad/s] from ``--speed`` or ``--productivity`` (None: neither)."""
+    if speed is not None and productivity is not None:
+        raise ParameterError("--speed", speed, "give --speed or --productivity, not both")
+    if speed is not None:
+        omega = to_si(speed, "angular_velocity", "--speed")
+        if not omega > 0:
+            raise ParameterError("--speed", speed, "must be > 0")
+        return omega
+    if productivity is not None:
+        P = to_si(productivity, "frequency", "--productivity")
+        if not P > 0:
+            raise ParameterError("--productivity", productivity, "must be > 0")
+        return 2 * math.pi * P / positions
+    return None
+
+
+def _request(opts: dict[str, Any]) -> syn.Request:
+    """The synthesis request of the command's options (strings as typed); a ParameterError of
+    the Request names the option the user typed, as typed."""
+    H = to_si(opts["stroke"], "length", "--stroke")
+    H_tol = _q(opts["stroke_tol"], "length", "--stroke-tol")
+    d_all = to_si(opts["delta"], "angle", "--delta")
+    omega = _speed(opts["speed"], opts["productivity"], opts["positions"])
+    lim = _q(opts["pi_v_max"], "length", "--pi-v-max")
+    if opts["v_allow"] is not None:
+        if omega is None or omega <= 0:
+            raise ParameterError("--v-allow", opts["v_allow"], "needs --productivity or --speed")
+        lv = to_si(opts["v_allow"], "velocity", "--v-allow") / omega
+        lim = lv if lim is None else min(lim, lv)
+    delta_f, delta_r, point = opts["delta_f"], opts["delta_r"], opts["point"]
+    # the Request names its own fields in SI; add the option the user typed, as typed
+    given: dict[str, tuple[str, str | None]] = {
+        "R": ("--rotor-radius", opts["rotor_radius"]), "H": ("--stroke", opts["stroke"]),
+        "H_tol": ("--stroke-tol", opts["stroke_tol"]),
+        "delta_f": ("--delta-f", delta_f) if delta_f is not None else ("--delta", opts["delta"]),
+        "delta_r": ("--delta-r", delta_r) if delta_r is not None else ("--delta", opts["delta"]),
+        "phi_f": ("--phi-f", opts["phi_f"]), "phi_f_tol": ("--phi-f-tol", opts["phi_f_tol"]),
+        "point": ("--point", point), "point_tol": ("--point-tol", opts["point_tol"]),
+        "Pi_v_max": ("--pi-v-max or --v-allow", opts["pi_v_max"] or opts["v_allow"])}
+    try:
+        return syn.Request(
+            scheme=opts["scheme"], R=opts["R"], H=H,
+            H_tol=0.005 * H if H_tol is None else H_tol,
+            delta_f=d_all if delta_f is None else to_si(delta_f, "angle", "--delta-f"),
+            delta_r=d_all if delta_r is None else to_si(delta_r, "angle", "--delta-r"),
+            Pi_v_max=lim,
+            point=None if point is None else _pair(point, "--point"),
+            point_tol=to_si(opts["point_tol"], "length", "--point-tol"),
+            phi_f=_q(opts["phi_f"], "angle", "--phi-f"),
+            phi_f_tol=to_si(opts["phi_f_tol"], "angle", "--phi-f-tol"),
+            objective=opts["objective"], u=opts["positions"])
+    except ParameterError as exc:
+        opt, text = given.get(exc.parameter, ("", None))
+        if text is None:
+            raise
+        hint = f"from {opt} {text!r}"
+        if exc.parameter.startswith(("delta", "phi")):
+            try:
+                float(text)
+                hint += '; a plain number is in radians: write e.g. "8 deg"'
+            except ValueError:
+                pass
+        raise ParameterError(exc.parameter, exc.value, exc.limit, hint) from None
+
+
+def render_synthesis(study: SwashplateSynthesis, *, out: Path, console: Any) -> None:
+    """Print the ranked designs of a :class:`~linkwork.studies.swashplate.SwashplateSynthesis`
+    and write ``synthesis.csv/.json`` and ``feasible_region.png`` into ``out``."""
+    from linkwork.plot import save
+    from linkwork.plot.swashplate import plot_feasible_region
+
+    req, res = study.request, study.result
+    tab = res.table
+    t = Table(title=escape(f"scheme {req.scheme}: {len(res.designs)} best of {res.n_feasible} "
+                           f"feasible / {res.n_evaluated} screened (objective {req.objective})"))
+    cols = ["#", "r [mm]", "l [mm]", "α [deg]", "a [mm]", "b [mm]", "H [mm]", "δf [deg]",
+            "δr [deg]", "max Πv [mm/rad]", "φf [deg]", "L [mm]"]
+    if req.point is not None:
+        cols.insert(-1, f"s({_deg(req.point[0])}°) [mm]")
+    if req.objective != "L":  # the objective column would repeat L
+        cols.append("peak M / (F R)")  # the torque objective: peak drive torque per unit load
+    for col in cols:
+        t.add_column(escape(col), justify="right")
+    for i in range(len(res.designs)):
+        row = [str(i + 1), _mm(tab["r"][i]), _mm(tab["l"][i]), _deg(tab["alpha"][i]),
+               _mm(tab["a"][i]), _mm(tab["b"][i]), _mm(tab["H"][i]),
+               _deg(tab["delta_f"][i]), _deg(tab["delta_r"][i]), _mm(tab["Pi_v_max"][i]),
+               _deg(tab["phi_f"][i]), _mm(tab["L"][i])]
+        if req.point is not None:
+            row.insert(-1, _mm(tab["s_point"][i]))
+        if req.objective != "L":
+            row.append(f"{tab['objective'][i]:.5g}")
+        t.add_row(*row)
+    console.print(t)
+    on_bound = [f"{n} at its {side} bound ({_deg(b)} deg)" if n == "alpha"
+                else f"{n} at its {side} bound ({b:.4g} R = {_mm(b * req.R)} mm)"
+                for n, side, b in res.at_bounds(0)]
+    if on_bound:
+        console.print("note: design 1 lies on the search box: " + ", ".join(on_bound)
+                      + "; a better design may lie beyond it (widen the bound with "
+                      "linkwork.synthesis.swashplate.Request(bounds=...))")
+    res.to_csv(out / "synthesis.csv")
+    res.to_json(out / "synthesis.json")
+    save(plot_feasible_region(study.region, best=res.best).figure, out / "feasible_region.png")
+    console.print(f"written: {out}/synthesis.csv, synthesis.json, feasible_region.png")
 
 
 @sub.command("synthesize")
@@ -201,16 +324,6 @@ def synthesize_cmd(
         "linkwork-output"),
 ) -> None:
     """Find designs of a scheme meeting the stroke, pressure-angle and speed limits (ranked)."""
-    from rich.markup import escape
-    from rich.table import Table
-
-    from linkwork.cli._console import console as make_console
-    from linkwork.models import swashplate as sw
-    from linkwork.plot import save
-    from linkwork.plot.swashplate import plot_feasible_region
-    from linkwork.sweep import rich_progress
-    from linkwork.synthesis import swashplate as syn
-
     output_dir(out)  # before the search: an unusable --out must not cost a synthesis
     if scheme not in sw.SCHEMES:
         raise ParameterError("--scheme", scheme, f"must be one of {', '.join(sw.SCHEMES)}")
@@ -221,59 +334,12 @@ def synthesize_cmd(
         if val < least:
             raise ParameterError(opt, val, f"must be an integer >= {least}")
     R = to_si(rotor_radius, "length", "--rotor-radius")
-    H = to_si(stroke, "length", "--stroke")
-    H_tol = _q(stroke_tol, "length", "--stroke-tol")
-    d_all = to_si(delta, "angle", "--delta")
-    omega = None
-    if speed is not None and productivity is not None:
-        raise ParameterError("--speed", speed, "give --speed or --productivity, not both")
-    if speed is not None:
-        omega = to_si(speed, "angular_velocity", "--speed")
-        if not omega > 0:
-            raise ParameterError("--speed", speed, "must be > 0")
-    elif productivity is not None:
-        P = to_si(productivity, "frequency", "--productivity")
-        if not P > 0:
-            raise ParameterError("--productivity", productivity, "must be > 0")
-        omega = 2 * math.pi * P / positions
-    lim = _q(pi_v_max, "length", "--pi-v-max")
-    if v_allow is not None:
-        if omega is None or omega <= 0:
-            raise ParameterError("--v-allow", v_allow, "needs --productivity or --speed")
-        lv = to_si(v_allow, "velocity", "--v-allow") / omega
-        lim = lv if lim is None else min(lim, lv)
-    # the Request names its own fields in SI; add the option the user typed, as typed
-    given: dict[str, tuple[str, str | None]] = {
-             "R": ("--rotor-radius", rotor_radius), "H": ("--stroke", stroke),
-             "H_tol": ("--stroke-tol", stroke_tol),
-             "delta_f": ("--delta-f", delta_f) if delta_f is not None else ("--delta", delta),
-             "delta_r": ("--delta-r", delta_r) if delta_r is not None else ("--delta", delta),
-             "phi_f": ("--phi-f", phi_f), "phi_f_tol": ("--phi-f-tol", phi_f_tol),
-             "point": ("--point", point), "point_tol": ("--point-tol", point_tol),
-             "Pi_v_max": ("--pi-v-max or --v-allow", pi_v_max or v_allow)}
-    try:
-        req = syn.Request(
-            scheme=scheme, R=R, H=H, H_tol=0.005 * H if H_tol is None else H_tol,
-            delta_f=d_all if delta_f is None else to_si(delta_f, "angle", "--delta-f"),
-            delta_r=d_all if delta_r is None else to_si(delta_r, "angle", "--delta-r"),
-            Pi_v_max=lim,
-            point=None if point is None else _pair(point, "--point"),
-            point_tol=to_si(point_tol, "length", "--point-tol"),
-            phi_f=_q(phi_f, "angle", "--phi-f"),
-            phi_f_tol=to_si(phi_f_tol, "angle", "--phi-f-tol"),
-            objective=objective, u=positions)  # type: ignore[arg-type]
-    except ParameterError as exc:
-        opt, text = given.get(exc.parameter, ("", None))
-        if text is None:
-            raise
-        hint = f"from {opt} {text!r}"
-        if exc.parameter.startswith(("delta", "phi")):
-            try:
-                float(text)
-                hint += '; a plain number is in radians: write e.g. "8 deg"'
-            except ValueError:
-                pass
-        raise ParameterError(exc.parameter, exc.value, exc.limit, hint) from None
+    req = _request({
+        "R": R, "rotor_radius": rotor_radius, "stroke": stroke, "stroke_tol": stroke_tol,
+        "scheme": scheme, "delta": delta, "delta_f": delta_f, "delta_r": delta_r,
+        "pi_v_max": pi_v_max, "v_allow": v_allow, "productivity": productivity,
+        "positions": positions, "speed": speed, "point": point, "point_tol": point_tol,
+        "phi_f": phi_f, "phi_f_tol": phi_f_tol, "objective": objective})
     free = list(req.free)
     names = free[:2] if region is None else [s.strip() for s in region.split(",")]
     if len(names) != 2 or any(n not in free for n in names) or names[0] == names[1]:
@@ -281,48 +347,16 @@ def synthesize_cmd(
                              f"{scheme}: {', '.join(free)}")
     console = make_console()
     err_console = make_console(stderr=True)
+    kw: dict[str, Any] = {"region": (names[0], names[1]), "n_candidates": candidates,
+                          "n_best": best, "n_refine": refine, "seed": seed,
+                          "client": scheduler}
     if err_console.is_terminal:  # a live bar, erased afterwards: stderr keeps one error line
         with rich_progress("screening candidates", console=err_console,
                            transient=True) as progress:
-            res = syn.synthesize(req, n_candidates=candidates, n_best=best, n_refine=refine,
-                                 seed=seed, client=scheduler, progress=progress)
+            study = study_swashplate.synthesize(req, progress=progress, **kw)
     else:
-        res = syn.synthesize(req, n_candidates=candidates, n_best=best, n_refine=refine,
-                             seed=seed, client=scheduler)
-    tab = res.table
-    t = Table(title=escape(f"scheme {scheme}: {len(res.designs)} best of {res.n_feasible} "
-                           f"feasible / {res.n_evaluated} screened (objective {objective})"))
-    cols = ["#", "r [mm]", "l [mm]", "α [deg]", "a [mm]", "b [mm]", "H [mm]", "δf [deg]",
-            "δr [deg]", "max Πv [mm/rad]", "φf [deg]", "L [mm]"]
-    if req.point is not None:
-        cols.insert(-1, f"s({_deg(req.point[0])}°) [mm]")
-    if objective != "L":  # the objective column would repeat L
-        cols.append("peak M / (F R)")  # the torque objective: peak drive torque per unit load
-    for col in cols:
-        t.add_column(escape(col), justify="right")
-    for i in range(len(res.designs)):
-        row = [str(i + 1), _mm(tab["r"][i]), _mm(tab["l"][i]), _deg(tab["alpha"][i]),
-               _mm(tab["a"][i]), _mm(tab["b"][i]), _mm(tab["H"][i]),
-               _deg(tab["delta_f"][i]), _deg(tab["delta_r"][i]), _mm(tab["Pi_v_max"][i]),
-               _deg(tab["phi_f"][i]), _mm(tab["L"][i])]
-        if req.point is not None:
-            row.insert(-1, _mm(tab["s_point"][i]))
-        if objective != "L":
-            row.append(f"{tab['objective'][i]:.5g}")
-        t.add_row(*row)
-    console.print(t)
-    on_bound = [f"{n} at its {side} bound ({_deg(b)} deg)" if n == "alpha"
-                else f"{n} at its {side} bound ({b:.4g} R = {_mm(b * req.R)} mm)"
-                for n, side, b in res.at_bounds(0)]
-    if on_bound:
-        console.print("note: design 1 lies on the search box: " + ", ".join(on_bound)
-                      + "; a better design may lie beyond it (widen the bound with "
-                      "linkwork.synthesis.swashplate.Request(bounds=...))")
-    res.to_csv(out / "synthesis.csv")
-    res.to_json(out / "synthesis.json")
-    reg = syn.feasible_region(req, res.best, names[0], names[1], n=60)
-    save(plot_feasible_region(reg, best=res.best).figure, out / "feasible_region.png")
-    console.print(f"written: {out}/synthesis.csv, synthesis.json, feasible_region.png")
+        study = study_swashplate.synthesize(req, **kw)
+    render_synthesis(study, out=out, console=console)
 
 
 def register(app: typer.Typer) -> None:

@@ -1,0 +1,685 @@
+"""The ``planar`` mechanism file: any planar linkage for the general engine.
+
+Example (the four-bar of ``examples/fourbar_paper001.toml``)::
+
+    type = "planar"
+    name = "Four-bar"
+
+    [frame]
+    points = { O = ["0 mm", "0 mm"], C = ["300 mm", "0 mm"] }
+
+    [[body]]                       # a straight link: x-axis from start to end
+    name = "crank"
+    start = "O"
+    end = "A"
+    length = "100 mm"
+    mass = "1 kg"                  # com at the midpoint, inertia m L^2/12 unless given
+
+    [[body]]                       # a general body: points in its own frame
+    name = "rocker"
+    points = { C = [0, 0], B = ["200 mm", 0] }
+    mass = "2 kg"
+    com = ["100 mm", 0]
+    inertia = "0.00567 kg*m^2"
+
+    [[joint]]
+    name = "O"                     # revolute: point O of a on point O of b (point_a/point_b)
+    type = "revolute"              # "revolute" | "prismatic" | "slot"
+    a = "frame"
+    b = "crank"
+    # prismatic / slot: angle (of the line in a), through (point name or [x, y]), point (of b),
+    # rel_angle (prismatic: theta_b - theta_a)
+
+    [driver]
+    type = "crank"                 # "crank" (revolute joint) | "linear" (prismatic joint)
+    joint = "O"
+    omega1 = "10 rad/s"            # or "95.5 rpm"; linear: v1, a1
+    eps1 = 0
+
+    [analysis]
+    start = "0 deg"                # driver positions (linear driver: metres)
+    stop = "360 deg"
+    n = 361
+    branches = { B = 1 }           # group key -> +1/-1
+    gravity = [0, "-9.81 m/s^2"]   # optional, any direction
+    about = [0, 0]                 # shaking moment reference point
+
+    [[load]]
+    type = "force"                 # "force" at a point (frame axes) | "torque" on a body (mz;
+                                   # a key of the other type is an error)
+    body = "rocker"
+    point = "B"                    # point name, "com" or [x, y] in the body frame
+    fx = "0 N"
+    fy = "-20 N"
+    phi_range = ["200 deg", "340 deg"]   # optional: acts only there (e.g. a working stroke);
+                                         # may wrap through 0; a linear driver: slide
+                                         # positions, e.g. ["200 mm", "220 mm"]
+    from_frame = false             # true: the load comes from the frame (a press's workpiece on
+                                   # the bed) and cancels in the shaking force and moment
+
+    [balance]                      # optional: read by `linkwork balance` (paper 001)
+    links = ["crank", "rocker"]    # counterweighted frame-hinged links
+    radii = { crank = "50 mm", rocker = "100 mm" }   # counterweight radii
+    angles = [0, 30, 60, 90]       # table [deg]
+    n = 360                        # positions of the full cycle
+
+    [spatial]                      # optional: read by `linkwork reactions` (paper 004)
+    k_bearing = "100 N/um"         # default radial bearing stiffness k_b
+    axial_ratio = 1.0              # default axial/radial stiffness ratio
+    positions = 360                # optional: resample the file's [analysis] range
+    default = { e = "30 mm", z = "0 mm" }   # for joints not listed in [spatial.joints]
+    heights = { coupler = "30 mm" }          # heights of the centres of mass [m]
+
+    [spatial.joints.A]
+    kind = "revolute"              # cylindrical, spherical, sphere_cylinder, prismatic, ...
+    e = "30 mm"                    # axis (bearing) length
+    z = "30 mm"                    # height of the joint centre
+    # stiffness = ["1e8 N/m", "1e8 N/m", "1e8 N/m", "7.5 kN*m/rad", "7.5 kN*m/rad", 0]
+
+    [[spatial.deviation]]          # manufacturing deviations, in the body's own frame
+    joint = "O4"
+    body = "frame"
+    tx = "0.2 mrad"                # dx, dy, dz [length], tx, ty, tz [angle]
+
+    [[spatial.out_of_plane]]       # out-of-plane loads at the centre of mass
+    body = "coupler"
+    fz = "5 N"                     # mx, my [torque]
+
+    [[spatial.tolerance]]          # for --tolerance-study
+    joint = "O4"
+    body = "frame"
+    component = "tx"
+    limit = "0.3 mrad"             # normal: limit = 3 sigma; uniform: +-limit
+    distribution = "normal"
+    mean = 0.0
+
+Plain numbers are SI (metres, radians, kg, N); strings carry units. Unknown keys are errors.
+The ``[balance]`` and ``[spatial]`` tables are optional sections of the one :class:`PlanarFile`
+model: the file is read and validated once, whichever command reads it.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated, Any, Literal, Self
+
+import numpy as np
+import pydantic
+from pydantic import Field, PrivateAttr, field_validator, model_validator
+
+from linkwork.errors import FileFormatError, LinkworkError, ParameterError
+from linkwork.io.toml import (
+    Acceleration,
+    Angle,
+    AngularAcceleration,
+    AngularVelocity,
+    FileModel,
+    Force,
+    Inertia,
+    Length,
+    Mass,
+    Stiffness,
+    Torque,
+    Velocity,
+    _validation_error,
+)
+from linkwork.planar.dynamics import BodyTorque, PointForce
+from linkwork.planar.model import (
+    Body,
+    Crank,
+    Joint,
+    Linear,
+    Mechanism,
+    PinInSlot,
+    Prismatic,
+    Revolute,
+    bar,
+)
+from linkwork.redundancy.core import DEFAULT_BEARING_STIFFNESS, check_tilt
+from linkwork.units import to_si
+
+__all__ = ["MAX_ANGLE", "AnalysisSection", "BalanceSection", "BodySection", "DeviationSpec",
+           "DriverSection", "FrameSection", "JointSection", "JointSpec", "LoadSection",
+           "OutOfPlaneSpec", "PlanarFile", "SpatialSpec", "ToleranceSpec", "read_spatial"]
+
+XY = tuple[Length, Length]
+
+#: Largest crank angle [rad] of an analysis range: the spacing of floats there is 1.2e-10 rad.
+MAX_ANGLE = 1e6
+
+
+def _refuse_keys(section: LoadSection | JointSection | DriverSection, keys: tuple[str, ...],
+                 what: str) -> None:
+    """Keys that the section's ``type`` does not use would be ignored silently: refuse them."""
+    given = [k for k in keys if k in section.model_fields_set]
+    if given:
+        raise ParameterError(given[0], getattr(section, given[0]),
+                             f"is not used with type = {section.type!r}, which takes {what}")
+
+
+class FrameSection(FileModel):
+    """The fixed link: its named points [m]."""
+
+    name: str = "frame"
+    points: dict[str, XY] = Field(default_factory=dict)
+
+
+class BodySection(FileModel):
+    """A moving body: ``points`` in its own frame, or a straight link ``start``/``end``/
+    ``length``."""
+
+    name: str
+    points: dict[str, XY] = Field(default_factory=dict)
+    start: str | None = None
+    end: str | None = None
+    length: Length | None = None
+    mass: Mass = 0.0
+    com: XY | Length | None = None
+    inertia: Inertia | None = None
+    guess: tuple[Length, Length, Angle] | None = None
+
+    def build(self) -> Body:
+        if self.length is not None or self.start is not None or self.end is not None:
+            if self.length is None or self.start is None or self.end is None:
+                raise ParameterError(f"body {self.name}", "start/end/length",
+                                     "a straight link needs all of start, end and length")
+            b = bar(self.name, self.start, self.end, self.length, mass=self.mass, com=self.com,
+                    inertia=self.inertia, points=self.points)
+            return Body(b.name, b.points, b.mass, b.com, b.inertia, guess=self.guess)
+        com = (0.0, 0.0) if self.com is None else self.com
+        if not isinstance(com, tuple):
+            raise ParameterError(f"body {self.name}.com", com, "must be [x, y] for a general body")
+        return Body(self.name, self.points, mass=self.mass, com=com,
+                    inertia=0.0 if self.inertia is None else self.inertia, guess=self.guess)
+
+
+class JointSection(FileModel):
+    """A joint between bodies ``a`` and ``b`` (reactions: force of a on b)."""
+
+    name: str
+    type: Literal["revolute", "prismatic", "slot"]
+    a: str
+    b: str
+    point_a: str | None = None
+    point_b: str | None = None
+    angle: Angle = 0.0
+    through: str | XY | None = None
+    point: str | None = None
+    rel_angle: Angle = 0.0
+
+    @model_validator(mode="after")
+    def _keys_of_type(self) -> JointSection:
+        line = ("angle", "through", "point")
+        if self.type == "revolute":
+            _refuse_keys(self, (*line, "rel_angle"), "point_a and point_b")
+        else:
+            _refuse_keys(self, ("point_a", "point_b", *(("rel_angle",) if self.type == "slot"
+                                                         else ())),
+                         "angle, through, point" + (", rel_angle" if self.type == "prismatic"
+                                                    else " (the pin turns freely in the slot)"))
+        return self
+
+    def build(self) -> Joint:
+        if self.type == "revolute":
+            return Revolute(self.name, self.a, self.b, self.point_a, self.point_b)
+        if self.type == "prismatic":
+            return Prismatic(self.name, self.a, self.b, self.angle, self.through, self.point,
+                             self.rel_angle)
+        return PinInSlot(self.name, self.a, self.b, self.angle, self.through, self.point)
+
+
+class DriverSection(FileModel):
+    """The driver: a crank (revolute joint) or a linear actuator (prismatic joint)."""
+
+    type: Literal["crank", "linear"] = "crank"
+    joint: str
+    omega1: AngularVelocity = 1.0
+    eps1: AngularAcceleration = 0.0
+    v1: Velocity = 1.0
+    a1: Acceleration = 0.0
+
+    @model_validator(mode="after")
+    def _keys_of_type(self) -> DriverSection:
+        if self.type == "crank":
+            _refuse_keys(self, ("v1", "a1"), "omega1 and eps1 (a linear driver takes v1, a1)")
+        else:
+            _refuse_keys(self, ("omega1", "eps1"), "v1 and a1 (a crank takes omega1, eps1)")
+        return self
+
+    def build(self) -> Crank | Linear:
+        if self.type == "crank":
+            return Crank(self.joint, self.omega1, self.eps1)
+        return Linear(self.joint, self.v1, self.a1)
+
+
+class AnalysisSection(FileModel):
+    """Driver positions, branches, gravity, shaking-moment point."""
+
+    start: float | str = 0.0
+    stop: float | str = "360 deg"
+    n: Annotated[int, Field(ge=2, le=10_000_000)] = 361
+    branches: dict[str, Literal[1, -1]] = Field(default_factory=dict)
+    gravity: tuple[Acceleration, Acceleration] | None = None
+    about: XY = (0.0, 0.0)
+
+
+class LoadSection(FileModel):
+    """An external force at a point (frame axes) or a couple on a body."""
+
+    type: Literal["force", "torque"]
+    body: str
+    point: str | XY = "com"
+    fx: Force = 0.0
+    fy: Force = 0.0
+    mz: Torque = 0.0
+    phi_range: tuple[float | str, float | str] | None = None
+    from_frame: bool = False
+
+    def driver_range(self, i: int, linear: bool) -> tuple[float, float] | None:
+        """``phi_range`` in SI: angles [rad] for a crank (the range may wrap through 0), slide
+        positions [m] for a linear driver (end > start)."""
+        if self.phi_range is None:
+            return None
+        key = f"load.{i}.phi_range"
+        lo, hi = (to_si(v, "length" if linear else "angle", key) for v in self.phi_range)
+        for v, si in zip(self.phi_range, (lo, hi), strict=True):
+            if not math.isfinite(si):  # a NaN end would switch the load off everywhere
+                raise ParameterError(key, v, "must be finite")
+        if linear and not hi > lo:
+            raise ParameterError(key, self.phi_range[1], f"the end of a slide range must be "
+                                 f"> start = {self.phi_range[0]} (slide positions, no wrap)")
+        return lo, hi
+
+    @model_validator(mode="after")
+    def _keys_of_type(self) -> LoadSection:
+        if self.type == "force":
+            _refuse_keys(self, ("mz",), "a force at a point (fx, fy, point); give a couple as "
+                         "a separate [[load]] of type = 'torque'")
+        else:
+            _refuse_keys(self, ("point", "fx", "fy"), "a couple on the body (mz); give a force "
+                         "as a separate [[load]] of type = 'force'")
+        return self
+
+    def build(self, phi1: np.ndarray, i: int = 0, linear: bool = False
+              ) -> PointForce | BodyTorque:
+        on: np.ndarray | float = 1.0
+        rng = self.driver_range(i, linear)
+        if rng is not None and linear:
+            on = ((phi1 >= rng[0] - 1e-12) & (phi1 <= rng[1] + 1e-12)).astype(float)
+        elif rng is not None:
+            lo, hi = rng
+            two_pi = 2 * np.pi
+            rel = np.mod(phi1 - lo, two_pi)
+            on = (rel <= np.mod(hi - lo, two_pi) + 1e-12).astype(float)
+        if self.type == "force":
+            return PointForce(self.body, self.point, self.fx * on, self.fy * on,
+                              self.from_frame)
+        return BodyTorque(self.body, self.mz * on, self.from_frame)
+
+
+class BalanceSection(FileModel):
+    """The optional ``[balance]`` table of a planar mechanism file."""
+
+    links: list[str] | None = None
+    radii: dict[str, float] | float | None = None
+    angles: list[float] | None = None
+    n: int = Field(default=360, ge=12, le=20000)
+
+    @field_validator("angles", mode="before")
+    @classmethod
+    def _angles(cls, v: Any) -> list[float] | None:
+        """Table positions in degrees: plain numbers are degrees (as ``--angles``); strings
+        carry their unit ("30 deg", "0.5 rad")."""
+        max_deg = math.degrees(MAX_ANGLE)
+        if v is None:
+            return None
+        if not isinstance(v, list) or not v:
+            raise ValueError("must be a non-empty list of angles, e.g. [0, 30, 60] (degrees) "
+                             "or [\"0 deg\", \"0.5 rad\"]")
+        out = []
+        for x in v:
+            if isinstance(x, bool) or not isinstance(x, (int, float, str)):
+                raise ValueError(f"must be numbers in degrees or angles with a unit (got {x!r})")
+            try:
+                deg = float(np.degrees(to_si(x, "angle"))) if isinstance(x, str) else float(x)
+            except LinkworkError as exc:
+                raise ValueError(f"{getattr(exc, 'limit', exc)} (got {x!r})") from None
+            if not np.isfinite(deg):
+                raise ValueError(f"must be finite (got {x!r})")
+            if abs(deg) > max_deg:  # as --angles: no 300-digit angles in the table
+                raise ValueError(f"must lie within +-{max_deg:.6g} deg (got {x!r})")
+            out.append(deg)
+        return out
+
+    @field_validator("radii", mode="before")
+    @classmethod
+    def _radii(cls, v: Any) -> dict[str, float] | float | None:
+        """One length for every link or a table link -> length, each > 0 [m].
+
+        Validated here rather than by a union of pydantic types, whose error locations named
+        the union's internal types (``balance.radii.dict[str,function-before[...]].crank``).
+        """
+        def one(key: str, x: Any) -> float:
+            got = "" if key == "radius" else f" (got {x!r})"  # the file's value is quoted after
+            if isinstance(x, bool) or not isinstance(x, (int, float, str)):
+                raise ValueError(f"{key} must be a length, e.g. '50 mm'{got}")
+            try:
+                r = to_si(x, "length", key)
+            except LinkworkError as exc:
+                raise ValueError(f"{key}: {getattr(exc, 'limit', exc)}{got}") from None
+            if not (np.isfinite(r) and r > 0.0):
+                raise ValueError(f"{key} must be > 0{got}")
+            return r
+
+        if v is None:
+            return None
+        if isinstance(v, dict):
+            return {str(k): one(f"radius of {k}", x) for k, x in v.items()}
+        return one("radius", v)
+
+
+_KIND = Literal["revolute", "cylindrical", "spherical", "sphere_cylinder", "prismatic",
+                "prismatic_round"]
+_COMPONENT = Literal["dx", "dy", "dz", "tx", "ty", "tz"]
+
+
+def _spatial_quantity(value: Any, kind: str) -> float:
+    try:
+        return to_si(value, kind)
+    except ParameterError as exc:
+        raise ValueError(exc.limit) from None
+
+
+class JointSpec(FileModel):
+    """``[spatial.joints.<name>]`` (and ``[spatial] default``)."""
+
+    kind: _KIND | None = None
+    e: Annotated[Length, Field(gt=0)] | None = None
+    z: Length | None = None
+    stiffness: list[Any] | None = None
+    k_bearing: Annotated[Stiffness, Field(gt=0)] | None = None
+    axial_ratio: Annotated[float, Field(gt=0)] | None = None
+
+    @field_validator("stiffness")
+    @classmethod
+    def _stiffness(cls, v: list[Any] | None) -> list[float] | None:
+        if v is None:
+            return None
+        if len(v) != 6:
+            raise ValueError("must list 6 values (3 forces [N/m], 3 moments [N*m/rad])")
+        out = [_spatial_quantity(x, "stiffness") for x in v[:3]]
+        out += [_spatial_quantity(x, "rotational_stiffness") for x in v[3:]]
+        return out
+
+    def kwargs(self) -> dict[str, Any]:
+        """The set fields as keyword arguments of :class:`~linkwork.redundancy.SpatialJoint`."""
+        out = {k: v for k, v in self.model_dump().items() if v is not None}
+        if "stiffness" in out:
+            out["stiffness"] = tuple(out["stiffness"])
+        return out
+
+
+class DeviationSpec(FileModel):
+    """``[[spatial.deviation]]``: deviation of the element of ``joint`` carried by ``body``."""
+
+    joint: str
+    body: str
+    dx: Length = 0.0
+    dy: Length = 0.0
+    dz: Length = 0.0
+    tx: Angle = 0.0
+    ty: Angle = 0.0
+    tz: Angle = 0.0
+
+    @field_validator("tx", "ty", "tz")
+    @classmethod
+    def _small_tilt(cls, v: float) -> float:
+        try:
+            return check_tilt("tilt", v)
+        except ParameterError as exc:
+            raise ValueError(f"{exc.limit}") from None
+
+
+class OutOfPlaneSpec(FileModel):
+    """``[[spatial.out_of_plane]]``: fz [N] at the centre of mass, mx, my [N m]."""
+
+    body: str
+    fz: Force = 0.0
+    mx: Torque = 0.0
+    my: Torque = 0.0
+
+
+class ToleranceSpec(FileModel):
+    """``[[spatial.tolerance]]``: tolerance of one deviation component."""
+
+    joint: str
+    body: str
+    component: _COMPONENT
+    limit: Any
+    distribution: Literal["normal", "uniform"] = "normal"
+    mean: Any = 0.0
+
+    @field_validator("limit", "mean")
+    @classmethod
+    def _to_si(cls, v: Any, info: pydantic.ValidationInfo) -> float:
+        comp = info.data.get("component", "dx")
+        value = _spatial_quantity(v, "length" if str(comp).startswith("d") else "angle")
+        if info.field_name == "limit" and value < 0:
+            raise ValueError("must be >= 0")
+        if str(comp).startswith("t"):
+            try:
+                check_tilt(str(info.field_name), value)
+            except ParameterError as exc:
+                raise ValueError(f"{exc.limit}") from None
+        return value
+
+
+class SpatialSpec(FileModel):
+    """The ``[spatial]`` table."""
+
+    k_bearing: Annotated[Stiffness, Field(gt=0)] = DEFAULT_BEARING_STIFFNESS
+    axial_ratio: Annotated[float, Field(gt=0)] = 1.0
+    positions: Annotated[int, Field(ge=8, le=100_000)] | None = None
+    default: JointSpec = JointSpec()
+    joints: dict[str, JointSpec] = Field(default_factory=dict)
+    heights: dict[str, Length] = Field(default_factory=dict)
+    deviation: list[DeviationSpec] = Field(default_factory=list)
+    out_of_plane: list[OutOfPlaneSpec] = Field(default_factory=list)
+    tolerance: list[ToleranceSpec] = Field(default_factory=list)
+
+    def default_kwargs(self) -> dict[str, Any]:
+        """Keyword arguments for joints not listed (bearing defaults included)."""
+        return {"k_bearing": self.k_bearing, "axial_ratio": self.axial_ratio,
+                **self.default.kwargs()}
+
+    def joint_kwargs(self) -> dict[str, dict[str, Any]]:
+        """Per-joint keyword arguments (over the defaults)."""
+        return {name: {**self.default_kwargs(), **spec.kwargs()}
+                for name, spec in self.joints.items()}
+
+
+def _spatial_error(path: str | Path, err: Any) -> FileFormatError:
+    """The error of the ``[spatial]`` table, worded as ``linkwork reactions`` words it: the
+    dotted key from ``spatial``, pydantic's message with the value given."""
+    key = ".".join(["spatial", *(str(x) for x in err["loc"])])
+    msg = err["msg"]
+    if err["type"] == "extra_forbidden":
+        msg = "unknown key"
+    elif err["type"] == "missing":
+        msg = "missing required key"
+    elif "input" in err:
+        msg = f"{msg} (got {err['input']!r})"
+    return FileFormatError(str(path), key, msg)
+
+
+def read_spatial(path: str | Path, raw: dict[str, Any]) -> SpatialSpec:
+    """Validate the ``spatial`` table of a file already read with :func:`~linkwork.io.toml.
+    read_toml` (a :class:`PlanarFile` reads it as its ``spatial`` section).
+
+    A missing table gives the defaults. Problems raise FileFormatError naming the file and the
+    dotted key (``spatial.joints.A.e``).
+    """
+    data = raw.get("spatial", {})
+    if not isinstance(data, dict):
+        raise FileFormatError(str(path), "spatial", "must be a table")
+    try:
+        return SpatialSpec.model_validate(data)
+    except pydantic.ValidationError as exc:
+        raise _spatial_error(path, exc.errors()[0]) from None
+
+
+class PlanarFile(FileModel):
+    """A planar mechanism for the general engine (see the module docstring)."""
+
+    type: Literal["planar"]
+    name: str = ""
+    description: str = ""
+    source: str = ""
+    frame: FrameSection
+    body: list[BodySection]
+    joint: list[JointSection]
+    driver: DriverSection
+    analysis: AnalysisSection = Field(default_factory=lambda: AnalysisSection())
+    load: list[LoadSection] = Field(default_factory=list)
+    balance: BalanceSection = Field(default_factory=lambda: BalanceSection())
+    spatial: SpatialSpec = Field(default_factory=lambda: SpatialSpec())
+    #: The Mechanism built (and decomposed) when the file was validated, with the sections it
+    #: was built from: :meth:`mechanism` returns it while they are the same objects.
+    _built: tuple[tuple[Any, ...], Mechanism] | None = PrivateAttr(default=None)
+
+    @classmethod
+    def from_data(cls, path: str | Path, data: dict[str, Any]) -> Self:
+        """Validate a planar file read from ``path``: the mechanism, its loads and the optional
+        ``[balance]`` and ``[spatial]`` sections, once; errors name the file and the key."""
+        for table in ("spatial", "balance"):
+            if table in data and not isinstance(data[table], dict):
+                raise FileFormatError(str(path), table, "must be a table")
+        try:
+            doc = cls.model_validate(data)
+        except pydantic.ValidationError as exc:
+            spatial = [e for e in exc.errors() if e["loc"][:1] == ("spatial",)]
+            if spatial and len(spatial) == exc.error_count():  # as `reactions` words them
+                err = spatial[0]
+                raise _spatial_error(path, {**err, "loc": err["loc"][1:]}) from None
+            raise _validation_error(str(path), exc) from None
+        except ParameterError as exc:  # raised by model validators that build mechanisms
+            raise FileFormatError(str(path), exc.parameter,
+                                  str(exc).removeprefix(f"{exc.parameter} = ")) from None
+        doc._check_spatial_names(path)
+        return doc
+
+    @model_validator(mode="after")
+    def _check(self) -> PlanarFile:
+        mech = self.mechanism()
+        try:
+            mech.validate()
+        except LinkworkError as exc:
+            raise ParameterError("structure", "[[body]] and [[joint]] as written",
+                                 str(exc)) from None
+        keys = [g.key for g in mech.structure.groups if g.kind != "driver"]
+        unknown = sorted(set(self.analysis.branches) - {g.key for g in mech.structure.groups})
+        if unknown:  # a misspelt key would leave its group on branch +1
+            raise ParameterError("analysis.branches", unknown[0],
+                                 f"no assembly group has this key; known: {keys}")
+        self.positions()
+        self._check_loads()
+        for i, ld in enumerate(self.load):
+            ld.driver_range(i, self.driver.type == "linear")
+        return self
+
+    def mechanism(self) -> Mechanism:
+        """The engine model described by the file (built once: an immutable Mechanism whose
+        structure analysis is cached with it)."""
+        sources = (self.frame, self.body, self.joint, self.driver, self.analysis)
+        if self._built is not None and all(
+                a is b for a, b in zip(self._built[0], sources, strict=True)):
+            return self._built[1]
+        frame = Body(self.frame.name, self.frame.points)
+        bodies = tuple(b.build() for b in self.body)
+        joints = tuple(j.build() for j in self.joint)
+        mech = Mechanism(frame, bodies, joints, self.driver.build(),
+                         dict(self.analysis.branches))
+        self._built = (sources, mech)
+        return mech
+
+    def positions(self) -> np.ndarray:
+        """Driver positions [rad, or m for a linear driver]."""
+        kind = "angle" if self.driver.type == "crank" else "length"
+        lo = to_si(self.analysis.start, kind, "analysis.start")
+        hi = to_si(self.analysis.stop, kind, "analysis.stop")
+        for key, v, si in (("analysis.start", self.analysis.start, lo),
+                           ("analysis.stop", self.analysis.stop, hi)):
+            if kind == "angle" and not abs(si) <= MAX_ANGLE:  # NaN too
+                raise ParameterError(key, v, f"must lie within +-{MAX_ANGLE:g} rad (about "
+                                     f"{MAX_ANGLE / (2 * np.pi):.0f} turns): beyond it the "
+                                     "float spacing of angles exceeds 1e-10 rad")
+            if not math.isfinite(si):
+                raise ParameterError(key, v, "must be finite")
+        if not hi > lo:
+            raise ParameterError("analysis.stop", hi, f"must be > analysis.start = {lo:.6g}")
+        return np.linspace(lo, hi, self.analysis.n)
+
+    def loads(self, phi1: np.ndarray) -> list[PointForce | BodyTorque]:
+        """External loads evaluated at the driver positions ``phi1``.
+
+        Raises
+        ------
+        ParameterError
+            A load names no moving body (``load.<i>.body``) or no point of its body
+            (``load.<i>.point``).
+        """
+        self._check_loads()
+        linear = self.driver.type == "linear"
+        return [ld.build(phi1, i, linear) for i, ld in enumerate(self.load)]
+
+    def _check_loads(self) -> None:
+        """Every load names a moving body and a point of it (checked when the file loads, so
+        that the error carries the file's name)."""
+        moving = {b.name: b for b in self.body}
+        for i, ld in enumerate(self.load):
+            if ld.body not in moving:
+                why = ("loads act on moving bodies, not on the frame"
+                       if ld.body == self.frame.name else "no such moving body")
+                raise ParameterError(f"load.{i}.body", ld.body, f"{why}; known: {list(moving)}")
+            if isinstance(ld.point, str) and ld.point != "com":
+                known = list(moving[ld.body].build().points)
+                if ld.point not in known:
+                    raise ParameterError(f"load.{i}.point", ld.point,
+                                         f"no such point of body {ld.body!r}; known: "
+                                         f"{[*known, 'com']}")
+
+    def _check_spatial_names(self, path: str | Path) -> None:
+        """Every joint and body the ``[spatial]`` table names exists in the mechanism.
+
+        Raises FileFormatError naming the file, the dotted key, the unknown name and the known
+        ones (the model layer would name only its own parameter, e.g. ``joints = Z``).
+        """
+        mech = self.mechanism()
+        spec = self.spatial
+        joints = {j.name: j for j in mech.joints}
+        moving = [b.name for b in mech.bodies]
+
+        def known_joint(key: str, name: str) -> Any:
+            if name not in joints:
+                raise FileFormatError(str(path), key, f"no joint {name!r}; known: "
+                                      f"{list(joints)}")
+            return joints[name]
+
+        for name in spec.joints:
+            known_joint(f"spatial.joints.{name}", name)
+        for key, body in [*((f"spatial.heights.{b}", b) for b in spec.heights),
+                          *((f"spatial.out_of_plane.{i}.body", o.body)
+                            for i, o in enumerate(spec.out_of_plane))]:
+            if body not in moving:
+                raise FileFormatError(str(path), key, f"no moving body {body!r}; known: "
+                                      f"{moving}")
+        named: list[tuple[str, list[DeviationSpec | ToleranceSpec]]] = [
+            ("deviation", [*spec.deviation]), ("tolerance", [*spec.tolerance])]
+        for table, items in named:
+            for i, item in enumerate(items):
+                j = known_joint(f"spatial.{table}.{i}.joint", item.joint)
+                if item.body not in (j.a, j.b):
+                    raise FileFormatError(str(path), f"spatial.{table}.{i}.body",
+                                          f"{item.body!r} is not a body of joint "
+                                          f"{item.joint!r}: must be {j.a!r} or {j.b!r}")

@@ -1,0 +1,320 @@
+"""A ``planar`` file over its cycle: kinematics, dynamics, dead centres, extremes, a table.
+
+:func:`analyze` builds the mechanism of a :class:`~linkwork.io.planar.PlanarFile` once (its
+structure decomposition is cached with it), solves the file's [analysis] positions and the
+table positions, and returns a :class:`PlanarStudy` that carries everything ``linkwork analyze``
+prints, writes and plots. Nothing is printed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from linkwork.balancing.loads import mean_over_range
+from linkwork.errors import AssemblyError, ParameterError
+from linkwork.io.planar import PlanarFile
+from linkwork.planar import (
+    Crank,
+    DeadCentre,
+    Dynamics,
+    Kinematics,
+    Mechanism,
+    PinInSlot,
+    Prismatic,
+    Revolute,
+    dead_centres,
+    inverse_dynamics,
+    kinematics,
+    transmission_angles,
+)
+from linkwork.planar.structure import Structure
+
+__all__ = ["PlanarStudy", "analyze", "cycle_peaks", "dead_centre_label", "distinct_paths",
+           "named_columns", "table_positions_error"]
+
+#: Columns of ``planar_dynamics.csv`` besides the reactions ``R_*`` (the rest is kinematics).
+DYNAMICS_COLUMNS = ("Q", "shaking_fx", "shaking_fy", "shaking_m", "T")
+
+Transmission = dict[str, tuple[np.ndarray, np.ndarray]]
+
+
+def table_positions_error(exc: AssemblyError, positions: np.ndarray, linear: bool
+                          ) -> ParameterError:
+    """The error for table positions (``--angles``) where the mechanism does not assemble,
+    although the file's [analysis] range does."""
+    vals = np.asarray(positions, dtype=float) * 1e3 if linear else np.degrees(positions)
+    shown = ", ".join(f"{v:g}" for v in vals) + (" mm" if linear else " deg")
+    return ParameterError("--angles", shown, f"the table positions leave the range where the "
+                          f"mechanism assembles ({exc}); give --angles within the file's "
+                          "[analysis] range")
+
+
+def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | None = None
+                  ) -> dict[str, tuple[np.ndarray, str]]:
+    """Readable per-position columns: name -> (values, unit). ``transmission``: the result of
+    :func:`~linkwork.planar.transmission_angles` of ``kin`` if already computed."""
+    mech = kin.mechanism
+    crank = isinstance(mech.driver, Crank)
+    cols: dict[str, tuple[np.ndarray, str]] = {
+        "phi1": (kin.phi1, "rad" if crank else "m"),
+        "omega1": (kin.omega1, "rad/s" if crank else "m/s"),
+        "eps1": (kin.eps1, "rad/s^2" if crank else "m/s^2"),
+    }
+    for b in mech.bodies:
+        i = mech.index[b.name]
+        c = kin.point(b.name, "com")
+        for name, arr, unit in (("theta", kin.theta[i], "rad"), ("omega", kin.omega[i], "rad/s"),
+                                ("eps", kin.eps[i], "rad/s^2"), ("xS", c.x, "m"),
+                                ("yS", c.y, "m"), ("vxS", c.vx, "m/s"), ("vyS", c.vy, "m/s"),
+                                ("axS", c.ax, "m/s^2"), ("ayS", c.ay, "m/s^2")):
+            cols[f"{b.name}.{name}"] = (arr, unit)
+    for k, j in enumerate(dyn.joints):
+        cols[f"R_{j}.x"] = (dyn.fx[k], "N")
+        cols[f"R_{j}.y"] = (dyn.fy[k], "N")
+        if np.any(dyn.mz[k] != 0):
+            cols[f"R_{j}.mz"] = (dyn.mz[k], "N*m")
+    cols["Q"] = (dyn.Q, "N*m" if crank else "N")
+    cols["shaking_fx"] = (dyn.shaking_fx, "N")
+    cols["shaking_fy"] = (dyn.shaking_fy, "N")
+    cols["shaking_m"] = (dyn.shaking_m, "N*m")
+    cols["T"] = (dyn.T, "J")
+    trans = transmission_angles(kin) if transmission is None else transmission
+    for key, (mu, _) in trans.items():
+        cols[f"mu_{key}"] = (mu, "rad")
+    return cols
+
+
+def dead_centre_label(mech: Mechanism, d: DeadCentre) -> tuple[str, str]:
+    """What reaches its extreme at a dead centre, e.g. ``"rocker angle min"`` or ``"ram slide
+    max along G (towards -90 deg)"`` (the slide coordinate runs along the guide's direction, so
+    "max" is the end of the stroke that way), and the joint it is measured at."""
+    g = next(g for g in mech.structure.groups if g.key == d.group)
+    j = mech.joint(g.joints[0] if len(g.bodies) == 1 else g.joints[-1])  # the output's hinge
+    other = j.a if j.b == d.body else j.b
+    if isinstance(j, Revolute):
+        rel = "" if other == mech.frame.name else f" relative to {other}"
+        return f"{d.body} angle {d.kind}{rel}", j.name
+    line = j if isinstance(j, Prismatic | PinInSlot) else None
+    towards = (f" (towards {np.degrees(line.angle):g} deg)"
+               if line is not None and j.a == mech.frame.name else "")
+    return f"{d.body} slide {d.kind} along {j.name}{towards}", j.name
+
+
+def cycle_peaks(kin: Kinematics, dyn: Dynamics, transmission: Transmission | None = None
+                ) -> list[dict[str, Any]]:
+    """Extremes over the analysed positions, for sizing motor and bearings.
+
+    One entry per quantity: ``{"name", "value", "unit", "phi1"}`` (``phi1`` the driver position
+    of the extreme [rad, or m for a linear driver]): the largest and the smallest driving torque
+    (force), the peak magnitude of every joint reaction (and of a prismatic joint's couple), of
+    the shaking force and of the shaking moment, and the smallest transmission angle of every
+    group (its worst position) [rad]. Sampled at the positions analysed (no interpolation
+    between them); unassembled positions (NaN) are skipped. ``transmission``: the result of
+    :func:`~linkwork.planar.transmission_angles` of ``kin`` if already computed.
+    """
+    crank = isinstance(kin.mechanism.driver, Crank)
+    unit_q = "N*m" if crank else "N"
+    series: list[tuple[str, np.ndarray, str, str]] = [
+        ("Q max", dyn.Q, unit_q, "max"), ("Q min", dyn.Q, unit_q, "min")]
+    for k, j in enumerate(dyn.joints):
+        series.append((f"|R {j}|", np.hypot(dyn.fx[k], dyn.fy[k]), "N", "max"))
+        if np.any(dyn.mz[k] != 0):
+            series.append((f"|M {j}|", np.abs(dyn.mz[k]), "N*m", "max"))
+    series += [("|F_sh|", np.hypot(dyn.shaking_fx, dyn.shaking_fy), "N", "max"),
+               ("|M_sh|", np.abs(dyn.shaking_m), "N*m", "max")]
+    trans = transmission_angles(kin) if transmission is None else transmission
+    series += [(f"μ {key} min", mu, "rad", "min") for key, (mu, _) in trans.items()]
+    peaks = []
+    for name, v, unit, kind in series:
+        if not np.any(np.isfinite(v)):
+            continue
+        i = int(np.nanargmax(v) if kind == "max" else np.nanargmin(v))
+        peaks.append({"name": name, "value": float(v[i]), "unit": unit,
+                      "phi1": float(kin.phi1[i])})
+    return peaks
+
+
+def distinct_paths(kin: Kinematics, candidates: list[tuple[str, str]]
+                   ) -> list[tuple[str, str]]:
+    """The (body, point) pairs whose paths differ: a joint's point named on both of its bodies
+    (coupler.B, rocker.B) is drawn once, under its first body."""
+    kept: list[tuple[str, str]] = []
+    seen: list[np.ndarray] = []
+    for body, pt in candidates:
+        pm = kin.point(body, pt)
+        xy = np.concatenate([pm.x, pm.y])
+        if not any(np.allclose(xy, other, rtol=0.0, atol=1e-9, equal_nan=True)
+                   for other in seen):
+            kept.append((body, pt))
+            seen.append(xy)
+    return kept
+
+
+@dataclass(frozen=True)
+class PlanarStudy:
+    """A planar mechanism over its cycle (what ``linkwork analyze`` shows of a planar file).
+
+    Attributes
+    ----------
+    doc : PlanarFile
+        The validated file.
+    mechanism : Mechanism
+        The engine model (built once; its structure decomposition is cached with it).
+    kinematics, dynamics : Kinematics, Dynamics
+        The file's [analysis] positions (driver positions last axis).
+    transmission : dict
+        Transmission angles over the cycle: group key -> (mu [rad], ...).
+    table_positions : ndarray
+        The table's driver positions [rad, or m for a linear driver].
+    table_kinematics, table_dynamics : Kinematics, Dynamics
+        At the table positions.
+    table_transmission : dict
+        Transmission angles at the table positions.
+    dead_centres : list of DeadCentre
+        Over the cycle; ``dead_centre_labels`` (what reaches its extreme, the joint) beside.
+    peaks : list of dict
+        :func:`cycle_peaks` of the cycle.
+    means : dict
+        ``Q_mean`` (work / range) [N m or N] and ``power_mean`` [W] over the cycle.
+    paths : list of (body, point)
+        The distinct point paths of the skeleton plot (the second point of every body).
+    """
+
+    doc: PlanarFile
+    mechanism: Mechanism
+    kinematics: Kinematics
+    dynamics: Dynamics
+    transmission: Transmission
+    table_positions: np.ndarray
+    table_kinematics: Kinematics
+    table_dynamics: Dynamics
+    table_transmission: Transmission
+    dead_centres: list[DeadCentre]
+    dead_centre_labels: list[tuple[str, str]]
+    peaks: list[dict[str, Any]]
+    means: dict[str, float]
+    paths: list[tuple[str, str]]
+
+    @property
+    def crank(self) -> bool:
+        """True for a crank driver (angles [rad]), False for a linear one (slides [m])."""
+        return isinstance(self.mechanism.driver, Crank)
+
+    @property
+    def structure(self) -> Structure:
+        """Mobility and Assur groups of the mechanism."""
+        return self.mechanism.structure
+
+    @property
+    def positions(self) -> np.ndarray:
+        """The file's [analysis] driver positions [rad, or m for a linear driver]."""
+        return np.asarray(self.kinematics.phi1)
+
+    def columns(self) -> dict[str, tuple[np.ndarray, str]]:
+        """Readable per-position columns of the cycle: name -> (values, unit)."""
+        return named_columns(self.kinematics, self.dynamics, self.transmission)
+
+    def kinematics_columns(self) -> dict[str, tuple[np.ndarray, str]]:
+        """The columns of ``planar_kinematics.csv``: poses, velocities, accelerations,
+        transmission angles."""
+        return {k: v for k, v in self.columns().items()
+                if not (k.startswith("R_") or k in DYNAMICS_COLUMNS)}
+
+    def dynamics_columns(self) -> dict[str, tuple[np.ndarray, str]]:
+        """The columns of ``planar_dynamics.csv``: reactions, driving torque, shaking, kinetic
+        energy (after ``phi1``)."""
+        cols = self.columns()
+        out = {"phi1": cols["phi1"]}
+        out.update({k: v for k, v in cols.items()
+                    if k.startswith("R_") or k in DYNAMICS_COLUMNS})
+        return out
+
+    def to_dict(self) -> dict[str, Any]:
+        """Everything of the study as JSON-able values (``planar.json``)."""
+        mech, s, kin, dyn = self.mechanism, self.structure, self.kinematics, self.dynamics
+        crank = self.crank
+        cols = self.columns()
+        a_x, a_y = (float(v) for v in dyn.about)
+        drv = mech.joint(mech.driver.joint)
+        return {
+            "name": self.doc.name, "mobility": s.mobility, "structure": s.formula(),
+            "groups": [{"kind": g.kind, "bodies": list(g.bodies), "joints": list(g.joints),
+                        "class": g.cls, "order": g.order, "key": g.key,
+                        "branch": kin.branches.get(g.key, 1)} for g in s.groups],
+            "reaction_sign": "force exerted by joint body a on joint body b, frame axes",
+            "torque_sign": (f"Q: {'torque' if crank else 'force along the guide'} on body "
+                            f"{drv.b!r} of driver joint {mech.driver.joint!r} through body "
+                            f"{drv.a!r}{', counter-clockwise +' if crank else ''}; driving "
+                            "power Q*omega1"),
+            "shaking_sign": ("force and moment exerted by the moving bodies on the frame "
+                             "(motor reaction included), moment counter-clockwise + about "
+                             f"({a_x:g}, {a_y:g}) m"),
+            "positions_unit": "rad" if crank else "m",
+            "dead_centres": [{"group": d.group, "body": d.body, "phi1": d.phi1, "kind": d.kind,
+                              "of": lab[0], "joint": lab[1]}
+                             for d, lab in zip(self.dead_centres, self.dead_centre_labels,
+                                               strict=True)],
+            "peaks": self.peaks,
+            "means": {**self.means, "units": {"Q_mean": "N*m" if crank else "N",
+                                              "power_mean": "W"}},
+            "units": {k: u for k, (_, u) in cols.items()},
+            "columns": {k: [None if not np.isfinite(x) else float(x) for x in v]
+                        for k, (v, _) in cols.items()},
+        }
+
+
+def _solve(doc: PlanarFile, mech: Mechanism, phi: np.ndarray) -> tuple[Kinematics, Dynamics]:
+    kin = kinematics(mech, phi)
+    a = doc.analysis
+    dyn = inverse_dynamics(kin, gravity=a.gravity, loads=doc.loads(phi), about=a.about)
+    return kin, dyn
+
+
+def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
+    """Analyse a planar mechanism file over its [analysis] positions and at table positions.
+
+    Parameters
+    ----------
+    doc : PlanarFile
+        The validated file (:func:`linkwork.io.load`).
+    angles : array_like, optional
+        The table's driver positions [rad, or m for a linear driver]; default 12 evenly spaced
+        over the file's [analysis] range (both ends included).
+
+    Returns
+    -------
+    PlanarStudy
+
+    Raises
+    ------
+    AssemblyError
+        The mechanism does not assemble over the file's range.
+    ParameterError
+        The table positions leave the range where the mechanism assembles (``--angles``).
+    """
+    mech = doc.mechanism()
+    crank = isinstance(mech.driver, Crank)
+    phi = doc.positions()
+    kin, dyn = _solve(doc, mech, phi)
+    dcs = dead_centres(kin)
+    tphi = np.linspace(phi[0], phi[-1], 12) if angles is None else np.asarray(angles, float)
+    try:
+        tk, td = _solve(doc, mech, tphi)
+    except AssemblyError as exc:
+        raise table_positions_error(exc, tphi, not crank) from None
+    trans = transmission_angles(kin)
+    paths = distinct_paths(kin, [(b.name, pt) for b in mech.bodies
+                                 for pt in list(b.points)[1:2]])
+    return PlanarStudy(
+        doc=doc, mechanism=mech, kinematics=kin, dynamics=dyn, transmission=trans,
+        table_positions=tphi, table_kinematics=tk, table_dynamics=td,
+        table_transmission=transmission_angles(tk), dead_centres=dcs,
+        dead_centre_labels=[dead_centre_label(mech, d) for d in dcs],
+        peaks=cycle_peaks(kin, dyn, trans),
+        means={"Q_mean": mean_over_range(kin.phi1, dyn.Q),
+               "power_mean": mean_over_range(kin.phi1, dyn.power)},
+        paths=paths)

@@ -1,0 +1,254 @@
+"""Spatial joint reactions of a ``planar`` file with redundant constraints (paper 004).
+
+:func:`run` takes a :class:`~linkwork.io.planar.PlanarFile` and its ``[spatial]`` section,
+:func:`solve` an engine Mechanism and a :class:`~linkwork.io.planar.SpatialSpec`; both return a
+:class:`ReactionsStudy` (the structural count, the reactions over the cycle and at the table
+positions, their peaks). :func:`tolerance` adds the Monte-Carlo study of the peaks. The
+kinematics of the cycle is solved once and shared by the reactions, the count and the tolerance
+study. Nothing is printed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from linkwork.errors import AssemblyError, ParameterError
+from linkwork.io.planar import PlanarFile, SpatialSpec
+from linkwork.planar import Kinematics, Mechanism, kinematics
+from linkwork.redundancy import (
+    Deviation,
+    OutOfPlaneLoad,
+    RedundancyCount,
+    SpatialGeometry,
+    SpatialModel,
+    SpatialReactions,
+    Tolerance,
+    ToleranceStudy,
+    body_wrenches,
+    count_redundancy,
+    deviation_array,
+    geometry,
+    solve_reactions,
+    spatial_model,
+    tolerance_study,
+)
+from linkwork.studies.planar import table_positions_error
+
+__all__ = ["ReactionsStudy", "model_inputs", "run", "solve", "tolerance", "tolerances"]
+
+Loads = Sequence[Any] | Callable[[np.ndarray], Sequence[Any]]
+
+
+def model_inputs(spec: SpatialSpec) -> dict[str, Any]:
+    """The keyword arguments of :func:`~linkwork.redundancy.spatial_reactions` that a
+    ``[spatial]`` section gives: joints, default, heights, out_of_plane, deviations."""
+    return {
+        "joints": spec.joint_kwargs(),
+        "default": spec.default_kwargs(),
+        "heights": dict(spec.heights),
+        "out_of_plane": [OutOfPlaneLoad(o.body, o.fz, o.mx, o.my) for o in spec.out_of_plane],
+        "deviations": [Deviation(d.joint, d.body, d.dx, d.dy, d.dz, d.tx, d.ty, d.tz)
+                       for d in spec.deviation],
+    }
+
+
+@dataclass(frozen=True)
+class ReactionsStudy:
+    """Spatial reactions of a mechanism over its cycle and at table positions.
+
+    Attributes
+    ----------
+    mechanism : Mechanism
+    spec : SpatialSpec
+        The ``[spatial]`` data used.
+    inputs : dict
+        :func:`model_inputs` of ``spec``.
+    model : SpatialModel
+        The spatial joints.
+    kinematics : Kinematics
+        The cycle's kinematics (positions last).
+    geometry : SpatialGeometry
+        The cycle's joint geometry.
+    wrenches : ndarray
+        The body wrenches over the cycle (gravity, inertia, external and out-of-plane loads).
+    reactions : SpatialReactions
+        Over the cycle.
+    table_positions : ndarray
+        [rad, or m for a linear driver].
+    table : SpatialReactions
+        At the table positions.
+    count : RedundancyCount
+        Somov-Malyshev count, rank, redundant constraints.
+    peaks : dict
+        :meth:`SpatialReactions.peaks` of the cycle.
+    method : str
+        ``"force"`` or ``"displacement"``.
+    """
+
+    mechanism: Mechanism
+    spec: SpatialSpec
+    inputs: dict[str, Any]
+    model: SpatialModel
+    kinematics: Kinematics
+    geometry: SpatialGeometry
+    wrenches: np.ndarray
+    reactions: SpatialReactions
+    table_positions: np.ndarray
+    table: SpatialReactions
+    count: RedundancyCount
+    peaks: dict[str, dict[str, float]]
+    method: str
+
+    @property
+    def linear(self) -> bool:
+        """True for a linear driver (positions are slides [m], Q a force [N])."""
+        return bool(self.mechanism.driver.kind == "linear")
+
+    @property
+    def cycle(self) -> np.ndarray:
+        """The cycle's driver positions."""
+        return np.asarray(self.kinematics.phi1)
+
+    def peaks_dict(self) -> dict[str, Any]:
+        """The peaks and the count as JSON-able values (``reactions_peaks.json``)."""
+        count = self.count
+        return {"units": {"f*": "N", "m*": "N*m", "bending": "N*m",
+                          "Q": self.reactions.units["Q"]},
+                "peaks": self.peaks,
+                "redundant_constraints": count.redundant,
+                "mobility_somov_malyshev": count.mobility_formula, "mobility": count.mobility}
+
+
+def _reactions(mech: Mechanism, kin: Kinematics, model: SpatialModel, geom: SpatialGeometry,
+               inputs: dict[str, Any], gravity: Any, loads: Sequence[Any], method: str
+               ) -> tuple[np.ndarray, SpatialReactions]:
+    """As :func:`~linkwork.redundancy.spatial_reactions`, on a kinematics already solved."""
+    w = body_wrenches(mech, kin, gravity=gravity, loads=loads, heights=inputs["heights"],
+                      out_of_plane=inputs["out_of_plane"])
+    dev = deviation_array(model, inputs["deviations"], mech.frame.name)
+    res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
+    if mech.driver.kind == "linear":  # positions are slides [m], the driving force is in N
+        res._relabel_units(phi1="m", Q="N")
+    return w, res
+
+
+def solve(mech: Mechanism, spec: SpatialSpec, *, angles: ArrayLike,
+          cycle: ArrayLike | None = None, gravity: Sequence[float] | None = None,
+          loads: Loads = (), method: str = "force") -> ReactionsStudy:
+    """Spatial reactions of ``mech`` with the spatial data ``spec``.
+
+    Parameters
+    ----------
+    mech : Mechanism
+    spec : SpatialSpec
+    angles : array_like
+        Driver positions of the table [rad, or m for a linear driver].
+    cycle : array_like, optional
+        Driver positions of the cycle; default ``spec.positions`` (or 360) over one turn;
+        ``spec.positions``, when set, resamples the cycle's range.
+    gravity : (gx, gy), optional
+        Gravity [m/s^2].
+    loads : sequence or callable
+        External loads of the engine (PointForce, BodyTorque), or a function of the driver
+        positions returning them.
+    method : {"force", "displacement"}
+
+    Raises
+    ------
+    ParameterError
+        The table positions leave the range where the mechanism assembles (``--angles``).
+    """
+    inputs = model_inputs(spec)
+    if cycle is None:
+        cyc = np.linspace(0.0, 2 * np.pi, spec.positions or 360, endpoint=False)
+    elif spec.positions:
+        c = np.asarray(cycle, dtype=float)
+        cyc = np.linspace(float(c[0]), float(c[-1]), spec.positions)
+    else:
+        cyc = np.asarray(cycle, dtype=float)
+
+    def loads_at(phi: np.ndarray) -> list[Any]:
+        return list(loads(phi)) if callable(loads) else list(loads)
+
+    kin = kinematics(mech, cyc)
+    model = spatial_model(mech, inputs["joints"], inputs["default"])
+    geom = geometry(mech, kin)
+    w, res = _reactions(mech, kin, model, geom, inputs, gravity, loads_at(cyc), method)
+    tphi = np.asarray(angles, dtype=float)
+    try:
+        kin_t = kinematics(mech, tphi)
+    except AssemblyError as exc:
+        raise table_positions_error(exc, tphi, mech.driver.kind == "linear") from None
+    _, at = _reactions(mech, kin_t, model, geometry(mech, kin_t), inputs, gravity,
+                       loads_at(tphi), method)
+    count = count_redundancy(model, geom, position=len(cyc) // 7)
+    return ReactionsStudy(mechanism=mech, spec=spec, inputs=inputs, model=model, kinematics=kin,
+                          geometry=geom, wrenches=w, reactions=res, table_positions=tphi,
+                          table=at, count=count, peaks=res.peaks(), method=method)
+
+
+def run(doc: PlanarFile, *, angles: ArrayLike, method: str = "force") -> ReactionsStudy:
+    """Spatial reactions of a planar file with its ``[spatial]`` section, over the file's
+    [analysis] positions (resampled to ``[spatial].positions`` when given), with its gravity
+    and external loads; the table at ``angles`` [rad, or m for a linear driver]."""
+    gravity = doc.analysis.gravity
+    return solve(doc.mechanism(), doc.spatial, angles=angles, cycle=doc.positions(),
+                 gravity=None if gravity is None else tuple(gravity), loads=doc.loads,
+                 method=method)
+
+
+def tolerances(study: ReactionsStudy, n: int) -> list[Tolerance]:
+    """The random deviations of the ``[[spatial.tolerance]]`` of the study's spec, and its
+    systematic deviations as fixed means (``n``: the samples asked for, named in the error).
+
+    Raises
+    ------
+    ParameterError
+        The spec has no tolerances, or one names no joint of the model or a body not of its
+        joint.
+    """
+    spec, model, mech = study.spec, study.model, study.mechanism
+    if not spec.tolerance:
+        raise ParameterError("--tolerance-study", n,
+                             "needs at least one [[spatial.tolerance]] in the file")
+    tols: list[Tolerance] = []
+    for tspec in spec.tolerance:
+        jt = next((j for j in model.joints if j.name == tspec.joint), None)
+        if jt is None:
+            raise ParameterError("spatial.tolerance.joint", tspec.joint,
+                                 f"no such joint; known: {[j.name for j in model.joints]}")
+        body = "ground" if tspec.body == mech.frame.name else tspec.body
+        if body not in (jt.body_a, jt.body_b):
+            raise ParameterError(f"spatial.tolerance {tspec.joint}.body", tspec.body,
+                                 "must be one of the joint's bodies")
+        tols.append(Tolerance(tspec.joint, "a" if body == jt.body_a else "b",
+                              tspec.component, tspec.limit, tspec.distribution, tspec.mean))
+    # systematic deviations of the file are added as fixed means
+    fixed = deviation_array(model, study.inputs["deviations"], mech.frame.name)
+    for j, jt in enumerate(model.joints):
+        for side in (0, 1):
+            for c, cname in enumerate(("dx", "dy", "dz", "tx", "ty", "tz")):
+                if fixed[j, side, c] != 0.0:
+                    tols.append(Tolerance(jt.name, "ab"[side], cname, 0.0, "uniform",
+                                          float(fixed[j, side, c])))
+    return tols
+
+
+def tolerance(study: ReactionsStudy, n: int, *, tols: Sequence[Tolerance] | None = None,
+              seed: int = 0, scheduler: Any = None, chunk_size: int = 2000,
+              progress: Any = None) -> ToleranceStudy:
+    """Monte-Carlo study of the peak reactions over the study's cycle under ``tols`` (default
+    :func:`tolerances` of the study: the file's tolerances around its systematic deviations).
+
+    ``n`` samples, ``seed``, ``chunk_size``, ``scheduler`` (a dask.distributed address or
+    Client) and ``progress`` (a :func:`~linkwork.sweep.rich_progress` bar) as in
+    :func:`~linkwork.redundancy.tolerance_study`. Raises ParameterError as :func:`tolerances`.
+    """
+    tols = tolerances(study, n) if tols is None else tols
+    return tolerance_study(study.model, study.geometry, study.wrenches, tols, n, seed=seed,
+                           chunk_size=chunk_size, client=scheduler, progress=progress)
