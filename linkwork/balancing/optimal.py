@@ -35,7 +35,6 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
-from scipy import optimize
 
 from linkwork.balancing.comparison import crank_axis
 from linkwork.balancing.mechanism import (
@@ -294,6 +293,8 @@ def optimal_balance(mech: Mechanism | BalancingProblem, weights: Sequence[float]
     rng = np.random.default_rng(seed)
     while len(x0s) < max(starts, 1):
         x0s.append(rng.uniform(lo, hi))
+    from scipy import optimize  # lazily: 0.3-0.5 s of import that `linkwork --help` skips
+
     best = None
     for x0 in x0s[:max(starts, len(x0s[:2]))]:
         res = optimize.minimize(J, x0, jac=True, method="SLSQP", bounds=bnds,

@@ -105,7 +105,7 @@ def render(study: SinePressStudy, *, out: Path, console: Any) -> None:
     """Print a :class:`~linkwork.studies.sine_press.SinePressStudy` on ``console`` and write
     its cycles, schedule, summary and plots into ``out``."""
     from linkwork.plot import pyplot, save
-    from linkwork.plot.sine import plot_cycle, plot_force_ratio, plot_schedule
+    from linkwork.plot.sine import plot_cycle, plot_schedule
 
     for table in _mode_tables(study):
         console.print(table)
@@ -115,8 +115,7 @@ def render(study: SinePressStudy, *, out: Path, console: Any) -> None:
                cyc_work.to_csv(out / "working_cycle.csv"),
                cyc_work.to_json(out / "working_cycle.json")]
     written.append(save(plot_cycle(cyc_idle, cyc_work)[0].figure, out / "kinematics.png"))
-    ax = plot_force_ratio(work.f_slot, work.f_guide, work.alpha)
-    written.append(save(ax.figure, out / "working_range.png"))
+    written.append(save(study.force_ratio.plot(work.alpha).figure, out / "working_range.png"))
     sched = study.schedule
     if sched is not None:
         written += [sched.to_csv(out / "schedule.csv"), sched.to_json(out / "schedule.json")]

@@ -61,11 +61,13 @@ if TYPE_CHECKING:
 
 __all__ = [
     "ExtremePositions",
+    "ForceRatioCurve",
     "InclinedSlotResult",
     "alpha_for_stroke",
     "check_alpha",
     "extreme_positions",
     "force_ratio",
+    "force_ratio_curve",
     "friction_angle",
     "inclined_slot",
     "stroke",
@@ -377,3 +379,48 @@ def force_ratio(alpha: ArrayLike, f_slot: ArrayLike, f_guide: ArrayLike) -> np.n
     sa, ca = np.sin(al), np.cos(al)
     etas = [(sa + sg * f1 * ca - f2 * np.abs(ca - sg * f1 * sa)) / sa for sg in (1.0, -1.0)]
     return np.minimum(*etas)
+
+
+@dataclass(frozen=True)
+class ForceRatioCurve(Result):
+    """The worst-case force ratio over slot angles, with the working range (the jamming limits).
+
+    Attributes
+    ----------
+    slot_angle : ndarray
+        Slot angles alpha [rad], open interval (0, pi).
+    eta : ndarray
+        :func:`force_ratio` at each angle [-].
+    working : tuple of float
+        :func:`working_range`: (alpha_min, alpha_max) [rad].
+    f_slot, f_guide : float
+        The friction coefficients.
+    """
+
+    slot_angle: np.ndarray
+    eta: np.ndarray
+    working: tuple[float, float]
+    f_slot: float
+    f_guide: float
+
+    units: ClassVar[dict[str, str]] = {"slot_angle": "rad", "eta": "", "f_slot": "",
+                                       "f_guide": ""}
+    position_field: ClassVar[str] = "slot_angle"
+
+    def plot(self, alpha: float | None = None, ax: Any = None, **kw: Any) -> Figure:
+        """The curve, the working range shaded and the chosen ``alpha`` [rad] if given: a
+        :class:`linkwork.plot.Figure` with one axes."""
+        from linkwork.plot import Figure
+        from linkwork.plot.sine import plot_force_ratio_curve
+
+        return Figure.of(plot_force_ratio_curve(self.slot_angle, self.eta, self.working,
+                                                alpha=alpha, ax=ax))
+
+
+def force_ratio_curve(f_slot: float, f_guide: float, n: int = 721) -> ForceRatioCurve:
+    """:func:`force_ratio` over ``n`` slot angles in [1e-3, pi - 1e-3] rad and the
+    :func:`working_range`, for a diagram of where the mechanism jams."""
+    a = np.linspace(1e-3, np.pi - 1e-3, n)
+    lo, hi = working_range(f_slot, f_guide)
+    return ForceRatioCurve(a, force_ratio(a, f_slot, f_guide), (float(lo), float(hi)),
+                           float(f_slot), float(f_guide))

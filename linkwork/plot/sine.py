@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from linkwork.deprecation import warn_renamed
 from linkwork.plot._base import (
     Figure,
     axes_or_new,
@@ -109,24 +110,13 @@ def plot_schedule(res: ScheduleResult, axes: Any = None, ram: bool = True) -> An
 
 def plot_force_ratio(f_slot: float, f_guide: float, alpha: float | None = None,
                      ax: Any = None) -> Any:
-    """Worst-case force ratio (friction model of :func:`linkwork.models.sine.force_ratio`)
-    against the slot angle, with the working range and optionally the chosen ``alpha`` [rad].
+    """Deprecated: ``linkwork.models.sine.force_ratio_curve(f_slot, f_guide).plot(alpha)``
+    (a plot module does not evaluate a model). Returns the matplotlib Axes, as before."""
+    from linkwork.models.sine import force_ratio_curve  # the one deprecated plot -> model edge
 
-    The one plotting function that evaluates a model (kept for its callers): it computes the
-    curve with :mod:`linkwork.models.sine`, imported here rather than at the top so that no
-    plot module imports a model at import time, and draws it with
-    :func:`plot_force_ratio_curve`.
-
-    Returns
-    -------
-    ax : matplotlib Axes.
-    """
-    from linkwork.models.sine import force_ratio, working_range  # see the docstring
-
-    a = np.linspace(1e-3, np.pi - 1e-3, 721)
-    lo, hi = working_range(f_slot, f_guide)
-    return plot_force_ratio_curve(a, force_ratio(a, f_slot, f_guide), (float(lo), float(hi)),
-                                  alpha=alpha, ax=ax)
+    warn_renamed("linkwork.plot.sine.plot_force_ratio()",
+                 "linkwork.models.sine.force_ratio_curve(f_slot, f_guide).plot(alpha)")
+    return force_ratio_curve(f_slot, f_guide).plot(alpha, ax=ax).axes[0]
 
 
 def plot_force_ratio_curve(slot_angle: ArrayLike, eta: ArrayLike,

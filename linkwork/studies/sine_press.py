@@ -15,7 +15,7 @@ from numpy.typing import ArrayLike
 from linkwork.io.sine_press import SinePressFile
 from linkwork.models import crank_slider, sine
 from linkwork.models.crank_slider import CrankSliderResult
-from linkwork.models.sine import InclinedSlotResult
+from linkwork.models.sine import ForceRatioCurve, InclinedSlotResult, force_ratio_curve
 from linkwork.models.variable_structure import ScheduleResult, VariableStructureMechanism
 
 __all__ = ["DEFAULT_ANGLES", "SinePressStudy", "analyze"]
@@ -41,6 +41,9 @@ class SinePressStudy:
         Both over one revolution (``[output].samples_per_revolution`` + 1 positions).
     schedule : ScheduleResult or None
         The duty schedule over time (None without a ``[[schedule]]``).
+    force_ratio : ForceRatioCurve
+        The worst-case force ratio over slot angles with the working range (where the drive
+        jams by friction), for the file's friction coefficients.
     summary : dict
         The scalar characteristics (``summary.json``): ``idle``, ``working`` and, with a
         schedule, ``schedule`` (duration, switches).
@@ -55,6 +58,7 @@ class SinePressStudy:
     working_cycle: InclinedSlotResult
     schedule: ScheduleResult | None
     summary: dict[str, Any]
+    force_ratio: ForceRatioCurve
 
 
 def _characteristics(doc: SinePressFile) -> dict[str, Any]:
@@ -107,6 +111,7 @@ def analyze(doc: SinePressFile, *, angles: ArrayLike | None = None) -> SinePress
                                "switches": sched.to_dict()["switches"]}
     return SinePressStudy(
         doc=doc, mechanism=mech, angles=phi_t,
+        force_ratio=force_ratio_curve(work.f_slot, work.f_guide),
         table_idle=crank_slider.offset_crank_slider(phi_t, L1, idle.lambda2, idle.lambda_e,
                                                     w1, e1, idle.branch),
         table_working=sine.inclined_slot(phi_t, L1, work.alpha, w1, e1),

@@ -43,3 +43,18 @@ def test_fourbar_on_fail_and_assembled_are_the_former_names_of_on_failure_and_va
     f_new = fourbar_kinetostatics(t2, 0.3, 0.1, 0.25, 0.3, mass=(1.0, 2.0, 3.0),
                                   on_failure="nan")
     np.testing.assert_array_equal(f_old.Q, f_new.Q)
+
+
+def test_plot_force_ratio_is_the_former_name_of_the_force_ratio_curve_figure() -> None:
+    """The deprecated plotting function draws the same curve as the model's figure."""
+    import matplotlib.pyplot as plt
+
+    from linkwork.models.sine import force_ratio_curve
+    from linkwork.plot.sine import plot_force_ratio
+
+    with pytest.warns(DeprecationWarning, match=r"plot_force_ratio\(\) is deprecated"):
+        ax = plot_force_ratio(0.1, 0.12, np.radians(60.0))
+    fig = force_ratio_curve(0.1, 0.12).plot(np.radians(60.0))
+    np.testing.assert_array_equal(ax.get_lines()[0].get_ydata(),
+                                  fig.axes[0].get_lines()[0].get_ydata())
+    plt.close("all")

@@ -435,3 +435,17 @@ def test_alpha_for_stroke_shape_mismatch_is_named():
     lo, hi = sine.alpha_for_stroke(np.array([[0.05], [0.04]]), np.array([0.2, 0.1]))
     np.testing.assert_allclose(2 * np.array([[0.05], [0.04]]) / np.sin(lo), [[0.2, 0.1]] * 2)
     np.testing.assert_allclose(lo + hi, np.pi)
+
+
+def test_force_ratio_curve_is_positive_exactly_inside_the_working_range():
+    """Reference: the curve samples :func:`sine.force_ratio`, and the working range of
+    :func:`sine.working_range` is where it is positive (the jamming limits: eta = 0 there, the
+    closed form sin(alpha - rho1 - rho2) = 0 of docs/sine_press.md). Tolerance: one sample."""
+    curve = sine.force_ratio_curve(0.1, 0.12, n=2001)
+    np.testing.assert_array_equal(curve.eta, sine.force_ratio(curve.slot_angle, 0.1, 0.12))
+    lo, hi = curve.working
+    inside = (curve.slot_angle > lo) & (curve.slot_angle < hi)
+    step = curve.slot_angle[1] - curve.slot_angle[0]
+    clear = (np.abs(curve.slot_angle - lo) > step) & (np.abs(curve.slot_angle - hi) > step)
+    np.testing.assert_array_equal((curve.eta > 0)[clear], inside[clear])
+    assert abs(lo - (np.arctan(0.1) + np.arctan(0.12))) < 1e-12
