@@ -194,7 +194,7 @@ def fourbar_contenders(n: int, with_engine: bool = True) -> list[Contender]:
                          lambda: numpy_fourbar_vector(t, a, b, c, d, OMEGA), plain_out))
 
     def closed_out(r: Any) -> tuple[np.ndarray, ...]:
-        return _rocker_point(r.xB, r.yB, r.omega4, r.alpha4, d)
+        return _rocker_point(r.xB, r.yB, r.omega4, r.eps4, d)
 
     out.append(Contender("closed form", lambda: fourbar(t, a, b, c, d, OMEGA), closed_out))
     if with_engine:

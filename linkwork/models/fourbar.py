@@ -2,10 +2,16 @@ r"""The four-bar linkage in closed form, and its planar kinetostatics.
 
 Notation (Norton [1]_): link 1 is the frame, link 2 the crank ``a = O2A``, link 3 the coupler
 ``b = AB``, link 4 the rocker ``c = O4B``, ``d = O2O4`` the frame.  The origin is the crank pivot
-O2 and the x axis is the frame line O2 -> O4, so ``O4 = (d, 0)``.  Every angle (``theta2``,
-``theta3``, ``theta4``) is measured counter-clockwise from that x axis: ``theta2`` is the angle of
+O2 and the x axis is the frame line O2 -> O4, so ``O4 = (d, 0)``.  Every angle (``phi1``,
+``theta3``, ``theta4``) is measured counter-clockwise from that x axis: ``phi1`` is the angle of
 O2 -> A, ``theta3`` of A -> B, ``theta4`` of O4 -> B.  Angular velocities and accelerations are
 positive counter-clockwise.
+
+Names: the crank is the driver, so its angle, speed and acceleration carry linkwork's driver
+names ``phi1``, ``omega1``, ``eps1`` (Norton's theta2, omega2, alpha2); the coupler and rocker
+keep Norton's link numbers: ``theta3``, ``omega3``, ``eps3`` (Norton's alpha3) and ``theta4``,
+``omega4``, ``eps4``.  The former names (``theta2``, ``omega2``, ``alpha2``..``alpha4``,
+``on_fail``, ``assembled``) still work, with a DeprecationWarning (``docs/nomenclature.md``).
 
 Assembly branch: for a crank angle the coupler-rocker joint B lies at one of the two intersections
 of the circles (A, b) and (O4, c).  ``branch=+1`` takes the one on the LEFT of the directed line
@@ -34,7 +40,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.deprecation import renamed_attribute, warn_renamed
+from linkwork.deprecation import renamed_attribute, renamed_keywords
 from linkwork.errors import (
     AssemblyError,
     ParameterError,
@@ -126,13 +132,13 @@ class FourbarResult(Result):
 
     Attributes
     ----------
-    theta2 : ndarray
+    phi1 : ndarray
         Crank angle (input) [rad].
     theta3, theta4 : ndarray
         Coupler angle (A -> B) and rocker angle (O4 -> B) [rad], in (-pi, pi].
     omega3, omega4 : ndarray
         Angular velocities of the coupler and the rocker [rad/s].
-    alpha3, alpha4 : ndarray
+    eps3, eps4 : ndarray
         Angular accelerations of the coupler and the rocker [rad/s^2].
     xA, yA, xB, yB : ndarray
         Crank pin A and coupler-rocker joint B [m].
@@ -143,19 +149,19 @@ class FourbarResult(Result):
         readable under its former name ``assembled`` (deprecated).
     a, b, c, d : float or ndarray
         Crank, coupler, rocker, frame lengths [m].
-    omega2, alpha2 : float or ndarray
+    omega1, eps1 : float or ndarray
         Crank angular velocity [rad/s] and acceleration [rad/s^2].
     branch : int
         Assembly branch (+1: B left of the directed line A -> O4).
     """
 
-    theta2: np.ndarray
+    phi1: np.ndarray
     theta3: np.ndarray
     theta4: np.ndarray
     omega3: np.ndarray
     omega4: np.ndarray
-    alpha3: np.ndarray
-    alpha4: np.ndarray
+    eps3: np.ndarray
+    eps4: np.ndarray
     xA: np.ndarray
     yA: np.ndarray
     xB: np.ndarray
@@ -167,19 +173,24 @@ class FourbarResult(Result):
     b: Any
     c: Any
     d: Any
-    omega2: Any
-    alpha2: Any
+    omega1: Any
+    eps1: Any
     branch: int
 
     units: ClassVar[dict[str, str]] = {
-        "theta2": "rad", "theta3": "rad", "theta4": "rad",
-        "omega3": "rad/s", "omega4": "rad/s", "alpha3": "rad/s^2", "alpha4": "rad/s^2",
+        "phi1": "rad", "theta3": "rad", "theta4": "rad",
+        "omega3": "rad/s", "omega4": "rad/s", "eps3": "rad/s^2", "eps4": "rad/s^2",
         "xA": "m", "yA": "m", "xB": "m", "yB": "m", "xP": "m", "yP": "m", "valid": "",
-        "a": "m", "b": "m", "c": "m", "d": "m", "omega2": "rad/s", "alpha2": "rad/s^2",
+        "a": "m", "b": "m", "c": "m", "d": "m", "omega1": "rad/s", "eps1": "rad/s^2",
         "branch": "", "transmission_angle": "rad",
     }
-    position_field: ClassVar[str] = "theta2"
+    position_field: ClassVar[str] = "phi1"
     assembled = renamed_attribute("valid", "assembled")
+    theta2 = renamed_attribute("phi1", "theta2")
+    omega2 = renamed_attribute("omega1", "omega2")
+    alpha2 = renamed_attribute("eps1", "alpha2")
+    alpha3 = renamed_attribute("eps3", "alpha3")
+    alpha4 = renamed_attribute("eps4", "alpha4")
 
     def plot(self, ax: Any = None, **kw: Any) -> Figure:
         """Draw the linkage and the path of B (and P): a :class:`linkwork.plot.Figure` with one
@@ -215,7 +226,7 @@ class FourbarResult(Result):
         """
         p_ = np.asarray(p, dtype=float)
         q_ = np.asarray(q, dtype=float)
-        w2, e2 = self.omega2, self.alpha2
+        w2, e2 = self.omega1, self.eps1
         ox: Any
         oy: Any
         ovx: Any
@@ -232,11 +243,11 @@ class FourbarResult(Result):
             ovx, ovy = -w2 * self.yA, w2 * self.xA
             oax = -e2 * self.yA - w2 * w2 * self.xA
             oay = e2 * self.xA - w2 * w2 * self.yA
-            w, e = self.omega3, self.alpha3
+            w, e = self.omega3, self.eps3
         elif link == "rocker":
             ex, ey = (self.xB - self.d) / self.c, self.yB / self.c
             ox, oy, ovx, ovy, oax, oay = self.d, 0.0, 0.0, 0.0, 0.0, 0.0
-            w, e = self.omega4, self.alpha4
+            w, e = self.omega4, self.eps4
         else:
             raise ParameterError("link", link, "must be 'crank', 'coupler' or 'rocker'")
         rx = p_ * ex - q_ * ey
@@ -248,9 +259,9 @@ class FourbarResult(Result):
         return tuple(np.asarray(t) for t in (x, y, vx, vy, ax, ay))
 
 
-def _fail(theta2: Any, ok: np.ndarray, a: Any, b: Any, c: Any, d: Any,
+def _fail(phi1: Any, ok: np.ndarray, a: Any, b: Any, c: Any, d: Any,
           singular: bool = False) -> AssemblyError:
-    t = np.asarray(theta2, dtype=float)
+    t = np.asarray(phi1, dtype=float)
     bad = ~ok
     if t.ndim == 0:
         ranges = [(float(t), float(t))]
@@ -265,7 +276,7 @@ def _fail(theta2: Any, ok: np.ndarray, a: Any, b: Any, c: Any, d: Any,
     return AssemblyError(
         f"{what} (a={_show(a)}, b={_show(b)}, c={_show(c)}, d={_show(d)} m)",
         ranges,
-        driver="theta2",
+        driver="phi1",
     )
 
 
@@ -274,22 +285,23 @@ def _show(x: Any) -> str:
     return f"{float(arr):.6g}" if arr.size == 1 else f"array{arr.shape}"
 
 
-def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
-            omega2: ArrayLike = 1.0, alpha2: ArrayLike = 0.0, branch: int = +1, *,
+@renamed_keywords(theta2="phi1", omega2="omega1", alpha2="eps1", on_fail="on_failure")
+def fourbar(phi1: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
+            omega1: ArrayLike = 1.0, eps1: ArrayLike = 0.0, branch: int = +1, *,
             coupler_point: tuple[ArrayLike, ArrayLike] | None = None,
-            on_failure: str = "raise", on_fail: str | None = None) -> FourbarResult:
+            on_failure: str = "raise") -> FourbarResult:
     r"""Closed-form position, velocity and acceleration analysis of a four-bar linkage.
 
     Parameters
     ----------
-    theta2 : array_like
+    phi1 : array_like
         Crank angle(s) [rad], counter-clockwise from the frame line O2 -> O4; shape ``(n,)``.
     a, b, c, d : float or array_like
         Crank O2A, coupler AB, rocker O4B and frame O2O4 lengths [m], > 0.  Arrays broadcast
-        against ``theta2`` (designs of shape ``(m, 1)`` against angles of shape ``(n,)``).
-    omega2 : float or array_like, optional
+        against ``phi1`` (designs of shape ``(m, 1)`` against angles of shape ``(n,)``).
+    omega1 : float or array_like, optional
         Crank angular velocity [rad/s], counter-clockwise positive (default 1).
-    alpha2 : float or array_like, optional
+    eps1 : float or array_like, optional
         Crank angular acceleration [rad/s^2] (default 0).
     branch : {+1, -1}, optional
         Assembly branch: +1 puts B on the left of the directed line from A to O4, -1 on the right.
@@ -300,17 +312,15 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
         What to do at crank angles where the linkage cannot be assembled: raise
         :class:`~linkwork.errors.AssemblyError` listing the crank-angle ranges (default), or
         return NaN there with ``result.valid`` False.
-    on_fail : {"raise", "nan"}, optional
-        Deprecated name of ``on_failure``.
 
     Returns
     -------
     FourbarResult
-        ``theta3``, ``theta4``, ``omega3``, ``omega4``, ``alpha3``, ``alpha4``, points A, B (P).
+        ``theta3``, ``theta4``, ``omega3``, ``omega4``, ``eps3``, ``eps4``, points A, B (P).
 
     Notes
     -----
-    With ``A = a (cos theta2, sin theta2)``, ``O4 = (d, 0)``, ``s = O4 - A`` and ``f = |s|``,
+    With ``A = a (cos phi1, sin phi1)``, ``O4 = (d, 0)``, ``s = O4 - A`` and ``f = |s|``,
     B is the intersection of the circles (A, b) and (O4, c):
 
     .. math::
@@ -320,7 +330,7 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
 
     with :math:`s_\perp` the vector ``s`` turned 90 deg counter-clockwise and
     :math:`\beta` = ``branch``.  With ``u = B - A`` (= b e3) and ``v = B - O4`` (= c e4), the
-    loop-closure derivatives ``omega2 jA + omega3 ju - omega4 jv = 0`` give
+    loop-closure derivatives ``omega1 jA + omega3 ju - omega4 jv = 0`` give
 
     .. math::
 
@@ -348,36 +358,32 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
     # The common call -- one design in Python numbers over a 1-D float64 array of crank angles
     # that assembles everywhere -- is checked with plain comparisons (the named checks below
     # cost ~2 us, 3 % of a 360-position evaluation); anything else takes the named checks.
-    if (type(theta2) is np.ndarray and theta2.dtype is _F64 and theta2.ndim == 1
-            and 0 < theta2.shape[0] < 2 * _CHUNK and coupler_point is None):
+    if (type(phi1) is np.ndarray and phi1.dtype is _F64 and phi1.ndim == 1
+            and 0 < phi1.shape[0] < 2 * _CHUNK and coupler_point is None):
         af, bf, cf, df = py_float(a), py_float(b), py_float(c), py_float(d)
-        w2f, e2f = py_float(omega2), py_float(alpha2)
+        w2f, e2f = py_float(omega1), py_float(eps1)
         if (af is not None and bf is not None and cf is not None and df is not None
                 and w2f is not None and e2f is not None and 0.0 < af < _INF
                 and 0.0 < bf < _INF and 0.0 < cf < _INF and 0.0 < df < _INF
                 and -_INF < w2f < _INF and -_INF < e2f < _INF
                 and type(branch) is int and (branch == 1 or branch == -1)
-                and (on_failure == "raise" or on_failure == "nan") and on_fail is None
-                and all_finite(theta2)):
-            res = _kernel(theta2, af, bf, cf, df, w2f, e2f, float(branch), None, None)
+                and (on_failure == "raise" or on_failure == "nan") and all_finite(phi1)):
+            res = _kernel(phi1, af, bf, cf, df, w2f, e2f, float(branch), None, None)
             if res[-1]:  # clean: every position assembles away from a toggle
-                return _result(theta2, res, af, bf, cf, df, w2f, e2f, branch)
+                return _result(phi1, res, af, bf, cf, df, w2f, e2f, branch)
     a_ = _length("a", a)
     b_ = _length("b", b)
     c_ = _length("c", c)
     d_ = _length("d", d)
-    w2 = _finite("omega2", omega2)
-    e2 = _finite("alpha2", alpha2)
+    w2 = _finite("omega1", omega1)
+    e2 = _finite("eps1", eps1)
     br = _branch(branch)
-    if on_fail is not None:
-        warn_renamed("fourbar(on_fail=...)", "on_failure=")
-        on_failure = on_fail
     if on_failure not in ("raise", "nan"):
         raise ParameterError("on_failure", on_failure, "must be 'raise' or 'nan'")
     # a finite float array as is; anything else by the named check (None was NaN, a complex
     # angle lost its imaginary part, True was 1 rad, inf made np.cos warn)
-    t2 = theta2 if (type(theta2) is np.ndarray and theta2.dtype is _F64
-                    and all_finite(theta2)) else require_finite("theta2", theta2)
+    t2 = phi1 if (type(phi1) is np.ndarray and phi1.dtype is _F64
+                    and all_finite(phi1)) else require_finite("phi1", phi1)
     if coupler_point is not None:
         p = _finite("coupler_point[0]", coupler_point[0])
         q = _finite("coupler_point[1]", coupler_point[1])
@@ -390,8 +396,8 @@ def fourbar(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: Arra
         else:
             res = _kernel(t2, a_, b_, c_, d_, w2, e2, br, p, q)
     except ValueError as exc:  # operands that do not broadcast (no cost when they do)
-        shapes = {k: np.shape(v) for k, v in (("theta2", t2), ("a", a_), ("b", b_), ("c", c_),
-                                               ("d", d_), ("omega2", w2), ("alpha2", e2))}
+        shapes = {k: np.shape(v) for k, v in (("phi1", t2), ("a", a_), ("b", b_), ("c", c_),
+                                               ("d", d_), ("omega1", w2), ("eps1", e2))}
         raise shapes_error(shapes) from exc
     th3, th4, w3, w4, al3, al4, ax, ay, xb, yb, xp, yp, ok, clean = res
     if not clean:
@@ -418,9 +424,9 @@ def _result(t2: Any, res: tuple[Any, ...], a_: Any, b_: Any, c_: Any, d_: Any, w
             e2: Any, br: Any) -> FourbarResult:
     th3, th4, w3, w4, al3, al4, ax, ay, xb, yb, xp, yp, ok = res[:13]
     return FourbarResult._assemble({
-        "theta2": t2, "theta3": th3, "theta4": th4, "omega3": w3, "omega4": w4, "alpha3": al3,
-        "alpha4": al4, "xA": ax, "yA": ay, "xB": xb, "yB": yb, "xP": xp, "yP": yp,
-        "valid": ok, "a": a_, "b": b_, "c": c_, "d": d_, "omega2": w2, "alpha2": e2,
+        "phi1": t2, "theta3": th3, "theta4": th4, "omega3": w3, "omega4": w4, "eps3": al3,
+        "eps4": al4, "xA": ax, "yA": ay, "xB": xb, "yB": yb, "xP": xp, "yP": yp,
+        "valid": ok, "a": a_, "b": b_, "c": c_, "d": d_, "omega1": w2, "eps1": e2,
         "branch": int(br)})
 
 
@@ -493,8 +499,8 @@ def _kernel_tail(ax: Any, ay: Any, sx: Any, f2: Any, qq: Any, hh: Any, b_: Any,
     rden = w2 / den
     w3 = n3 * rden
     w4 = n4 * rden
-    # alpha: with K = alpha2 A + jG, G = omega2^2 A + omega3^2 u - omega4^2 v,
-    # -(K x v) = G.v + alpha2 n3 and -(K x u) = G.u + alpha2 n4
+    # alpha: with K = eps1 A + jG, G = omega1^2 A + omega3^2 u - omega4^2 v,
+    # -(K x v) = G.v + eps1 n3 and -(K x u) = G.u + eps1 n4
     w22 = w2 * w2
     w33 = w3 * w3
     w44 = w4 * w4
@@ -503,7 +509,7 @@ def _kernel_tail(ax: Any, ay: Any, sx: Any, f2: Any, qq: Any, hh: Any, b_: Any,
     num3 = gx * vx + gy * vy
     num4 = gx * ux + gy * uy
     if type(e2) is not float or e2 != 0.0:
-        num3 = num3 + e2 * n3  # (not in place: alpha2 may broadcast to more designs)
+        num3 = num3 + e2 * n3  # (not in place: eps1 may broadcast to more designs)
         num4 = num4 + e2 * n4
     xp = yp = None
     if p is not None:
@@ -609,35 +615,40 @@ class FourbarLimits:
 
     Attributes
     ----------
-    theta2_toggle_extended, theta2_toggle_folded : ndarray
+    phi1_toggle_extended, phi1_toggle_folded : ndarray
         Crank angles in [0, pi] at which coupler and rocker are collinear, extended
         (``|AO4| = b + c``) or folded (``|AO4| = |b - c|``) [rad]; the mirror angles ``-theta``
         are toggles too.  These are the limit positions of the INPUT (transmission angle 180 or
         0 deg; the crank cannot pass them).  NaN where that toggle does not exist (e.g. for a
         crank that turns fully).
-    theta2_rocker_extended, theta4_rocker_extended : ndarray
+    phi1_rocker_extended, theta4_rocker_extended : ndarray
         Crank and rocker angles [rad] where crank and coupler are collinear and extended
         (``|O2B| = a + b``) on the chosen branch: a limit position of the rocker (omega4 = 0).
-    theta2_rocker_folded, theta4_rocker_folded : ndarray
+    phi1_rocker_folded, theta4_rocker_folded : ndarray
         The same with crank and coupler overlapping (``|O2B| = |a - b|``).
     rocker_swing : ndarray
         ``|theta4_rocker_extended - theta4_rocker_folded|`` wrapped to [0, pi] [rad].
     time_ratio : ndarray
-        For a turning crank (omega2 > 0): crank angle from the folded to the extended limit,
+        For a turning crank (omega1 > 0): crank angle from the folded to the extended limit,
         divided by the angle from the extended back to the folded one (Norton's time ratio).
     branch : int
         Assembly branch used for the rocker limits.
     """
 
-    theta2_toggle_extended: Any
-    theta2_toggle_folded: Any
-    theta2_rocker_extended: Any
+    phi1_toggle_extended: Any
+    phi1_toggle_folded: Any
+    phi1_rocker_extended: Any
     theta4_rocker_extended: Any
-    theta2_rocker_folded: Any
+    phi1_rocker_folded: Any
     theta4_rocker_folded: Any
     rocker_swing: Any
     time_ratio: Any
     branch: int
+
+    theta2_toggle_extended = renamed_attribute("phi1_toggle_extended", "theta2_toggle_extended")
+    theta2_toggle_folded = renamed_attribute("phi1_toggle_folded", "theta2_toggle_folded")
+    theta2_rocker_extended = renamed_attribute("phi1_rocker_extended", "theta2_rocker_extended")
+    theta2_rocker_folded = renamed_attribute("phi1_rocker_folded", "theta2_rocker_folded")
 
 
 def limit_positions(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
@@ -657,7 +668,7 @@ def limit_positions(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
 
     Notes
     -----
-    Input toggles: ``|AO4|^2 = a^2 + d^2 - 2ad cos theta2 = (b +- c)^2``.  Rocker limits
+    Input toggles: ``|AO4|^2 = a^2 + d^2 - 2ad cos phi1 = (b +- c)^2``.  Rocker limits
     (omega4 = 0, i.e. crank and coupler collinear): B is the intersection of the circles
     (O2, a + b) or (O2, |a - b|) and (O4, c) lying on the requested branch.
     """
@@ -706,7 +717,8 @@ def limit_positions(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
                          out(swing), out(tr), int(br))
 
 
-def transmission_angle(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike,
+@renamed_keywords(theta2="phi1")
+def transmission_angle(phi1: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike,
                        d: ArrayLike, acute: bool = False) -> np.ndarray:
     r"""Transmission angle mu, the angle ABO4 between coupler and rocker [rad].
 
@@ -715,7 +727,7 @@ def transmission_angle(theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLi
     It does not depend on the branch.  ``acute=True`` returns ``min(mu, pi - mu)`` (Norton's
     convention of reporting the acute angle).  NaN where the linkage cannot be assembled.
     """
-    t2 = require_finite("theta2", theta2)
+    t2 = require_finite("phi1", phi1)
     aa, bb, cc, dd = (_as_arr(n, x) for n, x in zip("abcd", (a, b, c, d), strict=True))
     cos_mu = (bb * bb + cc * cc - aa * aa - dd * dd + 2.0 * aa * dd * np.cos(t2)) / (2 * bb * cc)
     with np.errstate(invalid="ignore"):
@@ -731,7 +743,7 @@ class TransmissionExtremes:
     ----------
     mu_min, mu_max : float or ndarray
         Smallest and largest transmission angle [rad] (0 or pi at an input toggle).
-    theta2_at_min, theta2_at_max : float or ndarray
+    phi1_at_min, phi1_at_max : float or ndarray
         Crank angles in [0, pi] where they occur [rad] (also at their negatives).
     max_deviation : float or ndarray
         ``max(|mu - pi/2|)`` over the motion [rad]; small is good.
@@ -739,9 +751,12 @@ class TransmissionExtremes:
 
     mu_min: Any
     mu_max: Any
-    theta2_at_min: Any
-    theta2_at_max: Any
+    phi1_at_min: Any
+    phi1_at_max: Any
     max_deviation: Any
+
+    theta2_at_min = renamed_attribute("phi1_at_min", "theta2_at_min")
+    theta2_at_max = renamed_attribute("phi1_at_max", "theta2_at_max")
 
 
 def transmission_angle_extremes(a: ArrayLike, b: ArrayLike, c: ArrayLike,
@@ -807,7 +822,7 @@ class FourbarForces(Result):
     O2 ``-Q - d R_C^y`` [N m].
     """
 
-    theta2: np.ndarray
+    phi1: np.ndarray
     R_Ox: np.ndarray
     R_Oy: np.ndarray
     R_Ax: np.ndarray
@@ -823,18 +838,19 @@ class FourbarForces(Result):
     kinematics: FourbarResult
 
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
-        """Joint reactions and driving moment over theta2: a :class:`linkwork.plot.Figure` with
+        """Joint reactions and driving moment over phi1: a :class:`linkwork.plot.Figure` with
         two axes (:func:`linkwork.plot.fourbar.plot_fourbar_forces`)."""
         from linkwork.plot.fourbar import fourbar_forces_figure
 
         return fourbar_forces_figure(self, axes=axes, **kw)
 
     units: ClassVar[dict[str, str]] = {
-        "theta2": "rad", "R_Ox": "N", "R_Oy": "N", "R_Ax": "N", "R_Ay": "N", "R_Bx": "N",
+        "phi1": "rad", "R_Ox": "N", "R_Oy": "N", "R_Ax": "N", "R_Ay": "N", "R_Bx": "N",
         "R_By": "N", "R_Cx": "N", "R_Cy": "N", "Q": "N*m", "shaking_force_x": "N",
         "shaking_force_y": "N", "shaking_moment": "N*m",
     }
-    position_field: ClassVar[str] = "theta2"
+    position_field: ClassVar[str] = "phi1"
+    theta2 = renamed_attribute("phi1", "theta2")
 
 
 def _triple(name: str, x: Any, default: Any) -> tuple[Any, Any, Any]:
@@ -863,9 +879,10 @@ def _local_point(name: str, x: Any) -> tuple[Any, Any]:
     return _vec(name, x)
 
 
+@renamed_keywords(theta2="phi1", omega2="omega1", alpha2="eps1", on_fail="on_failure")
 def fourbar_kinetostatics(
-    theta2: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
-    omega2: ArrayLike = 1.0, alpha2: ArrayLike = 0.0, branch: int = +1, *,
+    phi1: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
+    omega1: ArrayLike = 1.0, eps1: ArrayLike = 0.0, branch: int = +1, *,
     mass: tuple[ArrayLike, ArrayLike, ArrayLike] = (0.0, 0.0, 0.0),
     inertia: tuple[ArrayLike | None, ArrayLike | None, ArrayLike | None] = (None, None, None),
     com: tuple[Any, Any, Any] | None = None,
@@ -874,17 +891,16 @@ def fourbar_kinetostatics(
     force_point: tuple[Any, Any, Any] | None = None,
     moment: tuple[ArrayLike, ArrayLike, ArrayLike] = (0.0, 0.0, 0.0),
     on_failure: str = "raise",
-    on_fail: str | None = None,
 ) -> FourbarForces:
     r"""Joint reactions and driving moment of a four-bar, in closed form (inverse dynamics).
 
     Every tuple below is ``(crank, coupler, rocker)`` = Norton's links 2, 3, 4 = paper 004's
-    links 1, 2, 3.  Each value may be a scalar or an array broadcasting against ``theta2``
+    links 1, 2, 3.  Each value may be a scalar or an array broadcasting against ``phi1``
     (e.g. a technological force given per position).
 
     Parameters
     ----------
-    theta2, a, b, c, d, omega2, alpha2, branch
+    phi1, a, b, c, d, omega1, eps1, branch
         As in :func:`fourbar`.
     mass : 3 floats, optional
         Link masses [kg] (default 0).
@@ -909,8 +925,6 @@ def fourbar_kinetostatics(
         External moment (couple) on each link [N m], counter-clockwise positive.
     on_failure : {"raise", "nan"}
         As in :func:`fourbar`.
-    on_fail : {"raise", "nan"}, optional
-        Deprecated name of ``on_failure``.
 
     Returns
     -------
@@ -934,10 +948,7 @@ def fourbar_kinetostatics(
     These are Eqs. (8)-(13) of paper 004 [2]_ generalised to any centre of mass and external
     load; the paper's printed (9) and (13) contain errors (``docs/errata.md``).
     """
-    if on_fail is not None:
-        warn_renamed("fourbar_kinetostatics(on_fail=...)", "on_failure=")
-        on_failure = on_fail
-    kin = fourbar(theta2, a, b, c, d, omega2, alpha2, branch, on_failure=on_failure)
+    kin = fourbar(phi1, a, b, c, d, omega1, eps1, branch, on_failure=on_failure)
     m2, m3, m4 = (_finite(f"mass[{i}]", x) for i, x in enumerate(_triple("mass", mass, None)))
     lengths = (kin.a, kin.b, kin.c)
     j2, j3, j4 = (_finite(f"inertia[{i}]", x) if x is not None
@@ -959,8 +970,8 @@ def fourbar_kinetostatics(
     k = kin
     flat_loads = (m2, m3, m4, j2, j3, j4, *coms[0], *coms[1], *coms[2], *fpts[0], *fpts[1],
                   *fpts[2], *frc[0], *frc[1], *frc[2], *mom, gx, gy)
-    kin_arrays = (k.xA, k.yA, k.xB, k.yB, k.omega3, k.omega4, k.alpha3, k.alpha4, k.a, k.b, k.c,
-                  k.d, k.omega2, k.alpha2)
+    kin_arrays = (k.xA, k.yA, k.xB, k.yB, k.omega3, k.omega4, k.eps3, k.eps4, k.a, k.b, k.c,
+                  k.d, k.omega1, k.eps1)
     try:
         shape = np.broadcast_shapes(*(np.shape(x) for x in (*kin_arrays, *flat_loads)
                                       if type(x) is not float))
@@ -988,7 +999,7 @@ def fourbar_kinetostatics(
                 for v in _reactions(*kin_arrays, *flat_loads)]
     rox, roy, rax, ray, rbx, rby, rcx, rcy, q_drive, sfx, sfy, smz = outs
     return FourbarForces(
-        theta2=k.theta2, R_Ox=rox, R_Oy=roy, R_Ax=rax, R_Ay=ray, R_Bx=rbx, R_By=rby, R_Cx=rcx,
+        phi1=k.phi1, R_Ox=rox, R_Oy=roy, R_Ax=rax, R_Ay=ray, R_Bx=rbx, R_By=rby, R_Cx=rcx,
         R_Cy=rcy, Q=q_drive, shaking_force_x=sfx, shaking_force_y=sfy, shaking_moment=smz,
         kinematics=kin,
     )

@@ -64,34 +64,36 @@ def plot_fourbar_linkage(result: FourbarResult, indices: Any = None, ax: Any = N
 
 
 def plot_fourbar_motion(result: FourbarResult, axes: Any = None) -> Any:
-    """Angles, angular velocities and accelerations of coupler and rocker over theta2 [deg]."""
+    """Angles, angular velocities and accelerations of coupler and rocker over the crank angle
+    phi1 [deg]."""
     axes = _axes(axes, ncols=3)
-    t = np.degrees(result.theta2)
+    t = np.degrees(result.phi1)
     for ax, (q3, q4, label) in zip(axes, (
             (np.degrees(np.unwrap(result.theta3)), np.degrees(np.unwrap(result.theta4)),
              "angle [deg]"),
             (result.omega3, result.omega4, "angular velocity [rad/s]"),
-            (result.alpha3, result.alpha4, "angular acceleration [rad/s^2]")), strict=True):
+            (result.eps3, result.eps4, "angular acceleration [rad/s^2]")), strict=True):
         ax.plot(t, q3, label="coupler")
         ax.plot(t, q4, label="rocker")
-        ax.set_xlabel("theta2 [deg]")
+        ax.set_xlabel("crank angle phi1 [deg]")
         ax.set_ylabel(label)
         ax.legend(loc="best")
     return axes
 
 
 def plot_fourbar_forces(forces: FourbarForces, axes: Any = None) -> Any:
-    """Joint reaction magnitudes [N] and the driving moment Q [N m] over theta2 [deg]."""
+    """Joint reaction magnitudes [N] and the driving moment Q [N m] over the crank angle phi1
+    [deg]."""
     axes = _axes(axes, ncols=2)
-    t = np.degrees(forces.theta2)
+    t = np.degrees(forces.phi1)
     for name, fx, fy in (("O2", forces.R_Ox, forces.R_Oy), ("A", forces.R_Ax, forces.R_Ay),
                          ("B", forces.R_Bx, forces.R_By), ("O4", forces.R_Cx, forces.R_Cy)):
         axes[0].plot(t, np.hypot(fx, fy), label=f"|R| at {name}")
-    axes[0].set_xlabel("theta2 [deg]")
+    axes[0].set_xlabel("crank angle phi1 [deg]")
     axes[0].set_ylabel("joint reaction [N]")
     axes[0].legend(loc="best")
     axes[1].plot(t, forces.Q)
-    axes[1].set_xlabel("theta2 [deg]")
+    axes[1].set_xlabel("crank angle phi1 [deg]")
     axes[1].set_ylabel("driving moment Q [N m]")
     return axes
 

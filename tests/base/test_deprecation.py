@@ -58,3 +58,32 @@ def test_plot_force_ratio_is_the_former_name_of_the_force_ratio_curve_figure() -
     np.testing.assert_array_equal(ax.get_lines()[0].get_ydata(),
                                   fig.axes[0].get_lines()[0].get_ydata())
     plt.close("all")
+
+
+def test_fourbar_norton_driver_names_are_the_former_names_of_phi1_omega1_eps1() -> None:
+    """The crank's Norton names (theta2, omega2, alpha2) and the alpha3/alpha4 fields give the
+    same numbers as the driver names phi1, omega1, eps1 and eps3/eps4."""
+    from linkwork.models.fourbar import (
+        fourbar,
+        limit_positions,
+        transmission_angle,
+        transmission_angle_extremes,
+    )
+
+    t = np.linspace(0.0, 2.0 * np.pi, 37)
+    new = fourbar(t, 0.1, 0.3, 0.2, 0.3, omega1=10.0, eps1=-4.0)
+    with pytest.warns(DeprecationWarning) as record:
+        old = fourbar(theta2=t, a=0.1, b=0.3, c=0.2, d=0.3, omega2=10.0, alpha2=-4.0)
+        pairs = [(old.theta2, new.phi1), (old.omega2, new.omega1), (old.alpha2, new.eps1),
+                 (old.alpha3, new.eps3), (old.alpha4, new.eps4),
+                 (transmission_angle(theta2=t, a=0.1, b=0.3, c=0.2, d=0.3),
+                  transmission_angle(t, 0.1, 0.3, 0.2, 0.3))]
+    assert len(record) == 3 + 5 + 1 and all("is deprecated: use" in str(w.message)
+                                            for w in record)
+    for a, b in pairs:
+        np.testing.assert_array_equal(a, b)
+    lim = limit_positions(0.3, 0.1, 0.25, 0.3)   # a double-rocker: toggles exist
+    ext = transmission_angle_extremes(0.1, 0.3, 0.2, 0.3)
+    with pytest.warns(DeprecationWarning):
+        assert lim.theta2_toggle_extended == lim.phi1_toggle_extended
+        assert ext.theta2_at_min == ext.phi1_at_min

@@ -51,7 +51,7 @@ def test_benchmark_plain_numpy_fourbar_is_the_open_branch(bench):
     r = fourbar(t, 0.1, 0.3, 0.2, 0.3, 10.0, branch=+1)
     np.testing.assert_allclose(np.angle(np.exp(1j * (plain[0] - r.theta3))), 0, atol=1e-12)
     np.testing.assert_allclose(plain[2], r.omega3, rtol=1e-10, atol=1e-12)
-    np.testing.assert_allclose(plain[4], r.alpha3, rtol=1e-9, atol=1e-9)
+    np.testing.assert_allclose(plain[4], r.eps3, rtol=1e-9, atol=1e-9)
 
 
 def test_tolerance_study_benchmark_runs_tiny_and_its_checks_bite():

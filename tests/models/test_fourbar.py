@@ -108,7 +108,7 @@ def B_by_fsolve(t2, a, b, c, d, guess):
 
 
 def test_norton_example_4_1_open():
-    # Norton, Design of Machinery, Example 4-1: a=40, b=120, c=80, d=100, theta2=40 deg:
+    # Norton, Design of Machinery, Example 4-1: a=40, b=120, c=80, d=100, phi1=40 deg:
     """Reference: Norton's example (module docstring). Tolerance: abs=5e-4."""
     # open circuit theta3 = 20.298 deg, theta4 = 57.325 deg.
     r = fourbar(np.radians(40.0), 40.0, 120.0, 80.0, 100.0, branch=+1)
@@ -163,11 +163,11 @@ def test_coupler_point():
 def test_broadcast_over_designs_equals_separate_calls():
     a = np.array([[0.1], [0.08], [0.12]])
     t2 = np.linspace(0, 2 * np.pi, 50)
-    r = fourbar(t2, a, B1, C1, D1, omega2=7.0, alpha2=-2.0, branch=-1)
+    r = fourbar(t2, a, B1, C1, D1, omega1=7.0, eps1=-2.0, branch=-1)
     assert r.theta4.shape == (3, 50)
     for i in range(3):
-        ri = fourbar(t2, float(a[i, 0]), B1, C1, D1, omega2=7.0, alpha2=-2.0, branch=-1)
-        for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xB", "yB"):
+        ri = fourbar(t2, float(a[i, 0]), B1, C1, D1, omega1=7.0, eps1=-2.0, branch=-1)
+        for name in ("theta3", "theta4", "omega3", "omega4", "eps3", "eps4", "xB", "yB"):
             np.testing.assert_allclose(getattr(r, name)[i], getattr(ri, name), rtol=0, atol=0)
 
 
@@ -180,7 +180,7 @@ def test_scalar_input_gives_scalar_shaped_arrays():
 
 
 def _time_fd(t0, a, b, c, d, w2, e2, branch, dt=1e-5):
-    """omega, alpha of coupler and rocker by central differences in time (theta2(t) quadratic)."""
+    """omega, alpha of coupler and rocker by central differences in time (phi1(t) quadratic)."""
     ts = np.array([-2, -1, 0, 1, 2]) * dt
     th = t0 + w2 * ts + 0.5 * e2 * ts * ts
     out = []
@@ -201,8 +201,8 @@ def test_velocity_acceleration_finite_differences(branch):
         w3, al3, w4, al4 = _time_fd(t0, A1, B1, C1, D1, w2, e2, branch)
         assert float(r.omega3) == pytest.approx(w3, rel=1e-8, abs=1e-8)
         assert float(r.omega4) == pytest.approx(w4, rel=1e-8, abs=1e-8)
-        assert float(r.alpha3) == pytest.approx(al3, rel=1e-4, abs=2e-3)
-        assert float(r.alpha4) == pytest.approx(al4, rel=1e-4, abs=2e-3)
+        assert float(r.eps3) == pytest.approx(al3, rel=1e-4, abs=2e-3)
+        assert float(r.eps4) == pytest.approx(al4, rel=1e-4, abs=2e-3)
 
 
 def test_point_velocity_acceleration_finite_differences():
@@ -247,7 +247,7 @@ def test_property_loop_closure_and_velocity_loop(a, b, c, d, t2, branch, w2, e2)
     scale = abs(w2) * (a + b + c) * (1 + abs(r.omega3) + abs(r.omega4))
     assert abs(vbx1 - vbx2) <= 1e-9 * scale and abs(vby1 - vby2) <= 1e-9 * scale
     # and the acceleration of B likewise
-    w3, w4, al3, al4 = r.omega3, r.omega4, r.alpha3, r.alpha4
+    w3, w4, al3, al4 = r.omega3, r.omega4, r.eps3, r.eps4
     abx1 = (-a * e2 * math.sin(t2) - a * w2 * w2 * math.cos(t2)
             - b * al3 * np.sin(r.theta3) - b * w3 * w3 * np.cos(r.theta3))
     aby1 = (a * e2 * math.cos(t2) - a * w2 * w2 * math.sin(t2)
@@ -288,7 +288,7 @@ def test_property_omega_is_derivative_of_theta(a, b, c, d, branch):
 def test_assembly_error_lists_crank_ranges():
     # non-Grashof: a=0.3, b=0.1, c=0.25, d=0.3 -> |AO4| must stay in [0.15, 0.35]
     t2 = np.radians(np.arange(0.0, 360.0, 1.0))
-    with pytest.raises(AssemblyError, match="theta2") as info:
+    with pytest.raises(AssemblyError, match="phi1") as info:
         fourbar(t2, 0.3, 0.1, 0.25, 0.3)
     assert isinstance(info.value, LinkworkError) and isinstance(info.value, ValueError)
     # independent: where |AO4| leaves [|b-c|, b+c]
@@ -306,19 +306,19 @@ def test_assembly_error_lists_crank_ranges():
 @pytest.mark.parametrize(
     ("kwargs", "name"),
     [({"a": -0.1}, "a"), ({"b": 0.0}, "b"), ({"c": float("nan")}, "c"), ({"d": np.inf}, "d"),
-     ({"branch": 0}, "branch"), ({"omega2": np.nan}, "omega2"),
+     ({"branch": 0}, "branch"), ({"omega1": np.nan}, "omega1"),
      ({"on_failure": "skip"}, "on_failure"),
      ({"a": np.array([0.1, -0.2])}, "a")],
 )
 def test_bad_parameters_are_named(kwargs, name):
-    args = {"theta2": CYCLE, "a": A1, "b": B1, "c": C1, "d": D1, **kwargs}
+    args = {"phi1": CYCLE, "a": A1, "b": B1, "c": C1, "d": D1, **kwargs}
     with pytest.raises(ParameterError) as info:
         fourbar(**args)
     assert info.value.parameter == name
 
 
 def test_nan_theta2_is_a_parameter_error():
-    with pytest.raises(ParameterError, match="theta2"):
+    with pytest.raises(ParameterError, match="phi1"):
         fourbar(np.array([0.1, np.nan]), A1, B1, C1, D1)
 
 
@@ -374,26 +374,26 @@ def test_rocker_limit_positions_are_theta4_extremes(branch):
         found, abs=1e-8)
     assert lim.rocker_swing == pytest.approx(t4[i_max] - t4[i_min], abs=1e-8)
     # at the limit crank angles, omega4 = 0 and theta4 equals the limit angle
-    for t2l, t4l in ((lim.theta2_rocker_extended, lim.theta4_rocker_extended),
-                     (lim.theta2_rocker_folded, lim.theta4_rocker_folded)):
+    for t2l, t4l in ((lim.phi1_rocker_extended, lim.theta4_rocker_extended),
+                     (lim.phi1_rocker_folded, lim.theta4_rocker_folded)):
         rl = fourbar(t2l, A1, B1, C1, D1, branch=branch)
         assert float(rl.omega4) == pytest.approx(0.0, abs=1e-12)
         assert float(rl.theta4) == pytest.approx(t4l, abs=1e-12)
-    # time ratio: crank angle folded -> extended over extended -> folded (omega2 > 0)
-    fwd = np.mod(lim.theta2_rocker_extended - lim.theta2_rocker_folded, 2 * np.pi)
+    # time ratio: crank angle folded -> extended over extended -> folded (omega1 > 0)
+    fwd = np.mod(lim.phi1_rocker_extended - lim.phi1_rocker_folded, 2 * np.pi)
     assert lim.time_ratio == pytest.approx(fwd / (2 * np.pi - fwd))
-    assert np.isnan(lim.theta2_toggle_extended) and np.isnan(lim.theta2_toggle_folded)
+    assert np.isnan(lim.phi1_toggle_extended) and np.isnan(lim.phi1_toggle_folded)
 
 
 def test_input_toggle_positions_of_a_double_rocker():
     a, b, c, d = 0.3, 0.1, 0.25, 0.3
     lim = limit_positions(a, b, c, d)
-    # independent: root of |AO4|(theta2) - (b + c) and - |b - c| with brentq on [0, pi]
+    # independent: root of |AO4|(phi1) - (b + c) and - |b - c| with brentq on [0, pi]
     f = lambda t, target: math.hypot(d - a * math.cos(t), a * math.sin(t)) - target  # noqa: E731
     ext = brentq(f, 0.0, np.pi, args=(b + c,), xtol=1e-15)
     fold = brentq(f, 0.0, np.pi, args=(abs(b - c),), xtol=1e-15)
-    assert lim.theta2_toggle_extended == pytest.approx(ext, abs=1e-12)
-    assert lim.theta2_toggle_folded == pytest.approx(fold, abs=1e-12)
+    assert lim.phi1_toggle_extended == pytest.approx(ext, abs=1e-12)
+    assert lim.phi1_toggle_folded == pytest.approx(fold, abs=1e-12)
     r = fourbar(np.array([fold + 1e-6, ext - 1e-6, ext + 1e-6]), a, b, c, d, on_failure="nan")
     assert list(r.valid) == [True, True, False]
     mu = transmission_angle(np.array([ext, fold]), a, b, c, d)
@@ -407,10 +407,10 @@ def test_transmission_angle_extremes_match_a_dense_cycle(design):
     mu = transmission_angle(t2, *design)
     ext = transmission_angle_extremes(*design)
     # the sampled extremes lie inside [mu_min, mu_max] and come close to them (near an input
-    # toggle mu changes like sqrt(theta2 - toggle), so the sampled value lags by up to ~1e-2)
+    # toggle mu changes like sqrt(phi1 - toggle), so the sampled value lags by up to ~1e-2)
     assert ext.mu_min - 1e-12 <= np.nanmin(mu) <= ext.mu_min + 1e-2
     assert ext.mu_max - 1e-2 <= np.nanmax(mu) <= ext.mu_max + 1e-12
-    at = transmission_angle(np.array([ext.theta2_at_min, ext.theta2_at_max]), *design)
+    at = transmission_angle(np.array([ext.phi1_at_min, ext.phi1_at_max]), *design)
     assert at == pytest.approx([ext.mu_min, ext.mu_max], abs=1e-7)
     assert ext.max_deviation == pytest.approx(np.nanmax(np.abs(mu - np.pi / 2)), abs=1e-2)
     r = fourbar(t2, *design, on_failure="nan")
@@ -429,7 +429,7 @@ def test_transmission_angle_of_paper001_crank_rocker():
     ext = transmission_angle_extremes(A1, B1, C1, D1)
     assert ext.mu_min == pytest.approx(math.acos((0.09 + 0.04 - 0.04) / 0.12))
     assert ext.mu_max == pytest.approx(math.acos((0.09 + 0.04 - 0.16) / 0.12))
-    assert ext.theta2_at_min == 0.0 and ext.theta2_at_max == pytest.approx(np.pi)
+    assert ext.phi1_at_min == 0.0 and ext.phi1_at_max == pytest.approx(np.pi)
 
 
 def test_transmission_extremes_raise_when_never_assembled():
@@ -468,7 +468,7 @@ def test_kinetostatics_solves_the_full_equilibrium_system(branch):
     for i in range(t2.size):
         th = (t2[i], k.theta3[i], k.theta4[i])
         om = (w2, k.omega3[i], k.omega4[i])
-        al = (e2, k.alpha3[i], k.alpha4[i])
+        al = (e2, k.eps3[i], k.eps4[i])
         origin = ((0.0, 0.0), (k.xA[i], k.yA[i]), (D1, 0.0))
         # accelerations of the link origins (O2, A, O4) from the angles, independently
         acc0 = ((0.0, 0.0),
@@ -515,12 +515,12 @@ def test_kinetostatics_solves_the_full_equilibrium_system(branch):
 
 @pytest.mark.parametrize("branch", [+1, -1])
 def test_kinetostatics_power_balance(branch):
-    """Q omega2 + power of weights, external forces and moments = dT/dt, with eps1 != 0."""
+    """Q omega1 + power of weights, external forces and moments = dT/dt, with eps1 != 0."""
     w2, e2 = 10.0, -30.0
     res = _loaded(CYCLE, branch, w2, e2)
     k = res.kinematics
     omegas = (w2, k.omega3, k.omega4)
-    alphas = (e2, k.alpha3, k.alpha4)
+    alphas = (e2, k.eps3, k.eps4)
     power = res.Q * w2
     dT = np.zeros_like(power)
     for li, link in enumerate(("crank", "coupler", "rocker")):
@@ -550,8 +550,8 @@ def test_kinetostatics_momentum_balance():
 def test_kinetostatics_statics_of_a_weightless_linkage():
     """Static check by virtual work: Q = -M4 * dtheta4/dtheta2 for a moment M4 on the rocker."""
     t2 = np.radians(np.arange(5, 360, 10.0))
-    res = fourbar_kinetostatics(t2, A1, B1, C1, D1, omega2=0.0, moment=(0.0, 0.0, 3.0))
-    ratio = fourbar(t2, A1, B1, C1, D1, omega2=1.0).omega4
+    res = fourbar_kinetostatics(t2, A1, B1, C1, D1, omega1=0.0, moment=(0.0, 0.0, 3.0))
+    ratio = fourbar(t2, A1, B1, C1, D1, omega1=1.0).omega4
     np.testing.assert_allclose(res.Q, -3.0 * ratio, rtol=1e-12)
 
 
@@ -569,7 +569,7 @@ def test_kinetostatics_paper001_example_without_loads_is_inertial_only():
         _, _, vx, vy, _, _ = k.point(link, length / 2)
         w = (10.0, k.omega3, k.omega4)[li]
         T = T + 0.5 * m[li] * (vx * vx + vy * vy) + 0.5 * m[li] * length**2 / 12 * w * w
-    dT = np.gradient(T, CYCLE) * 10.0  # dT/dt = dT/dtheta2 * omega2
+    dT = np.gradient(T, CYCLE) * 10.0  # dT/dt = dT/dtheta2 * omega1
     np.testing.assert_allclose(res.Q[1:-1] * 10.0, dT[1:-1], atol=2e-3 * np.abs(dT).max())
 
 
@@ -621,7 +621,7 @@ def test_blocked_evaluation_equals_small_calls():
     w2 = 5.0 + np.linspace(0, 1, n)          # per-position crank speed
     e2 = -3.0
     big = fourbar(t2, a, B1, C1, D1, w2, e2, -1, coupler_point=(0.1, 0.02))
-    names = ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xA", "yA", "xB",
+    names = ("theta3", "theta4", "omega3", "omega4", "eps3", "eps4", "xA", "yA", "xB",
              "yB", "xP", "yP", "valid")
     for lo in range(0, n, 7000):
         sl = slice(lo, min(lo + 7000, n))
@@ -632,7 +632,7 @@ def test_blocked_evaluation_equals_small_calls():
 
 def test_blocked_evaluation_reports_assembly_failure():
     t2 = np.linspace(0, 2 * np.pi, 40000)
-    with pytest.raises(AssemblyError, match="theta2"):
+    with pytest.raises(AssemblyError, match="phi1"):
         fourbar(t2, 0.3, 0.1, 0.25, 0.3)
     r = fourbar(t2, 0.3, 0.1, 0.25, 0.3, on_failure="nan")
     f = np.hypot(0.3 - 0.3 * np.cos(t2), 0.3 * np.sin(t2))
@@ -657,7 +657,7 @@ def test_property_kinetostatics_power_balance(a, b, c, d, branch, w2, e2, m, f, 
                                 force_point=((a, 0), (b / 2, q), (c, p)), moment=(mz, -mz, 2 * mz))
     k = res.kinematics
     omegas = (w2, k.omega3, k.omega4)
-    alphas = (e2, k.alpha3, k.alpha4)
+    alphas = (e2, k.eps3, k.eps4)
     power = res.Q * w2
     dT = np.zeros_like(power)
     J = (0.1 * m[0], 0.2 * m[1], 0.3 * m[2])
@@ -723,8 +723,8 @@ def test_blocked_kinetostatics_equals_small_calls():
 def test_limit_positions_absent_where_the_geometry_forbids_them():
     # double-crank: crank and coupler never collinear, coupler and rocker never collinear
     lim = limit_positions(0.3, 0.2, 0.3, 0.1)
-    assert np.isnan([lim.theta2_rocker_extended, lim.theta2_rocker_folded,
-                     lim.theta2_toggle_extended, lim.theta2_toggle_folded]).all()
+    assert np.isnan([lim.phi1_rocker_extended, lim.phi1_rocker_folded,
+                     lim.phi1_toggle_extended, lim.phi1_toggle_folded]).all()
     r = fourbar(np.linspace(0, 2 * np.pi, 3601), 0.3, 0.2, 0.3, 0.1)
     assert (np.abs(r.omega4) > 1e-3).all()          # the output never stops
     # vectorised over designs
@@ -735,7 +735,7 @@ def test_limit_positions_absent_where_the_geometry_forbids_them():
 
 def test_assembly_error_with_angles_per_design():
     t2 = np.array([[0.0, 1.0, 2.0], [0.5, 1.5, 3.0]])
-    with pytest.raises(AssemblyError, match="theta2") as info:
+    with pytest.raises(AssemblyError, match="phi1") as info:
         fourbar(t2, np.array([[0.3], [0.3]]), 0.1, 0.25, 0.3)
     assert info.value.ranges
     r = fourbar(t2, np.array([[0.3], [0.3]]), 0.1, 0.25, 0.3, on_failure="nan")
@@ -747,8 +747,8 @@ def test_assembly_error_with_angles_per_design():
 @given(a=lengths, b=lengths, c=lengths, d=lengths, branch=st.sampled_from([1, -1]))
 def test_property_rocker_limits_are_stationary_points_of_theta4(a, b, c, d, branch):
     lim = limit_positions(a, b, c, d, branch)
-    for t2l, t4l in ((lim.theta2_rocker_extended, lim.theta4_rocker_extended),
-                     (lim.theta2_rocker_folded, lim.theta4_rocker_folded)):
+    for t2l, t4l in ((lim.phi1_rocker_extended, lim.theta4_rocker_extended),
+                     (lim.phi1_rocker_folded, lim.theta4_rocker_folded)):
         if np.isnan(t2l):
             continue
         r = fourbar(t2l, a, b, c, d, branch=branch, on_failure="nan")
@@ -792,7 +792,7 @@ def test_fast_path_equals_the_checked_path_exactly(branch, monkeypatch):
     t2 = np.linspace(0.0, 2 * np.pi, 20001)
     big = fourbar(t2, 0.1, 0.3, 0.2, 0.3, 10.0, -3.0, branch)
     part = fourbar(t2[:7001], 0.1, 0.3, 0.2, 0.3, 10.0, -3.0, branch)
-    for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xB", "yB"):
+    for name in ("theta3", "theta4", "omega3", "omega4", "eps3", "eps4", "xB", "yB"):
         np.testing.assert_array_equal(getattr(big, name)[:7001], getattr(part, name))
     assert big.valid.all()
 
@@ -806,7 +806,7 @@ def test_non_finite_crank_angle_is_named_without_warnings(bad):
     for kw in ({}, {"coupler_point": (0.1, 0.0)}):
         with pytest.raises(ParameterError) as ei:
             fourbar(t2, 0.1, 0.3, 0.2, 0.3, **kw)
-        assert ei.value.parameter == "theta2"
+        assert ei.value.parameter == "phi1"
 
 
 @pytest.mark.parametrize("branch", [+1, -1])
@@ -828,8 +828,8 @@ def test_fourbar_kinematics_against_root_finding_and_differentiated_loop(name, b
     close(r.yB, B[1], a + b + c + d)
     close(r.omega3, w3)
     close(r.omega4, w4)
-    close(r.alpha3, al3)
-    close(r.alpha4, al4)
+    close(r.eps3, al3)
+    close(r.eps4, al4)
     # a coupler point off the line
     p, q = 0.13, -0.06
     x, y, vx, vy, ax, ay = r.point("coupler", p, q)
@@ -844,7 +844,7 @@ def test_fourbar_kinematics_against_root_finding_and_differentiated_loop(name, b
 @pytest.mark.parametrize("name", ["crank-rocker", "non-Grashof"])
 def test_newton_euler_reference_rates_equal_finite_differences_in_time(name, branch):
     """The hand-differentiated loop (the reference) against central differences in time of
-    positions solved by root finding, theta2(t) = theta0 + w t + eps t^2 / 2."""
+    positions solved by root finding, phi1(t) = theta0 + w t + eps t^2 / 2."""
     design = DESIGNS[name]
     a, b, c, _d = design
     t2, _th3, _th4 = _assembled(design, branch)
@@ -875,7 +875,7 @@ def _omega4(t, design, branch):
 @pytest.mark.parametrize("branch", [+1, -1])
 @pytest.mark.parametrize("name", ["crank-rocker", "general", "non-Grashof"])
 def test_limit_positions_and_transmission_angle_against_the_reference(name, branch):
-    """Rocker limits = zeros of the reference's omega4(theta2); input toggles = ends of the
+    """Rocker limits = zeros of the reference's omega4(phi1); input toggles = ends of the
     assembled range; mu = angle ABO4 of the solved positions."""
     design = DESIGNS[name]
     a, b, c, d = design
@@ -889,21 +889,21 @@ def test_limit_positions_and_transmission_angle_against_the_reference(name, bran
         w_lo, w_hi = _omega4(t2[k], design, branch), _omega4(t2[k + 1], design, branch)
         if w_lo * w_hi < 0:
             zeros.append(brentq(_omega4, t2[k], t2[k + 1], args=(design, branch), xtol=1e-14))
-    got = [t for t in (lim.theta2_rocker_extended, lim.theta2_rocker_folded) if np.isfinite(t)]
+    got = [t for t in (lim.phi1_rocker_extended, lim.phi1_rocker_folded) if np.isfinite(t)]
     assert len(zeros) == len(got) >= 1
     for t in got:
         assert np.min(np.abs(wrap(np.array(zeros) - t))) < 1e-10
-    for t2l, t4l in ((lim.theta2_rocker_extended, lim.theta4_rocker_extended),
-                     (lim.theta2_rocker_folded, lim.theta4_rocker_folded)):
+    for t2l, t4l in ((lim.phi1_rocker_extended, lim.theta4_rocker_extended),
+                     (lim.phi1_rocker_folded, lim.theta4_rocker_folded)):
         if np.isfinite(t2l):
             assert abs(wrap(fourbar_positions(np.array([t2l]), *design, branch)[1][0] - t4l)
                        ) < 1e-9
     # input toggles: the crank's assembled range ends there (or the crank turns fully)
     if ok.all():
-        assert np.isnan(lim.theta2_toggle_extended) or np.isnan(lim.theta2_toggle_folded)
+        assert np.isnan(lim.phi1_toggle_extended) or np.isnan(lim.phi1_toggle_folded)
     else:
         ends = t2[np.nonzero(ok[:-1] != ok[1:])[0]]
-        toggles = [t for t in (lim.theta2_toggle_extended, lim.theta2_toggle_folded)
+        toggles = [t for t in (lim.phi1_toggle_extended, lim.phi1_toggle_folded)
                    if np.isfinite(t)]
         for t in ends:
             assert min(abs(abs(t) - tt) for tt in toggles) < 2 * np.pi / 720
@@ -973,14 +973,14 @@ def test_kinetostatics_load_array_of_the_wrong_length_is_named():
 
 
 # -- closed forms and result helpers --------------------------------------------------------------
-@pytest.mark.parametrize("theta2, match", [
-    (None, r"^theta2 = None is invalid: must be a number"),        # was 'theta2 = nan'
-    (np.array([1.0 + 2.0j]), r"^theta2 = .*not complex"),         # ComplexWarning, result for 1
-    (True, r"^theta2 = True .*not a boolean"),                     # computed at 1 rad
+@pytest.mark.parametrize("phi1, match", [
+    (None, r"^phi1 = None is invalid: must be a number"),        # was 'phi1 = nan'
+    (np.array([1.0 + 2.0j]), r"^phi1 = .*not complex"),         # ComplexWarning, result for 1
+    (True, r"^phi1 = True .*not a boolean"),                     # computed at 1 rad
 ])
-def test_fourbar_closed_form_crank_angle_is_checked(theta2, match):
+def test_fourbar_closed_form_crank_angle_is_checked(phi1, match):
     with pytest.raises(ParameterError, match=match):
-        fourbar_cf.fourbar(theta2, 0.1, 0.3, 0.2, 0.3)
+        fourbar_cf.fourbar(phi1, 0.1, 0.3, 0.2, 0.3)
 
 
 def test_fourbar_that_never_assembles_names_its_lengths_and_intervals():
@@ -1050,7 +1050,7 @@ def _fourbar_reference(a, b, c, d, w2, e2, branch, t20, pq=(0.0, 0.0), step=2e-3
     return x, v, acc
 
 
-FOURBARS = [  # a, b, c, d, omega2, alpha2, angles
+FOURBARS = [  # a, b, c, d, omega1, eps1, angles
     (0.1, 0.3, 0.2, 0.3, 10.0, 0.0, None),                     # paper 001 (crank-rocker)
     (0.1, 0.3, 0.2, 0.3, -7.0, 25.0, None),
     (0.3, 0.25, 0.28, 0.1, 5.0, -12.0, None),                  # double-crank
@@ -1064,8 +1064,8 @@ def _angles_for(a, b, c, d, kind):
         tg = math.acos((a * a + d * d - (b + c) ** 2) / (2 * a * d))
         return np.array([-tg + 1e-3, -0.8, -0.3, 0.0, 0.4, 0.9, tg - 1e-3])
     lim = fb.limit_positions(a, b, c, d)
-    return np.array([lim.theta2_rocker_extended + 1e-4, lim.theta2_rocker_folded - 1e-4,
-                     0.2, 1.3, 2.5, 3.8, 5.2]) if not math.isnan(lim.theta2_rocker_extended) \
+    return np.array([lim.phi1_rocker_extended + 1e-4, lim.phi1_rocker_folded - 1e-4,
+                     0.2, 1.3, 2.5, 3.8, 5.2]) if not math.isnan(lim.phi1_rocker_extended) \
         else np.array([0.0, 0.7, 1.5, 2.5, 3.3, 4.4, 5.6])
 
 
@@ -1087,8 +1087,8 @@ def test_fourbar_against_loop_equation(a, b, c, d, w2, e2, kind, branch):
         _angle_close(res.theta4[k], x[1], "theta4")
         _close(res.omega3[k], v[0], W, "omega3")
         _close(res.omega4[k], v[1], W, "omega4")
-        _close(res.alpha3[k], acc[0], W * W + abs(e2), "alpha3")
-        _close(res.alpha4[k], acc[1], W * W + abs(e2), "alpha4")
+        _close(res.eps3[k], acc[0], W * W + abs(e2), "eps3")
+        _close(res.eps4[k], acc[1], W * W + abs(e2), "eps4")
         for name, i in (("xA", 2), ("yA", 3), ("xB", 4), ("yB", 5), ("xP", 6), ("yP", 7)):
             _close(getattr(res, name)[k], x[i], L, "points")
         for link, (p_, q_), i in (("coupler", pq, 6), ("rocker", (0.07, 0.03), 8)):
@@ -1166,9 +1166,9 @@ def test_fourbar_limit_positions_by_search(abcd, branch):
         else:
             assert abs(np.linalg.norm(B) - abs(a - b)) < 1e-6
             fold = (t2_, t4_)
-    _angle_close(lim.theta2_rocker_extended, ext[0], "limit theta2", tol=1e-5)
+    _angle_close(lim.phi1_rocker_extended, ext[0], "limit phi1", tol=1e-5)
     _angle_close(lim.theta4_rocker_extended, ext[1], "limit theta4", tol=1e-9)
-    _angle_close(lim.theta2_rocker_folded, fold[0], "limit theta2", tol=1e-5)
+    _angle_close(lim.phi1_rocker_folded, fold[0], "limit phi1", tol=1e-5)
     _angle_close(lim.theta4_rocker_folded, fold[1], "limit theta4", tol=1e-9)
     swing = abs(math.remainder(ext[1] - fold[1], 2 * np.pi))
     _close(lim.rocker_swing, swing, 1.0, "rocker_swing")
@@ -1186,8 +1186,8 @@ def test_fourbar_input_toggles_by_root_finding():
     def f(t, L):
         return math.hypot(a * math.cos(t) - d, a * math.sin(t)) - L
     t_ext = brentq(f, 0.0, np.pi, args=(b + c,), xtol=1e-15)
-    _close(lim.theta2_toggle_extended, t_ext, 1.0, "toggle")
-    assert math.isnan(lim.theta2_toggle_folded)  # |b - c| = 0 is never reached (d - a > 0)
+    _close(lim.phi1_toggle_extended, t_ext, 1.0, "toggle")
+    assert math.isnan(lim.phi1_toggle_folded)  # |b - c| = 0 is never reached (d - a > 0)
     ext = fb.transmission_angle_extremes(a, b, c, d)
     t = np.linspace(-t_ext, t_ext, 20001)
     mus = fb.transmission_angle(t, a, b, c, d)
@@ -1274,7 +1274,7 @@ def test_non_grashof_full_rotation_lists_the_ranges():
 
 
 def test_fourbar_singular_position_is_never_silent_nan():
-    """a = d, b = c (a kite): at theta2 = 0 the crank pin A lies on O4 and B is undetermined.
+    """a = d, b = c (a kite): at phi1 = 0 the crank pin A lies on O4 and B is undetermined.
     The closed form returned NaN there with ``assembled`` True and no error."""
     t = np.array([0.0, 1.0, np.pi])
     with pytest.raises(AssemblyError) as ei:
@@ -1282,7 +1282,7 @@ def test_fourbar_singular_position_is_never_silent_nan():
     assert "singular" in str(ei.value) and ei.value.ranges == [(0.0, 0.0)]
     r = fb.fourbar(t, 0.1, 0.2, 0.2, 0.1, on_failure="nan", coupler_point=(0.1, 0.02))
     assert list(r.valid) == [False, True, True]
-    for name in ("theta3", "theta4", "omega3", "omega4", "alpha3", "alpha4", "xB", "yB", "xP"):
+    for name in ("theta3", "theta4", "omega3", "omega4", "eps3", "eps4", "xB", "yB", "xP"):
         v = getattr(r, name)
         assert np.isnan(v[0]) and np.all(np.isfinite(v[1:])), name
     with pytest.raises(AssemblyError):
@@ -1293,7 +1293,7 @@ def test_fourbar_singular_position_is_never_silent_nan():
 
 
 def test_fourbar_empty_and_non_broadcasting_inputs():
-    """An empty theta2 raised NumPy's 'zero-size array to reduction operation'; lengths that
+    """An empty phi1 raised NumPy's 'zero-size array to reduction operation'; lengths that
     do not broadcast against the angles raised NumPy's broadcast error."""
     r = fb.fourbar(np.array([]), 0.1, 0.3, 0.2, 0.3)
     assert r.theta3.shape == (0,) and r.valid.shape == (0,)

@@ -55,7 +55,7 @@ def _case(branch, force=FORCE, moment=MOMENT, inertia=INERTIA):
                                 gravity=GRAV, force=force, moment=moment)
     k = res.kinematics
     omegas = (W1, k.omega3, k.omega4)
-    alphas = (E1, k.alpha3, k.alpha4)
+    alphas = (E1, k.eps3, k.eps4)
     F, M, V = [], [], []
     for i, (link, length) in enumerate((("crank", L1), ("coupler", L2), ("rocker", L3))):
         _, _, vx, vy, ax, ay = k.point(link, length / 2)

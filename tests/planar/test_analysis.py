@@ -183,8 +183,8 @@ def test_engine_dead_centres_are_exact(branch):
     kin = kinematics(engine_fourbar(0.1, 0.3, 0.2, 0.3, branch=branch),
                      np.linspace(0, 2 * np.pi, 361))
     got = sorted(d.phi1 for d in dead_centres(kin))
-    want = sorted(float(np.mod(x, 2 * np.pi)) for x in (lim.theta2_rocker_extended,
-                                                        lim.theta2_rocker_folded))
+    want = sorted(float(np.mod(x, 2 * np.pi)) for x in (lim.phi1_rocker_extended,
+                                                        lim.phi1_rocker_folded))
     np.testing.assert_allclose(got, want, rtol=0, atol=1e-10)
     # crank-slider with the guide along +y at x = e (paper 000's idle mode)
     mech = engine_crank_slider(0.05, 0.2, -0.025, guide_angle=math.radians(90), branch=branch)

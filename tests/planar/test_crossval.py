@@ -31,7 +31,7 @@ def test_engine_vs_fourbar_closed_form(dims, branch):
     cycle. Tolerance: angles 1e-9 rad, rates 1e-9 of their peak, points B 1e-12 m."""
     a, b, c, d = dims
     w, e = 7.0, -3.0
-    cf = fourbar_cf(PHI, a, b, c, d, omega2=w, alpha2=e, branch=branch, on_failure="nan")
+    cf = fourbar_cf(PHI, a, b, c, d, omega1=w, eps1=e, branch=branch, on_failure="nan")
     k = kinematics(fb_engine(a, b, c, d, branch=branch), PHI, omega1=w, eps1=e, on_fail="nan")
     np.testing.assert_array_equal(k.assembled, cf.valid)
     ok = k.assembled
@@ -41,9 +41,9 @@ def test_engine_vs_fourbar_closed_form(dims, branch):
     scale_w = np.nanmax(np.abs(cf.omega3)) + np.nanmax(np.abs(cf.omega4))
     np.testing.assert_allclose(k.omega[2][ok], cf.omega3[ok], atol=1e-9 * scale_w)
     np.testing.assert_allclose(k.omega[3][ok], cf.omega4[ok], atol=1e-9 * scale_w)
-    scale_e = np.nanmax(np.abs(cf.alpha3)) + np.nanmax(np.abs(cf.alpha4))
-    np.testing.assert_allclose(k.eps[2][ok], cf.alpha3[ok], atol=1e-9 * scale_e)
-    np.testing.assert_allclose(k.eps[3][ok], cf.alpha4[ok], atol=1e-9 * scale_e)
+    scale_e = np.nanmax(np.abs(cf.eps3)) + np.nanmax(np.abs(cf.eps4))
+    np.testing.assert_allclose(k.eps[2][ok], cf.eps3[ok], atol=1e-9 * scale_e)
+    np.testing.assert_allclose(k.eps[3][ok], cf.eps4[ok], atol=1e-9 * scale_e)
     B = k.point("rocker", "B")
     np.testing.assert_allclose(B.x[ok], cf.xB[ok], atol=1e-12)
     np.testing.assert_allclose(B.y[ok], cf.yB[ok], atol=1e-12)
