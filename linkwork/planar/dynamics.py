@@ -39,25 +39,15 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.errors import ParameterError, require_finite
-from linkwork.planar.kinematics import (
-    Kinematics,
-    _batched_solve,
-    _closure_rows,
-    _cramer,
-    _group_pars,
-    _length_scale,
-    _Par,
-    _require_kinematics,
-    _rows,
-    _State,
-    _state_of,
-)
+from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
 from linkwork.planar.model import Joint, Linear, Mechanism, Prismatic, Revolute
+from linkwork.planar.positions import constraint_rows, length_scale
+from linkwork.planar.rates import RatePar, batched_solve, closure_rows, cramer, group_pars
+from linkwork.planar.state import Arr, State
 from linkwork.results import Result
 
 __all__ = ["BodyTorque", "Dynamics", "PointForce", "inverse_dynamics", "kinetic_energy"]
 
-Arr = np.ndarray
 
 
 @dataclass(frozen=True)
@@ -164,13 +154,13 @@ class Dynamics(Result):
         return self.Q * self.kinematics.omega1
 
 
-def _state_from(kin: Kinematics) -> _State:
-    return _state_of(kin)
+def _state_from(kin: Kinematics) -> State:
+    return state_of(kin)
 
 
 def kinetic_energy(kin: Kinematics) -> Arr:
     """Kinetic energy of all moving bodies [J] at every position."""
-    m = _require_kinematics(kin).mechanism
+    m = require_kinematics(kin).mechanism
     T = np.zeros(kin.n)
     for b in m.bodies:
         c = kin.point(b.name, "com")
@@ -207,7 +197,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     Dynamics
         See the module docstring for the sign conventions.
     """
-    _require_kinematics(kin)
+    require_kinematics(kin)
     if isinstance(loads, PointForce | BodyTorque) or not isinstance(loads, Sequence):
         raise ParameterError("loads", loads, "must be a sequence (list or tuple) of PointForce "
                              "and BodyTorque")
@@ -303,7 +293,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
                     Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]))
 
 
-def _global_reactions(mech: Mechanism, st: _State, f: Arr, good: Arr
+def _global_reactions(mech: Mechanism, st: State, f: Arr, good: Arr
                       ) -> tuple[Arr, Arr, Arr, Arr]:
     """All multipliers at once: J^T lambda = f with the full constraint Jacobian."""
     n = st.n
@@ -314,7 +304,7 @@ def _global_reactions(mech: Mechanism, st: _State, f: Arr, good: Arr
     r = 0
     for ji, j in enumerate(mech.joints):
         drv = mech.driver if j.name == mech.driver.joint else None
-        rows = _rows(mech, st, j, drv, None, need_gamma=False)
+        rows = constraint_rows(mech, st, j, drv, None, need_gamma=False)
         ia, ib = mech.index[j.a], mech.index[j.b]
         for k, row in enumerate(rows):
             for body, key in ((ia, "ja"), (ib, "jb")):
@@ -325,7 +315,7 @@ def _global_reactions(mech: Mechanism, st: _State, f: Arr, good: Arr
                 ("x", "y")[k] if isinstance(j, Revolute) else ("n", "t")[k])
             meta.append((ji, kind))
             r += 1
-    lam = _batched_solve(np.swapaxes(J, 1, 2), f, good)
+    lam = batched_solve(np.swapaxes(J, 1, 2), f, good)
     nj = len(mech.joints)
     fxr = np.zeros((nj, n))
     fyr = np.zeros((nj, n))
@@ -355,7 +345,7 @@ def _global_reactions(mech: Mechanism, st: _State, f: Arr, good: Arr
     return fxr, fyr, mzr, Q
 
 
-def _group_reactions(mech: Mechanism, st: _State, f: Arr) -> tuple[Arr, Arr, Arr, Arr]:
+def _group_reactions(mech: Mechanism, st: State, f: Arr) -> tuple[Arr, Arr, Arr, Arr]:
     """Reactions group by group, last group first (each Assur group is statically determinate).
 
     For a dyad the virtual motion of each body allowed by its external joint (rotation about
@@ -394,7 +384,7 @@ def _group_reactions(mech: Mechanism, st: _State, f: Arr) -> tuple[Arr, Arr, Arr
         apply(on, fx, fy, px, py, mz)
         apply(other, -fx, -fy, px, py, -mz)
 
-    def ext_reaction(par: _Par, j: Joint) -> None:
+    def ext_reaction(par: RatePar, j: Joint) -> None:
         """Balance body par.b with the reaction of its external joint j."""
         b = par.b
         if isinstance(j, Revolute):
@@ -413,7 +403,7 @@ def _group_reactions(mech: Mechanism, st: _State, f: Arr) -> tuple[Arr, Arr, Arr
             j = mech.joint(g.joints[0])
             b = mech.index[g.bodies[0]]
             sgn = 1.0 if b == mech.index[j.b] else -1.0
-            par = _Par(mech, st, j, b, 0)
+            par = RatePar(mech, st, j, b, 0)
             if isinstance(j, Revolute):
                 A = par.A
                 torque = -(M0[b] - (A[0] * Fy[b] - A[1] * Fx[b]))
@@ -433,8 +423,8 @@ def _group_reactions(mech: Mechanism, st: _State, f: Arr) -> tuple[Arr, Arr, Arr
                 apply(other, -drive * ux, -drive * uy, P[0], P[1])
                 ext_reaction(par, j)
             continue
-        pars, jc, unk = _group_pars(mech, st, g)
-        rows = _closure_rows(mech, st, jc, pars, len(unk), "v")
+        pars, jc, unk = group_pars(mech, st, g)
+        rows = closure_rows(mech, st, jc, pars, len(unk), "v")
         # transposed system: sum_r C[r][beta] lambda_r = power of beta's forces
         pw = []
         for par in unk:
@@ -445,7 +435,7 @@ def _group_reactions(mech: Mechanism, st: _State, f: Arr) -> tuple[Arr, Arr, Arr
                 pw.append(Fx[b] * par.u[0] + Fy[b] * par.u[1])
         trows = [([rows[r][0][beta] for r in range(len(rows))], pw[beta])
                  for beta in range(len(unk))]
-        lam = _cramer(st, trows, _length_scale(mech) ** len(unk))
+        lam = cramer(st, trows, length_scale(mech) ** len(unk))
         _qa, pb, ang = mech.joint_geometry(jc)
         ib = mech.index[jc.b]
         P = st.wpt(ib, pb)
