@@ -39,6 +39,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.errors import ParameterError, require_finite
+from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
 from linkwork.planar.model import Joint, Linear, Mechanism, Prismatic, Revolute
 from linkwork.planar.positions import constraint_rows, length_scale
@@ -215,15 +216,13 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     # generalised applied-minus-inertia forces on each moving body (about its origin)
     f = np.zeros((n, 3 * (nb - 1)))
     on_frame: list[tuple[Arr | float, ...]] = []  # reactions of from_frame loads on the frame
-    for b in mech.bodies:
+    iw = inertia_wrenches(kin, g)  # weight + inertia force at C, inertia couple
+    for k, b in enumerate(mech.bodies):
         i = mech.index[b.name]
-        c = kin.point(b.name, "com")
-        rx, ry = c.x - kin.x[i], c.y - kin.y[i]
-        Fx = b.mass * (g[0] - c.ax)
-        Fy = b.mass * (g[1] - c.ay)
-        f[:, 3 * i - 3] += Fx
-        f[:, 3 * i - 2] += Fy
-        f[:, 3 * i - 1] += rx * Fy - ry * Fx - b.inertia * kin.eps[i]
+        rx, ry = iw.cx[k] - kin.x[i], iw.cy[k] - kin.y[i]
+        f[:, 3 * i - 3] += iw.fx[k]
+        f[:, 3 * i - 2] += iw.fy[k]
+        f[:, 3 * i - 1] += rx * iw.fy[k] - ry * iw.fx[k] + iw.mz[k]
     for k, ld in enumerate(loads):
         if not isinstance(ld, PointForce | BodyTorque):
             raise ParameterError("loads", ld, "must be PointForce or BodyTorque")

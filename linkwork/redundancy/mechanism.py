@@ -21,6 +21,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.errors import ParameterError, StructureError, require_finite
+from linkwork.planar.dynamics import BodyTorque, PointForce
+from linkwork.planar.inertia import inertia_wrenches
+from linkwork.planar.kinematics import kinematics
+from linkwork.planar.model import PinInSlot, Prismatic
 from linkwork.redundancy.core import (
     JOINT_KINDS,
     SpatialGeometry,
@@ -102,8 +106,6 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
     SpatialModel
         Bodies in the mechanism's order, the frame renamed ``"ground"``.
     """
-    from linkwork.planar import PinInSlot, Prismatic
-
     joints = dict(joints or {})
     known = {j.name for j in mech.joints}
     for name in joints:
@@ -130,8 +132,6 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
 
 def geometry(mech: Any, kin: Any) -> SpatialGeometry:
     """Joint centres, body angles and slide directions from the engine's kinematics."""
-    from linkwork.planar import Prismatic
-
     n = kin.n
     pts = np.zeros((n, len(mech.joints), 2))
     slide = np.zeros((n, len(mech.joints)))
@@ -163,8 +163,6 @@ def body_wrenches(mech: Any, kin: Any, *, gravity: ArrayLike | None = None,
     -------
     ndarray, shape (n, n_bodies, 6)
     """
-    from linkwork.planar import BodyTorque, PointForce
-
     n = kin.n
     g = np.zeros(2) if gravity is None else require_finite("gravity", gravity).ravel()
     if g.shape != (2,):
@@ -183,10 +181,10 @@ def body_wrenches(mech: Any, kin: Any, *, gravity: ArrayLike | None = None,
         force[:, i] += f
         moment[:, i] += np.cross(p, f)
 
+    iw = inertia_wrenches(kin, g)  # weight + inertia force at C, inertia couple
     for i, b in enumerate(mech.bodies):
-        c = kin.point(b.name, "com")
-        add(i, b.mass * (g[0] - c.ax), b.mass * (g[1] - c.ay), 0.0, c.x, c.y, h.get(b.name, 0.0))
-        moment[:, i, 2] -= b.inertia * kin.eps[kin.bodies.index(b.name)]
+        add(i, iw.fx[i], iw.fy[i], 0.0, iw.cx[i], iw.cy[i], h.get(b.name, 0.0))
+        moment[:, i, 2] += iw.mz[i]
     for ld in loads:
         if ld.body not in names:
             raise ParameterError("loads.body", ld.body, f"no such moving body; known: {names}")
@@ -254,8 +252,6 @@ def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = 
     linear driver m, m/s, m/s^2, and then the result's ``units`` give ``phi1`` in m and the
     driving force ``Q`` in N].
     """
-    from linkwork.planar import kinematics
-
     kin = kinematics(mech, phi1, omega1, eps1)
     model = spatial_model(mech, joints, default)
     geom = geometry(mech, kin)
