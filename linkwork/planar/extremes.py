@@ -14,10 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from linkwork.planar.model import Mechanism, Revolute
 from linkwork.planar.rates import group_pars, vel_at
 from linkwork.planar.state import Arr, State
-from linkwork.planar.structure import Group
+from linkwork.planar.structure import Plan, PlanGroup
 
 __all__ = ["DeadCentre", "dead_centres_of", "group_rate", "transmission_angles_of"]
 
@@ -38,26 +37,18 @@ class DeadCentre:
     kind: str
 
 
-def transmission_angles_of(mech: Mechanism, st: State) -> dict[str, tuple[Arr, Arr]]:
-    """Transmission and pressure angles (mu, delta) [rad] of every closed-form group of ``mech``
-    in the solved state ``st`` (see :func:`linkwork.planar.kinematics.transmission_angles`)."""
+def transmission_angles_of(plan: Plan, st: State) -> dict[str, tuple[Arr, Arr]]:
+    """Transmission and pressure angles (mu, delta) [rad] of every closed-form group of the
+    plan in the solved state ``st`` (see :func:`linkwork.planar.kinematics.transmission_angles`).
+    """
     out: dict[str, tuple[Arr, Arr]] = {}
-    for g in mech.structure.groups:
+    for g in plan.groups:
         if g.kind in ("driver", "newton"):
             continue
-        _pars, jc, unk = group_pars(mech, st, g)
+        _pars, rc, unk = group_pars(st, g, plan.nb)
         out_par = unk[-1]
-        _qa, pb, ang = mech.joint_geometry(jc)
-        P = st.wpt(mech.index[jc.b], pb)
-        if isinstance(jc, Revolute):
-            first = unk[0]
-            if first.rev:
-                fx, fy = P[0] - first.A[0], P[1] - first.A[1]
-            else:
-                fx, fy = -first.u[1], first.u[0]
-        else:
-            ux, uy = st.rot(mech.index[jc.a], (np.cos(ang), np.sin(ang)))
-            fx, fy = -uy, ux
+        P = st.wpt(rc.ib, rc.pb)
+        fx, fy = rc.joint.transmitted_direction(st, rc, unk[0], P)
         vx, vy = out_par.d(P)
         # atan2(|f x v|, |f . v|): full precision also near 0 and 90 deg (arccos of the
         # cosine loses half the digits near delta = 0)
@@ -67,10 +58,10 @@ def transmission_angles_of(mech: Mechanism, st: State) -> dict[str, tuple[Arr, A
     return out
 
 
-def group_rate(mech: Mechanism, st: State, g: Group) -> tuple[int, Arr]:
+def group_rate(plan: Plan, st: State, g: PlanGroup) -> tuple[int, Arr]:
     """Output body of a closed-form group and its rate relative to its external neighbour:
     angular velocity (revolute) or sliding speed along the guide (prismatic)."""
-    _pars, _, unk = group_pars(mech, st, g)
+    _pars, _, unk = group_pars(st, g, plan.nb)
     p = unk[-1]
     b = p.b
     if p.rev:
@@ -85,14 +76,14 @@ def group_rate(mech: Mechanism, st: State, g: Group) -> tuple[int, Arr]:
 Resolve = Callable[[float], State]
 
 
-def _refine_dead_centre(mech: Mechanism, resolve: Resolve, g: Group, lo: float, hi: float,
+def _refine_dead_centre(plan: Plan, resolve: Resolve, g: PlanGroup, lo: float, hi: float,
                         guess: float) -> float:
     """The zero of the group's rate between driver positions lo and hi, to ~1e-13 [rad or m]:
     Brent's method on single-position analyses (unit driver speed, no acceleration), falling
     back to ``guess`` (linear interpolation) where that is not possible."""
 
     def rate(x: float) -> float:
-        return float(group_rate(mech, resolve(x), g)[1][0])
+        return float(group_rate(plan, resolve(x), g)[1][0])
 
     try:
         f_lo, f_hi = rate(lo), rate(hi)
@@ -108,26 +99,26 @@ def _refine_dead_centre(mech: Mechanism, resolve: Resolve, g: Group, lo: float, 
         return guess
 
 
-def dead_centres_of(mech: Mechanism, st: State, q: Arr, resolve: Resolve | None
+def dead_centres_of(plan: Plan, st: State, q: Arr, resolve: Resolve | None
                     ) -> list[DeadCentre]:
-    """Dead centres of every closed-form group of ``mech`` in the solved state ``st`` over the
+    """Dead centres of every closed-form group of the plan in the solved state ``st`` over the
     driver positions ``q``; each sign change is refined with ``resolve`` (None: linear
     interpolation only). See :func:`linkwork.planar.kinematics.dead_centres`."""
     found: list[DeadCentre] = []
-    for g in mech.structure.groups:
+    for g in plan.groups:
         if g.kind in ("driver", "newton"):
             continue
-        b, rate = group_rate(mech, st, g)
+        b, rate = group_rate(plan, st, g)
         tiny = 1e-12 * float(np.nanmax(np.abs(rate))) if np.isfinite(rate).any() else 0.0
         rate = np.where(np.abs(rate) <= tiny, 0.0, rate)
         sgn = np.sign(rate)
-        name = mech.body_names[b]
+        name = plan.body_names[b]
         idx = np.flatnonzero((sgn[:-1] * sgn[1:] < 0) & np.isfinite(rate[:-1] + rate[1:]))
         for i in idx:
             t = rate[i] / (rate[i] - rate[i + 1])
             at = float(q[i] + t * (q[i + 1] - q[i]))
             if resolve is not None:
-                at = _refine_dead_centre(mech, resolve, g, float(q[i]), float(q[i + 1]), at)
+                at = _refine_dead_centre(plan, resolve, g, float(q[i]), float(q[i + 1]), at)
             found.append(DeadCentre(g.key, name, at, "max" if rate[i] > 0 else "min"))
         for i in np.flatnonzero(sgn == 0):  # a sample exactly at the dead centre
             before = sgn[i - 1] if i > 0 else -sgn[i + 1] if i + 1 < sgn.size else 0

@@ -34,11 +34,12 @@ from numpy.typing import ArrayLike
 
 from linkwork.errors import AssemblyError, ParameterError, angle_ranges, require_finite
 from linkwork.planar.extremes import DeadCentre, dead_centres_of, transmission_angles_of
-from linkwork.planar.model import Crank, Mechanism, PinInSlot, Prismatic, _pt
+from linkwork.planar.joints import _pt
+from linkwork.planar.model import Crank, Mechanism
 from linkwork.planar.positions import solve_driver, solve_dyad, solve_newton, solve_slot_group
 from linkwork.planar.rates import group_rates
 from linkwork.planar.state import Arr, State
-from linkwork.planar.structure import Group
+from linkwork.planar.structure import Group, Plan
 from linkwork.results import Result
 
 __all__ = ["DeadCentre", "Kinematics", "PointMotion", "dead_centres", "kinematics",
@@ -156,7 +157,7 @@ class Kinematics(Result):
         """
         m = self.mechanism
         j = m.joint(joint)
-        if not isinstance(j, Prismatic | PinInSlot):
+        if not j.has_line:
             raise ParameterError("joint", joint, "must be prismatic or pin-in-slot")
         qa, pb, ang = m.joint_geometry(j)
         ia = self._row(j.a)
@@ -191,30 +192,29 @@ def _per_position(name: str, value: ArrayLike, n: int) -> Arr:
         raise ParameterError(name, a.shape, f"must be a scalar or have shape ({n},)") from None
 
 
-def _solve_chunk(mech: Mechanism, groups: tuple[Group, ...], branches: dict[str, int], q: Arr,
-                 w1: Arr, e1: Arr) -> State:
+def _solve_chunk(plan: Plan, branches: dict[str, int], q: Arr, w1: Arr, e1: Arr) -> State:
     """Positions, velocities, accelerations of all bodies for the positions ``q``."""
-    st = State(len(mech.body_names), q.shape[0])
+    st = State(plan.nb, q.shape[0])
     with np.errstate(all="ignore"):
-        for g in groups:
+        for g in plan.groups:
             b = branches[g.key]
             before = st.bad.copy()
             if g.kind == "driver":
-                solve_driver(mech, st, g, q)
+                solve_driver(st, g, q)
             elif g.kind in ("RS", "PS"):
-                solve_slot_group(mech, st, g, b)
+                solve_slot_group(st, g, b)
             elif g.kind == "newton":
-                solve_newton(mech, st, g, q)
+                solve_newton(plan, st, g, q)
             else:
-                solve_dyad(mech, st, g, b)
+                solve_dyad(st, g, b, plan.body_names)
             if (st.bad & ~before).any():
                 st.failed[g.key] = st.bad & ~before
             if st.parallel:
                 st.parallel_groups.add(g.key)
                 st.parallel = False
         st.pos_bad = st.bad.copy()
-        for g in groups:
-            group_rates(mech, st, g, w1, e1)
+        for g in plan.groups:
+            group_rates(plan, st, g, w1, e1)
     return st
 
 
@@ -278,7 +278,8 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         if isinstance(v_, bool) or v_ not in (1, -1):  # True == 1
             raise ParameterError(f"branches.{k_}", v_, "must be +1 or -1")
     structure = mech.structure
-    nb = len(mech.body_names)
+    plan = mech.plan
+    nb = plan.nb
     group_keys = [g.key for g in structure.groups if g.kind != "driver"]
     # (the driver's key is accepted too: Kinematics.branches lists every group)
     unknown = sorted(set(br) - {g.key for g in structure.groups})
@@ -293,11 +294,10 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     failed: set[str] = set()
     parallel: set[str] = set()
     # chunks keep the temporaries in cache; Newton groups need the whole sequence
-    newton = any(g.kind == "newton" for g in structure.groups)
-    step = n if newton else _CHUNK
+    step = n if plan.newton else _CHUNK
     for lo in range(0, n, step):
         sl = slice(lo, min(lo + step, n))
-        st = _solve_chunk(mech, structure.groups, used, q[sl], w1[sl], e1[sl])
+        st = _solve_chunk(plan, used, q[sl], w1[sl], e1[sl])
         pos_bad[sl] = st.pos_bad
         failed.update(st.failed)
         parallel.update(st.parallel_groups)
@@ -369,7 +369,7 @@ def transmission_angles(kin: Kinematics) -> dict[str, tuple[Arr, Arr]]:
     deg is the best transmission, 0 the toggle.
     """
     kin = require_kinematics(kin)
-    return transmission_angles_of(kin.mechanism, state_of(kin))
+    return transmission_angles_of(kin.mechanism.plan, state_of(kin))
 
 
 def dead_centres(kin: Kinematics) -> list[DeadCentre]:
@@ -382,10 +382,10 @@ def dead_centres(kin: Kinematics) -> list[DeadCentre]:
     """
     kin = require_kinematics(kin)
     mech = kin.mechanism
-    refine = not any(g.kind == "newton" for g in mech.structure.groups)
+    refine = not mech.plan.newton
     br = dict(kin.branches)
 
     def resolve(x: float) -> State:
         return state_of(kinematics(mech, [x], 1.0, 0.0, branches=br, on_fail="nan"))
 
-    return dead_centres_of(mech, state_of(kin), kin.phi1, resolve if refine else None)
+    return dead_centres_of(mech.plan, state_of(kin), kin.phi1, resolve if refine else None)

@@ -10,55 +10,32 @@ Newton groups.
 
 from __future__ import annotations
 
-from typing import Any
-
 import numpy as np
 
-from linkwork.planar.model import Joint, Mechanism, Prismatic, Revolute
-from linkwork.planar.positions import assemble_jacobian, group_rows, length_scale
+from linkwork.planar.joints import ClosureRow, ResolvedJoint
+from linkwork.planar.positions import Rows, assemble_jacobian, group_rows
 from linkwork.planar.state import Arr, State, Vec
-from linkwork.planar.structure import Group
+from linkwork.planar.structure import Plan, PlanGroup
 
 __all__ = ["RatePar", "acc_at", "batched_solve", "closure_rows", "cramer", "group_pars",
            "group_rates", "known_part", "vel_at"]
 
 
 # velocities and accelerations
-def _driver_rates(mech: Mechanism, st: State, g: Group, w1: Arr, e1: Arr) -> bool:
-    """Closed-form velocity/acceleration of a crank body; False if not applicable."""
-    j = mech.joint(g.joints[0])
-    if not isinstance(j, Revolute):
-        return False
-    ia, ib = mech.index[j.a], mech.index[j.b]
-    u = mech.index[g.bodies[0]]
-    k = ia if u == ib else ib
-    sign = 1.0 if u == ib else -1.0
-    qa, pb, _ = mech.joint_geometry(j)
-    pk, pu = (qa, pb) if u == ib else (pb, qa)
-    st.W[u] = st.W[k] + sign * w1
-    st.E[u] = st.E[k] + sign * e1
-    vP = st.point_vel(k, pk)
-    aP = st.point_acc(k, pk)
-    rx, ry = st.rot(u, pu)
-    w, e = st.W[u], st.E[u]
-    st.VX[u], st.VY[u] = vP[0] + w * ry, vP[1] - w * rx
-    st.AX[u] = aP[0] + e * ry + w * w * rx
-    st.AY[u] = aP[1] - e * rx + w * w * ry
-    return True
-
-
-def group_rates(mech: Mechanism, st: State, g: Group, w1: Arr, e1: Arr) -> None:
+def group_rates(plan: Plan, st: State, g: PlanGroup, w1: Arr, e1: Arr) -> None:
+    """Velocities and accelerations of the bodies of group ``g`` (the groups before it known)."""
     if g.kind == "driver":
-        if not _driver_rates(mech, st, g, w1, e1):
-            _linear_driver_rates(mech, st, g, w1, e1)
+        rd = g.joints[0]
+        if not rd.joint.driven_rates(st, rd, g.bodies[0], w1, e1):
+            _hung_driver_rates(st, g, w1, e1)
         return
     if g.kind != "newton":
-        _closed_rates(mech, st, g)
+        _closed_rates(plan, st, g)
         return
-    members = [mech.index[b] for b in g.bodies]
-    rows = group_rows(mech, st, g, need_gamma=False)
-    J, _ = assemble_jacobian(mech, st, g, rows)
-    rhs = -known_part(mech, st, g, rows, "v")
+    members = list(g.bodies)
+    rows = group_rows(st, g, need_gamma=False)
+    J, _ = assemble_jacobian(st, g, rows)
+    rhs = -known_part(st, g, rows, "v")
     for r, (_, _, row) in enumerate(rows):
         if row.get("drive"):
             rhs[:, r] += w1
@@ -66,8 +43,8 @@ def group_rates(mech: Mechanism, st: State, g: Group, w1: Arr, e1: Arr) -> None:
     sol = batched_solve(J, rhs, good)
     for k, b in enumerate(members):
         st.VX[b], st.VY[b], st.W[b] = sol[:, 3 * k], sol[:, 3 * k + 1], sol[:, 3 * k + 2]
-    rows = group_rows(mech, st, g, need_gamma=True)
-    rhs = -known_part(mech, st, g, rows, "a")
+    rows = group_rows(st, g, need_gamma=True)
+    rhs = -known_part(st, g, rows, "a")
     for r, (_, _, row) in enumerate(rows):
         rhs[:, r] += row["gam"]
         if row.get("drive"):
@@ -77,10 +54,9 @@ def group_rates(mech: Mechanism, st: State, g: Group, w1: Arr, e1: Arr) -> None:
         st.AX[b], st.AY[b], st.E[b] = sol[:, 3 * k], sol[:, 3 * k + 1], sol[:, 3 * k + 2]
 
 
-def known_part(mech: Mechanism, st: State, g: Group, rows: list[tuple[int, int, dict[str, Any]]],
-                level: str) -> Arr:
+def known_part(st: State, g: PlanGroup, rows: Rows, level: str) -> Arr:
     """Sum over known bodies of J_known * (q_dot or q_ddot) for each row."""
-    members = {mech.index[b] for b in g.bodies}
+    members = set(g.bodies)
     out = np.zeros((st.n, len(rows)))
     for r, (ia, ib, row) in enumerate(rows):
         for body, key in ((ia, "ja"), (ib, "jb")):
@@ -111,6 +87,8 @@ def acc_at(st: State, k: int, X: Vec) -> Vec:
 class RatePar:
     """Motion of body b hung on a known body k through joint j, with one unknown rate z.
 
+    The joint sets up the parametrisation (:meth:`~linkwork.planar.joints.Joint.hang`):
+
     Revolute at A: ``z = omega_b``, ``v_b(X) = v_k(A) + z k x (X - A)``,
     ``a_b(X) = a_k(A) + zdot k x (X - A) - z^2 (X - A)``.
     Prismatic with guide direction u: ``z`` = velocity of b relative to k along u,
@@ -118,23 +96,20 @@ class RatePar:
     (k x u)``. A known body (``j`` None) has no unknown.
     """
 
-    def __init__(self, mech: Mechanism, st: State, j: Joint | None, b: int,
-                 idx: int | None) -> None:
+    k: int  # the known neighbour
+    pk: tuple[float, float]  # pivot: its local point on k
+    A: Vec  # pivot: its world position
+    u: Vec  # sliding: the guide direction
+
+    def __init__(self, st: State, r: ResolvedJoint | None, b: int, idx: int | None) -> None:
         self.st, self.b, self.idx = st, b, idx
         self.rev = False
-        self.known = j is None
+        self.known = r is None
         self.z: Arr | float = 0.0
-        if j is None:
+        if r is None:
             return
-        ia, ib = mech.index[j.a], mech.index[j.b]
-        self.k = ia if b == ib else ib
-        qa, pb, ang = mech.joint_geometry(j)
-        if isinstance(j, Revolute):
-            self.rev = True
-            self.pk = qa if self.k == ia else pb
-            self.A = st.wpt(self.k, self.pk)
-        else:
-            self.u = st.rot(ia, (np.cos(ang), np.sin(ang)))
+        self.k = r.other(b)
+        r.joint.hang(self, st, r)  # rotation about a pivot (rev) or sliding along u
 
     def d(self, X: Vec) -> Vec:
         if self.known:
@@ -197,56 +172,14 @@ class RatePar:
         st.E[b] = np.asarray(c0 + k * zd, dtype=float)
 
 
-def closure_rows(mech: Mechanism, st: State, j: Joint, pars: dict[int, RatePar], n_unk: int,
-                  level: str) -> list[tuple[list[Arr | float], Arr]]:
-    """Closure equations of joint j in the unknown rates: rows (coefficients, rhs).
+def closure_rows(st: State, r: ResolvedJoint, pars: dict[int, RatePar], n_unk: int,
+                 level: str) -> list[ClosureRow]:
+    """Closure equations of joint ``r`` in the unknown rates: rows (coefficients, rhs).
 
-    ``level="v"``: velocity rows; ``"a"``: acceleration rows (the same coefficients, z known).
-    Revolute at B: ``v_a(B) = v_b(B)``; prismatic (guide a): ``omega_a = omega_b`` and
-    ``n . (v_b(P) - v_a(P)) = 0``; pin-in-slot: the latter only. Accelerations add the Coriolis
-    term ``-2 omega_a k x v_rel`` of the relative sliding.
+    ``level="v"``: velocity rows; ``"a"``: acceleration rows (the same coefficients, z known);
+    see each joint type's :meth:`~linkwork.planar.joints.Joint.closure_rows`.
     """
-    ia, ib = mech.index[j.a], mech.index[j.b]
-    pa_, pb_ = pars[ia], pars[ib]
-    _qa, pb, ang = mech.joint_geometry(j)
-    rows: list[tuple[list[Arr | float], Arr]] = []
-
-    def coefs(vals: list[tuple[RatePar, Any]]) -> list[Arr | float]:
-        c: list[Arr | float] = [0.0] * n_unk
-        for par, val in vals:
-            if par.idx is not None:
-                c[par.idx] = c[par.idx] + val
-        return c
-
-    if isinstance(j, Revolute):
-        B = st.wpt(ib, pb)
-        da, db = pa_.d(B), pb_.d(B)
-        if level == "v":
-            ca, cb = pa_.cv(B), pb_.cv(B)
-        else:
-            ca, cb = pa_.ca(B), pb_.ca(B)
-        for c in range(2):
-            rows.append((coefs([(pa_, da[c]), (pb_, -db[c])]), cb[c] - ca[c]))
-        return rows
-    P = st.wpt(ib, pb)
-    ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
-    nx, ny = -uy, ux
-    da, db = pa_.d(P), pb_.d(P)
-    cf = coefs([(pa_, -(nx * da[0] + ny * da[1])), (pb_, nx * db[0] + ny * db[1])])
-    if level == "v":
-        ca, cb = pa_.cv(P), pb_.cv(P)
-        rows.append((cf, -(nx * (cb[0] - ca[0]) + ny * (cb[1] - ca[1]))))
-    else:
-        ca, cb = pa_.ca(P), pb_.ca(P)
-        va, vb = pa_.vel(P), pb_.vel(P)
-        wa = pa_.w()[0] + pa_.w()[1] * pa_.z
-        rvx, rvy = vb[0] - va[0], vb[1] - va[1]
-        cor = 2 * wa * (nx * -rvy + ny * rvx)
-        rows.append((cf, -(nx * (cb[0] - ca[0]) + ny * (cb[1] - ca[1])) + cor))
-    if isinstance(j, Prismatic):
-        (c0a, ka), (c0b, kb) = (pa_.w(), pb_.w()) if level == "v" else (pa_.e(), pb_.e())
-        rows.append((coefs([(pa_, ka), (pb_, -kb)]), np.asarray(c0b - c0a) + np.zeros(st.n)))
-    return rows
+    return r.joint.closure_rows(st, r, pars[r.ia], pars[r.ib], n_unk, level)
 
 
 def cramer(st: State, rows: list[tuple[list[Arr | float], Arr]], scale: Arr | float
@@ -273,47 +206,47 @@ def cramer(st: State, rows: list[tuple[list[Arr | float], Arr]], scale: Arr | fl
         return [(r1 * a22 - r2 * a12) * inv, (a11 * r2 - a21 * r1) * inv]
 
 
-def group_pars(mech: Mechanism, st: State, g: Group) -> tuple[dict[int, RatePar], Joint,
-                                                                list[RatePar]]:
+def group_pars(st: State, g: PlanGroup, nb: int
+               ) -> tuple[dict[int, RatePar], ResolvedJoint, list[RatePar]]:
     """Parametrisations of a closed-form group's bodies and its closure joint."""
-    nb = len(mech.body_names)
-    members = [mech.index[b] for b in g.bodies]
+    members = g.bodies
     pars: dict[int, RatePar] = {}
     for i in range(nb):
         if i not in members:
-            pars[i] = RatePar(mech, st, None, i, None)
+            pars[i] = RatePar(st, None, i, None)
     if g.kind in ("RS", "PS"):
-        jt, js = (mech.joint(n) for n in g.joints)
+        rt, rs = g.joints
         b = members[0]
-        pars[b] = RatePar(mech, st, jt, b, 0)
-        return pars, js, [pars[b]]
-    j1, j2, j3 = (mech.joint(n) for n in g.joints)
+        pars[b] = RatePar(st, rt, b, 0)
+        return pars, rs, [pars[b]]
+    r1, r2, r3 = g.joints
     b1, b2 = members
-    pars[b1] = RatePar(mech, st, j1, b1, 0)
-    pars[b2] = RatePar(mech, st, j3, b2, 1)
-    return pars, j2, [pars[b1], pars[b2]]
+    pars[b1] = RatePar(st, r1, b1, 0)
+    pars[b2] = RatePar(st, r3, b2, 1)
+    return pars, r2, [pars[b1], pars[b2]]
 
 
-def _closed_rates(mech: Mechanism, st: State, g: Group) -> None:
-    pars, jc, unk = group_pars(mech, st, g)
+def _closed_rates(plan: Plan, st: State, g: PlanGroup) -> None:
+    pars, rc, unk = group_pars(st, g, plan.nb)
     n_unk = len(unk)
-    L = length_scale(mech)
+    L = plan.length_scale
     scale = L ** n_unk
-    z = cramer(st, closure_rows(mech, st, jc, pars, n_unk, "v"), scale)
+    z = cramer(st, closure_rows(st, rc, pars, n_unk, "v"), scale)
     for p, zi in zip(unk, z, strict=True):
         p.z = zi
     for p in unk:
         p.set_velocity()
-    zd = cramer(st, closure_rows(mech, st, jc, pars, n_unk, "a"), scale)
+    zd = cramer(st, closure_rows(st, rc, pars, n_unk, "a"), scale)
     for p, zdi in zip(unk, zd, strict=True):
         p.set_acceleration(zdi)
 
 
-def _linear_driver_rates(mech: Mechanism, st: State, g: Group, w1: Arr, e1: Arr) -> None:
-    j = mech.joint(g.joints[0])
-    b = mech.index[g.bodies[0]]
-    sign = 1.0 if b == mech.index[j.b] else -1.0
-    p = RatePar(mech, st, j, b, 0)
+def _hung_driver_rates(st: State, g: PlanGroup, w1: Arr, e1: Arr) -> None:
+    """The driven body hung on its joint with the driver's rate (a linear driver)."""
+    r = g.joints[0]
+    b = g.bodies[0]
+    sign = 1.0 if b == r.ib else -1.0
+    p = RatePar(st, r, b, 0)
     p.z = sign * w1
     p.set_velocity()
     p.set_acceleration(sign * e1)

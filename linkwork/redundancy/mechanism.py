@@ -24,7 +24,6 @@ from linkwork.errors import ParameterError, StructureError, require_finite
 from linkwork.planar.dynamics import BodyTorque, PointForce
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.kinematics import kinematics
-from linkwork.planar.model import PinInSlot, Prismatic
 from linkwork.redundancy.core import (
     JOINT_KINDS,
     SpatialGeometry,
@@ -114,11 +113,11 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
     ground = _ground(mech)
     out = []
     for j in mech.joints:
-        if isinstance(j, PinInSlot):
+        family = j.spatial_family  # "R" revolute-like, "P" prismatic-like, None unsupported
+        if family is None:
             raise StructureError(f"joint {j.name}: pin-in-slot joints are not supported by the "
                                  "spatial (redundancy) analysis; use revolute or prismatic joints")
         kw = {**dict(default or {}), **dict(joints.get(j.name, {}))}
-        family = "P" if isinstance(j, Prismatic) else "R"
         kw.setdefault("kind", "prismatic" if family == "P" else "revolute")
         if kw["kind"] in JOINT_KINDS and JOINT_KINDS[kw["kind"]][0] != family:
             raise ParameterError(f"{j.name}.kind", kw["kind"],
@@ -139,7 +138,7 @@ def geometry(mech: Any, kin: Any) -> SpatialGeometry:
         _, pb, ang = mech.joint_geometry(j)
         pm = kin.point(j.b, pb)
         pts[:, k, 0], pts[:, k, 1] = pm.x, pm.y
-        if isinstance(j, Prismatic):
+        if j.spatial_family == "P":  # the slide direction of a prismatic joint
             slide[:, k] = kin.angle(j.a) + ang
     angles = np.stack([kin.angle(b.name) for b in mech.bodies], axis=1)
     if not np.all(np.isfinite(pts)):
