@@ -133,8 +133,10 @@ class Dynamics(Result):
         "shaking_fx": "N", "shaking_fy": "N", "shaking_m": "N*m", "T": "J"}
 
     def __post_init__(self) -> None:
-        if self.kinematics.mechanism.driver.kind == "linear":  # slide [m], driving force [N]
-            self._relabel_units(phi1="m", Q="N")
+        du = self.kinematics.mechanism.driver.field_units  # a linear driver: slide, force
+        units = {k: du[k] for k in ("phi1", "Q")}
+        if any(self.units[k] != v for k, v in units.items()):
+            self._relabel_units(**units)
 
     def reaction(self, joint: str) -> tuple[Arr, Arr]:
         """(fx, fy) of joint ``joint``: force by its body a on its body b [N]."""

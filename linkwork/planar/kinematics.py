@@ -35,7 +35,7 @@ from numpy.typing import ArrayLike
 from linkwork.errors import AssemblyError, ParameterError, angle_ranges, require_finite
 from linkwork.planar.extremes import DeadCentre, dead_centres_of, transmission_angles_of
 from linkwork.planar.joints import _pt
-from linkwork.planar.model import Crank, Mechanism
+from linkwork.planar.model import Mechanism
 from linkwork.planar.positions import solve_driver, solve_dyad, solve_newton, solve_slot_group
 from linkwork.planar.rates import group_rates
 from linkwork.planar.state import Arr, State
@@ -114,8 +114,10 @@ class Kinematics(Result):
         "eps": "rad/s^2", "assembled": ""}
 
     def __post_init__(self) -> None:
-        if self.mechanism.driver.kind == "linear":  # slide coordinate, speed, acceleration
-            self._relabel_units(phi1="m", omega1="m/s", eps1="m/s^2")
+        du = self.mechanism.driver.field_units  # a linear driver: slide, speed, acceleration
+        units = {k: du[k] for k in ("phi1", "omega1", "eps1")}
+        if any(self.units[k] != v for k, v in units.items()):
+            self._relabel_units(**units)
 
     @cached_property
     def _cos_sin(self) -> tuple[Arr, Arr]:
@@ -307,7 +309,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         for kk, key in enumerate(keys):
             for i, arr in enumerate(getattr(st, key)):
                 block[kk, i, sl] = arr
-    unit = "rad" if isinstance(drv, Crank) else "m"
+    coordinate, unit = drv.coordinate
     if pos_bad.any() and on_fail == "raise":
         groups = [f"{g.kind}({', '.join(g.bodies)}) with joints {', '.join(g.joints)}"
                   + _newton_hint(mech, g) + (_PARALLEL if g.key in parallel else "")
@@ -321,11 +323,11 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
                 else "mechanism cannot be assembled")
         raise AssemblyError(f"{what} at {int(pos_bad.sum())} of {n} driver positions{which}",
                             angle_ranges(q, pos_bad),
-                            driver="phi1" if unit == "rad" else "s1", unit=unit)
+                            driver=coordinate, unit=unit)
     if bad.any() and on_fail == "raise":
         raise AssemblyError("mechanism is at a singular (toggle) position where velocities are "
                             "undefined", angle_ranges(q, bad),
-                            driver="phi1" if unit == "rad" else "s1", unit=unit)
+                            driver=coordinate, unit=unit)
     if bad.any():
         block[:, :, bad] = np.nan
     out = dict(zip(keys, block, strict=True))

@@ -30,7 +30,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -180,6 +180,12 @@ class Crank:
     kind = "crank"
     #: the code of the joint type it drives (a revolute joint)
     joint_code = "R"
+    #: the driver coordinate's name and unit (messages, tables)
+    coordinate: ClassVar[tuple[str, str]] = ("phi1", "rad")
+    #: units of the engine's driver fields: position phi1, speed omega1, acceleration eps1,
+    #: driving load Q (a torque)
+    field_units: ClassVar[Mapping[str, str]] = MappingProxyType(
+        {"phi1": "rad", "omega1": "rad/s", "eps1": "rad/s^2", "Q": "N*m"})
 
 
 @dataclass(frozen=True)
@@ -193,6 +199,12 @@ class Linear:
     kind = "linear"
     #: the code of the joint type it drives (a prismatic joint)
     joint_code = "P"
+    #: the driver coordinate's name and unit (messages, tables)
+    coordinate: ClassVar[tuple[str, str]] = ("s1", "m")
+    #: units of the engine's driver fields (which keep the crank's names phi1, omega1, eps1):
+    #: slide, speed, acceleration, driving load Q (a force)
+    field_units: ClassVar[Mapping[str, str]] = MappingProxyType(
+        {"phi1": "m", "omega1": "m/s", "eps1": "m/s^2", "Q": "N"})
 
     @property
     def omega1(self) -> float:

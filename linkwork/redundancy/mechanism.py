@@ -258,6 +258,8 @@ def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = 
                       out_of_plane=out_of_plane)
     dev = deviation_array(model, deviations, _ground(mech))
     res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
-    if mech.driver.kind == "linear":  # positions are slides [m], the driving force is in N
-        res._relabel_units(phi1="m", Q="N")
+    du = mech.driver.field_units  # a linear driver: positions are slides [m], Q a force [N]
+    units = {k: du[k] for k in ("phi1", "Q")}
+    if any(res.units.get(k) != v for k, v in units.items()):
+        res._relabel_units(**units)
     return res

@@ -190,3 +190,21 @@ def test_joint_capabilities_and_driver_codes():
     assert [len(j.row_kinds) for j in (R, P, S)] == [2, 2, 1]
     assert (R.spatial_family, P.spatial_family, S.spatial_family) == ("R", "P", None)
     assert (Crank("J").joint_code, Linear("J").joint_code) == (R.code, P.code)
+
+
+def test_driver_coordinate_names_and_units():
+    """A crank's coordinate is phi1 [rad] with a torque Q [N*m]; a linear driver's is s1 [m]
+    with a force Q [N]: the results and messages take them from the driver."""
+    assert Crank("J").coordinate == ("phi1", "rad")
+    assert Linear("J").coordinate == ("s1", "m")
+    assert dict(Crank("J").field_units) == {"phi1": "rad", "omega1": "rad/s",
+                                            "eps1": "rad/s^2", "Q": "N*m"}
+    assert dict(Linear("J").field_units) == {"phi1": "m", "omega1": "m/s", "eps1": "m/s^2",
+                                             "Q": "N"}
+    block = Body("block", {"P": (0.0, 0.0)}, mass=1.0)
+    mech = Mechanism(Body("frame", {"G": (0.0, 0.0)}), (block,),
+                     (Prismatic("G", "frame", "block", through="G", point="P"),),
+                     Linear("G", 0.5, 0.0))
+    dyn = inverse_dynamics(kinematics(mech, [0.1, 0.2]))
+    assert (dyn.kinematics.units["phi1"], dyn.kinematics.units["omega1"]) == ("m", "m/s")
+    assert (dyn.units["phi1"], dyn.units["Q"]) == ("m", "N")
