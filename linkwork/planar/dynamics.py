@@ -42,7 +42,7 @@ from linkwork.errors import ParameterError, require_finite
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.joints import ResolvedJoint
 from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
-from linkwork.planar.model import Linear, Mechanism
+from linkwork.planar.model import Mechanism
 from linkwork.planar.rates import RatePar, batched_solve, closure_rows, cramer, group_pars
 from linkwork.planar.state import Arr, State
 from linkwork.planar.structure import Plan
@@ -275,14 +275,14 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
             continue
         sgn = -1.0 if j.a == fr else 1.0
         fx, fy, mz = sgn * fxr[ji], sgn * fyr[ji], sgn * mzr[ji]
-        if rj.drive and isinstance(mech.driver, Linear):
+        if rj.drive and plan.driver_kind == "linear":  # the driving force along the guide
             ux, uy = st.rot(rj.ia, rj.u_loc)
             fx = fx + sgn * Q * ux
             fy = fy + sgn * Q * uy
         sfx += fx
         sfy += fy
         sm += (pxr[ji] - ab[0]) * fy - (pyr[ji] - ab[1]) * fx + mz
-        if rj.drive and not isinstance(mech.driver, Linear):
+        if rj.drive and plan.driver_kind != "linear":  # the motor's reaction torque
             sm += sgn * Q
     for rfx, rfy, rpx, rpy, rmz in on_frame:
         sfx += rfx

@@ -30,15 +30,13 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import Any, ClassVar
 
 import numpy as np
 
-from linkwork.errors import ParameterError, StructureError, require_finite
+from linkwork.errors import ParameterError, StructureError, require_finite, require_positive
 from linkwork.planar.joints import Joint, PinInSlot, Point, Prismatic, Revolute, _number, _pt
-
-if TYPE_CHECKING:
-    from linkwork.planar.structure import Plan, Structure
+from linkwork.planar.structure import Plan, Structure, analyse, compile_plan
 
 __all__ = [
     "Body",
@@ -140,8 +138,6 @@ def bar(name: str, start: str, end: str, length: float, *, mass: float = 0.0,
     points : mapping, optional
         Further named points in the link's frame.
     """
-    from linkwork.errors import require_positive
-
     length = _number(f"{name}.length", require_positive(f"{name}.length", length))
     if start == end:  # one dict key: the start point would silently move to (length, 0)
         raise ParameterError(f"{name}.end", end, f"must differ from start {start!r}")
@@ -340,16 +336,12 @@ class Mechanism:
     @cached_property
     def structure(self) -> Structure:
         """Structural analysis (mobility, Assur groups); raises StructureError if wrong."""
-        from linkwork.planar.structure import analyse
-
         return analyse(self)
 
     @cached_property
     def plan(self) -> Plan:
         """The compiled plan the solvers use (groups with resolved joints, body indices and
         local geometry); raises StructureError if the structure is wrong."""
-        from linkwork.planar.structure import compile_plan
-
         return compile_plan(self)
 
     def validate(self) -> Mechanism:

@@ -37,18 +37,61 @@ never look joints or bodies up by name.
 from __future__ import annotations
 
 import itertools
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any, Protocol
 
 import numpy as np
 
 from linkwork.errors import ParameterError, StructureError
-from linkwork.planar.joints import Joint, ResolvedJoint
-from linkwork.planar.model import Mechanism
+from linkwork.planar.joints import Joint, Point, ResolvedJoint
 
 __all__ = ["Group", "Plan", "PlanGroup", "Structure", "analyse", "compile_plan", "length_scale",
            "mobility"]
 
 _CLOSED = {"RRR", "RRP", "PRR", "RPR", "RPP", "PPR", "PRP"}
+
+
+class _BodyLike(Protocol):
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def points(self) -> Mapping[str, Point]: ...
+
+    @property
+    def guess(self) -> tuple[float, float, float] | None: ...
+
+    def point(self, name: str) -> Point: ...
+
+
+class Mechanism(Protocol):
+    """What the structure analysis reads of a :class:`linkwork.planar.model.Mechanism` (which
+    imports this module for its ``structure`` and ``plan``; a protocol keeps the import one way).
+    """
+
+    @property
+    def frame(self) -> Any: ...
+
+    @property
+    def bodies(self) -> Sequence[Any]: ...
+
+    @property
+    def joints(self) -> Sequence[Joint]: ...
+
+    @property
+    def driver(self) -> Any: ...
+
+    @property
+    def body_names(self) -> tuple[str, ...]: ...
+
+    @property
+    def index(self) -> dict[str, int]: ...
+
+    @property
+    def structure(self) -> Structure: ...
+
+    def body(self, name: str) -> Any: ...
 
 
 @dataclass(frozen=True)
@@ -148,7 +191,7 @@ def analyse(mech: Mechanism) -> Structure:
         with more constraints than coordinates, or a set of bodies that no group order can
         solve; the message names the bodies and joints involved.
     """
-    if not isinstance(mech, Mechanism):
+    if not all(hasattr(mech, a) for a in ("frame", "bodies", "joints", "driver", "body_names")):
         raise ParameterError("mech", mech, "must be a Mechanism")
     n = len(mech.bodies)
     p5 = sum(1 for j in mech.joints if j.n_constraints == 2)
