@@ -27,6 +27,7 @@ from linkwork.cycles import (
     rms,
 )
 from linkwork.errors import require_finite
+from linkwork.planar.inertia import inertia_couple, inertia_force
 
 __all__ = [
     "Harmonics",
@@ -56,7 +57,8 @@ def shaking_force(masses: ArrayLike, acc: ArrayLike) -> np.ndarray:
     """
     m = require_finite("masses", masses)
     a = require_finite("acc", acc)
-    return -np.einsum("b,bnk->nk", m, a)
+    fx, fy = inertia_force(m[:, None], a[..., 0], a[..., 1])  # -m a per link, (b, n)
+    return np.stack([fx.sum(axis=0), fy.sum(axis=0)], axis=-1)
 
 
 def shaking_moment(masses: ArrayLike, inertias: ArrayLike, pos: ArrayLike, acc: ArrayLike,
@@ -87,8 +89,8 @@ def shaking_moment(masses: ArrayLike, inertias: ArrayLike, pos: ArrayLike, acc: 
     r = require_finite("pos", pos) - require_finite("point", point)
     a = require_finite("acc", acc)
     e = require_finite("eps", eps)
-    cross = r[..., 0] * a[..., 1] - r[..., 1] * a[..., 0]
-    return -(np.einsum("b,bn->n", m, cross) + np.einsum("b,bn->n", J, e))
+    fx, fy = inertia_force(m[:, None], a[..., 0], a[..., 1])  # -m a per link, (b, n)
+    return np.sum(r[..., 0] * fy - r[..., 1] * fx + inertia_couple(J[:, None], e), axis=0)
 
 
 def moment_about(moment: ArrayLike, force: ArrayLike, point: ArrayLike,

@@ -20,6 +20,7 @@ from linkwork.balancing.loads import peak, rms
 from linkwork.balancing.partial import periodic_weights
 from linkwork.balancing.static import Counterweight
 from linkwork.errors import InfeasibleError, ParameterError, require_finite
+from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.kinematics import Kinematics, kinematics
 from linkwork.planar.model import Body, Mechanism, Prismatic, Revolute
 from linkwork.results import Result
@@ -192,17 +193,8 @@ def shaking_loads(kin: Kinematics, point: ArrayLike = (0.0, 0.0)) -> ShakingLoad
     P = require_finite("point", point)
     if P.shape != (2,):
         raise ParameterError("point", P.tolist(), "must be (x, y)")
-    n = kin.n
-    fx, fy, mz = np.zeros(n), np.zeros(n), np.zeros(n)
-    for b in kin.mechanism.bodies:
-        if b.mass == 0.0 and b.inertia == 0.0:
-            continue
-        c = kin.point(b.name, "com")
-        i = kin.bodies.index(b.name)
-        Fx, Fy = -b.mass * c.ax, -b.mass * c.ay
-        fx += Fx
-        fy += Fy
-        mz += (c.x - P[0]) * Fy - (c.y - P[1]) * Fx - b.inertia * kin.eps[i]
+    # the resultant of the inertia forces and couples (no gravity)
+    fx, fy, mz = inertia_wrenches(kin).resultant((P[0], P[1]))
     return ShakingLoads(kin.phi1, fx, fy, mz, (float(P[0]), float(P[1])))
 
 

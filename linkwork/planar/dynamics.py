@@ -39,20 +39,13 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.errors import ParameterError, require_finite
-from linkwork.planar.kinematics import (
-    Kinematics,
-    _batched_solve,
-    _closure_rows,
-    _cramer,
-    _group_pars,
-    _length_scale,
-    _Par,
-    _require_kinematics,
-    _rows,
-    _State,
-    _state_of,
-)
-from linkwork.planar.model import Joint, Linear, Mechanism, Prismatic, Revolute
+from linkwork.planar.inertia import inertia_wrenches
+from linkwork.planar.joints import ResolvedJoint
+from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
+from linkwork.planar.model import Mechanism
+from linkwork.planar.rates import RatePar, batched_solve, closure_rows, cramer, group_pars
+from linkwork.planar.state import Arr, State
+from linkwork.planar.structure import Plan
 from linkwork.results import Result
 
 if TYPE_CHECKING:
@@ -60,7 +53,6 @@ if TYPE_CHECKING:
 
 __all__ = ["BodyTorque", "Dynamics", "PointForce", "inverse_dynamics", "kinetic_energy"]
 
-Arr = np.ndarray
 
 
 @dataclass(frozen=True)
@@ -144,8 +136,10 @@ class Dynamics(Result):
         "shaking_fx": "N", "shaking_fy": "N", "shaking_m": "N*m", "T": "J"}
 
     def __post_init__(self) -> None:
-        if self.kinematics.mechanism.driver.kind == "linear":  # slide [m], driving force [N]
-            self._relabel_units(phi1="m", Q="N")
+        du = self.kinematics.mechanism.driver.field_units  # a linear driver: slide, force
+        units = {k: du[k] for k in ("phi1", "Q")}
+        if any(self.units[k] != v for k, v in units.items()):
+            self._relabel_units(**units)
 
     def reaction(self, joint: str) -> tuple[Arr, Arr]:
         """(fx, fy) of joint ``joint``: force by its body a on its body b [N]."""
@@ -175,13 +169,13 @@ class Dynamics(Result):
         return dynamics_figure(self, axes=axes, **kw)
 
 
-def _state_from(kin: Kinematics) -> _State:
-    return _state_of(kin)
+def _state_from(kin: Kinematics) -> State:
+    return state_of(kin)
 
 
 def kinetic_energy(kin: Kinematics) -> Arr:
     """Kinetic energy of all moving bodies [J] at every position."""
-    m = _require_kinematics(kin).mechanism
+    m = require_kinematics(kin).mechanism
     T = np.zeros(kin.n)
     for b in m.bodies:
         c = kin.point(b.name, "com")
@@ -218,7 +212,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     Dynamics
         See the module docstring for the sign conventions.
     """
-    _require_kinematics(kin)
+    require_kinematics(kin)
     if isinstance(loads, PointForce | BodyTorque) or not isinstance(loads, Sequence):
         raise ParameterError("loads", loads, "must be a sequence (list or tuple) of PointForce "
                              "and BodyTorque")
@@ -236,15 +230,13 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     # generalised applied-minus-inertia forces on each moving body (about its origin)
     f = np.zeros((n, 3 * (nb - 1)))
     on_frame: list[tuple[Arr | float, ...]] = []  # reactions of from_frame loads on the frame
-    for b in mech.bodies:
+    iw = inertia_wrenches(kin, g)  # weight + inertia force at C, inertia couple
+    for k, b in enumerate(mech.bodies):
         i = mech.index[b.name]
-        c = kin.point(b.name, "com")
-        rx, ry = c.x - kin.x[i], c.y - kin.y[i]
-        Fx = b.mass * (g[0] - c.ax)
-        Fy = b.mass * (g[1] - c.ay)
-        f[:, 3 * i - 3] += Fx
-        f[:, 3 * i - 2] += Fy
-        f[:, 3 * i - 1] += rx * Fy - ry * Fx - b.inertia * kin.eps[i]
+        rx, ry = iw.cx[k] - kin.x[i], iw.cy[k] - kin.y[i]
+        f[:, 3 * i - 3] += iw.fx[k]
+        f[:, 3 * i - 2] += iw.fy[k]
+        f[:, 3 * i - 1] += rx * iw.fy[k] - ry * iw.fx[k] + iw.mz[k]
     for k, ld in enumerate(loads):
         if not isinstance(ld, PointForce | BodyTorque):
             raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
@@ -275,35 +267,33 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     nj = len(mech.joints)
     pxr = np.zeros((nj, n))
     pyr = np.zeros((nj, n))
-    for ji, j in enumerate(mech.joints):
-        pb = mech.joint_geometry(j)[1]
-        pxr[ji], pyr[ji] = st.wpt(mech.index[j.b], pb)
-    if any(gr.kind == "newton" for gr in mech.structure.groups):
-        fxr, fyr, mzr, Q = _global_reactions(mech, st, f, kin.assembled)
+    plan = mech.plan
+    for ji, rj in enumerate(plan.joints):
+        pxr[ji], pyr[ji] = st.wpt(rj.ib, rj.pb)
+    if plan.newton:
+        fxr, fyr, mzr, Q = _global_reactions(plan, st, f, kin.assembled)
     else:
         with np.errstate(all="ignore"):
-            fxr, fyr, mzr, Q = _group_reactions(mech, st, f)
+            fxr, fyr, mzr, Q = _group_reactions(plan, st, f)
     # shaking force and moment on the frame
     sfx = np.zeros(n)
     sfy = np.zeros(n)
     sm = np.zeros(n)
     fr = mech.frame.name
-    drv_j = mech.joint(mech.driver.joint)
-    for ji, j in enumerate(mech.joints):
+    for ji, rj in enumerate(plan.joints):
+        j = rj.joint
         if fr not in (j.a, j.b):
             continue
         sgn = -1.0 if j.a == fr else 1.0
         fx, fy, mz = sgn * fxr[ji], sgn * fyr[ji], sgn * mzr[ji]
-        if j is drv_j and isinstance(mech.driver, Linear):
-            ia = mech.index[j.a]
-            ang = mech.joint_geometry(j)[2]
-            ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
+        if rj.drive and plan.driver_kind == "linear":  # the driving force along the guide
+            ux, uy = st.rot(rj.ia, rj.u_loc)
             fx = fx + sgn * Q * ux
             fy = fy + sgn * Q * uy
         sfx += fx
         sfy += fy
         sm += (pxr[ji] - ab[0]) * fy - (pyr[ji] - ab[1]) * fx + mz
-        if j is drv_j and not isinstance(mech.driver, Linear):
+        if rj.drive and plan.driver_kind != "linear":  # the motor's reaction torque
             sm += sgn * Q
     for rfx, rfy, rpx, rpy, rmz in on_frame:
         sfx += rfx
@@ -314,71 +304,52 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
                     Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]))
 
 
-def _global_reactions(mech: Mechanism, st: _State, f: Arr, good: Arr
+def _global_reactions(plan: Plan, st: State, f: Arr, good: Arr
                       ) -> tuple[Arr, Arr, Arr, Arr]:
     """All multipliers at once: J^T lambda = f with the full constraint Jacobian."""
     n = st.n
-    nb = len(mech.body_names)
-    size = 3 * (nb - 1)
+    size = 3 * (plan.nb - 1)
     J = np.zeros((n, size, size))
-    meta: list[tuple[int, str]] = []  # (joint index, row kind)
+    meta: list[tuple[ResolvedJoint, str]] = []  # (joint, row kind)
     r = 0
-    for ji, j in enumerate(mech.joints):
-        drv = mech.driver if j.name == mech.driver.joint else None
-        rows = _rows(mech, st, j, drv, None, need_gamma=False)
-        ia, ib = mech.index[j.a], mech.index[j.b]
+    for rj in plan.joints:
+        rows = rj.joint.constraint_rows(st, rj, need_gamma=False)
+        ia, ib = rj.ia, rj.ib
         for k, row in enumerate(rows):
             for body, key in ((ia, "ja"), (ib, "jb")):
                 if body > 0:
                     for comp in range(3):
                         J[:, r, 3 * body - 3 + comp] += row[key][comp]
-            kind = "drive" if row.get("drive") else (
-                ("x", "y")[k] if isinstance(j, Revolute) else ("n", "t")[k])
-            meta.append((ji, kind))
+            meta.append((rj, "drive" if row.get("drive") else rj.joint.row_kinds[k]))
             r += 1
-    lam = _batched_solve(np.swapaxes(J, 1, 2), f, good)
-    nj = len(mech.joints)
-    fxr = np.zeros((nj, n))
-    fyr = np.zeros((nj, n))
-    mzr = np.zeros((nj, n))
+    lam = batched_solve(np.swapaxes(J, 1, 2), f, good)
+    nj = len(plan.joints)
+    out = {"fx": np.zeros((nj, n)), "fy": np.zeros((nj, n)), "mz": np.zeros((nj, n))}
     Q = np.zeros(n)
-    for r, (ji, kind) in enumerate(meta):
-        j = mech.joints[ji]
+    for r, (rj, kind) in enumerate(meta):
         lr = lam[:, r]
-        if kind == "x":
-            fxr[ji] += lr
-        elif kind == "y":
-            fyr[ji] += lr
-        elif kind == "t":
-            mzr[ji] += -lr
-        elif kind == "n" or (kind == "drive" and isinstance(j, Prismatic)):
-            ia = mech.index[j.a]
-            ang = mech.joint_geometry(j)[2]
-            ux, uy = st.rot(ia, (np.cos(ang), np.sin(ang)))
-            ex, ey = (-uy, ux) if kind == "n" else (ux, uy)
-            if kind == "n":
-                fxr[ji] += -lr * ex
-                fyr[ji] += -lr * ey
-            else:
-                Q = -lr
-        else:  # crank drive
+        if kind == "drive":  # the driver's row: its torque (force) on body b
             Q = -lr
-    return fxr, fyr, mzr, Q
+            continue
+        for key, v in rj.joint.reaction_components(st, rj, kind, lr).items():
+            out[key][rj.index] += v
+    return out["fx"], out["fy"], out["mz"], Q
 
 
-def _group_reactions(mech: Mechanism, st: _State, f: Arr) -> tuple[Arr, Arr, Arr, Arr]:
+def _group_reactions(plan: Plan, st: State, f: Arr) -> tuple[Arr, Arr, Arr, Arr]:
     """Reactions group by group, last group first (each Assur group is statically determinate).
 
     For a dyad the virtual motion of each body allowed by its external joint (rotation about
     the pivot, or sliding along the guide) gives one equation free of that joint's reaction:
     the transposed velocity-closure system (2 x 2, Cramer) yields the reaction of the joint
     between the bodies; each body's own balance then gives its external reaction, whose
-    opposite is added to the known body it acts on.
+    opposite is added to the known body it acts on. The driver (a crank's torque about its
+    pivot, a linear driver's force along its guide) balances its body's motion along the joint.
     """
+    linear = plan.driver_kind == "linear"
     n = st.n
-    nb = len(mech.body_names)
-    jidx = {j.name: k for k, j in enumerate(mech.joints)}
-    nj = len(mech.joints)
+    nb = plan.nb
+    nj = len(plan.joints)
     fxr = np.zeros((nj, n))
     fyr = np.zeros((nj, n))
     mzr = np.zeros((nj, n))
@@ -394,58 +365,48 @@ def _group_reactions(mech: Mechanism, st: _State, f: Arr) -> tuple[Arr, Arr, Arr
         Fy[i] = Fy[i] + fy
         M0[i] = M0[i] + px * fy - py * fx + mz
 
-    def record(j: Joint, on: int, fx: Arr, fy: Arr, mz: Arr | float, px: Arr, py: Arr) -> None:
+    def record(rj: ResolvedJoint, on: int, fx: Arr, fy: Arr, mz: Arr | float, px: Arr,
+               py: Arr) -> None:
         """Store the reaction acting on body ``on``; apply its opposite to the other body."""
-        other = mech.index[j.b] if on == mech.index[j.a] else mech.index[j.a]
-        sgn = 1.0 if on == mech.index[j.b] else -1.0
-        k = jidx[j.name]
+        other = rj.ib if on == rj.ia else rj.ia
+        sgn = 1.0 if on == rj.ib else -1.0
+        k = rj.index
         fxr[k] += sgn * fx
         fyr[k] += sgn * fy
         mzr[k] += sgn * mz
         apply(on, fx, fy, px, py, mz)
         apply(other, -fx, -fy, px, py, -mz)
 
-    def ext_reaction(par: _Par, j: Joint) -> None:
-        """Balance body par.b with the reaction of its external joint j."""
+    def ext_reaction(par: RatePar, rj: ResolvedJoint) -> None:
+        """Balance body par.b with the reaction of its external joint."""
         b = par.b
-        if isinstance(j, Revolute):
-            A = par.A
-            record(j, b, -Fx[b], -Fy[b], 0.0, A[0], A[1])
-            return
-        _qa, pb, _ang = mech.joint_geometry(j)
-        P = st.wpt(mech.index[j.b], pb)
-        nx, ny = -par.u[1], par.u[0]
-        N = -(Fx[b] * nx + Fy[b] * ny)
-        m = -(M0[b] - (P[0] * Fy[b] - P[1] * Fx[b]))
-        record(j, b, N * nx, N * ny, m, P[0], P[1])
+        record(rj, b, *rj.joint.external_reaction(st, rj, par, Fx[b], Fy[b], M0[b]))
 
-    for g in reversed(mech.structure.groups):
+    for g in reversed(plan.groups):
         if g.kind == "driver":
-            j = mech.joint(g.joints[0])
-            b = mech.index[g.bodies[0]]
-            sgn = 1.0 if b == mech.index[j.b] else -1.0
-            par = _Par(mech, st, j, b, 0)
-            if isinstance(j, Revolute):
+            rj = g.joints[0]
+            b = g.bodies[0]
+            sgn = 1.0 if b == rj.ib else -1.0
+            par = RatePar(st, rj, b, 0)
+            other = rj.ia if sgn > 0 else rj.ib
+            if not linear:  # a torque about the pivot
                 A = par.A
                 torque = -(M0[b] - (A[0] * Fy[b] - A[1] * Fx[b]))
                 Q = sgn * torque
                 M0[b] = M0[b] + torque
-                other = mech.index[j.a] if sgn > 0 else mech.index[j.b]
                 M0[other] = M0[other] - torque
-                record(j, b, -Fx[b], -Fy[b], 0.0, A[0], A[1])
-            else:
-                pb = mech.joint_geometry(j)[1]
-                P = st.wpt(mech.index[j.b], pb)
+                record(rj, b, -Fx[b], -Fy[b], 0.0, A[0], A[1])
+            else:  # a force along the guide at the slider point
+                P = st.wpt(rj.ib, rj.pb)
                 ux, uy = par.u
                 drive = -(Fx[b] * ux + Fy[b] * uy)
                 Q = sgn * drive
-                other = mech.index[j.a] if sgn > 0 else mech.index[j.b]
                 apply(b, drive * ux, drive * uy, P[0], P[1])
                 apply(other, -drive * ux, -drive * uy, P[0], P[1])
-                ext_reaction(par, j)
+                ext_reaction(par, rj)
             continue
-        pars, jc, unk = _group_pars(mech, st, g)
-        rows = _closure_rows(mech, st, jc, pars, len(unk), "v")
+        pars, rc, unk = group_pars(st, g, nb)
+        rows = closure_rows(st, rc, pars, len(unk), "v")
         # transposed system: sum_r C[r][beta] lambda_r = power of beta's forces
         pw = []
         for par in unk:
@@ -456,19 +417,9 @@ def _group_reactions(mech: Mechanism, st: _State, f: Arr) -> tuple[Arr, Arr, Arr
                 pw.append(Fx[b] * par.u[0] + Fy[b] * par.u[1])
         trows = [([rows[r][0][beta] for r in range(len(rows))], pw[beta])
                  for beta in range(len(unk))]
-        lam = _cramer(st, trows, _length_scale(mech) ** len(unk))
-        _qa, pb, ang = mech.joint_geometry(jc)
-        ib = mech.index[jc.b]
-        P = st.wpt(ib, pb)
-        if isinstance(jc, Revolute):
-            record(jc, ib, lam[0], lam[1], 0.0, P[0], P[1])
-        else:
-            ux, uy = st.rot(mech.index[jc.a], (np.cos(ang), np.sin(ang)))
-            N = -lam[0]
-            m = lam[1] if isinstance(jc, Prismatic) else 0.0
-            record(jc, ib, N * -uy, N * ux, m, P[0], P[1])
-        jext = [mech.joint(g.joints[0])] if len(unk) == 1 else [
-            mech.joint(g.joints[0]), mech.joint(g.joints[2])]
-        for par, j in zip(unk, jext, strict=True):
-            ext_reaction(par, j)
+        lam = cramer(st, trows, plan.length_scale ** len(unk))
+        record(rc, rc.ib, *rc.joint.closure_reaction(st, rc, lam))
+        rext = [g.joints[0]] if len(unk) == 1 else [g.joints[0], g.joints[2]]
+        for par, rj in zip(unk, rext, strict=True):
+            ext_reaction(par, rj)
     return fxr, fyr, mzr, Q

@@ -5,8 +5,9 @@ are given in that frame [m]. The pose of body ``b`` in the fixed frame is ``(x_b
 a point ``p`` of the body is at ``r_b + A(theta_b) p`` with ``A`` the counter-clockwise rotation.
 The frame (ground) is a body too, always at pose ``(0, 0, 0)``.
 
-Joints (each joins a first body ``a`` and a second body ``b``; reactions are reported as the
-force exerted **by a on b**):
+Joints (defined with their behaviour in :mod:`linkwork.planar.joints`, re-exported here; each
+joins a first body ``a`` and a second body ``b``; reactions are reported as the force exerted
+**by a on b**):
 
 * :class:`Revolute` -- point ``point_a`` of ``a`` coincides with point ``point_b`` of ``b``
   (both default to the joint's name). 2 constraints.
@@ -29,14 +30,13 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from types import MappingProxyType
-from typing import TYPE_CHECKING, Any
+from typing import Any, ClassVar
 
 import numpy as np
 
-from linkwork.errors import ParameterError, StructureError, require_finite
-
-if TYPE_CHECKING:
-    from linkwork.planar.structure import Structure
+from linkwork.errors import ParameterError, StructureError, require_finite, require_positive
+from linkwork.planar.joints import Joint, PinInSlot, Point, Prismatic, Revolute, _number, _pt
+from linkwork.planar.structure import Plan, Structure, analyse, compile_plan
 
 __all__ = [
     "Body",
@@ -51,26 +51,6 @@ __all__ = [
     "crank_slider",
     "fourbar",
 ]
-
-Point = tuple[float, float]
-
-
-def _number(name: str, value: Any) -> float:
-    """``value`` as a finite Python float, or a ParameterError naming ``name``."""
-    arr = require_finite(name, value)
-    if arr.ndim:
-        raise ParameterError(name, value, "must be a single number")
-    return float(arr)
-
-
-def _pt(name: str, value: Any) -> Point:
-    try:
-        x, y = (float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ParameterError(name, value, "must be a pair of numbers (x, y) [m]") from None
-    if not (math.isfinite(x) and math.isfinite(y)):
-        raise ParameterError(name, value, "must be finite")
-    return (x, y)
 
 
 @dataclass(frozen=True)
@@ -158,8 +138,6 @@ def bar(name: str, start: str, end: str, length: float, *, mass: float = 0.0,
     points : mapping, optional
         Further named points in the link's frame.
     """
-    from linkwork.errors import require_positive
-
     length = _number(f"{name}.length", require_positive(f"{name}.length", length))
     if start == end:  # one dict key: the start point would silently move to (length, 0)
         raise ParameterError(f"{name}.end", end, f"must differ from start {start!r}")
@@ -185,88 +163,6 @@ def bar(name: str, start: str, end: str, length: float, *, mass: float = 0.0,
 
 
 @dataclass(frozen=True)
-class Joint:
-    """Base of the joints: ``name``, first body ``a``, second body ``b``."""
-
-    name: str
-    a: str
-    b: str
-
-    #: number of scalar constraints the joint imposes
-    n_constraints = 2
-    #: one-letter type code used in group names (R, P, S)
-    code = "?"
-
-
-@dataclass(frozen=True)
-class Revolute(Joint):
-    """Revolute joint (turning pair): point ``point_a`` of ``a`` on point ``point_b`` of ``b``.
-
-    Reaction: force (fx, fy) exerted by ``a`` on ``b`` at the joint centre, in frame axes [N].
-    """
-
-    point_a: str | None = None
-    point_b: str | None = None
-    n_constraints = 2
-    code = "R"
-
-    @property
-    def pa(self) -> str:
-        return self.point_a or self.name
-
-    @property
-    def pb(self) -> str:
-        return self.point_b or self.name
-
-
-@dataclass(frozen=True)
-class Prismatic(Joint):
-    """Prismatic joint (sliding pair): ``b`` slides along a line fixed in ``a``.
-
-    Parameters
-    ----------
-    name, a, b : str
-        Joint name, guide body, slider body.
-    angle : float
-        Direction of the guide line in ``a``'s frame [rad], counter-clockwise from its x-axis;
-        it is also the positive direction of the slide coordinate.
-    through : str or (x, y), optional
-        A point of the line: a named point of ``a`` or local coordinates [m]; default the point
-        of ``a`` named like the joint, else ``a``'s origin.
-    point : str, optional
-        Point of ``b`` that stays on the line (default: the joint's name, else ``b``'s origin).
-    rel_angle : float
-        Constant ``theta_b - theta_a`` [rad].
-
-    Reaction: force (fx, fy) exerted by ``a`` on ``b`` (normal to the guide) applied at the
-    slider point, plus a couple ``mz`` [N m] exerted by ``a`` on ``b``.
-    """
-
-    angle: float = 0.0
-    through: str | Point | None = None
-    point: str | None = None
-    rel_angle: float = 0.0
-    n_constraints = 2
-    code = "P"
-
-
-@dataclass(frozen=True)
-class PinInSlot(Joint):
-    """Pin-in-slot (higher pair): point ``point`` of ``b`` stays on a straight slot of ``a``.
-
-    ``angle`` and ``through`` define the slot's line in ``a`` as for :class:`Prismatic`;
-    ``theta_b - theta_a`` is free. Reaction: force exerted by ``a`` on ``b`` (normal to the slot,
-    frictionless) at the pin.
-    """
-
-    angle: float = 0.0
-    through: str | Point | None = None
-    point: str | None = None
-    n_constraints = 1
-    code = "S"
-
-
-@dataclass(frozen=True)
 class Crank:
     """Rotary driver on a revolute joint: ``phi1 = theta_b - theta_a`` [rad].
 
@@ -278,6 +174,14 @@ class Crank:
     omega1: float = 1.0
     eps1: float = 0.0
     kind = "crank"
+    #: the code of the joint type it drives (a revolute joint)
+    joint_code = "R"
+    #: the driver coordinate's name and unit (messages, tables)
+    coordinate: ClassVar[tuple[str, str]] = ("phi1", "rad")
+    #: units of the engine's driver fields: position phi1, speed omega1, acceleration eps1,
+    #: driving load Q (a torque)
+    field_units: ClassVar[Mapping[str, str]] = MappingProxyType(
+        {"phi1": "rad", "omega1": "rad/s", "eps1": "rad/s^2", "Q": "N*m"})
 
 
 @dataclass(frozen=True)
@@ -289,6 +193,14 @@ class Linear:
     v1: float = 1.0
     a1: float = 0.0
     kind = "linear"
+    #: the code of the joint type it drives (a prismatic joint)
+    joint_code = "P"
+    #: the driver coordinate's name and unit (messages, tables)
+    coordinate: ClassVar[tuple[str, str]] = ("s1", "m")
+    #: units of the engine's driver fields (which keep the crank's names phi1, omega1, eps1):
+    #: slide, speed, acceleration, driving load Q (a force)
+    field_units: ClassVar[Mapping[str, str]] = MappingProxyType(
+        {"phi1": "m", "omega1": "m/s", "eps1": "m/s^2", "Q": "N"})
 
     @property
     def omega1(self) -> float:
@@ -346,8 +258,8 @@ class Mechanism:
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise ParameterError("bodies", sorted(dup)[0], "body names must be unique")
-        for j in self.joints:
-            if not isinstance(j, Revolute | Prismatic | PinInSlot):
+        for j in self.joints:  # a concrete joint type (the base class has no behaviour)
+            if not isinstance(j, Joint) or j.code == Joint.code:
                 raise ParameterError("joints", j, "must be Revolute, Prismatic or PinInSlot")
         jn = [j.name for j in self.joints]
         dupj = {n for n in jn if jn.count(n) > 1}
@@ -367,35 +279,13 @@ class Mechanism:
         jmap = {j.name: j for j in self.joints}
         if d.joint not in jmap:
             raise ParameterError("driver.joint", d.joint, f"no such joint; known: {jn}")
-        dj = jmap[d.joint]
-        if isinstance(d, Crank) and not isinstance(dj, Revolute):
-            raise ParameterError("driver.joint", d.joint, "a Crank driver needs a revolute joint")
-        if isinstance(d, Linear) and not isinstance(dj, Prismatic):
+        if jmap[d.joint].code != d.joint_code:
             raise ParameterError("driver.joint", d.joint,
-                                 "a Linear driver needs a prismatic joint")
+                                 "a Crank driver needs a revolute joint" if isinstance(d, Crank)
+                                 else "a Linear driver needs a prismatic joint")
 
     def _check_joint_points(self, j: Joint) -> None:
-        ba, bb = self.body(j.a), self.body(j.b)
-
-        def has(body: Body, key: str, point: str) -> None:  # the error names the joint's key
-            if point != "com" and point not in body.points:
-                raise ParameterError(f"joint {j.name}.{key}", point, f"no such point of body "
-                                     f"{body.name!r}; known: {sorted(body.points)}")
-
-        if isinstance(j, Revolute):
-            has(ba, "point_a", j.pa)
-            has(bb, "point_b", j.pb)
-        elif isinstance(j, Prismatic | PinInSlot):
-            # a NaN angle would only surface as 'cannot be assembled' at every position
-            _number(f"joint {j.name}.angle", j.angle)
-            if isinstance(j, Prismatic):
-                _number(f"joint {j.name}.rel_angle", j.rel_angle)
-            if isinstance(j.through, str):
-                has(ba, "through", j.through)
-            elif j.through is not None:
-                _pt(f"joint {j.name}.through", j.through)
-            if j.point is not None:
-                has(bb, "point", j.point)
+        j.check_points(self.body(j.a), self.body(j.b))
 
     # -- look-ups ---------------------------------------------------------------------------
     @cached_property
@@ -431,18 +321,7 @@ class Mechanism:
         Revolute: the two coincident points and 0. Prismatic/PinInSlot: the line's point on
         ``a``, the slider/pin point on ``b`` and the line's angle in ``a``.
         """
-        ba, bb = self.body(j.a), self.body(j.b)
-        if isinstance(j, Revolute):
-            return ba.point(j.pa), bb.point(j.pb), 0.0
-        assert isinstance(j, Prismatic | PinInSlot)
-        if j.through is None:
-            qa = ba.points.get(j.name, (0.0, 0.0))
-        elif isinstance(j.through, str):
-            qa = ba.point(j.through)
-        else:
-            qa = _pt("through", j.through)
-        pb = bb.point(j.point) if j.point is not None else bb.points.get(j.name, (0.0, 0.0))
-        return qa, pb, float(j.angle)
+        return j.local_geometry(self.body(j.a), self.body(j.b))
 
     def branch(self, key: str) -> int:
         """Assembly branch of the group with this key (+1 unless set in ``branches``)."""
@@ -457,9 +336,13 @@ class Mechanism:
     @cached_property
     def structure(self) -> Structure:
         """Structural analysis (mobility, Assur groups); raises StructureError if wrong."""
-        from linkwork.planar.structure import analyse
-
         return analyse(self)
+
+    @cached_property
+    def plan(self) -> Plan:
+        """The compiled plan the solvers use (groups with resolved joints, body indices and
+        local geometry); raises StructureError if the structure is wrong."""
+        return compile_plan(self)
 
     def validate(self) -> Mechanism:
         """Run the structural analysis now (raises StructureError); return self."""

@@ -27,19 +27,71 @@ once the bodies before it are known. Group kinds:
 Each group has a ``key`` for its assembly branch (``Mechanism.branches``): the joint between the
 two bodies of a dyad, the slot joint of an ``RS``/``PS`` group, the first body's name for a
 Newton group (whose branch is set by the bodies' ``guess`` poses).
+
+:func:`compile_plan` turns the decomposition into what the solvers use (``Mechanism.plan``):
+groups holding resolved joints (:class:`~linkwork.planar.joints.ResolvedJoint`: the joint, its
+body indices and local geometry as floats), body indices and guess poses, so that the solvers
+never look joints or bodies up by name.
 """
 
 from __future__ import annotations
 
 import itertools
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any, Protocol
+
+import numpy as np
 
 from linkwork.errors import ParameterError, StructureError
-from linkwork.planar.model import Joint, Mechanism
+from linkwork.planar.joints import Joint, Point, ResolvedJoint
 
-__all__ = ["Group", "Structure", "analyse", "mobility"]
+__all__ = ["Group", "Plan", "PlanGroup", "Structure", "analyse", "compile_plan", "length_scale",
+           "mobility"]
 
 _CLOSED = {"RRR", "RRP", "PRR", "RPR", "RPP", "PPR", "PRP"}
+
+
+class _BodyLike(Protocol):
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def points(self) -> Mapping[str, Point]: ...
+
+    @property
+    def guess(self) -> tuple[float, float, float] | None: ...
+
+    def point(self, name: str) -> Point: ...
+
+
+class Mechanism(Protocol):
+    """What the structure analysis reads of a :class:`linkwork.planar.model.Mechanism` (which
+    imports this module for its ``structure`` and ``plan``; a protocol keeps the import one way).
+    """
+
+    @property
+    def frame(self) -> Any: ...
+
+    @property
+    def bodies(self) -> Sequence[Any]: ...
+
+    @property
+    def joints(self) -> Sequence[Joint]: ...
+
+    @property
+    def driver(self) -> Any: ...
+
+    @property
+    def body_names(self) -> tuple[str, ...]: ...
+
+    @property
+    def index(self) -> dict[str, int]: ...
+
+    @property
+    def structure(self) -> Structure: ...
+
+    def body(self, name: str) -> Any: ...
 
 
 @dataclass(frozen=True)
@@ -139,7 +191,7 @@ def analyse(mech: Mechanism) -> Structure:
         with more constraints than coordinates, or a set of bodies that no group order can
         solve; the message names the bodies and joints involved.
     """
-    if not isinstance(mech, Mechanism):
+    if not all(hasattr(mech, a) for a in ("frame", "bodies", "joints", "driver", "body_names")):
         raise ParameterError("mech", mech, "must be a Mechanism")
     n = len(mech.bodies)
     p5 = sum(1 for j in mech.joints if j.n_constraints == 2)
@@ -240,3 +292,81 @@ def _make_group(mech: Mechanism, combo: tuple[str, ...], js: list[Joint],
         cls = 2
     return Group(kind, tuple(order), tuple(joints), tuple(j.name for j in ext), cls, len(ext),
                  key)
+
+
+# ---------------------------------------------------------------------------------------------
+# the compiled plan
+@dataclass(frozen=True, eq=False)
+class PlanGroup:
+    """A group of the plan: its :class:`Group`, body indices, resolved joints (in the order of
+    ``Group.joints``) and the bodies' guess poses (Newton groups)."""
+
+    group: Group
+    kind: str
+    key: str
+    bodies: tuple[int, ...]
+    joints: tuple[ResolvedJoint, ...]
+    guesses: tuple[tuple[float, float, float] | None, ...]
+
+
+@dataclass(frozen=True, eq=False)
+class Plan:
+    """What the solvers of a mechanism need, resolved once (``Mechanism.plan``).
+
+    Attributes
+    ----------
+    body_names : tuple of str
+        Body names, frame first (index 0).
+    joints : tuple of ResolvedJoint
+        All joints in the mechanism's order.
+    groups : tuple of PlanGroup
+        The groups in solution order.
+    driver : ResolvedJoint
+        The driver's joint.
+    driver_kind : str
+        ``"crank"`` (a torque about a pivot) or ``"linear"`` (a force along a guide).
+    length_scale : float
+        The largest point coordinate [m] (at least 1 mm): the scale of Newton's tolerance and
+        of the singularity tests.
+    newton : bool
+        Some group is solved by Newton iteration (positions are then solved as one sequence).
+    """
+
+    body_names: tuple[str, ...]
+    joints: tuple[ResolvedJoint, ...]
+    groups: tuple[PlanGroup, ...]
+    driver: ResolvedJoint
+    driver_kind: str
+    length_scale: float
+    newton: bool
+
+    @property
+    def nb(self) -> int:
+        """Number of bodies, the frame included."""
+        return len(self.body_names)
+
+
+def length_scale(mech: Mechanism) -> float:
+    """The largest absolute point coordinate of the mechanism's bodies [m], at least 1 mm."""
+    pts = [abs(c) for b in (mech.frame, *mech.bodies) for p in b.points.values() for c in p]
+    return max(max(pts, default=1.0), 1e-3)
+
+
+def compile_plan(mech: Mechanism) -> Plan:
+    """The plan of ``mech``: its structure with joints and bodies resolved to indices and local
+    geometry (raises StructureError as :func:`analyse`)."""
+    index = mech.index
+    resolved: dict[str, ResolvedJoint] = {}
+    for k, j in enumerate(mech.joints):
+        qa, pb, ang = j.local_geometry(mech.body(j.a), mech.body(j.b))
+        resolved[j.name] = ResolvedJoint(j, k, index[j.a], index[j.b], qa, pb, ang,
+                                         (float(np.cos(ang)), float(np.sin(ang))),
+                                         j.name == mech.driver.joint)
+    groups = tuple(
+        PlanGroup(g, g.kind, g.key, tuple(index[b] for b in g.bodies),
+                  tuple(resolved[n] for n in g.joints),
+                  tuple(mech.body(b).guess for b in g.bodies))
+        for g in mech.structure.groups)
+    return Plan(mech.body_names, tuple(resolved[j.name] for j in mech.joints), groups,
+                resolved[mech.driver.joint], mech.driver.kind, length_scale(mech),
+                any(g.kind == "newton" for g in groups))

@@ -21,6 +21,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.errors import ParameterError, StructureError, require_finite
+from linkwork.planar.dynamics import BodyTorque, PointForce
+from linkwork.planar.inertia import inertia_wrenches
+from linkwork.planar.kinematics import kinematics
 from linkwork.redundancy.core import (
     JOINT_KINDS,
     SpatialGeometry,
@@ -102,8 +105,6 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
     SpatialModel
         Bodies in the mechanism's order, the frame renamed ``"ground"``.
     """
-    from linkwork.planar import PinInSlot, Prismatic
-
     joints = dict(joints or {})
     known = {j.name for j in mech.joints}
     for name in joints:
@@ -112,11 +113,11 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
     ground = _ground(mech)
     out = []
     for j in mech.joints:
-        if isinstance(j, PinInSlot):
+        family = j.spatial_family  # "R" revolute-like, "P" prismatic-like, None unsupported
+        if family is None:
             raise StructureError(f"joint {j.name}: pin-in-slot joints are not supported by the "
                                  "spatial (redundancy) analysis; use revolute or prismatic joints")
         kw = {**dict(default or {}), **dict(joints.get(j.name, {}))}
-        family = "P" if isinstance(j, Prismatic) else "R"
         kw.setdefault("kind", "prismatic" if family == "P" else "revolute")
         if kw["kind"] in JOINT_KINDS and JOINT_KINDS[kw["kind"]][0] != family:
             raise ParameterError(f"{j.name}.kind", kw["kind"],
@@ -130,8 +131,6 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
 
 def geometry(mech: Any, kin: Any) -> SpatialGeometry:
     """Joint centres, body angles and slide directions from the engine's kinematics."""
-    from linkwork.planar import Prismatic
-
     n = kin.n
     pts = np.zeros((n, len(mech.joints), 2))
     slide = np.zeros((n, len(mech.joints)))
@@ -139,7 +138,7 @@ def geometry(mech: Any, kin: Any) -> SpatialGeometry:
         _, pb, ang = mech.joint_geometry(j)
         pm = kin.point(j.b, pb)
         pts[:, k, 0], pts[:, k, 1] = pm.x, pm.y
-        if isinstance(j, Prismatic):
+        if j.spatial_family == "P":  # the slide direction of a prismatic joint
             slide[:, k] = kin.angle(j.a) + ang
     angles = np.stack([kin.angle(b.name) for b in mech.bodies], axis=1)
     if not np.all(np.isfinite(pts)):
@@ -163,8 +162,6 @@ def body_wrenches(mech: Any, kin: Any, *, gravity: ArrayLike | None = None,
     -------
     ndarray, shape (n, n_bodies, 6)
     """
-    from linkwork.planar import BodyTorque, PointForce
-
     n = kin.n
     g = np.zeros(2) if gravity is None else require_finite("gravity", gravity).ravel()
     if g.shape != (2,):
@@ -183,10 +180,10 @@ def body_wrenches(mech: Any, kin: Any, *, gravity: ArrayLike | None = None,
         force[:, i] += f
         moment[:, i] += np.cross(p, f)
 
+    iw = inertia_wrenches(kin, g)  # weight + inertia force at C, inertia couple
     for i, b in enumerate(mech.bodies):
-        c = kin.point(b.name, "com")
-        add(i, b.mass * (g[0] - c.ax), b.mass * (g[1] - c.ay), 0.0, c.x, c.y, h.get(b.name, 0.0))
-        moment[:, i, 2] -= b.inertia * kin.eps[kin.bodies.index(b.name)]
+        add(i, iw.fx[i], iw.fy[i], 0.0, iw.cx[i], iw.cy[i], h.get(b.name, 0.0))
+        moment[:, i, 2] += iw.mz[i]
     for ld in loads:
         if ld.body not in names:
             raise ParameterError("loads.body", ld.body, f"no such moving body; known: {names}")
@@ -254,8 +251,6 @@ def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = 
     linear driver m, m/s, m/s^2, and then the result's ``units`` give ``phi1`` in m and the
     driving force ``Q`` in N].
     """
-    from linkwork.planar import kinematics
-
     kin = kinematics(mech, phi1, omega1, eps1)
     model = spatial_model(mech, joints, default)
     geom = geometry(mech, kin)
@@ -263,6 +258,8 @@ def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = 
                       out_of_plane=out_of_plane)
     dev = deviation_array(model, deviations, _ground(mech))
     res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
-    if mech.driver.kind == "linear":  # positions are slides [m], the driving force is in N
-        res._relabel_units(phi1="m", Q="N")
+    du = mech.driver.field_units  # a linear driver: positions are slides [m], Q a force [N]
+    units = {k: du[k] for k in ("phi1", "Q")}
+    if any(res.units.get(k) != v for k, v in units.items()):
+        res._relabel_units(**units)
     return res

@@ -1,0 +1,603 @@
+"""The joint types of the planar engine, each with everything that depends on its type.
+
+A joint joins a first body ``a`` and a second body ``b``; its reaction is the force (and, for a
+prismatic pair, the couple) exerted **by a on b**. Each class holds its description (the
+constructor's fields), its validation and local geometry, its constraint equations and their
+rows (velocity/acceleration), the closure of a closed-form group through it, the position locus
+it allows a dyad's body, the components of the reaction it transmits and how the reaction
+unknowns enter the equilibrium. The solvers (:mod:`~linkwork.planar.positions`,
+:mod:`~linkwork.planar.rates`, :mod:`~linkwork.planar.dynamics`) call these methods through the
+joints of the compiled plan (:class:`ResolvedJoint`: body indices and local geometry as floats),
+so a new joint type is one class here plus its tests.
+
+* :class:`Revolute` -- point ``point_a`` of ``a`` coincides with point ``point_b`` of ``b``
+  (both default to the joint's name). 2 constraints (x, y).
+* :class:`Prismatic` -- ``a`` carries a guide line through its point ``through`` at angle
+  ``angle``; point ``point`` of ``b`` stays on the line and ``theta_b - theta_a = rel_angle``.
+  2 constraints (normal, angle).
+* :class:`PinInSlot` -- ``a`` carries a straight slot, point ``point`` of ``b`` stays on it;
+  rotation is free. 1 constraint (normal; a higher pair).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any, ClassVar, Protocol
+
+import numpy as np
+
+from linkwork.errors import ParameterError, StructureError, require_finite
+from linkwork.planar.state import Arr, State, Vec
+
+__all__ = ["Joint", "PinInSlot", "Prismatic", "ResolvedJoint", "Revolute"]
+
+Point = tuple[float, float]
+#: a constraint row: ``ja``, ``jb`` (d/dx, d/dy, d/dtheta of bodies a and b), ``gam``
+#: (acceleration right-hand side from velocity terms), ``res`` (residual), ``drive``
+Row = dict[str, Any]
+#: a closure row of a closed-form group: (coefficients of the unknown rates, right-hand side)
+ClosureRow = tuple[list[Arr | float], Arr]
+
+
+def _number(name: str, value: Any) -> float:
+    """``value`` as a finite Python float, or a ParameterError naming ``name``."""
+    arr = require_finite(name, value)
+    if arr.ndim:
+        raise ParameterError(name, value, "must be a single number")
+    return float(arr)
+
+
+def _pt(name: str, value: Any) -> Point:
+    try:
+        x, y = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise ParameterError(name, value, "must be a pair of numbers (x, y) [m]") from None
+    if not (math.isfinite(x) and math.isfinite(y)):
+        raise ParameterError(name, value, "must be finite")
+    return (x, y)
+
+
+class _BodyLike(Protocol):
+    """What a joint needs of a body: its name and named points."""
+
+    @property
+    def name(self) -> str: ...
+
+    @property
+    def points(self) -> Mapping[str, Point]: ...
+
+    def point(self, name: str) -> Point: ...
+
+
+class Hung(Protocol):
+    """A body's motion hung on a known neighbour with one unknown rate
+    (:class:`linkwork.planar.rates.RatePar`), as the closure rows use it."""
+
+    idx: int | None
+    z: Arr | float
+
+    def d(self, X: Vec) -> Vec: ...
+
+    def cv(self, X: Vec) -> Vec: ...
+
+    def ca(self, X: Vec) -> Vec: ...
+
+    def vel(self, X: Vec) -> Vec: ...
+
+    def w(self) -> tuple[Arr | float, float]: ...
+
+    def e(self) -> tuple[Arr | float, float]: ...
+
+
+@dataclass(frozen=True, eq=False)
+class ResolvedJoint:
+    """A joint of a compiled plan: the joint, its index in ``Mechanism.joints``, the indices of
+    its bodies, its local geometry (point on a, point on b [m], line angle in a [rad] and the
+    line's unit direction in a) and whether the driver acts on it."""
+
+    joint: Joint
+    index: int
+    ia: int
+    ib: int
+    qa: Point
+    pb: Point
+    ang: float
+    u_loc: tuple[float, float]
+    drive: bool
+
+    def other(self, body: int) -> int:
+        """The index of the joint's other body."""
+        return self.ia if body == self.ib else self.ib
+
+
+def _coefs(n_unk: int, vals: list[tuple[Hung, Any]]) -> list[Arr | float]:
+    c: list[Arr | float] = [0.0] * n_unk
+    for par, val in vals:
+        if par.idx is not None:
+            c[par.idx] = c[par.idx] + val
+    return c
+
+
+@dataclass(frozen=True)
+class Joint:
+    """Base of the joints: ``name``, first body ``a``, second body ``b``."""
+
+    name: str
+    a: str
+    b: str
+
+    #: number of scalar constraints the joint imposes
+    n_constraints = 2
+    #: one-letter type code used in group names (R, P, S)
+    code = "?"
+    #: the two bodies share a point (a pivot)
+    is_pivot: ClassVar[bool] = False
+    #: the joint keeps ``theta_b - theta_a`` constant
+    keeps_angle: ClassVar[bool] = False
+    #: body ``a`` carries a line (guide or slot) on which a point of ``b`` stays
+    has_line: ClassVar[bool] = False
+    #: the reaction component each constraint row carries (drive rows excepted)
+    row_kinds: ClassVar[tuple[str, ...]] = ()
+    #: family of the spatial joint it becomes in :mod:`linkwork.redundancy` (None: unsupported)
+    spatial_family: ClassVar[str | None] = None
+
+    # -- description ------------------------------------------------------------------------
+    def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
+        """Raise ParameterError if a point the joint names is not on its body."""
+        raise NotImplementedError
+
+    def local_geometry(self, ba: _BodyLike, bb: _BodyLike) -> tuple[Point, Point, float]:
+        """(point on a, point on b, line angle in a [rad]) in the bodies' frames."""
+        raise NotImplementedError
+
+    def _has(self, body: _BodyLike, key: str, point: str) -> None:
+        if point != "com" and point not in body.points:  # the error names the joint's key
+            raise ParameterError(f"joint {self.name}.{key}", point, f"no such point of body "
+                                 f"{body.name!r}; known: {sorted(body.points)}")
+
+    # -- constraints ------------------------------------------------------------------------
+    def constraint_rows(self, st: State, r: ResolvedJoint, need_gamma: bool = True
+                        ) -> list[Row]:
+        """The joint's constraint rows (and the driver's row when ``r.drive``)."""
+        raise NotImplementedError
+
+    def closure_rows(self, st: State, r: ResolvedJoint, pa_: Hung, pb_: Hung, n_unk: int,
+                     level: str) -> list[ClosureRow]:
+        """Closure of a closed-form group through this joint in the unknown rates of its bodies
+        (``pa_`` hung body a, ``pb_`` body b): velocity rows (``level="v"``) or acceleration
+        rows (``"a"``, the same coefficients, the rates known)."""
+        raise NotImplementedError
+
+    def hang(self, par: Any, st: State, r: ResolvedJoint) -> None:
+        """Set up ``par`` (a :class:`~linkwork.planar.rates.RatePar` of body ``par.b`` hung on
+        the known body ``par.k`` through this joint): its rate parametrisation."""
+        raise NotImplementedError
+
+    def driven_rates(self, st: State, r: ResolvedJoint, u: int, w1: Arr, e1: Arr) -> bool:
+        """Closed-form velocity and acceleration of the driven body ``u``; False where the
+        generic hung-body parametrisation is used instead."""
+        return False
+
+    # -- positions ---------------------------------------------------------------------------
+    def place_driven(self, st: State, r: ResolvedJoint, u: int, q: Arr) -> None:
+        """Pose of the driven body ``u`` for the driver coordinate ``q``."""
+        raise StructureError(f"joint {self.name}: a {type(self).__name__} cannot carry the "
+                             "driver")
+
+    def locus(self, st: State, r: ResolvedJoint, body: int, p_int: Point, body_name: str
+              ) -> tuple[str, Any]:
+        """Locus of the point ``p_int`` of ``body`` (a dyad's body whose external joint this
+        is): ("circle", (A, radius, p_ext)) or ("line", (B0, u)) with the body's angle set."""
+        raise StructureError(f"joint {self.name}: a {type(self).__name__} cannot be the external "
+                             "joint of a dyad")
+
+    def pivot(self, st: State, r: ResolvedJoint, body: int) -> tuple[Vec, Point]:
+        """World centre of a pivot (from its known side) and its local point on ``body``."""
+        raise StructureError(f"joint {self.name}: a {type(self).__name__} has no pivot")
+
+    def angle_of(self, st: State, r: ResolvedJoint, body: int) -> Arr:
+        """Angle of ``body`` fixed by the joint to its already-known other body."""
+        raise StructureError(f"joint {self.name}: a {type(self).__name__} does not fix the "
+                             "relative angle")
+
+    def line_condition(self, st: State, r: ResolvedJoint, body: int) -> tuple[Vec, Arr]:
+        """For a body of known angle: the joint's line constraint as ``n . r_body = c``."""
+        raise StructureError(f"joint {self.name}: a {type(self).__name__} has no line")
+
+    # -- reactions ---------------------------------------------------------------------------
+    def reaction_components(self, st: State, r: ResolvedJoint, kind: str, lam: Arr
+                            ) -> dict[str, Arr]:
+        """The reaction components (``"fx"``, ``"fy"`` [N], ``"mz"`` [N m], by a on b) that the
+        multiplier ``lam`` of the constraint row of this ``kind`` carries (``J^T lam`` = the
+        applied forces, J the rows of :meth:`constraint_rows`)."""
+        raise NotImplementedError
+
+    def external_reaction(self, st: State, r: ResolvedJoint, par: Any, Fx: Arr, Fy: Arr,
+                          M0: Arr) -> tuple[Arr, Arr, Arr | float, Arr, Arr]:
+        """The reaction on body ``par.b`` that balances the resultant (Fx, Fy, M0 about the
+        origin) of its other loads: (fx, fy, mz, px, py) acting on ``par.b``."""
+        raise NotImplementedError
+
+    def closure_reaction(self, st: State, r: ResolvedJoint, lam: list[Arr]
+                         ) -> tuple[Arr, Arr, Arr | float, Arr, Arr]:
+        """The reaction on body b from the multipliers of the closure rows of a closed-form
+        group: (fx, fy, mz, px, py)."""
+        raise NotImplementedError
+
+    def transmitted_direction(self, st: State, r: ResolvedJoint, first: Any, P: Vec) -> Vec:
+        """Direction of the force this joint transmits at ``P`` (no friction, the first body's
+        own loads neglected), for the transmission angle."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class Revolute(Joint):
+    """Revolute joint (turning pair): point ``point_a`` of ``a`` on point ``point_b`` of ``b``.
+
+    Reaction: force (fx, fy) exerted by ``a`` on ``b`` at the joint centre, in frame axes [N].
+    """
+
+    point_a: str | None = None
+    point_b: str | None = None
+    n_constraints = 2
+    code = "R"
+    is_pivot: ClassVar[bool] = True
+    row_kinds: ClassVar[tuple[str, ...]] = ("x", "y")
+    spatial_family: ClassVar[str | None] = "R"
+
+    @property
+    def pa(self) -> str:
+        return self.point_a or self.name
+
+    @property
+    def pb(self) -> str:
+        return self.point_b or self.name
+
+    def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
+        self._has(ba, "point_a", self.pa)
+        self._has(bb, "point_b", self.pb)
+
+    def local_geometry(self, ba: _BodyLike, bb: _BodyLike) -> tuple[Point, Point, float]:
+        return ba.point(self.pa), bb.point(self.pb), 0.0
+
+    def constraint_rows(self, st: State, r: ResolvedJoint, need_gamma: bool = True
+                        ) -> list[Row]:
+        ia, ib = r.ia, r.ib
+        zero = np.zeros(st.n)
+        one = zero + 1.0
+        wax, way = st.rot(ia, r.qa)
+        wbx, wby = st.rot(ib, r.pb)
+        wa2, wb2 = st.W[ia] ** 2, st.W[ib] ** 2
+        res = (st.X[ia] + wax - st.X[ib] - wbx, st.Y[ia] + way - st.Y[ib] - wby)
+        rows: list[Row] = [
+            {"ja": (one, zero, -way), "jb": (-one, zero, wby), "gam": wax * wa2 - wbx * wb2,
+             "res": res[0]},
+            {"ja": (zero, one, wax), "jb": (zero, -one, -wbx), "gam": way * wa2 - wby * wb2,
+             "res": res[1]}]
+        if r.drive:
+            rows.append({"ja": (zero, zero, -one), "jb": (zero, zero, one), "gam": zero,
+                         "drive": True, "res": st.T[ib] - st.T[ia]})
+        return rows
+
+    def closure_rows(self, st: State, r: ResolvedJoint, pa_: Hung, pb_: Hung, n_unk: int,
+                     level: str) -> list[ClosureRow]:
+        """``v_a(B) = v_b(B)`` (and the same for accelerations)."""
+        B = st.wpt(r.ib, r.pb)
+        da, db = pa_.d(B), pb_.d(B)
+        if level == "v":
+            ca, cb = pa_.cv(B), pb_.cv(B)
+        else:
+            ca, cb = pa_.ca(B), pb_.ca(B)
+        return [(_coefs(n_unk, [(pa_, da[c]), (pb_, -db[c])]), cb[c] - ca[c]) for c in range(2)]
+
+    def hang(self, par: Any, st: State, r: ResolvedJoint) -> None:
+        """Rotation about the pivot A: ``z = omega_b``."""
+        par.rev = True
+        par.pk = r.qa if par.k == r.ia else r.pb
+        par.A = st.wpt(par.k, par.pk)
+
+    def driven_rates(self, st: State, r: ResolvedJoint, u: int, w1: Arr, e1: Arr) -> bool:
+        ia, ib = r.ia, r.ib
+        k = ia if u == ib else ib
+        sign = 1.0 if u == ib else -1.0
+        pk, pu = (r.qa, r.pb) if u == ib else (r.pb, r.qa)
+        st.W[u] = st.W[k] + sign * w1
+        st.E[u] = st.E[k] + sign * e1
+        vP = st.point_vel(k, pk)
+        aP = st.point_acc(k, pk)
+        rx, ry = st.rot(u, pu)
+        w, e = st.W[u], st.E[u]
+        st.VX[u], st.VY[u] = vP[0] + w * ry, vP[1] - w * rx
+        st.AX[u] = aP[0] + e * ry + w * w * rx
+        st.AY[u] = aP[1] - e * rx + w * w * ry
+        return True
+
+    def place_driven(self, st: State, r: ResolvedJoint, u: int, q: Arr) -> None:
+        """Crank: ``theta_b - theta_a = q``, the two points coincide."""
+        ia, ib = r.ia, r.ib
+        if u == ib:
+            st.set_angle(ib, st.T[ia] + q)
+            st.place(ib, r.pb, st.wpt(ia, r.qa))
+        else:
+            st.set_angle(ia, st.T[ib] - q)
+            st.place(ia, r.qa, st.wpt(ib, r.pb))
+
+    def locus(self, st: State, r: ResolvedJoint, body: int, p_int: Point, body_name: str
+              ) -> tuple[str, Any]:
+        """A circle about the pivot (known from the other body)."""
+        p_ext = r.qa if body == r.ia else r.pb
+        p_known = r.pb if body == r.ia else r.qa
+        A = st.wpt(r.other(body), p_known)
+        rad = float(np.hypot(p_int[0] - p_ext[0], p_int[1] - p_ext[1]))
+        if rad == 0.0:
+            raise StructureError(f"joint {self.name}: body {body_name} has its two "
+                                 "joint centres at the same point; the dyad is not determined")
+        return "circle", (A, rad, p_ext)
+
+    def pivot(self, st: State, r: ResolvedJoint, body: int) -> tuple[Vec, Point]:
+        """World centre of the joint (from its known side) and its local point on ``body``."""
+        if body == r.ia:
+            return st.wpt(r.ib, r.pb), r.qa
+        return st.wpt(r.ia, r.qa), r.pb
+
+    def reaction_components(self, st: State, r: ResolvedJoint, kind: str, lam: Arr
+                            ) -> dict[str, Arr]:
+        return {"fx": lam} if kind == "x" else {"fy": lam}
+
+    def external_reaction(self, st: State, r: ResolvedJoint, par: Any, Fx: Arr, Fy: Arr,
+                          M0: Arr) -> tuple[Arr, Arr, Arr | float, Arr, Arr]:
+        """A force through the pivot balancing the body's other forces."""
+        A = par.A
+        return -Fx, -Fy, 0.0, A[0], A[1]
+
+    def closure_reaction(self, st: State, r: ResolvedJoint, lam: list[Arr]
+                         ) -> tuple[Arr, Arr, Arr | float, Arr, Arr]:
+        P = st.wpt(r.ib, r.pb)
+        return lam[0], lam[1], 0.0, P[0], P[1]
+
+    def transmitted_direction(self, st: State, r: ResolvedJoint, first: Any, P: Vec) -> Vec:
+        """Along the first body's joint line (a two-pivot link), or normal to its guide."""
+        if first.rev:
+            return P[0] - first.A[0], P[1] - first.A[1]
+        return -first.u[1], first.u[0]
+
+
+@dataclass(frozen=True)
+class _LineJoint(Joint):
+    """A joint whose body ``a`` carries a straight line (guide or slot) through ``through`` at
+    ``angle``, on which point ``point`` of ``b`` stays."""
+
+    angle: float = 0.0
+    through: str | Point | None = None
+    point: str | None = None
+    has_line: ClassVar[bool] = True
+
+    def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
+        # a NaN angle would only surface as 'cannot be assembled' at every position
+        _number(f"joint {self.name}.angle", self.angle)
+        if isinstance(self.through, str):
+            self._has(ba, "through", self.through)
+        elif self.through is not None:
+            _pt(f"joint {self.name}.through", self.through)
+        if self.point is not None:
+            self._has(bb, "point", self.point)
+
+    def local_geometry(self, ba: _BodyLike, bb: _BodyLike) -> tuple[Point, Point, float]:
+        if self.through is None:
+            qa = ba.points.get(self.name, (0.0, 0.0))
+        elif isinstance(self.through, str):
+            qa = ba.point(self.through)
+        else:
+            qa = _pt("through", self.through)
+        pb = (bb.point(self.point) if self.point is not None
+              else bb.points.get(self.name, (0.0, 0.0)))
+        return qa, pb, float(self.angle)
+
+    def _line_rows(self, st: State, r: ResolvedJoint, need_gamma: bool) -> tuple[Row, Row | None]:
+        """The normal row (and the row along the line, for a driver) of ``e . (P_b - Q_a)``."""
+        ia, ib = r.ia, r.ib
+        wax, way = st.rot(ia, r.qa)
+        wbx, wby = st.rot(ib, r.pb)
+        ux, uy = st.rot(ia, r.u_loc)
+        nx, ny = -uy, ux
+        dx = st.X[ib] + wbx - st.X[ia] - wax
+        dy = st.Y[ib] + wby - st.Y[ia] - way
+
+        def line_row(ex: Arr, ey: Arr) -> Row:
+            # Phi = e . d with e rotating with body a; k x e = (-ey, ex)
+            kex, key_ = -ey, ex
+            th_a = kex * dx + key_ * dy - (ex * -way + ey * wax)
+            th_b = ex * -wby + ey * wbx
+            row: Row = {"ja": (-ex, -ey, th_a), "jb": (ex, ey, th_b), "res": ex * dx + ey * dy}
+            if need_gamma:
+                wa, wb = st.W[ia], st.W[ib]
+                ddx = st.VX[ib] - wb * wby - st.VX[ia] + wa * way
+                ddy = st.VY[ib] + wb * wbx - st.VY[ia] - wa * wax
+                quad = (-wa * wa * (ex * dx + ey * dy) + 2 * wa * (kex * ddx + key_ * ddy)
+                        + ex * (-wb * wb * wbx + wa * wa * wax)
+                        + ey * (-wb * wb * wby + wa * wa * way))
+                row["gam"] = -quad
+            return row
+
+        drive = None
+        if r.drive:
+            drive = line_row(ux, uy)
+            drive["drive"] = True
+        return line_row(nx, ny), drive
+
+    def constraint_rows(self, st: State, r: ResolvedJoint, need_gamma: bool = True
+                        ) -> list[Row]:
+        return [self._line_rows(st, r, need_gamma)[0]]
+
+    def closure_rows(self, st: State, r: ResolvedJoint, pa_: Hung, pb_: Hung, n_unk: int,
+                     level: str) -> list[ClosureRow]:
+        """``n . (v_b(P) - v_a(P)) = 0``; accelerations add the Coriolis term
+        ``-2 omega_a k x v_rel`` of the relative sliding."""
+        P = st.wpt(r.ib, r.pb)
+        ux, uy = st.rot(r.ia, r.u_loc)
+        nx, ny = -uy, ux
+        da, db = pa_.d(P), pb_.d(P)
+        cf = _coefs(n_unk, [(pa_, -(nx * da[0] + ny * da[1])), (pb_, nx * db[0] + ny * db[1])])
+        if level == "v":
+            ca, cb = pa_.cv(P), pb_.cv(P)
+            return [(cf, -(nx * (cb[0] - ca[0]) + ny * (cb[1] - ca[1])))]
+        ca, cb = pa_.ca(P), pb_.ca(P)
+        va, vb = pa_.vel(P), pb_.vel(P)
+        wa = pa_.w()[0] + pa_.w()[1] * pa_.z
+        rvx, rvy = vb[0] - va[0], vb[1] - va[1]
+        cor = 2 * wa * (nx * -rvy + ny * rvx)
+        return [(cf, -(nx * (cb[0] - ca[0]) + ny * (cb[1] - ca[1])) + cor)]
+
+    def hang(self, par: Any, st: State, r: ResolvedJoint) -> None:
+        """Sliding along the guide direction u: ``z`` = velocity of b relative to k along u."""
+        par.u = st.rot(r.ia, r.u_loc)
+
+    def line_condition(self, st: State, r: ResolvedJoint, body: int) -> tuple[Vec, Arr]:
+        """For a body of known angle: the line constraint as ``n . r_body = c``."""
+        ia, ib = r.ia, r.ib
+        ux, uy = st.rot(ia, r.u_loc)
+        nx, ny = -uy, ux
+        if body == ia:  # body carries the line; known point X of b
+            X = st.wpt(ib, r.pb)
+            w = st.rot(ia, r.qa)
+            return (nx, ny), nx * (X[0] - w[0]) + ny * (X[1] - w[1])
+        Q = st.wpt(ia, r.qa)
+        w = st.rot(ib, r.pb)
+        return (nx, ny), nx * (Q[0] - w[0]) + ny * (Q[1] - w[1])
+
+    def reaction_components(self, st: State, r: ResolvedJoint, kind: str, lam: Arr
+                            ) -> dict[str, Arr]:
+        if kind == "t":  # the angle row: a couple
+            return {"mz": -lam}
+        ux, uy = st.rot(r.ia, r.u_loc)  # the normal row: a force along the normal
+        ex, ey = -uy, ux
+        return {"fx": -lam * ex, "fy": -lam * ey}
+
+    def closure_reaction(self, st: State, r: ResolvedJoint, lam: list[Arr]
+                         ) -> tuple[Arr, Arr, Arr | float, Arr, Arr]:
+        """Normal to the line (and the couple, for a prismatic pair)."""
+        P = st.wpt(r.ib, r.pb)
+        ux, uy = st.rot(r.ia, r.u_loc)
+        N = -lam[0]
+        m = lam[1] if self.keeps_angle else 0.0
+        return N * -uy, N * ux, m, P[0], P[1]
+
+    def transmitted_direction(self, st: State, r: ResolvedJoint, first: Any, P: Vec) -> Vec:
+        """Normal to the guide or slot."""
+        ux, uy = st.rot(r.ia, r.u_loc)
+        return -uy, ux
+
+
+@dataclass(frozen=True)
+class Prismatic(_LineJoint):
+    """Prismatic joint (sliding pair): ``b`` slides along a line fixed in ``a``.
+
+    Parameters
+    ----------
+    name, a, b : str
+        Joint name, guide body, slider body.
+    angle : float
+        Direction of the guide line in ``a``'s frame [rad], counter-clockwise from its x-axis;
+        it is also the positive direction of the slide coordinate.
+    through : str or (x, y), optional
+        A point of the line: a named point of ``a`` or local coordinates [m]; default the point
+        of ``a`` named like the joint, else ``a``'s origin.
+    point : str, optional
+        Point of ``b`` that stays on the line (default: the joint's name, else ``b``'s origin).
+    rel_angle : float
+        Constant ``theta_b - theta_a`` [rad].
+
+    Reaction: force (fx, fy) exerted by ``a`` on ``b`` (normal to the guide) applied at the
+    slider point, plus a couple ``mz`` [N m] exerted by ``a`` on ``b``.
+    """
+
+    rel_angle: float = 0.0
+    n_constraints = 2
+    code = "P"
+    keeps_angle: ClassVar[bool] = True
+    row_kinds: ClassVar[tuple[str, ...]] = ("n", "t")
+    spatial_family: ClassVar[str | None] = "P"
+
+    def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
+        _number(f"joint {self.name}.angle", self.angle)
+        _number(f"joint {self.name}.rel_angle", self.rel_angle)
+        super().check_points(ba, bb)
+
+    def constraint_rows(self, st: State, r: ResolvedJoint, need_gamma: bool = True
+                        ) -> list[Row]:
+        normal, drive = self._line_rows(st, r, need_gamma)
+        zero = np.zeros(st.n)
+        one = zero + 1.0
+        rows = [normal, {"ja": (zero, zero, -one), "jb": (zero, zero, one), "gam": zero,
+                         "res": st.T[r.ib] - st.T[r.ia] - self.rel_angle}]
+        if drive is not None:
+            rows.append(drive)
+        return rows
+
+    def closure_rows(self, st: State, r: ResolvedJoint, pa_: Hung, pb_: Hung, n_unk: int,
+                     level: str) -> list[ClosureRow]:
+        """The line's row and ``omega_a = omega_b`` (``eps_a = eps_b``)."""
+        rows = super().closure_rows(st, r, pa_, pb_, n_unk, level)
+        (c0a, ka), (c0b, kb) = (pa_.w(), pb_.w()) if level == "v" else (pa_.e(), pb_.e())
+        rows.append((_coefs(n_unk, [(pa_, ka), (pb_, -kb)]),
+                     np.asarray(c0b - c0a) + np.zeros(st.n)))
+        return rows
+
+    def angle_of(self, st: State, r: ResolvedJoint, body: int) -> Arr:
+        """Angle of ``body`` fixed by the joint to its already-known other body."""
+        return st.T[r.ia] + self.rel_angle if body == r.ib else st.T[r.ib] - self.rel_angle
+
+    def place_driven(self, st: State, r: ResolvedJoint, u: int, q: Arr) -> None:
+        """Linear driver: the slide coordinate ``u . (P_b - Q_a) = q``."""
+        ia, ib = r.ia, r.ib
+        if u == ib:
+            st.set_angle(ib, st.T[ia] + self.rel_angle)
+            Q = st.wpt(ia, r.qa)
+            ux, uy = st.rot(ia, r.u_loc)
+            st.place(ib, r.pb, (Q[0] + q * ux, Q[1] + q * uy))
+        else:
+            st.set_angle(ia, st.T[ib] - self.rel_angle)
+            P = st.wpt(ib, r.pb)
+            ux, uy = st.rot(ia, r.u_loc)
+            st.place(ia, r.qa, (P[0] - q * ux, P[1] - q * uy))
+
+    def locus(self, st: State, r: ResolvedJoint, body: int, p_int: Point, body_name: str
+              ) -> tuple[str, Any]:
+        """A line parallel to the guide, with the body's angle set."""
+        k = r.other(body)
+        st.set_angle(body, self.angle_of(st, r, body))
+        if body == r.ib:  # body is the slider on known guide k = a
+            Q = st.wpt(k, r.qa)
+            u = st.rot(k, r.u_loc)
+            off = st.rot(body, (p_int[0] - r.pb[0], p_int[1] - r.pb[1]))
+            return "line", ((Q[0] + off[0], Q[1] + off[1]), u)
+        # body is the guide; the known body's point X slides on it: B = X + A(pB - qa) - s u
+        X = st.wpt(k, r.pb)
+        u = st.rot(body, r.u_loc)
+        off = st.rot(body, (p_int[0] - r.qa[0], p_int[1] - r.qa[1]))
+        return "line", ((X[0] + off[0], X[1] + off[1]), u)
+
+    def external_reaction(self, st: State, r: ResolvedJoint, par: Any, Fx: Arr, Fy: Arr,
+                          M0: Arr) -> tuple[Arr, Arr, Arr | float, Arr, Arr]:
+        """A force normal to the guide at the slider point and a couple."""
+        P = st.wpt(r.ib, r.pb)
+        nx, ny = -par.u[1], par.u[0]
+        N = -(Fx * nx + Fy * ny)
+        m = -(M0 - (P[0] * Fy - P[1] * Fx))
+        return N * nx, N * ny, m, P[0], P[1]
+
+
+@dataclass(frozen=True)
+class PinInSlot(_LineJoint):
+    """Pin-in-slot (higher pair): point ``point`` of ``b`` stays on a straight slot of ``a``.
+
+    ``angle`` and ``through`` define the slot's line in ``a`` as for :class:`Prismatic`;
+    ``theta_b - theta_a`` is free. Reaction: force exerted by ``a`` on ``b`` (normal to the slot,
+    frictionless) at the pin.
+    """
+
+    n_constraints = 1
+    code = "S"
+    row_kinds: ClassVar[tuple[str, ...]] = ("n",)
