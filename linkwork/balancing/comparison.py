@@ -29,7 +29,13 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.balancing.mechanism import ForceBalance, cycle, force_balance, frame_hinge
+from linkwork.balancing.mechanism import (
+    ForceBalance,
+    crank_axis,
+    cycle,
+    force_balance,
+    frame_hinge,
+)
 from linkwork.balancing.partial import (
     counterweight_axis_moment,
     counterweight_axis_offset,
@@ -42,31 +48,13 @@ from linkwork.cycles import Harmonics, harmonics, peak, rms
 from linkwork.errors import ParameterError, require_finite
 from linkwork.planar.dynamics import BodyTorque, Dynamics, PointForce, inverse_dynamics
 from linkwork.planar.kinematics import Kinematics, kinematics
-from linkwork.planar.model import Crank, Mechanism, Revolute
+from linkwork.planar.model import Mechanism
 from linkwork.results import Result
 
 if TYPE_CHECKING:
     from linkwork.plot import Figure
 
 __all__ = ["BalancingComparison", "CycleComparison", "compare_balancing", "crank_axis"]
-
-
-def crank_axis(mech: Mechanism) -> tuple[str, tuple[float, float]]:
-    """The driven crank's name and its axis O in frame coordinates [m].
-
-    Raises
-    ------
-    ParameterError
-        The driver is not a crank hinged to the frame.
-    """
-    d = mech.driver
-    j = mech.joint(d.joint)
-    if not isinstance(d, Crank) or not isinstance(j, Revolute) or mech.frame.name not in (
-            j.a, j.b):
-        raise ParameterError("driver", d.joint, "must be a crank turning about a frame joint")
-    crank = j.b if j.a == mech.frame.name else j.a
-    fp = mech.frame.point(j.pa if j.a == mech.frame.name else j.pb)
-    return crank, fp
 
 
 @dataclass(frozen=True)

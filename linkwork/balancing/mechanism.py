@@ -18,11 +18,11 @@ from numpy.typing import ArrayLike
 
 from linkwork.balancing.loads import peak, rms
 from linkwork.balancing.partial import periodic_weights
-from linkwork.balancing.static import Counterweight
+from linkwork.balancing.static import Counterweight, crank_slider_counterweight
 from linkwork.errors import InfeasibleError, ParameterError, require_finite
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.kinematics import Kinematics, kinematics
-from linkwork.planar.model import Body, Mechanism, Prismatic, Revolute
+from linkwork.planar.model import Body, Crank, Mechanism, Prismatic, Revolute
 from linkwork.results import Result
 
 if TYPE_CHECKING:
@@ -32,6 +32,7 @@ __all__ = [
     "ForceBalance",
     "ShakingLoads",
     "add_counterweights",
+    "crank_axis",
     "crank_slider_balance",
     "cycle",
     "force_balance",
@@ -40,6 +41,24 @@ __all__ = [
     "shaking_loads",
     "with_counterweight",
 ]
+
+
+def crank_axis(mech: Mechanism) -> tuple[str, tuple[float, float]]:
+    """The driven crank's name and its axis O in frame coordinates [m].
+
+    Raises
+    ------
+    ParameterError
+        The driver is not a crank hinged to the frame.
+    """
+    d = mech.driver
+    j = mech.joint(d.joint)
+    if not isinstance(d, Crank) or not isinstance(j, Revolute) or mech.frame.name not in (
+            j.a, j.b):
+        raise ParameterError("driver", d.joint, "must be a crank turning about a frame joint")
+    crank = j.b if j.a == mech.frame.name else j.a
+    fp = mech.frame.point(j.pa if j.a == mech.frame.name else j.pb)
+    return crank, fp
 
 
 def frame_hinge(mech: Mechanism, link: str) -> tuple[float, float]:
@@ -383,9 +402,6 @@ def crank_slider_balance(mech: Mechanism, fraction: float = 0.0,
     Mechanism
         The balanced mechanism (a new description).
     """
-    from linkwork.balancing.comparison import crank_axis
-    from linkwork.balancing.static import crank_slider_counterweight
-
     crank, _ = crank_axis(mech)
     fr = mech.frame.name
     h = np.array(frame_hinge(mech, crank))

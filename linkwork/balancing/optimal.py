@@ -36,10 +36,10 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.balancing.comparison import crank_axis
 from linkwork.balancing.mechanism import (
     _cw_force_basis,
     add_counterweights,
+    crank_axis,
     cycle,
     force_balance,
     frame_hinge,

@@ -38,6 +38,7 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from linkwork.cycles import mean_over_range
 from linkwork.errors import ParameterError, require_finite
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.joints import ResolvedJoint
@@ -159,6 +160,12 @@ class Dynamics(Result):
     def power(self) -> Arr:
         """Driving power ``Q * omega1`` [W]."""
         return self.Q * self.kinematics.omega1
+
+    @property
+    def Q_mean(self) -> float:
+        """Mean driving torque (force) over the analysed range: the work of ``Q`` over the
+        range of the driver divided by it [N m] ([N]); :func:`linkwork.cycles.mean_over_range`."""
+        return mean_over_range(self.kinematics.phi1, self.Q)
 
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
         """Driving torque (or force) with its mean and the joint reaction magnitudes: a

@@ -12,7 +12,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from linkwork.cycles import mean_over_range
 from linkwork.plot._base import (
     Figure,
     axes_or_new,
@@ -146,7 +145,7 @@ def plot_driving_torque(dyn: Any, ax: Any = None) -> dict[str, Any]:
     crank = not _linear(dyn.kinematics)
     div, unit = _prefixed("N·m" if crank else "N", dyn.Q)
     (ln,) = ax.plot(x, dyn.Q / div, label="Q")
-    mean = mean_over_range(dyn.kinematics.phi1, dyn.Q) / div
+    mean = dyn.Q_mean / div
     ax.axhline(mean, color="k", lw=0.8, ls=":", label=f"mean {mean:.4g} {unit} (work / range)")
     ax.set_xlabel(label)
     ax.set_ylabel(f"driving torque Q [{unit}]" if crank else f"driving force Q [{unit}]")

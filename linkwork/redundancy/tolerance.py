@@ -32,6 +32,7 @@ from linkwork.redundancy.core import (
     misfit,
 )
 from linkwork.results import Result, write_json
+from linkwork.sweep import evaluate
 
 if TYPE_CHECKING:
     from linkwork.plot import Figure
@@ -258,8 +259,6 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     -------
     ToleranceStudy
     """
-    from linkwork.sweep import evaluate
-
     if isinstance(n_samples, bool) or int(n_samples) != n_samples or int(n_samples) < 1:
         raise ParameterError("n_samples", n_samples, "must be an integer >= 1")
     if seed is not None and (isinstance(seed, bool) or int(seed) != seed or int(seed) < 0):
