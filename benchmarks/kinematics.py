@@ -204,7 +204,7 @@ def fourbar_contenders(n: int, with_engine: bool = True) -> list[Contender]:
                              lambda: fourbar_kinetostatics(t, a, b, c, d, OMEGA, mass=MASSES,
                                                            inertia=_rod_inertias()),
                              lambda f: closed_out(f.kinematics)))
-        from linkwork.planar import fourbar as engine_model
+        from linkwork.planar import fourbar_mechanism as engine_model
         from linkwork.planar import inverse_dynamics, kinematics
 
         mech = engine_model(a, b, c, d, masses=MASSES, omega1=OMEGA)
@@ -258,7 +258,7 @@ def slider_contenders(n: int, with_engine: bool = True) -> list[Contender]:
         out.append(Contender("closed form",
                              lambda: offset_crank_slider(t, r, l / r, e / r, OMEGA), closed_out))
     if with_engine:
-        from linkwork.planar import crank_slider as engine_model
+        from linkwork.planar import crank_slider_mechanism as engine_model
         from linkwork.planar import inverse_dynamics, kinematics
 
         # engine guide: direction (cos ga, sin ga) = +y, offset measured to its left (-x)

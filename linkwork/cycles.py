@@ -20,7 +20,8 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import ParameterError, require_finite
+from linkwork.checks import require_finite
+from linkwork.errors import ParameterError
 from linkwork.results import Result
 
 if TYPE_CHECKING:

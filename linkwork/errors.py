@@ -5,13 +5,12 @@ that matches its meaning, so callers can catch either ``LinkworkError`` or, say,
 Messages name the parameter, its value and the limit, or the crank-angle ranges where a mechanism
 cannot be assembled.
 
-The ``require_*`` helpers are the one place where argument checks are written; models call them
-instead of ``assert`` or ad-hoc ``if`` blocks.
+Argument checks (``require_*``) live in :mod:`linkwork.checks`; their former names here still
+work, with a DeprecationWarning.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -28,9 +27,6 @@ __all__ = [
     "StructureError",
     "angle_ranges",
     "format_angle_ranges",
-    "require_finite",
-    "require_in_range",
-    "require_positive",
 ]
 
 
@@ -132,114 +128,6 @@ def _fmt(value: Any) -> str:
     return repr(value)
 
 
-_INT_MAX = 2**1023  # Python ints of this size or more do not convert to float
-_F64 = np.dtype(float)
-
-
-def require_finite(name: str, value: ArrayLike) -> np.ndarray:
-    """Return ``value`` as a float array, or raise :class:`ParameterError` if any is NaN/inf."""
-    tp = type(value)
-    if tp is np.ndarray and value.dtype is _F64:  # type: ignore[union-attr]
-        if np.isfinite(value).all():  # the common case of arrays: no conversion, no copy
-            return value  # type: ignore[return-value]
-    elif tp is float or (tp is int and -_INT_MAX < value < _INT_MAX):  # type: ignore[operator]
-        if math.isfinite(value):  # type: ignore[arg-type]
-            return np.asarray(value, dtype=float)
-        raise ParameterError(name, value, "must be finite")
-    try:
-        if value is None:  # np.asarray(None, dtype=float) is NaN
-            raise TypeError
-        kind = np.asarray(value).dtype.kind
-        if kind not in "bc":  # True would be 1.0; a complex array would lose its imaginary part
-            arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError, OverflowError):
-        if isinstance(value, int):  # an int beyond the float range
-            raise ParameterError(name, value, "must be finite (beyond the float range)") from None
-        raise ParameterError(name, value, "must be a number or an array of numbers") from None
-    if kind in "bc":
-        raise ParameterError(name, value, "must be a real number or an array of real numbers, "
-                             f"not {'a boolean' if kind == 'b' else 'complex'}")
-    if not np.isfinite(arr).all():
-        raise ParameterError(name, arr[~np.isfinite(arr)].flat[0], "must be finite")
-    return arr
-
-
-def py_float(value: Any) -> float | None:
-    """``value`` as a float if it is a Python float or an int within the float range, else None.
-
-    For fast paths that check one design with plain comparisons and leave everything else
-    (arrays, numpy scalars, strings, bad values) to the named checks of the general path.
-    """
-    tp = type(value)
-    if tp is float:
-        return value
-    if tp is int and -_INT_MAX < value < _INT_MAX:
-        return float(value)
-    return None
-
-
-_isfinite = np.isfinite
-_and_reduce = np.logical_and.reduce
-
-
-def all_finite(arr: np.ndarray) -> bool:
-    """Whether every element of a float array is finite (no NaN, no inf); no checks of type."""
-    return bool(_and_reduce(_isfinite(arr), axis=None))
-
-
-def require_positive(name: str, value: ArrayLike, *, allow_zero: bool = False) -> np.ndarray:
-    """Return ``value`` as a float array, or raise if any element is not > 0 (>= 0)."""
-    tp = type(value)
-    if (tp is float or (tp is int and -_INT_MAX < value < _INT_MAX)) and (  # type: ignore[operator]
-            0 < value < math.inf or (allow_zero and value == 0)):  # type: ignore[operator]
-        return np.asarray(value, dtype=float)
-    arr = require_finite(name, value)
-    bad = arr < 0 if allow_zero else arr <= 0
-    if bad.any():
-        limit = "must be >= 0" if allow_zero else "must be > 0"
-        raise ParameterError(name, arr[bad].flat[0], limit)
-    return arr
-
-
-def shapes_error(shapes: dict[str, Any]) -> ParameterError:
-    """The error for arguments whose shapes do not broadcast (``shapes``: name -> shape)."""
-    return ParameterError("shapes", shapes, "must broadcast against each other (designs "
-                          "(m, 1) against positions (n,))")
-
-
-def common_shape(**arrays: np.ndarray) -> tuple[int, ...]:
-    """The broadcast shape of ``arrays``, or a :func:`shapes_error` naming every shape."""
-    try:
-        return np.broadcast_shapes(*(a.shape for a in arrays.values()))
-    except ValueError:
-        raise shapes_error({k: a.shape for k, a in arrays.items()}) from None
-
-
-def require_in_range(name: str, value: ArrayLike, lo: float | None = None, hi: float | None = None,
-                     *, lo_open: bool = False, hi_open: bool = False, unit: str = "",
-                     scale: float = 1.0) -> np.ndarray:
-    """Return ``value`` as a float array, or raise if any element leaves [lo, hi].
-
-    ``scale`` and ``unit`` only change how the message shows numbers (e.g. ``scale=180/pi``,
-    ``unit="deg"`` for angles given in radians).
-    """
-    arr = require_finite(name, value)
-    bad = np.zeros(arr.shape, dtype=bool)
-    if lo is not None:
-        bad |= arr <= lo if lo_open else arr < lo
-    if hi is not None:
-        bad |= arr >= hi if hi_open else arr > hi
-    if bad.any():
-        v = arr[bad].flat[0]
-        lo_s = "-inf" if lo is None else f"{lo * scale:.6g}"
-        hi_s = "inf" if hi is None else f"{hi * scale:.6g}"
-        interval = f"{'(' if lo_open else '['}{lo_s}, {hi_s}{')' if hi_open else ']'}"
-        shown = f"{v * scale:.6g}{(' ' + unit) if unit else ''}"
-        suffix = f" {unit}" if unit else ""
-        raise ParameterError(name, shown if unit else v, f"must lie in {interval}{suffix}")
-    return arr
-
-
 def angle_ranges(angles: ArrayLike, mask: ArrayLike) -> list[tuple[float, float]]:
     """Contiguous ranges of ``angles`` (1-D, ordered) where ``mask`` is true.
 
@@ -279,3 +167,18 @@ def format_angle_ranges(ranges: Sequence[tuple[float, float]], unit: str = "rad"
         parts.append(hi_s if lo == hi else f"[{lo_s}, {hi_s}]")  # a single position
     more = f" and {len(rs) - 8} more" if len(rs) > 8 else ""
     return ", ".join(parts) + more
+
+
+_MOVED_TO_CHECKS = frozenset({"require_finite", "require_positive", "require_in_range", "py_float",
+                              "all_finite", "common_shape", "shapes_error"})
+
+
+def __getattr__(name: str) -> Any:
+    """The argument checks that lived here before :mod:`linkwork.checks` (deprecated)."""
+    if name in _MOVED_TO_CHECKS:
+        import linkwork.checks  # the one deprecated upward edge (ignored by import-linter)
+        from linkwork.deprecation import warn_renamed
+
+        warn_renamed(f"linkwork.errors.{name}", f"linkwork.checks.{name}")
+        return getattr(linkwork.checks, name)
+    raise AttributeError(f"module 'linkwork.errors' has no attribute {name!r}")

@@ -7,7 +7,7 @@ from __future__ import annotations
 import numpy as np
 
 from linkwork.planar.kinematics import kinematics
-from linkwork.planar.model import fourbar
+from linkwork.planar.model import fourbar_mechanism
 
 # paper 001's example: OA 0.1, AB 0.3, BC 0.2, OC 0.3 m; centres at mid-links; m 1, 3, 2 kg
 PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.00567),
@@ -15,7 +15,7 @@ PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.0056
 
 
 def paper_fourbar(branch=1, eps1=0.0):
-    return fourbar(0.1, 0.3, 0.2, 0.3, branch=branch, eps1=eps1, **PAPER)
+    return fourbar_mechanism(0.1, 0.3, 0.2, 0.3, branch=branch, eps1=eps1, **PAPER)
 
 
 def com_positions(mech, phi):

@@ -16,8 +16,8 @@ from linkwork.planar import (
     Prismatic,
     Revolute,
     bar,
-    crank_slider,
-    fourbar,
+    crank_slider_mechanism,
+    fourbar_mechanism,
 )
 
 FULL = np.linspace(0.0, 2 * np.pi, 25)
@@ -28,15 +28,15 @@ def _blk(name, pts, mass=0.5, inertia=2e-4):
 
 
 def m_rrr():
-    return fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2)), FULL, "RRR"
+    return fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2)), FULL, "RRR"
 
 
 def m_rrp():
-    return crank_slider(0.1, 0.35, 0.03, guide_angle=0.5, masses=(1, 2, 3)), FULL, "RRP"
+    return crank_slider_mechanism(0.1, 0.35, 0.03, guide_angle=0.5, masses=(1, 2, 3)), FULL, "RRP"
 
 
 def m_prr():
-    base = crank_slider(0.1, 0.35, 0.03, guide_angle=0.5, masses=(1, 2, 3))
+    base = crank_slider_mechanism(0.1, 0.35, 0.03, guide_angle=0.5, masses=(1, 2, 3))
     b = {x.name: x for x in base.bodies}
     mech = Mechanism(base.frame, (b["crank"], b["slider"], b["rod"]), base.joints,
                      base.driver, {"B": 1})
@@ -118,7 +118,7 @@ def m_ps_sine():
 
 
 def m_linear_driver():
-    base = crank_slider(0.1, 0.35, 0.03, masses=(1, 2, 3))
+    base = crank_slider_mechanism(0.1, 0.35, 0.03, masses=(1, 2, 3))
     mech = Mechanism(base.frame, base.bodies, base.joints, Linear("G", v1=0.7, a1=0.4),
                      {"A": 1})
     return mech, np.linspace(0.27, 0.43, 17), "RRR"

@@ -44,8 +44,9 @@ from linkwork.balancing.partial import (
     rms_offset,
 )
 from linkwork.balancing.static import Counterweight
+from linkwork.checks import require_finite
 from linkwork.cycles import Harmonics, harmonics, peak, rms
-from linkwork.errors import ParameterError, require_finite
+from linkwork.errors import ParameterError
 from linkwork.planar.dynamics import BodyTorque, Dynamics, PointForce, inverse_dynamics
 from linkwork.planar.kinematics import Kinematics, kinematics
 from linkwork.planar.model import Mechanism

@@ -18,6 +18,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike
 
+from linkwork.checks import require_finite
+
 # the cycle statistics moved to linkwork.cycles; importable here as before
 from linkwork.cycles import (
     Harmonics,
@@ -26,7 +28,6 @@ from linkwork.cycles import (
     peak,
     rms,
 )
-from linkwork.errors import require_finite
 from linkwork.planar.inertia import inertia_couple, inertia_force
 
 __all__ = [

@@ -19,7 +19,8 @@ from numpy.typing import ArrayLike
 from linkwork.balancing.loads import peak, rms
 from linkwork.balancing.partial import periodic_weights
 from linkwork.balancing.static import Counterweight, crank_slider_counterweight
-from linkwork.errors import InfeasibleError, ParameterError, require_finite
+from linkwork.checks import require_finite
+from linkwork.errors import InfeasibleError, ParameterError
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.kinematics import Kinematics, kinematics
 from linkwork.planar.model import Body, Crank, Mechanism, Prismatic, Revolute

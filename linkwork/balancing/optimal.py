@@ -46,8 +46,9 @@ from linkwork.balancing.mechanism import (
     frame_hinged_links,
 )
 from linkwork.balancing.static import Counterweight
+from linkwork.checks import require_finite
 from linkwork.cycles import periodic_weights, rms
-from linkwork.errors import ParameterError, require_finite
+from linkwork.errors import ParameterError
 from linkwork.planar.dynamics import inverse_dynamics
 from linkwork.planar.kinematics import kinematics
 from linkwork.planar.model import Mechanism

@@ -46,8 +46,9 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from linkwork.checks import require_finite, require_positive
 from linkwork.cycles import periodic_weights  # moved to linkwork.cycles; importable here
-from linkwork.errors import ParameterError, require_finite, require_positive
+from linkwork.errors import ParameterError
 from linkwork.results import Result
 
 if TYPE_CHECKING:

@@ -27,7 +27,8 @@ from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from linkwork.errors import ParameterError, require_finite, require_in_range, require_positive
+from linkwork.checks import require_finite, require_in_range, require_positive
+from linkwork.errors import ParameterError
 from linkwork.results import Result
 
 if TYPE_CHECKING:

@@ -109,7 +109,7 @@ def _plots(study: PlanarStudy, out: Path) -> list[Path]:
     kin, dyn = study.kinematics, study.dynamics
     plt = pplot.pyplot()
     fig, ax = plt.subplots(figsize=(7, 6))
-    good = np.flatnonzero(kin.assembled)
+    good = np.flatnonzero(kin.valid)
     picks = [int(good[k]) for k in np.linspace(0, good.size - 1, 4, endpoint=False).astype(int)]
     pplot.plot_skeleton(kin, picks, paths=study.paths, ax=ax)
     written = [save(fig, out / "planar_skeleton.png")]

@@ -20,7 +20,7 @@ import pydantic
 from pydantic import BaseModel, BeforeValidator, ConfigDict
 
 from linkwork.errors import FileFormatError, LinkworkError, ParameterError
-from linkwork.units import to_si
+from linkwork.units import KINDS, to_si
 
 __all__ = [
     "Acceleration",
@@ -43,7 +43,21 @@ __all__ = [
 ]
 
 
+#: The sanity layer of files: the largest magnitude of each kind of quantity that a machine
+#: mechanism can have, in SI, far beyond any real one (a 10 km link, a 10^6 rad/s crank, a 10^12
+#: N force). A value beyond it is a wrong number or unit; refused here, it cannot turn into
+#: overflowing products (omega^2 r m) and NaN tables further on. Angles have their own limits
+#: where they are read (the float spacing of large angles), dimensionless values none.
+MAGNITUDE_LIMITS: dict[str, float] = {
+    "length": 1e4, "angular_velocity": 1e6, "angular_acceleration": 1e9, "velocity": 1e4,
+    "acceleration": 1e8, "mass": 1e9, "inertia": 1e12, "force": 1e12, "torque": 1e12,
+    "time": 1e9, "frequency": 1e6, "stiffness": 1e15, "rotational_stiffness": 1e15,
+}
+
+
 def _quantity(kind: str) -> Callable[[Any], float]:
+    limit = MAGNITUDE_LIMITS.get(kind, math.inf)
+
     def convert(value: Any) -> float:
         try:
             si = to_si(value, kind)
@@ -51,6 +65,9 @@ def _quantity(kind: str) -> Callable[[Any], float]:
             raise ValueError(exc.limit) from None
         if not math.isfinite(si):  # "1e400 rpm", nan: never let them reach the models
             raise ValueError("must be a finite number")
+        if abs(si) > limit:
+            raise ValueError(f"must lie within +-{limit:g} {KINDS[kind]}, far beyond any machine "
+                             "mechanism (check the number and its unit)")
         return si
 
     return convert

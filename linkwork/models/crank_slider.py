@@ -36,16 +36,15 @@ from typing import TYPE_CHECKING, Any, ClassVar, Literal, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import (
-    AssemblyError,
-    ParameterError,
+from linkwork.checks import (
     all_finite,
-    angle_ranges,
     common_shape,
     py_float,
+    require_branch,
     require_finite,
     require_positive,
 )
+from linkwork.errors import AssemblyError, ParameterError, angle_ranges
 from linkwork.results import Result, all_true
 
 if TYPE_CHECKING:
@@ -157,12 +156,6 @@ def assembly_limit(lambda_e: ArrayLike) -> np.ndarray:
     return np.abs(require_finite("lambda_e", lambda_e)) + 1.0  # None or NaN was a NaN limit
 
 
-def _check_branch(branch: int) -> int:
-    # one branch per call: an array (or any non-number) is named, not a numpy truth-value error
-    if np.ndim(branch) != 0 or isinstance(branch, str | bool) or branch not in (1, -1):
-        raise ParameterError("branch", branch, "must be +1 or -1 (one branch per call)")
-    return int(branch)
-
 
 def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lambda_e: ArrayLike,
                         omega1: ArrayLike = 1.0, eps1: ArrayLike = 0.0, branch: int = +1, *,
@@ -263,7 +256,7 @@ def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lamb
             res = _evaluate(phi1, phi1.shape, L1f, lam2f, lamef, w1f, e1f, branch, None)
             if res is not None:
                 return res
-    branch = _check_branch(branch)
+    branch = require_branch(branch)
     if on_failure not in ("raise", "nan"):
         raise ParameterError("on_failure", on_failure, "must be 'raise' or 'nan'")
     phi1_a = require_finite("phi1", phi1)
@@ -426,7 +419,7 @@ def dead_centres(lambda2: ArrayLike, lambda_e: ArrayLike, branch: int = +1) -> D
         and C) and the bottom one the folded position; for ``branch=-1`` the reverse.
         ``V_qC = 0`` at both (``cos(phi1 + phi2) = 0``).
     """
-    branch = _check_branch(branch)
+    branch = require_branch(branch)
     lam2, lame = _check_full_rotation(lambda2, lambda_e)
     y_ext = branch * np.sqrt((lam2 + 1.0) ** 2 - lame**2)  # C / L1 when extended
     y_fold = branch * np.sqrt((lam2 - 1.0) ** 2 - lame**2)  # C / L1 when folded

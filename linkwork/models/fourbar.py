@@ -40,16 +40,19 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.deprecation import renamed_attribute, renamed_keywords
-from linkwork.errors import (
-    AssemblyError,
-    ParameterError,
+from linkwork.checks import (
     all_finite,
-    angle_ranges,
+    finite_value,
+    positive_value,
     py_float,
+    require_branch,
     require_finite,
+    require_pair,
+    require_positive,
     shapes_error,
 )
+from linkwork.deprecation import renamed_attribute, renamed_keywords
+from linkwork.errors import AssemblyError, ParameterError, angle_ranges
 from linkwork.results import Result, all_true
 
 if TYPE_CHECKING:
@@ -88,33 +91,7 @@ _min = np.minimum.reduce
 # ---------------------------------------------------------------------------------------------
 
 
-def _length(name: str, x: Any) -> Any:
-    """A positive finite length: a float for Python scalars, else a float array."""
-    if type(x) is float or type(x) is int:
-        if not (x > 0.0 and x != math.inf):  # also rejects NaN
-            if x != x or x == math.inf:
-                raise ParameterError(name, float(x), "must be finite")
-            raise ParameterError(name, float(x), "must be > 0")
-        return float(x)
-    arr = require_finite(name, x)
-    bad = arr <= 0.0
-    if bad.any():
-        raise ParameterError(name, arr[bad].flat[0], "must be > 0")
-    return arr
 
-
-def _finite(name: str, x: Any) -> Any:
-    if type(x) is float or type(x) is int:
-        if x != x or x in (math.inf, -math.inf):
-            raise ParameterError(name, float(x), "must be finite")
-        return float(x)
-    return require_finite(name, x)
-
-
-def _branch(branch: Any) -> float:
-    if branch not in (1, -1) or isinstance(branch, bool):
-        raise ParameterError("branch", branch, "must be +1 or -1")
-    return float(branch)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -371,13 +348,13 @@ def fourbar(phi1: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayL
             res = _kernel(phi1, af, bf, cf, df, w2f, e2f, float(branch), None, None)
             if res[-1]:  # clean: every position assembles away from a toggle
                 return _result(phi1, res, af, bf, cf, df, w2f, e2f, branch)
-    a_ = _length("a", a)
-    b_ = _length("b", b)
-    c_ = _length("c", c)
-    d_ = _length("d", d)
-    w2 = _finite("omega1", omega1)
-    e2 = _finite("eps1", eps1)
-    br = _branch(branch)
+    a_ = positive_value("a", a)
+    b_ = positive_value("b", b)
+    c_ = positive_value("c", c)
+    d_ = positive_value("d", d)
+    w2 = finite_value("omega1", omega1)
+    e2 = finite_value("eps1", eps1)
+    br = require_branch(branch)
     if on_failure not in ("raise", "nan"):
         raise ParameterError("on_failure", on_failure, "must be 'raise' or 'nan'")
     # a finite float array as is; anything else by the named check (None was NaN, a complex
@@ -385,8 +362,8 @@ def fourbar(phi1: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayL
     t2 = phi1 if (type(phi1) is np.ndarray and phi1.dtype is _F64
                     and all_finite(phi1)) else require_finite("phi1", phi1)
     if coupler_point is not None:
-        p = _finite("coupler_point[0]", coupler_point[0])
-        q = _finite("coupler_point[1]", coupler_point[1])
+        p = finite_value("coupler_point[0]", coupler_point[0])
+        q = finite_value("coupler_point[1]", coupler_point[1])
     else:
         p = q = None
     n = t2.shape[-1] if t2.ndim else 1
@@ -577,7 +554,7 @@ def grashof(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
     can turn fully relative to another iff S + L <= P + Q.  Which one depends on where the
     shortest link is (Norton [1]_, Table 2-4).
     """
-    arrs = np.broadcast_arrays(*(_as_arr(n, x) for n, x in zip("abcd", (a, b, c, d),
+    arrs = np.broadcast_arrays(*(require_positive(n, x) for n, x in zip("abcd", (a, b, c, d),
                                                                  strict=True)))
     lengths = np.stack(arrs, axis=-1)
     srt = np.sort(lengths, axis=-1)
@@ -600,13 +577,6 @@ def grashof(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
     return GrashofType(out(cls), out(motion), out(crank_rotates), out(rocker_rotates),
                        out(s), out(lo), out(p), out(q))
 
-
-def _as_arr(name: str, x: ArrayLike) -> np.ndarray:
-    arr = require_finite(name, x)
-    bad = arr <= 0
-    if bad.any():
-        raise ParameterError(name, arr[bad].flat[0], "must be > 0")
-    return arr
 
 
 @dataclass(frozen=True)
@@ -672,9 +642,9 @@ def limit_positions(a: ArrayLike, b: ArrayLike, c: ArrayLike, d: ArrayLike,
     (omega4 = 0, i.e. crank and coupler collinear): B is the intersection of the circles
     (O2, a + b) or (O2, |a - b|) and (O4, c) lying on the requested branch.
     """
-    br = _branch(branch)
-    aa, bb, cc, dd = np.broadcast_arrays(*(_as_arr(n, x) for n, x in zip("abcd", (a, b, c, d),
-                                                                          strict=True)))
+    br = require_branch(branch)
+    aa, bb, cc, dd = np.broadcast_arrays(*(require_positive(n, x)
+                                           for n, x in zip("abcd", (a, b, c, d), strict=True)))
 
     def crank_at(f: np.ndarray) -> np.ndarray:
         cos_t = (aa * aa + dd * dd - f * f) / (2.0 * aa * dd)
@@ -728,7 +698,7 @@ def transmission_angle(phi1: ArrayLike, a: ArrayLike, b: ArrayLike, c: ArrayLike
     convention of reporting the acute angle).  NaN where the linkage cannot be assembled.
     """
     t2 = require_finite("phi1", phi1)
-    aa, bb, cc, dd = (_as_arr(n, x) for n, x in zip("abcd", (a, b, c, d), strict=True))
+    aa, bb, cc, dd = (require_positive(n, x) for n, x in zip("abcd", (a, b, c, d), strict=True))
     cos_mu = (bb * bb + cc * cc - aa * aa - dd * dd + 2.0 * aa * dd * np.cos(t2)) / (2 * bb * cc)
     with np.errstate(invalid="ignore"):
         mu = np.where(np.abs(cos_mu) <= 1.0 + 1e-12, np.arccos(np.clip(cos_mu, -1, 1)), np.nan)
@@ -771,8 +741,8 @@ def transmission_angle_extremes(a: ArrayLike, b: ArrayLike, c: ArrayLike,
     AssemblyError
         The linkage cannot be assembled at any crank angle.
     """
-    aa, bb, cc, dd = np.broadcast_arrays(*(_as_arr(n, x) for n, x in zip("abcd", (a, b, c, d),
-                                                                          strict=True)))
+    aa, bb, cc, dd = np.broadcast_arrays(*(require_positive(n, x)
+                                           for n, x in zip("abcd", (a, b, c, d), strict=True)))
     fmin = np.maximum(np.abs(dd - aa), np.abs(bb - cc))
     fmax = np.minimum(dd + aa, bb + cc)
     bad = fmin > fmax
@@ -861,22 +831,13 @@ def _triple(name: str, x: Any, default: Any) -> tuple[Any, Any, Any]:
     return (x[0], x[1], x[2])
 
 
-def _vec(name: str, x: Any) -> tuple[Any, Any]:
-    try:
-        n = len(x)
-    except TypeError:
-        n = -1
-    if n != 2:
-        raise ParameterError(name, x, "must be a pair (x, y)")
-    return _finite(name + "[0]", x[0]), _finite(name + "[1]", x[1])
-
 
 def _local_point(name: str, x: Any) -> tuple[Any, Any]:
     """A point in a link's frame: a pair (p, q), or a float p meaning (p, 0)."""
     if isinstance(x, int | float | np.floating | np.integer) or (
             isinstance(x, np.ndarray) and x.ndim == 0):
-        return _finite(name, float(x)), 0.0
-    return _vec(name, x)
+        return finite_value(name, float(x)), 0.0
+    return require_pair(name, x)
 
 
 @renamed_keywords(theta2="phi1", omega2="omega1", alpha2="eps1", on_fail="on_failure")
@@ -949,9 +910,9 @@ def fourbar_kinetostatics(
     load; the paper's printed (9) and (13) contain errors (``docs/errata.md``).
     """
     kin = fourbar(phi1, a, b, c, d, omega1, eps1, branch, on_failure=on_failure)
-    m2, m3, m4 = (_finite(f"mass[{i}]", x) for i, x in enumerate(_triple("mass", mass, None)))
+    m2, m3, m4 = (finite_value(f"mass[{i}]", x) for i, x in enumerate(_triple("mass", mass, None)))
     lengths = (kin.a, kin.b, kin.c)
-    j2, j3, j4 = (_finite(f"inertia[{i}]", x) if x is not None
+    j2, j3, j4 = (finite_value(f"inertia[{i}]", x) if x is not None
                   else (m2, m3, m4)[i] * lengths[i] * lengths[i] / 12.0
                   for i, x in enumerate(_triple("inertia", inertia, None)))
     for nm, mm in (("mass", (m2, m3, m4)), ("inertia", (j2, j3, j4))):
@@ -960,12 +921,12 @@ def fourbar_kinetostatics(
                 raise ParameterError(f"{nm}[{i}]", np.min(x), "must be >= 0")
     com_ = _triple("com", com, ((kin.a / 2, 0.0), (kin.b / 2, 0.0), (kin.c / 2, 0.0)))
     coms = [_local_point(f"com[{i}]", x) for i, x in enumerate(com_)]
-    frc = [_vec(f"force[{i}]", x)
+    frc = [require_pair(f"force[{i}]", x)
            for i, x in enumerate(_triple("force", force, ((0.0, 0.0),) * 3))]
     fpt_ = _triple("force_point", force_point, com_)
     fpts = [_local_point(f"force_point[{i}]", x) for i, x in enumerate(fpt_)]
-    mom = [_finite(f"moment[{i}]", x) for i, x in enumerate(_triple("moment", moment, None))]
-    gx, gy = _vec("gravity", gravity)
+    mom = [finite_value(f"moment[{i}]", x) for i, x in enumerate(_triple("moment", moment, None))]
+    gx, gy = require_pair("gravity", gravity)
 
     k = kin
     flat_loads = (m2, m3, m4, j2, j3, j4, *coms[0], *coms[1], *coms[2], *fpts[0], *fpts[1],

@@ -46,14 +46,8 @@ from typing import TYPE_CHECKING, Any, ClassVar, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import (
-    InfeasibleError,
-    ParameterError,
-    common_shape,
-    require_finite,
-    require_in_range,
-    require_positive,
-)
+from linkwork.checks import common_shape, require_finite, require_in_range, require_positive
+from linkwork.errors import InfeasibleError, ParameterError
 from linkwork.results import Result
 
 if TYPE_CHECKING:

@@ -62,16 +62,9 @@ from typing import TYPE_CHECKING, Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
+from linkwork.checks import common_shape, require_finite, require_in_range, require_positive
 from linkwork.deprecation import renamed_keywords
-from linkwork.errors import (
-    AssemblyError,
-    ParameterError,
-    angle_ranges,
-    common_shape,
-    require_finite,
-    require_in_range,
-    require_positive,
-)
+from linkwork.errors import AssemblyError, ParameterError, angle_ranges
 from linkwork.results import Result
 
 if TYPE_CHECKING:

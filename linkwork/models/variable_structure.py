@@ -47,7 +47,8 @@ from typing import TYPE_CHECKING, Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import ParameterError, require_finite, require_positive
+from linkwork.checks import require_branch, require_finite, require_positive
+from linkwork.errors import ParameterError
 from linkwork.models import crank_slider, sine
 from linkwork.results import Result
 
@@ -220,7 +221,7 @@ class VariableStructureMechanism:
         require_positive("L1", self.L1)
         require_finite("lambda_e", self.lambda_e)
         crank_slider.stroke(self.L1, self.lambda2, self.lambda_e)  # checks lambda2
-        crank_slider._check_branch(self.branch)
+        require_branch(self.branch)
         if self.mode not in MODES:
             raise ParameterError("mode", self.mode, f"must be one of {MODES}")
         sine.check_alpha(self.alpha, self.f_slot, self.f_guide)

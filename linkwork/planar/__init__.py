@@ -29,8 +29,9 @@ A four-bar in a few lines (Norton's a, b, c, d = 0.1, 0.3, 0.2, 0.3 m)::
     dyn.Q                       # driving torque on the crank [N m], power = Q * omega1
     dyn.reaction("O4")          # force of the frame on the rocker (fx, fy) [N]
 
-The same four-bar: ``linkwork.planar.fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2))``; an
-offset crank-slider: ``linkwork.planar.crank_slider(r, l, e, masses=(m1, m2, m3))``.
+The same four-bar: ``linkwork.planar.fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2))``;
+an offset crank-slider: ``linkwork.planar.crank_slider_mechanism(r, l, e, masses=(m1, m2, m3))``
+(``fourbar`` and ``crank_slider`` are their deprecated names).
 
 Conventions
 -----------
@@ -58,7 +59,7 @@ kind, class, order, key); ``kin.slide(joint)`` -> slide coordinate and its rates
 Failures: a wrong structure raises :class:`~linkwork.errors.StructureError` (locked,
 under-driven, unsolvable group, naming bodies and joints); positions that cannot be assembled
 raise :class:`~linkwork.errors.AssemblyError` with the driver ranges, or give NaN and
-``kin.assembled == False`` with ``on_fail="nan"``.
+``kin.valid == False`` with ``on_failure="nan"``.
 """
 
 from linkwork.planar.dynamics import (
@@ -87,7 +88,9 @@ from linkwork.planar.model import (
     Revolute,
     bar,
     crank_slider,
+    crank_slider_mechanism,
     fourbar,
+    fourbar_mechanism,
 )
 from linkwork.planar.structure import Group, Structure, analyse, mobility
 
@@ -111,8 +114,10 @@ __all__ = [
     "analyse",
     "bar",
     "crank_slider",
+    "crank_slider_mechanism",
     "dead_centres",
     "fourbar",
+    "fourbar_mechanism",
     "inverse_dynamics",
     "kinematics",
     "kinetic_energy",

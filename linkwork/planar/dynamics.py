@@ -38,8 +38,9 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
+from linkwork.checks import per_position, require_finite
 from linkwork.cycles import mean_over_range
-from linkwork.errors import ParameterError, require_finite
+from linkwork.errors import ParameterError
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.joints import ResolvedJoint
 from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
@@ -190,13 +191,6 @@ def kinetic_energy(kin: Kinematics) -> Arr:
     return T
 
 
-def _per_pos(name: str, v: ArrayLike, n: int) -> Arr:
-    a = require_finite(name, v)
-    try:
-        return np.broadcast_to(a, (n,))
-    except ValueError:
-        raise ParameterError(name, a.shape, f"must be a scalar or have shape ({n},)") from None
-
 
 def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
                      loads: Sequence[PointForce | BodyTorque] = (),
@@ -257,7 +251,8 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
             raise ParameterError("loads.from_frame", ld.from_frame, "must be True or False")
         if isinstance(ld, PointForce):
             pm = kin.point(ld.body, ld.point)
-            fx, fy = _per_pos(f"loads[{k}].fx", ld.fx, n), _per_pos(f"loads[{k}].fy", ld.fy, n)
+            fx = per_position(f"loads[{k}].fx", ld.fx, n)
+            fy = per_position(f"loads[{k}].fy", ld.fy, n)
             rx, ry = pm.x - kin.x[i], pm.y - kin.y[i]
             f[:, 3 * i - 3] += fx
             f[:, 3 * i - 2] += fy
@@ -265,7 +260,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
             if ld.from_frame:  # its reaction on the frame: -F at the same point
                 on_frame.append((-fx, -fy, pm.x, pm.y, 0.0))
         elif isinstance(ld, BodyTorque):
-            mz = _per_pos(f"loads[{k}].mz", ld.mz, n)
+            mz = per_position(f"loads[{k}].mz", ld.mz, n)
             f[:, 3 * i - 1] += mz
             if ld.from_frame:
                 on_frame.append((0.0, 0.0, 0.0, 0.0, -mz))
@@ -278,7 +273,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     for ji, rj in enumerate(plan.joints):
         pxr[ji], pyr[ji] = st.wpt(rj.ib, rj.pb)
     if plan.newton:
-        fxr, fyr, mzr, Q = _global_reactions(plan, st, f, kin.assembled)
+        fxr, fyr, mzr, Q = _global_reactions(plan, st, f, kin.valid)
     else:
         with np.errstate(all="ignore"):
             fxr, fyr, mzr, Q = _group_reactions(plan, st, f)

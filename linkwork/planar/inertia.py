@@ -24,7 +24,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import ParameterError, require_finite
+from linkwork.checks import require_finite
+from linkwork.errors import ParameterError
 from linkwork.planar.kinematics import Kinematics, require_kinematics
 from linkwork.planar.state import Arr
 

@@ -21,14 +21,14 @@ so a new joint type is one class here plus its tests.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
-from linkwork.errors import ParameterError, StructureError, require_finite
+from linkwork.checks import require_number, require_point
+from linkwork.errors import ParameterError, StructureError
 from linkwork.planar.state import Arr, State, Vec
 
 __all__ = ["Joint", "PinInSlot", "Prismatic", "ResolvedJoint", "Revolute"]
@@ -41,22 +41,6 @@ Row = dict[str, Any]
 ClosureRow = tuple[list[Arr | float], Arr]
 
 
-def _number(name: str, value: Any) -> float:
-    """``value`` as a finite Python float, or a ParameterError naming ``name``."""
-    arr = require_finite(name, value)
-    if arr.ndim:
-        raise ParameterError(name, value, "must be a single number")
-    return float(arr)
-
-
-def _pt(name: str, value: Any) -> Point:
-    try:
-        x, y = (float(v) for v in value)
-    except (TypeError, ValueError):
-        raise ParameterError(name, value, "must be a pair of numbers (x, y) [m]") from None
-    if not (math.isfinite(x) and math.isfinite(y)):
-        raise ParameterError(name, value, "must be finite")
-    return (x, y)
 
 
 class _BodyLike(Protocol):
@@ -376,11 +360,11 @@ class _LineJoint(Joint):
 
     def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
         # a NaN angle would only surface as 'cannot be assembled' at every position
-        _number(f"joint {self.name}.angle", self.angle)
+        require_number(f"joint {self.name}.angle", self.angle)
         if isinstance(self.through, str):
             self._has(ba, "through", self.through)
         elif self.through is not None:
-            _pt(f"joint {self.name}.through", self.through)
+            require_point(f"joint {self.name}.through", self.through)
         if self.point is not None:
             self._has(bb, "point", self.point)
 
@@ -390,7 +374,7 @@ class _LineJoint(Joint):
         elif isinstance(self.through, str):
             qa = ba.point(self.through)
         else:
-            qa = _pt("through", self.through)
+            qa = require_point("through", self.through)
         pb = (bb.point(self.point) if self.point is not None
               else bb.points.get(self.name, (0.0, 0.0)))
         return qa, pb, float(self.angle)
@@ -521,8 +505,8 @@ class Prismatic(_LineJoint):
     spatial_family: ClassVar[str | None] = "P"
 
     def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
-        _number(f"joint {self.name}.angle", self.angle)
-        _number(f"joint {self.name}.rel_angle", self.rel_angle)
+        require_number(f"joint {self.name}.angle", self.angle)
+        require_number(f"joint {self.name}.rel_angle", self.rel_angle)
         super().check_points(ba, bb)
 
     def constraint_rows(self, st: State, r: ResolvedJoint, need_gamma: bool = True

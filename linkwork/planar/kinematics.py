@@ -32,9 +32,10 @@ from typing import TYPE_CHECKING, Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import AssemblyError, ParameterError, angle_ranges, require_finite
+from linkwork.checks import per_position, require_finite, require_point
+from linkwork.deprecation import renamed_attribute, renamed_keywords
+from linkwork.errors import AssemblyError, ParameterError, angle_ranges
 from linkwork.planar.extremes import DeadCentre, dead_centres_of, transmission_angles_of
-from linkwork.planar.joints import _pt
 from linkwork.planar.model import Mechanism
 from linkwork.planar.positions import solve_driver, solve_dyad, solve_newton, solve_slot_group
 from linkwork.planar.rates import group_rates
@@ -95,9 +96,9 @@ class Kinematics(Result):
         Velocity of the body point at the body's origin [m/s] and angular velocity [rad/s].
     ax, ay, eps : ndarray (nb, n)
         Acceleration of that point [m/s^2] and angular acceleration [rad/s^2].
-    assembled : ndarray of bool (n,)
+    valid : ndarray of bool (n,)
         False where the mechanism cannot be assembled (those positions hold NaN; only with
-        ``on_fail="nan"``).
+        ``on_failure="nan"``); also readable as ``assembled`` (deprecated).
     branches : dict
         Branch used for each group key.
     """
@@ -116,12 +117,13 @@ class Kinematics(Result):
     ax: Arr
     ay: Arr
     eps: Arr
-    assembled: Arr
+    valid: Arr
     branches: Mapping[str, int]
     units: ClassVar[dict[str, str]] = {
         "phi1": "rad", "omega1": "rad/s", "eps1": "rad/s^2", "x": "m", "y": "m", "theta": "rad",
         "vx": "m/s", "vy": "m/s", "omega": "rad/s", "ax": "m/s^2", "ay": "m/s^2",
-        "eps": "rad/s^2", "assembled": ""}
+        "eps": "rad/s^2", "valid": ""}
+    assembled = renamed_attribute("valid", "assembled")
 
     def __post_init__(self) -> None:
         du = self.mechanism.driver.field_units  # a linear driver: slide, speed, acceleration
@@ -148,7 +150,7 @@ class Kinematics(Result):
     def point(self, body: str, point: str | tuple[float, float] = "com") -> PointMotion:
         """Motion of a point of ``body``: a named point, ``"com"``, or local (x, y) [m]."""
         i = self._row(body)
-        p = self.mechanism.body(body).point(point) if isinstance(point, str) else _pt(
+        p = self.mechanism.body(body).point(point) if isinstance(point, str) else require_point(
             f"point of {body}", point)
         c, s = self._cos_sin[0][i], self._cos_sin[1][i]
         rx, ry = c * p[0] - s * p[1], s * p[0] + c * p[1]
@@ -204,13 +206,6 @@ class Kinematics(Result):
 _CHUNK = 8192
 
 
-def _per_position(name: str, value: ArrayLike, n: int) -> Arr:
-    a = require_finite(name, value)
-    try:
-        return np.broadcast_to(a, (n,)).astype(float)
-    except ValueError:
-        raise ParameterError(name, a.shape, f"must be a scalar or have shape ({n},)") from None
-
 
 def _solve_chunk(plan: Plan, branches: dict[str, int], q: Arr, w1: Arr, e1: Arr) -> State:
     """Positions, velocities, accelerations of all bodies for the positions ``q``."""
@@ -254,9 +249,10 @@ def _newton_hint(mech: Mechanism, g: Group) -> str:
             "not converge")
 
 
+@renamed_keywords(on_fail="on_failure")
 def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None,
                eps1: ArrayLike | None = None, *, branches: Mapping[str, int] | None = None,
-               on_fail: Literal["raise", "nan"] = "raise") -> Kinematics:
+               on_failure: Literal["raise", "nan"] = "raise") -> Kinematics:
     """Positions, velocities and accelerations of all bodies for all driver positions.
 
     Parameters
@@ -271,9 +267,10 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         ``eps1``; for a Linear driver ``v1``, ``a1``).
     branches : mapping, optional
         Group key -> +1/-1, overriding ``mech.branches``.
-    on_fail : {"raise", "nan"}
+    on_failure : {"raise", "nan"}
         Where some positions cannot be assembled: raise AssemblyError listing the driver ranges
-        (default), or return NaN there with ``assembled`` False.
+        (default), or return NaN there with ``valid`` False. (``on_fail`` is its deprecated
+        name.)
 
     Returns
     -------
@@ -284,12 +281,12 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     q = np.atleast_1d(require_finite("phi1", phi1)).astype(float)
     if q.ndim != 1:
         raise ParameterError("phi1", q.shape, "must be a 1-D array of driver positions")
-    if on_fail not in ("raise", "nan"):
-        raise ParameterError("on_fail", on_fail, "must be 'raise' or 'nan'")
+    if on_failure not in ("raise", "nan"):
+        raise ParameterError("on_failure", on_failure, "must be 'raise' or 'nan'")
     n = q.shape[0]
     drv = mech.driver
-    w1 = _per_position("omega1", drv.omega1 if omega1 is None else omega1, n)
-    e1 = _per_position("eps1", drv.eps1 if eps1 is None else eps1, n)
+    w1 = per_position("omega1", drv.omega1 if omega1 is None else omega1, n)
+    e1 = per_position("eps1", drv.eps1 if eps1 is None else eps1, n)
     if branches is not None and not isinstance(branches, Mapping):
         raise ParameterError("branches", branches, "must map group keys to +1 or -1")
     br = dict(mech.branches)
@@ -328,7 +325,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
             for i, arr in enumerate(getattr(st, key)):
                 block[kk, i, sl] = arr
     coordinate, unit = drv.coordinate
-    if pos_bad.any() and on_fail == "raise":
+    if pos_bad.any() and on_failure == "raise":
         groups = [f"{g.kind}({', '.join(g.bodies)}) with joints {', '.join(g.joints)}"
                   + _newton_hint(mech, g) + (_PARALLEL if g.key in parallel else "")
                   for g in structure.groups if g.key in failed]
@@ -342,7 +339,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         raise AssemblyError(f"{what} at {int(pos_bad.sum())} of {n} driver positions{which}",
                             angle_ranges(q, pos_bad),
                             driver=coordinate, unit=unit)
-    if bad.any() and on_fail == "raise":
+    if bad.any() and on_failure == "raise":
         raise AssemblyError("mechanism is at a singular (toggle) position where velocities are "
                             "undefined", angle_ranges(q, bad),
                             driver=coordinate, unit=unit)
@@ -406,6 +403,6 @@ def dead_centres(kin: Kinematics) -> list[DeadCentre]:
     br = dict(kin.branches)
 
     def resolve(x: float) -> State:
-        return state_of(kinematics(mech, [x], 1.0, 0.0, branches=br, on_fail="nan"))
+        return state_of(kinematics(mech, [x], 1.0, 0.0, branches=br, on_failure="nan"))
 
     return dead_centres_of(mech.plan, state_of(kin), kin.phi1, resolve if refine else None)

@@ -34,8 +34,10 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from linkwork.errors import ParameterError, StructureError, require_finite, require_positive
-from linkwork.planar.joints import Joint, PinInSlot, Point, Prismatic, Revolute, _number, _pt
+from linkwork.checks import require_finite, require_number, require_point, require_positive
+from linkwork.deprecation import renamed_function
+from linkwork.errors import ParameterError, StructureError
+from linkwork.planar.joints import Joint, PinInSlot, Point, Prismatic, Revolute
 from linkwork.planar.structure import Plan, Structure, analyse, compile_plan
 
 __all__ = [
@@ -89,11 +91,11 @@ class Body:
         except (TypeError, ValueError):
             raise ParameterError(f"{self.name}.points", self.points,
                                  "must map point names to (x, y) [m]") from None
-        pts = {str(k): _pt(f"{self.name}.points.{k}", v) for k, v in items}
+        pts = {str(k): require_point(f"{self.name}.points.{k}", v) for k, v in items}
         object.__setattr__(self, "points", MappingProxyType(pts))
-        object.__setattr__(self, "com", _pt(f"{self.name}.com", self.com))
+        object.__setattr__(self, "com", require_point(f"{self.name}.com", self.com))
         for attr in ("mass", "inertia"):
-            v = _number(f"{self.name}.{attr}", getattr(self, attr))
+            v = require_number(f"{self.name}.{attr}", getattr(self, attr))
             if v < 0:
                 raise ParameterError(f"{self.name}.{attr}", v, "must be finite and >= 0")
             object.__setattr__(self, attr, v)
@@ -138,20 +140,22 @@ def bar(name: str, start: str, end: str, length: float, *, mass: float = 0.0,
     points : mapping, optional
         Further named points in the link's frame.
     """
-    length = _number(f"{name}.length", require_positive(f"{name}.length", length))
+    length = require_number(f"{name}.length", require_positive(f"{name}.length", length))
     if start == end:  # one dict key: the start point would silently move to (length, 0)
         raise ParameterError(f"{name}.end", end, f"must differ from start {start!r}")
     for key, at in ((start, (0.0, 0.0)), (end, (length, 0.0))):
-        if key in (points or {}) and _pt(f"{name}.points.{key}", (points or {})[key]) != at:
+        if key in (points or {}) and require_point(f"{name}.points.{key}",
+                                                   (points or {})[key]) != at:
             raise ParameterError(f"{name}.points.{key}", tuple((points or {})[key]),
                                  f"redefines the link's {'start' if at[0] == 0 else 'end'} "
                                  f"point, which is at {at} for length {length:g}")
     c: Point = (length / 2, 0.0) if com is None else (
-        (_number(f"{name}.com", com), 0.0) if np.ndim(com) == 0 else _pt(f"{name}.com", com))
+        (require_number(f"{name}.com", com), 0.0) if np.ndim(com) == 0
+        else require_point(f"{name}.com", com))
     pts = {start: (0.0, 0.0), end: (length, 0.0)}
     pts.update(dict(points or {}))
     if inertia is None:  # a thin uniform rod
-        m = _number(f"{name}.mass", mass)
+        m = require_number(f"{name}.mass", mass)
         r = length / 12.0**0.5  # products overflow to inf, powers of floats would raise
         inert = m * r * r
         if not math.isfinite(inert):
@@ -365,10 +369,12 @@ def _per_link(n: int, **values: Any) -> None:
             raise ParameterError(key, v, f"must have {n} entries, one per link")
 
 
-def fourbar(a: float, b: float, c: float, d: float, *, masses: tuple[float, float, float] = (
-        0.0, 0.0, 0.0), inertias: tuple[float | None, float | None, float | None] = (
-        None, None, None), coms: tuple[Any, Any, Any] = (None, None, None), omega1: float = 1.0,
-        eps1: float = 0.0, branch: int = 1) -> Mechanism:
+def fourbar_mechanism(a: float, b: float, c: float, d: float, *,
+                      masses: tuple[float, float, float] = (0.0, 0.0, 0.0),
+                      inertias: tuple[float | None, float | None, float | None] = (
+                          None, None, None),
+                      coms: tuple[Any, Any, Any] = (None, None, None), omega1: float = 1.0,
+                      eps1: float = 0.0, branch: int = 1) -> Mechanism:
     """The four-bar O2-A-B-O4 in Norton's notation, as an engine model.
 
     Frame line O2 -> O4 along +x (``O2 = (0, 0)``, ``O4 = (d, 0)``); crank ``a`` = O2A (body
@@ -389,7 +395,7 @@ def fourbar(a: float, b: float, c: float, d: float, *, masses: tuple[float, floa
     return Mechanism(frame, _as_bodies(bodies), joints, Crank("O2", omega1, eps1), {"B": branch})
 
 
-def crank_slider(r: float, l: float, e: float = 0.0, *, guide_angle: float = 0.0,
+def crank_slider_mechanism(r: float, l: float, e: float = 0.0, *, guide_angle: float = 0.0,
                  masses: tuple[float, float, float] = (0.0, 0.0, 0.0),
                  inertias: tuple[float | None, float | None] = (None, None),
                  coms: tuple[Any, Any] = (None, None), omega1: float = 1.0, eps1: float = 0.0,
@@ -405,7 +411,7 @@ def crank_slider(r: float, l: float, e: float = 0.0, *, guide_angle: float = 0.0
     """
     _per_link(masses=masses, n=3)
     _per_link(inertias=inertias, coms=coms, n=2)
-    guide_angle = _number("guide_angle", guide_angle)
+    guide_angle = require_number("guide_angle", guide_angle)
     ca, sa = math.cos(guide_angle), math.sin(guide_angle)
     through = (-e * sa, e * ca)
     frame = Body("frame", {"O": (0.0, 0.0), "G": through})
@@ -417,3 +423,9 @@ def crank_slider(r: float, l: float, e: float = 0.0, *, guide_angle: float = 0.0
               Prismatic("G", "frame", "slider", angle=guide_angle, through="G", point="B"))
     return Mechanism(frame, (crank, rod, slider), joints, Crank("O", omega1, eps1),
                      {"B": branch})
+
+
+#: Former names of the builders (they shared their names with linkwork.models.fourbar.fourbar and
+#: the linkwork.models.crank_slider module); they call the new ones and warn.
+fourbar = renamed_function(fourbar_mechanism, "linkwork.planar.fourbar")
+crank_slider = renamed_function(crank_slider_mechanism, "linkwork.planar.crank_slider")

@@ -52,7 +52,7 @@ def plot_skeleton(kin: Any, positions: Sequence[int] | None = None, *,
     ax = _ax(ax)
     mech = kin.mechanism
     if positions is None:
-        good = np.flatnonzero(kin.assembled)
+        good = np.flatnonzero(kin.valid)
         positions = [int(good[0])] if good.size else []
     lines = []
     colours: dict[str, Any] = {}

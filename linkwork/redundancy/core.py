@@ -39,7 +39,8 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import ParameterError, StructureError, require_finite, require_positive
+from linkwork.checks import require_finite, require_positive
+from linkwork.errors import ParameterError, StructureError
 from linkwork.results import Result
 
 if TYPE_CHECKING:

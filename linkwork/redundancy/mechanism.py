@@ -20,7 +20,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import ParameterError, StructureError, require_finite
+from linkwork.checks import require_finite
+from linkwork.errors import ParameterError, StructureError
 from linkwork.planar.dynamics import BodyTorque, PointForce
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.kinematics import kinematics

@@ -21,7 +21,8 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import ParameterError, require_finite, require_positive
+from linkwork.checks import require_finite, require_positive
+from linkwork.errors import ParameterError
 from linkwork.redundancy.core import (
     COMPONENTS,
     SpatialGeometry,

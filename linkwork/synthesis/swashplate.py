@@ -43,13 +43,8 @@ from typing import TYPE_CHECKING, Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.errors import (
-    InfeasibleError,
-    ParameterError,
-    require_finite,
-    require_in_range,
-    require_positive,
-)
+from linkwork.checks import require_finite, require_in_range, require_positive
+from linkwork.errors import InfeasibleError, ParameterError
 from linkwork.models import swashplate as sw
 from linkwork.results import Result
 from linkwork.sweep import Progress, evaluate

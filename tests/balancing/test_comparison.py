@@ -22,7 +22,7 @@ from linkwork.balancing import (
 from linkwork.errors import ParameterError
 from linkwork.planar.dynamics import inverse_dynamics
 from linkwork.planar.kinematics import kinematics
-from linkwork.planar.model import crank_slider, fourbar
+from linkwork.planar.model import crank_slider_mechanism, fourbar_mechanism
 
 PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.00567),
              coms=(0.05, 0.15, 0.1), omega1=10.0)
@@ -31,7 +31,7 @@ RADII = {"crank": 0.05, "rocker": 0.1}
 
 @pytest.fixture(scope="module")
 def comp():
-    return compare_balancing(fourbar(0.1, 0.3, 0.2, 0.3, **PAPER), radii=RADII)
+    return compare_balancing(fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **PAPER), radii=RADII)
 
 
 def _angles_fd(phi, h=1e-4):
@@ -87,7 +87,7 @@ def test_columns_consistent_with_cycle_and_definitions(comp):
 def test_driving_torque_by_power_balance(comp):
     """Q omega1 = dT/dt (no gravity, no loads): T differentiated spectrally over the cycle."""
     c = comp.cycle
-    for mech, Q in ((fourbar(0.1, 0.3, 0.2, 0.3, **PAPER), c.Q0),
+    for mech, Q in ((fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **PAPER), c.Q0),
                     (comp.balance.mechanism, c.Q1)):
         T = inverse_dynamics(kinematics(mech, c.phi1)).T
         k = np.fft.rfftfreq(c.phi1.size, d=1.0 / c.phi1.size)
@@ -100,7 +100,7 @@ def test_moved_axis_bearing_loads(comp):
     mechanism balanced by the rocker counterweight alone (built independently)."""
     c = comp.cycle
     np.testing.assert_allclose(c.reactions3["O1"], 0.2 * 100, rtol=1e-12)
-    rocker_only = add_counterweights(fourbar(0.1, 0.3, 0.2, 0.3, **PAPER),
+    rocker_only = add_counterweights(fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **PAPER),
                                      [Counterweight("rocker", 0.5, np.pi, 0.1)])
     d = inverse_dynamics(kinematics(rocker_only, c.phi1))
     np.testing.assert_allclose(c.reactions3["O2"], d.reaction_magnitude("O2"), rtol=1e-9)
@@ -118,13 +118,13 @@ def test_summary_reports_increases(comp):
 
 
 def test_compare_requires_crank_counterweight():
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, **PAPER)
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **PAPER)
     with pytest.raises(ParameterError, match="crank"):
         compare_balancing(mech, links=["rocker"], radii=RADII)
 
 
 def test_compare_on_crank_slider_partial_force_balance():
-    mech = crank_slider(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
+    mech = crank_slider_mechanism(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
     c = compare_balancing(mech, n=120)
     assert not c.balance.full
     assert c.balance.ratio < 1.0
@@ -152,7 +152,7 @@ def test_paper001_shaking_moment_is_not_the_driving_torque(comp):
 
 def test_compare_needs_a_running_crank():
     with pytest.raises(ParameterError, match="omega1"):
-        compare_balancing(fourbar(0.1, 0.3, 0.2, 0.3, **{**PAPER, "omega1": 0.0}))
+        compare_balancing(fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **{**PAPER, "omega1": 0.0}))
 
 
 @settings(max_examples=10, deadline=None)
@@ -167,7 +167,8 @@ def test_comparison_invariants_random_fourbars(seed):
     a = rng.uniform(0.05, 0.1)
     b, c, d = rng.uniform(0.25, 0.4, 3)
     coms = tuple(tuple(rng.normal(0, 0.06, 2)) for _ in range(3))
-    mech = fourbar(a, b, c, d, masses=tuple(rng.uniform(0.5, 3, 3)), coms=coms, omega1=12.0)
+    mech = fourbar_mechanism(a, b, c, d, masses=tuple(rng.uniform(0.5, 3, 3)), coms=coms,
+                             omega1=12.0)
     comp = compare_balancing(mech, n=120)
     cyc = comp.cycle
     assert np.abs(cyc.F1).max() <= 1e-9 * np.abs(cyc.F0).max()
@@ -187,7 +188,7 @@ def test_external_loads_enter_torque_not_table(comp):
     (virtual power) and leaves the shaking-moment table unchanged."""
     from linkwork.planar.dynamics import BodyTorque
 
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, **PAPER)
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **PAPER)
     loaded = compare_balancing(mech, radii=RADII,
                                loads=lambda phi: [BodyTorque("rocker", -5.0)])
     np.testing.assert_allclose(loaded.dM1, comp.dM1, atol=1e-12)
@@ -200,7 +201,7 @@ def test_comparison_of_a_mechanism_without_shaking_moment_reports_no_round_off()
     """Only the crank has mass (an eccentric on a shaft driving massless links): the shaking
     moment about O is zero at constant speed, yet the comparison reported R2 = 29.4 % and
     'balancing raises: shaking moment peak static 4.7e-17 vs unbalanced 2.8e-17 (+69.4 %)'."""
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 0.0, 0.0), omega1=10.0)
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 0.0, 0.0), omega1=10.0)
     comp = bal.compare_balancing(mech)
     # hand: the crank's centre turns about O at 0.05 m: inertia force m r w^2 = 5 N through O
     assert comp.summary()["shaking force peak [N]"]["unbalanced"] == pytest.approx(5.0)
@@ -243,7 +244,7 @@ def test_compare_balancing_on_the_paper_fourbar_is_consistent():
 
 def test_zero_speed_comparison_is_refused():
     with pytest.raises(ParameterError, match="omega"):
-        bal.compare_balancing(fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2), omega1=0.0))
+        bal.compare_balancing(fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2), omega1=0.0))
 
 
 def test_increases_ignore_round_off():

@@ -27,14 +27,14 @@ from linkwork.balancing.static import (
 from linkwork.errors import InfeasibleError, LinkworkError, ParameterError
 from linkwork.planar.dynamics import inverse_dynamics
 from linkwork.planar.kinematics import kinematics
-from linkwork.planar.model import crank_slider, fourbar
+from linkwork.planar.model import crank_slider_mechanism, fourbar_mechanism
 
 PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.00567),
              coms=(0.05, 0.15, 0.1), omega1=10.0)
 
 
 def paper_fourbar(branch=1):
-    return fourbar(0.1, 0.3, 0.2, 0.3, branch=branch, **PAPER)
+    return fourbar_mechanism(0.1, 0.3, 0.2, 0.3, branch=branch, **PAPER)
 
 
 def fd_fourbar_shaking(l, masses, coms, inertias, omega, phi, branch):
@@ -117,7 +117,7 @@ def test_general_force_balance_equals_berkof_lowen(seed, branch):
     b, c, d = rng.uniform(0.25, 0.4, 3)
     masses = tuple(rng.uniform(0.5, 3, 3))
     coms = tuple(tuple(rng.normal(0, 0.08, 2)) for _ in range(3))
-    mech = fourbar(a, b, c, d, masses=masses, coms=coms, omega1=7.0, branch=branch)
+    mech = fourbar_mechanism(a, b, c, d, masses=masses, coms=coms, omega1=7.0, branch=branch)
     fb = force_balance(mech, n=90)
     assert fb.full
     ref = fourbar_counterweights(a, b, c, *(v for mk, ck in zip(masses, coms, strict=True)
@@ -131,7 +131,7 @@ def test_general_force_balance_equals_berkof_lowen(seed, branch):
 
 
 def test_crank_slider_cannot_be_fully_force_balanced():
-    mech = crank_slider(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
+    mech = crank_slider_mechanism(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
     assert frame_hinged_links(mech) == ("crank",)
     fb = force_balance(mech)
     assert not fb.full
@@ -145,7 +145,7 @@ def test_crank_slider_cannot_be_fully_force_balanced():
 
 @pytest.mark.parametrize("k", [0.0, 1.0])
 def test_crank_slider_fraction_on_engine(k):
-    mech = crank_slider(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
+    mech = crank_slider_mechanism(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
     cw = crank_slider_counterweight(0.05, 0.2, 1.0, 0.025, 2.0, 0.1, 3.0, fraction=k)
     bal = add_counterweights(mech, [cw.with_radius(0.04)])
     phi = cycle(360)
@@ -182,7 +182,7 @@ def test_crank_slider_shaking_force_harmonics_classic_series():
 
     a, L, m3, w = 0.05, 0.2, 3.0, 10.0
     lam = a / L
-    mech = crank_slider(a, L, masses=(0.0, 0.0, m3), omega1=w)
+    mech = crank_slider_mechanism(a, L, masses=(0.0, 0.0, m3), omega1=w)
     phi = cycle(256)
     sl = shaking_loads(kinematics(mech, phi))
     h = harmonics(phi, sl.fx, 4)
@@ -261,7 +261,7 @@ def test_crank_slider_balance_half_fraction_is_best_rms(guide_angle, e):
     guide."""
     from linkwork.balancing import crank_slider_balance
 
-    mech = crank_slider(0.05, 0.2, e, guide_angle=guide_angle, masses=(1.0, 2.0, 3.0),
+    mech = crank_slider_mechanism(0.05, 0.2, e, guide_angle=guide_angle, masses=(1.0, 2.0, 3.0),
                         omega1=10.0)
     half = crank_slider_balance(mech, 0.5, radius=0.04)
     ls = force_balance(mech, radii=0.04, n=360)
@@ -275,7 +275,7 @@ def test_crank_slider_balance_half_fraction_is_best_rms(guide_angle, e):
 
 
 def test_force_balance_does_not_depend_on_driver_speed():
-    a = force_balance(fourbar(0.1, 0.3, 0.2, 0.3, **{**PAPER, "omega1": 0.0}))
+    a = force_balance(fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **{**PAPER, "omega1": 0.0}))
     b = force_balance(paper_fourbar())
     assert a.full and b.full
     for ca, cb in zip(a.counterweights, b.counterweights, strict=True):
@@ -288,7 +288,7 @@ def test_shaking_loads_equal_engine_inverse_dynamics():
     from linkwork.planar.dynamics import inverse_dynamics
 
     for mech in (paper_fourbar(-1), watt_sixbar(),
-                 crank_slider(0.05, 0.2, 0.01, masses=(1.0, 2.0, 3.0), omega1=10.0)):
+                 crank_slider_mechanism(0.05, 0.2, 0.01, masses=(1.0, 2.0, 3.0), omega1=10.0)):
         kin = kinematics(mech, cycle(60))
         P = (0.07, -0.03)
         sl = shaking_loads(kin, P)
@@ -301,7 +301,7 @@ def test_shaking_loads_equal_engine_inverse_dynamics():
 
 def test_force_balance_radius_for_an_unknown_link_is_named():
     """A radius keyed by a misspelt link was silently ignored (the default radius was used)."""
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0), omega1=10.0)
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0), omega1=10.0)
     with pytest.raises(ParameterError) as err:
         bal.force_balance(mech, radii={"crnk": 0.05, "rocker": 0.1})
     assert "radii" in str(err.value) and "crnk" in str(err.value)
@@ -318,10 +318,10 @@ def test_inclined_offset_crank_slider_rotating_balance_leaves_only_the_guide_for
     remain: across the guide -k r w^2 m_rec sin(phi - gamma) (0 for k = 0, to 1e-9 of the
     unbalanced force)."""
     from linkwork.planar import inverse_dynamics, kinematics
-    from linkwork.planar.model import crank_slider
+    from linkwork.planar.model import crank_slider_mechanism
 
     r, l, ecc, gam, w = 0.05, 0.2, 0.03, np.radians(35.0), 30.0
-    m = crank_slider(r, l, ecc, guide_angle=gam, masses=(2.0, 3.0, 4.0),
+    m = crank_slider_mechanism(r, l, ecc, guide_angle=gam, masses=(2.0, 3.0, 4.0),
                      coms=((0.02, 0.01), 0.08), omega1=w)
     u, nrm = np.array([np.cos(gam), np.sin(gam)]), np.array([-np.sin(gam), np.cos(gam)])
     phi = bal.cycle(72)
@@ -427,7 +427,7 @@ def test_force_balance_random_fourbars_with_off_line_centres():
         a = 0.3 * min(b, c, d)  # a Grashof crank
         coms = tuple(complex(*rng.uniform(-0.3, 0.7, 2)) * L for L in (a, b, c))
         try:
-            mech = fourbar(a, b, c, d, masses=tuple(rng.uniform(0.5, 3, 3)), coms=tuple(
+            mech = fourbar_mechanism(a, b, c, d, masses=tuple(rng.uniform(0.5, 3, 3)), coms=tuple(
                 (z.real, z.imag) for z in coms), omega1=3.0)
             kinematics(mech, phi)
         except LinkworkError:
@@ -441,7 +441,7 @@ def test_force_balance_random_fourbars_with_off_line_centres():
 
 
 def test_crank_slider_rotating_balance_and_fraction_and_impossible_full_balance():
-    m = crank_slider(0.05, 0.2, masses=(1.0, 2.0, 1.5), omega1=20.0)
+    m = crank_slider_mechanism(0.05, 0.2, masses=(1.0, 2.0, 1.5), omega1=20.0)
     phi = np.linspace(0, 2 * np.pi, 360, endpoint=False)
     kin = kinematics(m, phi)
     # independent: the slider position along x by trigonometry; reciprocating mass

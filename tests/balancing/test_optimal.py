@@ -17,7 +17,7 @@ from linkwork.balancing.optimal import (
 from linkwork.errors import ParameterError
 from linkwork.planar.dynamics import inverse_dynamics
 from linkwork.planar.kinematics import kinematics
-from linkwork.planar.model import fourbar
+from linkwork.planar.model import fourbar_mechanism
 
 PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.00567),
              coms=(0.05, 0.15, 0.1), omega1=10.0)
@@ -25,7 +25,7 @@ PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.0056
 
 @pytest.fixture(scope="module")
 def mech():
-    return fourbar(0.1, 0.3, 0.2, 0.3, **PAPER)
+    return fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **PAPER)
 
 
 @pytest.mark.parametrize("gravity", [None, (0.0, -9.81)])

@@ -87,3 +87,32 @@ def test_fourbar_norton_driver_names_are_the_former_names_of_phi1_omega1_eps1() 
     with pytest.warns(DeprecationWarning):
         assert lim.theta2_toggle_extended == lim.phi1_toggle_extended
         assert ext.theta2_at_min == ext.phi1_at_min
+
+
+def test_engine_on_fail_and_assembled_are_the_former_names_of_on_failure_and_valid() -> None:
+    """The planar engine's kinematics(on_fail=) and Kinematics.assembled: same mask, same
+    positions as on_failure= and .valid (a double-rocker over a turn)."""
+    from linkwork.planar import fourbar_mechanism, kinematics
+
+    mech = fourbar_mechanism(0.3, 0.1, 0.25, 0.3)
+    phi = np.linspace(0.0, 2.0 * np.pi, 73)
+    new = kinematics(mech, phi, on_failure="nan")
+    assert 0 < new.valid.sum() < new.valid.size
+    with pytest.warns(DeprecationWarning, match=r"kinematics\(on_fail=...\) is deprecated"):
+        old = kinematics(mech, phi, on_fail="nan")
+    with pytest.warns(DeprecationWarning, match=r"Kinematics.assembled is deprecated"):
+        np.testing.assert_array_equal(old.assembled, new.valid)
+    np.testing.assert_array_equal(old.theta, new.theta)
+
+
+def test_engine_builders_fourbar_and_crank_slider_are_former_names() -> None:
+    """planar.fourbar / planar.crank_slider (names shared with the closed forms) build the same
+    mechanisms as fourbar_mechanism / crank_slider_mechanism."""
+    from linkwork import planar
+
+    with pytest.warns(DeprecationWarning, match=r"linkwork.planar.fourbar\(\) is deprecated"):
+        old = planar.fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0))
+    assert old == planar.fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0))
+    with pytest.warns(DeprecationWarning, match=r"linkwork.planar.crank_slider\(\)"):
+        old_cs = planar.crank_slider(0.05, 0.2, 0.025)
+    assert old_cs == planar.crank_slider_mechanism(0.05, 0.2, 0.025)

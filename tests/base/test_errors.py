@@ -1,8 +1,9 @@
-"""The exception hierarchy and the argument-check helpers."""
+"""The exception hierarchy and the driver-range messages (argument checks: test_checks.py)."""
 
 import numpy as np
 import pytest
 
+from linkwork.checks import require_positive
 from linkwork.errors import (
     AssemblyError,
     FileFormatError,
@@ -10,9 +11,6 @@ from linkwork.errors import (
     LinkworkError,
     ParameterError,
     angle_ranges,
-    require_finite,
-    require_in_range,
-    require_positive,
 )
 
 
@@ -27,36 +25,6 @@ def test_parameter_error_names_parameter_value_and_limit():
         require_positive("L1", [0.2, -0.1])
     assert info.value.parameter == "L1"
     assert info.value.value == pytest.approx(-0.1)
-
-
-def test_require_in_range_reports_scaled_value_and_interval():
-    with pytest.raises(ParameterError, match=r"alpha = 200 deg.*\(0, 180\) deg"):
-        require_in_range("alpha", np.radians(200.0), 0.0, np.pi, lo_open=True, hi_open=True,
-                         unit="deg", scale=180 / np.pi)
-    ok = require_in_range("alpha", np.radians(60.0), 0.0, np.pi)
-    assert ok == pytest.approx(np.radians(60.0))
-
-
-def test_require_finite_rejects_nan():
-    with pytest.raises(ParameterError, match="must be finite"):
-        require_positive("L1", float("nan"))
-
-
-@pytest.mark.parametrize("value", ["abc", "1.5 m", [1.0, "x"], {"a": 1}, None])
-def test_require_finite_names_non_numeric_input(value):
-    with pytest.raises(ParameterError, match=r"^L1 = .*must be a number or an array of numbers"):
-        require_finite("L1", value)
-    with pytest.raises(ParameterError, match="L1"):
-        require_positive("L1", value)
-
-
-def test_require_finite_python_ints_in_and_beyond_the_float_range():
-    assert require_finite("n", 3) == 3.0 and require_positive("n", 2**60) == float(2**60)
-    for big in (10**400, -10**400):
-        with pytest.raises(ParameterError, match=r"n = .*beyond the float range"):
-            require_finite("n", big)
-    with pytest.raises(ParameterError, match="must be > 0"):
-        require_positive("n", 0)
 
 
 def test_angle_ranges_finds_contiguous_runs():

@@ -15,7 +15,7 @@ from linkwork.cli import main
 from linkwork.cli.balance import BalanceSection, run_balance
 from linkwork.planar.dynamics import inverse_dynamics
 from linkwork.planar.kinematics import kinematics
-from linkwork.planar.model import crank_slider, fourbar
+from linkwork.planar.model import crank_slider_mechanism, fourbar_mechanism
 
 DATA = Path(__file__).parents[1] / "data"
 PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.00567),
@@ -23,7 +23,7 @@ PAPER = dict(masses=(1.0, 3.0, 2.0), inertias=(1.0 * 0.1**2 / 12, 0.0225, 0.0056
 
 
 def test_run_balance_on_paper_fourbar(tmp_path):
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, **PAPER)
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **PAPER)
     con = Console(record=True, width=200)
     sec = BalanceSection(radii={"crank": 0.05, "rocker": 0.1})
     comp = run_balance(mech, sec, tmp_path, con)
@@ -45,7 +45,7 @@ def test_run_balance_on_paper_fourbar(tmp_path):
 
 
 def test_run_balance_custom_angles_and_partial_balance(tmp_path):
-    mech = crank_slider(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
+    mech = crank_slider_mechanism(0.05, 0.2, masses=(1.0, 2.0, 3.0), omega1=10.0)
     con = Console(record=True, width=200)
     comp = run_balance(mech, BalanceSection(angles=[0, 45, 90, 135], n=72), tmp_path, con)
     np.testing.assert_allclose(np.degrees(comp.phi1), [0, 45, 90, 135])
@@ -55,7 +55,7 @@ def test_run_balance_custom_angles_and_partial_balance(tmp_path):
 
 
 def test_balance_pareto_option(tmp_path):
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, **PAPER)
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **PAPER)
     run_balance(mech, BalanceSection(radii={"crank": 0.05, "rocker": 0.1}, n=72), tmp_path,
                 Console(record=True), pareto=True)
     data = json.loads((tmp_path / "balance_pareto.json").read_text())
@@ -94,7 +94,7 @@ def test_balance_command_on_file_matches_engine_model(tmp_path, capsys):
     out = capsys.readouterr().out
     assert "R_j" in out
     table = np.loadtxt(tmp_path / "balance_table.csv", delimiter=",", skiprows=1)
-    ref = compare_balancing(fourbar(0.1, 0.3, 0.2, 0.3, **PAPER), radii={"crank": 0.05,
+    ref = compare_balancing(fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **PAPER), radii={"crank": 0.05,
                                                                          "rocker": 0.1})
     header = (tmp_path / "balance_table.csv").read_text().splitlines()[0].split(",")
     cols = [h.split(" [")[0] for h in header]

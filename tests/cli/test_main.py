@@ -103,7 +103,8 @@ def test_planar_file_errors_found_after_validation_carry_file_and_key(
                                       (["swashplate", "analyze"], "swashplate_1.toml")])
 def test_absurd_speed_stops_with_one_line_instead_of_writing_inf(cmd, name, tmp_path, capsys):
     """speed = 1e200 rad/s overflowed (RuntimeWarnings), wrote inf into the outputs and exited
-    0; NumPy overflow inside the CLI and infinite result columns now stop with exit 2."""
+    0; the files' sanity layer refuses it with one line naming the key and the limit, exit 2
+    (behind it, NumPy overflow and infinite result columns also stop with exit 2)."""
     import re
     from pathlib import Path
     text = (Path(__file__).resolve().parents[2] / "examples" / name).read_text()
@@ -112,7 +113,7 @@ def test_absurd_speed_stops_with_one_line_instead_of_writing_inf(cmd, name, tmp_
     assert "speed = 1e200" in p.read_text()
     assert main([*cmd, str(p), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "too large for double precision" in err, err
+    assert len(err.splitlines()) == 1 and "speed: must lie within +-1e+06 rad/s" in err, err
 
 
 def test_result_with_infinite_column_refuses_to_be_written(tmp_path):

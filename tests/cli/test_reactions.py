@@ -13,7 +13,7 @@ from rich.console import Console
 
 from linkwork.cli.reactions import run
 from linkwork.errors import FileFormatError, ParameterError
-from linkwork.planar import BodyTorque, fourbar
+from linkwork.planar import BodyTorque, fourbar_mechanism
 from linkwork.redundancy import Deviation, OutOfPlaneLoad, spatial_reactions
 from linkwork.redundancy.spec import read_spatial
 
@@ -35,7 +35,7 @@ SPATIAL = {
 
 
 def _mech():
-    return fourbar(0.1, 0.3, 0.2, 0.3, masses=tuple(MASS), inertias=tuple(INERTIA),
+    return fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=tuple(MASS), inertias=tuple(INERTIA),
                    omega1=OMEGA1)
 
 

@@ -15,8 +15,11 @@ PACKAGE = ROOT / "linkwork"
 #: and `linkwork --help` should not pay for (matplotlib through linkwork.plot, scipy's optimisers
 #: and samplers, dask, pandas, pint, rich's progress bars).
 LAZY = ("linkwork.plot", "matplotlib", "pandas", "dask", "scipy", "pint", "rich")
-#: The deprecated plot.sine.plot_force_ratio evaluates its model (also ignored by import-linter).
-LAZY_EXCEPTIONS = {("linkwork/plot/sine.py", "linkwork.models.sine")}
+#: Deprecated names that import their new home when used (also ignored by import-linter):
+#: plot.sine.plot_force_ratio evaluates its model; errors.require_* are now in linkwork.checks.
+LAZY_EXCEPTIONS = {("linkwork/plot/sine.py", "linkwork.models.sine"),
+                   ("linkwork/errors.py", "linkwork.checks"),
+                   ("linkwork/errors.py", "linkwork.deprecation")}
 
 
 def _modules() -> list[Path]:

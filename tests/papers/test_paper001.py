@@ -100,9 +100,9 @@ def test_paper001_table_means_are_not_zero():
 
 def _paper_comparison(rocker_inertia=0.00567):
     from linkwork.balancing import compare_balancing
-    from linkwork.planar.model import fourbar
+    from linkwork.planar.model import fourbar_mechanism
 
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0),
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0),
                    inertias=(1.0 * 0.1**2 / 12, 0.0225, rocker_inertia),
                    coms=(0.05, 0.15, 0.1), omega1=OMEGA)
     return compare_balancing(mech, np.radians(PHI_DEG), radii={"crank": 0.05, "rocker": 0.1})
@@ -143,9 +143,9 @@ def test_paper001_table_means_not_explained_by_gravity():
     from linkwork.balancing import force_balance
     from linkwork.planar.dynamics import inverse_dynamics
     from linkwork.planar.kinematics import kinematics
-    from linkwork.planar.model import fourbar
+    from linkwork.planar.model import fourbar_mechanism
 
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0),
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0),
                    inertias=(1.0 / 1200, 0.0225, 0.00567), coms=(0.05, 0.15, 0.1), omega1=OMEGA)
     bal = force_balance(mech, radii={"crank": 0.05, "rocker": 0.1}).mechanism
     phi = np.radians(PHI_DEG)

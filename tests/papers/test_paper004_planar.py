@@ -36,7 +36,7 @@ from linkwork.models.fourbar import (
     paper004_planar,
 )
 from linkwork.planar import BodyTorque, inverse_dynamics, kinematics
-from linkwork.planar import fourbar as engine_fourbar
+from linkwork.planar import fourbar_mechanism as engine_fourbar
 
 # paper 001's four-bar as a loom linkage stand-in: l1 = 0.1, l2 = 0.3, l3 = 0.2, frame 0.3 m
 L1, L2, L3, D = 0.1, 0.3, 0.2, 0.3

@@ -13,21 +13,21 @@ from linkwork.errors import ParameterError
 from linkwork.models import fourbar as fb
 from linkwork.planar import (
     analyse,
-    crank_slider,
+    crank_slider_mechanism,
     dead_centres,
-    fourbar,
+    fourbar_mechanism,
     inverse_dynamics,
     kinematics,
     kinetic_energy,
     mobility,
     transmission_angles,
 )
-from linkwork.planar import crank_slider as engine_crank_slider
-from linkwork.planar import fourbar as engine_fourbar
+from linkwork.planar import crank_slider_mechanism as engine_crank_slider
+from linkwork.planar import fourbar_mechanism as engine_fourbar
 
 
 def test_structure_classes_orders():
-    s = fourbar(0.1, 0.3, 0.2, 0.3).structure
+    s = fourbar_mechanism(0.1, 0.3, 0.2, 0.3).structure
     assert (s.n_bodies, s.n_lower, s.n_higher, s.mobility) == (3, 4, 0, 1)
     assert [(g.kind, g.cls, g.order) for g in s.groups] == [("driver", 1, 1), ("RRR", 2, 2)]
     assert s.groups[1].joints == ("A", "B", "O4") and s.groups[1].key == "B"
@@ -43,7 +43,7 @@ def test_structure_classes_orders():
 
 def test_per_position_driver_speed():
     """omega1, eps1 given per position = the same positions analysed one by one."""
-    m = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2))
+    m = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2))
     phi = np.linspace(0, 2 * np.pi, 9)
     w = 5 + np.sin(phi)
     e = np.cos(phi) * 3
@@ -58,7 +58,7 @@ def test_per_position_driver_speed():
 def test_fourbar_dead_centres_are_crank_coupler_collinear():
     a, b, c, d = 0.1, 0.3, 0.2, 0.3
     phi = np.linspace(0, 2 * np.pi, 7201)
-    dcs = dead_centres(kinematics(fourbar(a, b, c, d), phi))
+    dcs = dead_centres(kinematics(fourbar_mechanism(a, b, c, d), phi))
     assert [x.body for x in dcs] == ["rocker", "rocker"]
     # independent: |A - O4| = b + a (extended) and b - a (folded) -> law of cosines on O2 O4 B
     found = sorted(x.phi1 for x in dcs)
@@ -75,7 +75,7 @@ def test_fourbar_dead_centres_are_crank_coupler_collinear():
 def test_crank_slider_dead_centres_and_pressure_angle():
     r, l, e = 0.1, 0.3, 0.03
     phi = np.linspace(0, 2 * np.pi, 3601)
-    k = kinematics(crank_slider(r, l, e), phi)
+    k = kinematics(crank_slider_mechanism(r, l, e), phi)
     dcs = dead_centres(k)
     np.testing.assert_allclose([x.phi1 for x in dcs],
                                [np.arcsin(e / (l + r)), np.pi + np.arcsin(e / (l - r))],
@@ -89,7 +89,7 @@ def test_crank_slider_dead_centres_and_pressure_angle():
 def test_fourbar_transmission_angle_cosine_law():
     a, b, c, d = 0.1, 0.3, 0.2, 0.3
     phi = np.linspace(0, 2 * np.pi, 361)
-    mu, _ = transmission_angles(kinematics(fourbar(a, b, c, d), phi))["B"]
+    mu, _ = transmission_angles(kinematics(fourbar_mechanism(a, b, c, d), phi))["B"]
     f2 = a**2 + d**2 - 2 * a * d * np.cos(phi)  # |A - O4|^2
     cos_mu = (b**2 + c**2 - f2) / (2 * b * c)
     np.testing.assert_allclose(mu, np.arcsin(np.abs(np.sin(np.arccos(cos_mu)))), atol=1e-9)
@@ -102,7 +102,7 @@ def test_plots_return_what_they_drew(tmp_path):
     from linkwork.plot import planar as pp
     from linkwork.plot import pyplot, save
 
-    m = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2))
+    m = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2))
     k = kinematics(m, np.linspace(0, 2 * np.pi, 73))
     d = inverse_dynamics(k)
     out = pp.plot_skeleton(k, [0, 10], paths=[("coupler", "B")])
@@ -119,7 +119,7 @@ def test_plots_return_what_they_drew(tmp_path):
 
 
 def test_result_exports(tmp_path):
-    k = kinematics(fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2)), np.linspace(0, 1, 5))
+    k = kinematics(fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2)), np.linspace(0, 1, 5))
     d = inverse_dynamics(k)
     data = d.to_dict()
     assert data["units"]["Q"] == "N*m" and len(data["columns"]["Q"]) == 5

@@ -13,8 +13,8 @@ import pytest
 from linkwork.planar import (
     BodyTorque,
     PointForce,
-    crank_slider,
-    fourbar,
+    crank_slider_mechanism,
+    fourbar_mechanism,
     inverse_dynamics,
     kinematics,
 )
@@ -38,7 +38,7 @@ def test_fourbar_positions_against_trigonometry(branch):
     """Reference: circle-circle intersection written out here (``_fourbar_B_reference``).
     Tolerance: 1e-14 m on B (links of 0.1-0.3 m), 1e-13 relative on the coupler length."""
     a, b, c, d = 0.1, 0.3, 0.2, 0.3
-    k = kinematics(fourbar(a, b, c, d, branch=branch), PHI)
+    k = kinematics(fourbar_mechanism(a, b, c, d, branch=branch), PHI)
     Bx, By = _fourbar_B_reference(PHI, a, b, c, d, branch)
     for body in ("coupler", "rocker"):
         B = k.point(body, "B")
@@ -67,11 +67,11 @@ def _fd_check(mech, phi, w, e, h=1e-5, rtol=1e-7):
 
 
 def test_fourbar_velocity_acceleration_finite_differences():
-    _fd_check(fourbar(0.1, 0.3, 0.2, 0.3), PHI, 10.0, 3.0)
+    _fd_check(fourbar_mechanism(0.1, 0.3, 0.2, 0.3), PHI, 10.0, 3.0)
 
 
 def test_crank_slider_velocity_acceleration_finite_differences():
-    _fd_check(crank_slider(0.1, 0.35, 0.04, guide_angle=0.3), PHI, 7.0, -2.0)
+    _fd_check(crank_slider_mechanism(0.1, 0.35, 0.04, guide_angle=0.3), PHI, 7.0, -2.0)
 
 
 @pytest.mark.parametrize("branch", [1, -1])
@@ -79,7 +79,7 @@ def test_crank_slider_positions_against_quadratic(branch):
     """Reference: the slider's quadratic solved here in closed form. Tolerance: 1e-14 m on B
     (crank 0.1 m, rod 0.35 m)."""
     r, l, e = 0.1, 0.35, 0.04
-    k = kinematics(crank_slider(r, l, e, branch=branch), PHI)
+    k = kinematics(crank_slider_mechanism(r, l, e, branch=branch), PHI)
     Ax, Ay = r * np.cos(PHI), r * np.sin(PHI)
     xb = Ax + branch * np.sqrt(l**2 - (e - Ay) ** 2)
     B = k.point("slider", "B")
@@ -129,14 +129,15 @@ def _balances(mech, phi, w, e, g, loads, about=(0.05, -0.02)):
 
 
 def test_fourbar_power_and_momentum_balance_eps1_gravity_loads():
-    m = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0), inertias=(0.001, 0.0225, 0.00567))
+    m = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0),
+                          inertias=(0.001, 0.0225, 0.00567))
     loads = [PointForce("coupler", (0.1, 0.05), 3.0, -2.0 * np.cos(PHI)),
              BodyTorque("rocker", 1.5)]
     _balances(m, PHI, 10.0, 4.0, (0.3, -9.81), loads)
 
 
 def test_crank_slider_power_and_momentum_balance_press_force():
-    m = crank_slider(0.1, 0.3, 0.05, masses=(1.0, 2.0, 3.0), guide_angle=0.4)
+    m = crank_slider_mechanism(0.1, 0.3, 0.05, masses=(1.0, 2.0, 3.0), guide_angle=0.4)
     tech = np.where(np.sin(PHI) > 0, -500.0, 0.0)
     loads = [PointForce("slider", "B", tech * np.cos(0.4), tech * np.sin(0.4))]
     _balances(m, PHI, 12.0, -3.0, (1.0, -9.81), loads)
@@ -149,7 +150,7 @@ def test_fourbar_reactions_newton_euler_by_hand():
     a, b, c, d = 0.1, 0.3, 0.2, 0.3
     ms = (1.0, 3.0, 2.0)
     Is = (0.002, 0.0225, 0.0067)
-    m = fourbar(a, b, c, d, masses=ms, inertias=Is)
+    m = fourbar_mechanism(a, b, c, d, masses=ms, inertias=Is)
     w, e, g = 10.0, 5.0, (2.0, -9.81)
     Fp, M3 = (30.0, -20.0), 4.0
     k = kinematics(m, PHI, omega1=w, eps1=e)
@@ -213,7 +214,7 @@ def test_fourbar_reactions_newton_euler_by_hand():
 
 def test_kinetic_energy_lagrange_driving_torque():
     """Q from Lagrange's equation with T(phi) = 1/2 J(phi) omega^2 by finite differences."""
-    m = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0))
+    m = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0))
     h = 1e-4
     w = 1.0
     T0 = inverse_dynamics(kinematics(m, PHI, omega1=w)).T

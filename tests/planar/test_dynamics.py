@@ -57,12 +57,12 @@ from linkwork.planar import (
     Prismatic,
     Revolute,
     bar,
-    fourbar,
+    fourbar_mechanism,
     inverse_dynamics,
     kinematics,
 )
-from linkwork.planar import crank_slider as engine_crank_slider
-from linkwork.planar import fourbar as engine_fourbar
+from linkwork.planar import crank_slider_mechanism as engine_crank_slider
+from linkwork.planar import fourbar_mechanism as engine_fourbar
 
 
 @pytest.fixture(params=["groups", "global"])
@@ -527,7 +527,7 @@ PHI = np.linspace(0.0, 2 * np.pi, 13)
 # -- loads ----------------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def fourbar_kin():
-    return kinematics(fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0)), PHI)
+    return kinematics(fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0)), PHI)
 
 
 def test_point_force_at_a_non_finite_local_point_is_named(fourbar_kin):

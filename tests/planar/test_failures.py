@@ -30,12 +30,12 @@ from linkwork.planar import (
     Prismatic,
     Revolute,
     bar,
-    crank_slider,
-    fourbar,
+    crank_slider_mechanism,
+    fourbar_mechanism,
     inverse_dynamics,
     kinematics,
 )
-from linkwork.planar import fourbar as engine_fourbar
+from linkwork.planar import fourbar_mechanism as engine_fourbar
 
 
 def test_locked_triangle_names_bodies_and_joints():
@@ -86,7 +86,7 @@ def test_redundant_link_is_a_locked_subchain():
 
 def test_cannot_assemble_lists_ranges():
     # non-Grashof: crank 0.25 cannot turn fully with coupler 0.3, rocker 0.2, frame 0.3
-    mech = fourbar(0.25, 0.3, 0.2, 0.3)
+    mech = fourbar_mechanism(0.25, 0.3, 0.2, 0.3)
     phi = np.radians(np.arange(0, 360, 1.0))
     with pytest.raises(AssemblyError) as exc:
         kinematics(mech, phi)
@@ -99,13 +99,13 @@ def test_cannot_assemble_lists_ranges():
 
 
 def test_nan_and_mask_on_request():
-    mech = fourbar(0.25, 0.3, 0.2, 0.3)
+    mech = fourbar_mechanism(0.25, 0.3, 0.2, 0.3)
     phi = np.radians(np.arange(0, 360, 1.0))
-    k = kinematics(mech, phi, on_fail="nan")
+    k = kinematics(mech, phi, on_failure="nan")
     Ax = 0.25 * np.cos(phi)
     reach = np.hypot(0.3 - Ax, 0.25 * np.sin(phi))
     expected = (reach <= 0.5) & (reach >= 0.1)
-    np.testing.assert_array_equal(k.assembled, expected)
+    np.testing.assert_array_equal(k.valid, expected)
     assert np.isnan(k.theta[2][~expected]).all()
     assert np.isfinite(k.theta[2][expected]).all()
     d = inverse_dynamics(k)
@@ -113,11 +113,11 @@ def test_nan_and_mask_on_request():
 
 
 def test_bad_inputs_name_parameter():
-    m = fourbar(0.1, 0.3, 0.2, 0.3)
+    m = fourbar_mechanism(0.1, 0.3, 0.2, 0.3)
     with pytest.raises(ParameterError, match="phi1"):
         kinematics(m, [0.0, np.nan])
-    with pytest.raises(ParameterError, match="on_fail"):
-        kinematics(m, [0.0], on_fail="ignore")  # type: ignore[arg-type]
+    with pytest.raises(ParameterError, match="on_failure"):
+        kinematics(m, [0.0], on_failure="ignore")  # type: ignore[arg-type]
     with pytest.raises(ParameterError, match=r"branches\.B"):
         kinematics(m, [0.0], branches={"B": 2})
     with pytest.raises(ParameterError, match="omega1"):
@@ -155,19 +155,19 @@ def test_bad_inputs_name_parameter():
 
 def test_change_point_toggle_is_reported():
     """a + b = c + d: at phi1 = 0 coupler and rocker are collinear, velocities undefined."""
-    mech = fourbar(0.1, 0.3, 0.2, 0.2)
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.2)
     phi = np.linspace(0, 2 * np.pi, 13)
     with pytest.raises(AssemblyError, match=r"singular \(toggle\).*at phi1 in 0 deg$"):
         kinematics(mech, phi)
-    k = kinematics(mech, phi, on_fail="nan")
-    np.testing.assert_array_equal(k.assembled, [False] + [True] * 11 + [False])
+    k = kinematics(mech, phi, on_failure="nan")
+    np.testing.assert_array_equal(k.valid, [False] + [True] * 11 + [False])
     assert np.isnan(k.omega[3][0]) and np.isfinite(k.omega[3][1:-1]).all()
 
 
 def test_a_body_without_joints_is_named_as_such():
     """A body left unconnected was reported as 'under-driven: mobility W = 4' (its three free
     coordinates), which sends the user looking for a missing driver."""
-    m = fourbar(0.1, 0.3, 0.2, 0.3)
+    m = fourbar_mechanism(0.1, 0.3, 0.2, 0.3)
     extra = (bar("lonely", "P", "Q", 0.1), bar("stray", "P", "Q", 0.1))
     with pytest.raises(StructureError, match=r"body 'lonely' has no joints"):
         Mechanism(m.frame, (*m.bodies, extra[0]), m.joints, m.driver).validate()
@@ -222,16 +222,16 @@ def test_bar_arguments_are_named(kw, match):
 
 def test_shortcut_builders_name_per_link_tuples_and_the_guide_angle():
     with pytest.raises(ParameterError, match=r"masses = \(1, 2\) .*must have 3 entries"):
-        fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 2))  # type: ignore[arg-type]  # zip() ValueError
+        fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1, 2))  # type: ignore[arg-type]  # zip() ValueError
     with pytest.raises(ParameterError, match=r"inertias = \(None,\) .*must have 2 entries"):
-        crank_slider(0.1, 0.3, inertias=(None,))  # type: ignore[arg-type]  # IndexError
+        crank_slider_mechanism(0.1, 0.3, inertias=(None,))  # type: ignore[arg-type]  # IndexError
     with pytest.raises(ParameterError, match=r"guide_angle = 30 deg .*must be a number"):
-        crank_slider(0.1, 0.3, guide_angle="30 deg")  # type: ignore[arg-type]  # bare TypeError
+        crank_slider_mechanism(0.1, 0.3, guide_angle="30 deg")  # type: ignore[arg-type]  # bare TypeError
 
 
 # -- joints and the mechanism ---------------------------------------------------------------------
 def _slider_with_guide(**kw):
-    base = crank_slider(0.1, 0.3)
+    base = crank_slider_mechanism(0.1, 0.3)
     guide = Prismatic("G", "frame", "slider", through="G", point="B", **kw)
     return Mechanism(base.frame, base.bodies, (*base.joints[:3], guide), Crank("O"))
 
@@ -255,7 +255,7 @@ def test_a_correct_guide_for_comparison_assembles():
 
 
 def test_mechanism_parts_of_the_wrong_type_are_named():
-    m = fourbar(0.1, 0.3, 0.2, 0.3)
+    m = fourbar_mechanism(0.1, 0.3, 0.2, 0.3)
     cases = [  # each was an AttributeError or TypeError from deep inside
         (dict(frame="frame"), r"^frame = frame is invalid: must be a Body"),
         (dict(bodies=("crank",)), r"^bodies = crank is invalid: must be Body objects"),
@@ -282,7 +282,7 @@ def test_mechanism_parts_of_the_wrong_type_are_named():
 def test_missing_joint_point_names_the_joint(kw, match):
     """Was 'frame.points = Z is invalid: no such point': which joint asked for it was not said
     (in a file with many joints on the frame, the user had to search)."""
-    base = crank_slider(0.1, 0.3)
+    base = crank_slider_mechanism(0.1, 0.3)
     with pytest.raises(ParameterError, match=match):
         Mechanism(base.frame, base.bodies,
                   (*base.joints[:3], Prismatic("G", "frame", "slider", **kw)), Crank("O"))
@@ -378,16 +378,16 @@ def test_complex_and_boolean_arguments_are_refused():
     with pytest.raises(ParameterError, match=r"L1 = True .*not a boolean"):
         sine.inclined_slot(PHI, True, 1.0)
     with pytest.raises(ParameterError, match=r"phi1 = \[True, False\] .*not a boolean"):
-        kinematics(fourbar(0.1, 0.3, 0.2, 0.3), [True, False])
+        kinematics(fourbar_mechanism(0.1, 0.3, 0.2, 0.3), [True, False])
 
 
 def test_boolean_branch_is_refused_like_in_the_four_bar_closed_form():
     """fourbar() (closed form) refused branch=True; the engine (Mechanism, kinematics) and the
     crank-slider closed form took True for +1."""
     with pytest.raises(ParameterError, match=r"^branches\.B = True is invalid: must be \+1 or -1"):
-        fourbar(0.1, 0.3, 0.2, 0.3, branch=True)
+        fourbar_mechanism(0.1, 0.3, 0.2, 0.3, branch=True)
     with pytest.raises(ParameterError, match=r"^branches\.B = True is invalid"):
-        kinematics(fourbar(0.1, 0.3, 0.2, 0.3), PHI, branches={"B": True})
+        kinematics(fourbar_mechanism(0.1, 0.3, 0.2, 0.3), PHI, branches={"B": True})
     with pytest.raises(ParameterError, match=r"^branch = True is invalid: must be \+1 or -1"):
         cs_model.offset_crank_slider(PHI, 0.05, 4.0, 0.5, branch=True)
     with pytest.raises(ParameterError, match=r"^branch = True is invalid"):
@@ -410,8 +410,8 @@ def test_assembly_error_names_the_group_that_cannot_close():
     assert "RRR(link5, link6)" in msg and "C, D, O6" in msg
     assert "coupler, rocker" not in msg  # the four-bar loop itself closes everywhere
     # NaN mode: the first dyad's bodies are assembled where only the second fails
-    kin = pl.kinematics(broken, np.radians(np.arange(0.0, 360.0, 10.0)), on_fail="nan")
-    assert (~kin.assembled).any() and kin.assembled.any()
+    kin = pl.kinematics(broken, np.radians(np.arange(0.0, 360.0, 10.0)), on_failure="nan")
+    assert (~kin.valid).any() and kin.valid.any()
 
 
 @pytest.mark.parametrize("kw, words", [

@@ -20,8 +20,8 @@ from linkwork.planar import (
     PointForce,
     Prismatic,
     Revolute,
-    crank_slider,
-    fourbar,
+    crank_slider_mechanism,
+    fourbar_mechanism,
     inverse_dynamics,
     kinematics,
 )
@@ -151,7 +151,7 @@ def test_slide_derivatives_by_finite_differences():
 def test_inverted_joint_roles_give_the_same_motion():
     """A prismatic joint whose line is on the moving slider (frame point on it), a rotated
     slider frame (rel_angle), and a driver joint listed as (crank, frame): same mechanism."""
-    base = crank_slider(0.1, 0.35, 0.03, guide_angle=0.5, masses=(1, 2, 3))
+    base = crank_slider_mechanism(0.1, 0.35, 0.03, guide_angle=0.5, masses=(1, 2, 3))
     phi = np.linspace(0, 2 * np.pi, 37)
     k0 = kinematics(base, phi, omega1=3.0, eps1=1.0)
     d0 = inverse_dynamics(k0, gravity=(0.0, -9.81))
@@ -193,7 +193,7 @@ def test_inverted_joint_roles_give_the_same_motion():
 def test_driver_between_moving_bodies_solved_by_newton():
     """Driving the coupler-rocker angle of a four-bar: one Newton group holds the driver;
     motion equals the crank-driven four-bar at the same configurations; power balance."""
-    base = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2))
+    base = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1, 3, 2))
     phi = np.linspace(0.5, 1.1, 13)
     k0 = kinematics(base, phi)
 
@@ -236,7 +236,8 @@ def test_linear_driver_results_export_slide_and_force_units(tmp_path):
     units = json.loads((dyn.to_json(tmp_path / "d.json")).read_text())["units"]
     assert units["Q"] == "N" and units["T"] == "J"
     # a crank keeps the class's units
-    crank = kinematics(crank_slider(0.1, 0.35, 0.03, masses=(1, 2, 3)), np.linspace(0, 1, 5))
+    crank = kinematics(crank_slider_mechanism(0.1, 0.35, 0.03, masses=(1, 2, 3)),
+                       np.linspace(0, 1, 5))
     assert crank.units["phi1"] == "rad" and inverse_dynamics(crank).units["Q"] == "N*m"
 
 

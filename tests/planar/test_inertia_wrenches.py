@@ -10,7 +10,7 @@ import pytest
 
 from linkwork.balancing import shaking_force, shaking_loads, shaking_moment
 from linkwork.errors import ParameterError
-from linkwork.planar import crank_slider, fourbar, inverse_dynamics, kinematics
+from linkwork.planar import crank_slider_mechanism, fourbar_mechanism, inverse_dynamics, kinematics
 from linkwork.planar.inertia import InertiaWrenches, inertia_wrenches
 from linkwork.redundancy.mechanism import body_wrenches
 
@@ -18,8 +18,8 @@ G = (0.8, -9.81)
 
 
 def _fourbar():
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0), coms=(0.04, (0.12, 0.03), None),
-                   omega1=12.0)
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0),
+                             coms=(0.04, (0.12, 0.03), None), omega1=12.0)
     return mech, kinematics(mech, np.linspace(0.0, 2 * np.pi, 37))
 
 
@@ -54,7 +54,7 @@ def test_wrenches_are_mass_times_finite_difference_acceleration():
 def test_without_gravity_the_resultant_is_the_shaking_force_and_moment_of_inverse_dynamics():
     """Without loads and gravity the frame takes -sum m a_C and the moment of the inertia
     wrenches (reactions and motor torque included): the reaction solver against the sum."""
-    mech = crank_slider(0.05, 0.2, 0.01, masses=(1.2, 2.5, 8.0), omega1=15.0, eps1=4.0)
+    mech = crank_slider_mechanism(0.05, 0.2, 0.01, masses=(1.2, 2.5, 8.0), omega1=15.0, eps1=4.0)
     kin = kinematics(mech, np.linspace(0.0, 2 * np.pi, 49))
     about = (0.03, -0.07)
     dyn = inverse_dynamics(kin, about=about)
@@ -117,7 +117,7 @@ def test_redundancy_body_wrenches_carry_the_inertia_wrenches():
 
 
 def test_massless_bodies_add_nothing_and_bad_arguments_are_refused():
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(0.0, 3.0, 0.0), inertias=(0.0, None, 0.0))
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(0.0, 3.0, 0.0), inertias=(0.0, None, 0.0))
     kin = kinematics(mech, np.linspace(0.0, 2 * np.pi, 13))
     iw = inertia_wrenches(kin)
     assert np.all(iw.fx[0] == 0.0) and np.all(iw.mz[2] == 0.0)

@@ -10,7 +10,13 @@ import pytest
 
 from linkwork import files
 from linkwork.errors import FileFormatError, ParameterError
-from linkwork.planar import BodyTorque, PointForce, crank_slider, inverse_dynamics, kinematics
+from linkwork.planar import (
+    BodyTorque,
+    PointForce,
+    crank_slider_mechanism,
+    inverse_dynamics,
+    kinematics,
+)
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 G = (1.5, -9.81)
@@ -18,7 +24,7 @@ ABOUT = (0.03, -0.07)
 
 
 def _press():
-    mech = crank_slider(0.05, 0.2, 0.01, guide_angle=-np.pi / 2, masses=(1.2, 2.5, 8.0),
+    mech = crank_slider_mechanism(0.05, 0.2, 0.01, guide_angle=-np.pi / 2, masses=(1.2, 2.5, 8.0),
                         omega1=15.0, eps1=4.0)
     phi = np.linspace(0.0, 2 * np.pi, 73)
     return mech, kinematics(mech, phi)

@@ -16,9 +16,9 @@ from linkwork.planar import (
     PinInSlot,
     Revolute,
     bar,
-    crank_slider,
+    crank_slider_mechanism,
     dead_centres,
-    fourbar,
+    fourbar_mechanism,
     kinematics,
     transmission_angles,
 )
@@ -34,8 +34,8 @@ def _slot_mech() -> Mechanism:
                      Crank("O", 2.0, 0.0))
 
 
-MECHS = [fourbar(0.1, 0.3, 0.2, 0.3), crank_slider(0.05, 0.2, 0.01, guide_angle=0.3),
-         _slot_mech()]
+MECHS = [fourbar_mechanism(0.1, 0.3, 0.2, 0.3),
+         crank_slider_mechanism(0.05, 0.2, 0.01, guide_angle=0.3), _slot_mech()]
 
 
 @pytest.mark.parametrize("mech", MECHS, ids=["fourbar", "crank_slider", "slot"])
@@ -124,8 +124,10 @@ def _forbid_name_lookups(mech: Mechanism) -> None:
     object.__setattr__(mech, "index", _NoLookups())
 
 
-@pytest.mark.parametrize("make", [lambda: fourbar(0.1, 0.3, 0.2, 0.3, omega1=3.0, eps1=0.5),
-                                  lambda: crank_slider(0.05, 0.2, 0.01), _slot_mech, _triad],
+@pytest.mark.parametrize("make", [lambda: fourbar_mechanism(0.1, 0.3, 0.2, 0.3, omega1=3.0,
+                                                            eps1=0.5),
+                                  lambda: crank_slider_mechanism(0.05, 0.2, 0.01), _slot_mech,
+                                  _triad],
                          ids=["fourbar", "crank_slider", "slot", "newton"])
 def test_solvers_never_look_names_up(make):
     """Positions, rates, transmission angles and dead centres run on the compiled plan alone:

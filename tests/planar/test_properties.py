@@ -7,7 +7,7 @@ from _strategies import reals
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
-from linkwork.planar import crank_slider, fourbar, kinematics
+from linkwork.planar import crank_slider_mechanism, fourbar_mechanism, kinematics
 
 length = st.floats(0.05, 1.0)
 PHI = np.linspace(0.0, 2 * np.pi, 24, endpoint=False)
@@ -45,7 +45,7 @@ def test_random_fourbar_closure_and_fd(t, b, c, d, branch):
     a_max = min(b + c - d, d - abs(b - c)) - m
     assume(a_max > 0.02)
     a = t * a_max
-    k = _fd(fourbar(a, b, c, d, branch=branch), PHI)
+    k = _fd(fourbar_mechanism(a, b, c, d, branch=branch), PHI)
     A, B = k.point("crank", "A"), k.point("coupler", "B")
     O4 = k.point("rocker", "O4")
     np.testing.assert_allclose(np.hypot(B.x - A.x, B.y - A.y), b, rtol=1e-12)
@@ -64,7 +64,7 @@ def test_random_fourbar_closure_and_fd(t, b, c, d, branch):
        branch=st.sampled_from([1, -1]))
 def test_random_crank_slider_closure_and_fd(r, l, e, ang, branch):
     assume(l - r - abs(e) > 0.02 * (r + l))
-    k = _fd(crank_slider(r, l, e, guide_angle=ang, branch=branch), PHI)
+    k = _fd(crank_slider_mechanism(r, l, e, guide_angle=ang, branch=branch), PHI)
     A, B = k.point("crank", "A"), k.point("slider", "B")
     np.testing.assert_allclose(np.hypot(B.x - A.x, B.y - A.y), l, rtol=1e-12)
     # B on the guide: distance e from O, normal -sin/cos
@@ -84,7 +84,7 @@ def test_random_fourbar_power_and_momentum(t, b, c, d, masses, gdir, eps1):
     m = 0.02 * (b + c + d)
     a_max = min(b + c - d, d - abs(b - c)) - m
     assume(a_max > 0.02)
-    mech = fourbar(t * a_max, b, c, d, masses=masses)
+    mech = fourbar_mechanism(t * a_max, b, c, d, masses=masses)
     g = (9.81 * np.cos(gdir), 9.81 * np.sin(gdir))
     k = kinematics(mech, PHI, omega1=3.0, eps1=eps1)
     dyn = inverse_dynamics(k, gravity=g)

@@ -32,7 +32,7 @@ from linkwork.models.fourbar import fourbar_kinetostatics
 from linkwork.models.variable_structure import WORKING, VariableStructureMechanism
 from linkwork.planar.dynamics import inverse_dynamics
 from linkwork.planar.kinematics import kinematics
-from linkwork.planar.model import fourbar
+from linkwork.planar.model import fourbar_mechanism
 from linkwork.plot import Figure, pyplot
 from linkwork.redundancy import (
     Tolerance,
@@ -58,7 +58,7 @@ def _close_figures() -> Iterator[None]:
 
 @pytest.fixture(scope="module")
 def mech() -> Any:
-    return fourbar(0.1, 0.3, 0.2, 0.3, **PAPER)
+    return fourbar_mechanism(0.1, 0.3, 0.2, 0.3, **PAPER)
 
 
 def _check(fig: Any, n_axes: int) -> Figure:

@@ -17,8 +17,8 @@ from hypothesis import strategies as st
 from linkwork import redundancy as rd
 from linkwork.cli.reactions import load_problem
 from linkwork.errors import ParameterError, StructureError
-from linkwork.planar import crank_slider, kinematics
-from linkwork.planar.model import fourbar
+from linkwork.planar import crank_slider_mechanism, kinematics
+from linkwork.planar.model import fourbar_mechanism
 from linkwork.redundancy import (
     SpatialGeometry,
     SpatialJoint,
@@ -391,7 +391,7 @@ def test_count_crank_slider_round_guide_q2():
 def test_tilt_deviations_beyond_first_order_theory_are_named_in_the_api():
     from linkwork.redundancy import Deviation, Tolerance, spatial_reactions
 
-    mech = fourbar(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0), omega1=10.0)
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0), omega1=10.0)
     with pytest.raises(ParameterError, match="tx"):
         spatial_reactions(mech, [0.0, 1.0], deviations=[Deviation("O4", "frame", tx=0.5)])
     with pytest.raises(ParameterError, match="ty"):
@@ -440,7 +440,7 @@ def test_count_fourbar_by_hand(kinds, w0, w, q):
 
 def test_count_crank_slider_by_hand():
     """3 moving bodies, 3 R + 1 P, all class V: W0 = 18 - 20 = -2, W = 1, q = 3."""
-    mech = crank_slider(0.05, 0.2, 0.01, masses=(1, 1, 1))
+    mech = crank_slider_mechanism(0.05, 0.2, 0.01, masses=(1, 1, 1))
     kin = kinematics(mech, np.radians([37.0]))
     c = rd.count_redundancy(rd.spatial_model(mech), rd.geometry(mech, kin))
     assert (c.n_bodies, c.mobility_formula, c.mobility, c.redundant) == (3, -2, 1, 3)

@@ -22,8 +22,8 @@ from linkwork.errors import LinkworkError, ParameterError, StructureError
 from linkwork.planar import (
     BodyTorque,
     PointForce,
-    crank_slider,
-    fourbar,
+    crank_slider_mechanism,
+    fourbar_mechanism,
     inverse_dynamics,
     kinematics,
 )
@@ -41,7 +41,7 @@ PHI = np.linspace(0.0, 2 * np.pi, 36, endpoint=False)
 
 
 def _fourbar():
-    return fourbar(0.1, 0.3, 0.2, 0.3, masses=tuple(MASS), inertias=tuple(INERTIA),
+    return fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=tuple(MASS), inertias=tuple(INERTIA),
                    omega1=OMEGA1)
 
 
@@ -93,7 +93,7 @@ def test_engine_fourbar_equals_independent_reference_with_deviations():
 
 
 def test_engine_crank_slider_prismatic():
-    mech = crank_slider(0.05, 0.2, 0.01, masses=(1.0, 1.5, 2.0), omega1=20.0)
+    mech = crank_slider_mechanism(0.05, 0.2, 0.01, masses=(1.0, 1.5, 2.0), omega1=20.0)
     loads = [PointForce("slider", "B", fx=-50.0)]
     kin = kinematics(mech, PHI)
     model = spatial_model(mech, {"G": {"e": 0.06, "z": 0.0}}, default={"e": 0.02, "z": 0.01})
@@ -205,11 +205,11 @@ def test_spatial_inplane_reactions_equal_planar_with_deviations(case):
     equal the planar engine's inverse dynamics; both formulations agree; each body's z force
     balance holds with the out-of-plane load; the deviations do produce out-of-plane parts."""
     from linkwork.planar import PointForce, inverse_dynamics, kinematics
-    from linkwork.planar.model import crank_slider
+    from linkwork.planar.model import crank_slider_mechanism
     from linkwork.redundancy import Deviation, OutOfPlaneLoad, spatial_reactions
 
     if case == "slider":
-        mech = crank_slider(0.05, 0.2, 0.03, guide_angle=np.radians(35.0),
+        mech = crank_slider_mechanism(0.05, 0.2, 0.03, guide_angle=np.radians(35.0),
                             masses=(2.0, 3.0, 4.0), coms=((0.02, 0.01), 0.08), omega1=30.0)
         joints = {"G": {"kind": "prismatic", "e": 0.06, "z": 0.005},
                   "A": {"e": 0.02, "z": 0.01}}
