@@ -9,7 +9,7 @@ README = Path(__file__).resolve().parents[2] / "README.md"
 
 def test_readme_python_example_runs(tmp_path, monkeypatch, capsys):
     blocks = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)
-    assert len(blocks) == 1
+    assert len(blocks) == 2
     monkeypatch.chdir(tmp_path)
     exec(compile(blocks[0], "README.md", "exec"), {})
     out = capsys.readouterr().out
@@ -18,6 +18,31 @@ def test_readme_python_example_runs(tmp_path, monkeypatch, capsys):
     a = math.degrees(math.asin(2 * 0.05 / 0.150))
     assert f"{a:.4f}"[:6] in out and f"{180 - a:.4f}"[:6] in out
     assert (tmp_path / "idle.csv").read_text().startswith("phi1 [rad]")
+
+
+def test_readme_study_example_matches_the_closed_form_kinetostatics(tmp_path, monkeypatch, capsys):
+    """The second example (a study of examples/fourbar_paper001.toml) prints the peak driving
+    torque and crank-bearing load of the closed-form four-bar kinetostatics (Norton's free-body
+    equations in linkwork.models.fourbar, independent of the engine) for the file's data:
+    0.1/0.3/0.2/0.3 m, masses 1/3/2 kg, inertias 0.000833/0.0225/0.00567 kg m^2 about the
+    centres, 10 rad/s, no gravity. Tolerance: the printed digits."""
+    import numpy as np
+
+    from linkwork.models.fourbar import fourbar_kinetostatics
+
+    block = re.findall(r"```python\n(.*?)```", README.read_text(), flags=re.S)[1]
+    (tmp_path / "examples").symlink_to(README.parent / "examples")
+    monkeypatch.chdir(tmp_path)
+    exec(compile(block, "README.md", "exec"), {})
+    out = capsys.readouterr().out
+    phi = np.radians(np.linspace(0.0, 360.0, 361))
+    ref = fourbar_kinetostatics(phi, 0.1, 0.3, 0.2, 0.3, 10.0, mass=(1.0, 3.0, 2.0),
+                                inertia=(0.000833, 0.0225, 0.00567))
+    peak, load = re.search(r"peak driving torque ([0-9.]+) N m, peak load of bearing O "
+                           r"([0-9.]+) N", out).groups()
+    assert float(peak) == round(float(np.abs(ref.Q).max()), 3)
+    assert float(load) == round(float(np.hypot(ref.R_Ox, ref.R_Oy).max()), 2)
+    assert (tmp_path / "torque.png").stat().st_size > 1000
 
 
 def _readme_commands() -> list[list[str]]:
