@@ -104,7 +104,7 @@ Frequency = Annotated[float, BeforeValidator(_quantity("frequency"))]
 class FileModel(BaseModel):
     """Base of every file schema: unknown keys are errors, models are immutable."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
 
     @classmethod
     def from_data(cls, path: str | Path, data: dict[str, Any]) -> Self:

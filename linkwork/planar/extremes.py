@@ -12,7 +12,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from linkwork.planar.rates import group_pars, vel_at
 from linkwork.planar.state import Arr, State
@@ -81,6 +80,8 @@ def _refine_dead_centre(plan: Plan, resolve: Resolve, g: PlanGroup, lo: float, h
     """The zero of the group's rate between driver positions lo and hi, to ~1e-13 [rad or m]:
     Brent's method on single-position analyses (unit driver speed, no acceleration), falling
     back to ``guess`` (linear interpolation) where that is not possible."""
+
+    from scipy.optimize import brentq  # lazily: 0.2 s of import that `linkwork --help` skips
 
     def rate(x: float) -> float:
         return float(group_rate(plan, resolve(x), g)[1][0])
