@@ -315,6 +315,6 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
         table_transmission=transmission_angles(tk), dead_centres=dcs,
         dead_centre_labels=[dead_centre_label(mech, d) for d in dcs],
         peaks=cycle_peaks(kin, dyn, trans),
-        means={"Q_mean": mean_over_range(kin.phi1, dyn.Q),
+        means={"Q_mean": dyn.Q_mean,
                "power_mean": mean_over_range(kin.phi1, dyn.power)},
         paths=paths)
