@@ -3,8 +3,11 @@
 Each check returns the value in the form the computation needs (a float array, a Python float,
 an int branch) or raises :class:`~linkwork.errors.ParameterError` naming the parameter, its value
 and the limit. Checked public functions call them at their boundary; kernels do not check again
-(``docs/architecture.md``). The plain-comparison helpers :func:`py_float` and :func:`all_finite`
-serve the fast paths of closed forms that are called in tight loops.
+(``docs/architecture.md``). For one design given in Python numbers the checks cost plain
+comparisons and return Python floats (:func:`finite_value`, :func:`positive_value`,
+:func:`require_branch`), so that closed forms called in tight loops check each argument once,
+without a second "fast path" of their own; :func:`py_float` and :func:`all_finite` are the
+plain-comparison pieces.
 """
 
 from __future__ import annotations
@@ -202,6 +205,8 @@ def require_pair(name: str, value: Any) -> tuple[Any, Any]:
 
 def require_branch(branch: Any, name: str = "branch") -> int:
     """An assembly branch: +1 or -1, one per call (an array, a string or a bool is named)."""
+    if type(branch) is int and (branch == 1 or branch == -1):
+        return branch
     if (np.ndim(branch) != 0 or isinstance(branch, str | bool)
             or branch not in (1, -1)):
         raise ParameterError(name, branch, "must be +1 or -1 (one branch per call)")

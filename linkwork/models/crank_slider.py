@@ -28,7 +28,6 @@ References
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, Literal, NamedTuple
@@ -37,9 +36,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.checks import (
-    all_finite,
     common_shape,
-    py_float,
+    finite_value,
+    positive_value,
     require_branch,
     require_finite,
     require_positive,
@@ -65,8 +64,6 @@ __all__ = [
 #: guide): the transfer functions are unbounded there.
 COS_PHI2_MIN = 1e-7
 
-_F64 = np.dtype(float)
-_INF = math.inf
 _min = np.minimum.reduce
 
 
@@ -241,45 +238,35 @@ def offset_crank_slider(phi1: ArrayLike, L1: ArrayLike, lambda2: ArrayLike, lamb
     .. [1] Toktakunov, Zh. Sh. Analytic determination of the kinematics of a variable-structure
        sine mechanism (paper 000).
     """
-    # The common call -- one design in Python numbers over a 1-D array of crank angles, every
-    # position assembling -- is checked with plain comparisons; anything else (arrays of designs,
-    # a bad value, a position that does not assemble) takes the general path, whose checks name
-    # the parameter.  Measured: the general checks cost a fifth of a 360-position evaluation.
-    if type(phi1) is np.ndarray and phi1.dtype is _F64 and phi1.ndim == 1 and phi1.size:
-        L1f, lam2f, lamef = py_float(L1), py_float(lambda2), py_float(lambda_e)
-        w1f, e1f = py_float(omega1), py_float(eps1)
-        if (L1f is not None and lam2f is not None and lamef is not None and w1f is not None
-                and e1f is not None and 0.0 < L1f < _INF and 0.0 < lam2f < _INF
-                and -_INF < lamef < _INF and -_INF < w1f < _INF and -_INF < e1f < _INF
-                and type(branch) is int and (branch == 1 or branch == -1)
-                and on_failure in ("raise", "nan") and all_finite(phi1)):
-            res = _evaluate(phi1, phi1.shape, L1f, lam2f, lamef, w1f, e1f, branch, None)
-            if res is not None:
-                return res
+    # Each argument is checked once, by the named checks of linkwork.checks; for the common call
+    # (one design in Python numbers, a float64 array of angles) they cost plain comparisons
+    # (Python floats stay floats: a 0-d array costs ~0.5 us per arithmetic operation).
     branch = require_branch(branch)
     if on_failure not in ("raise", "nan"):
         raise ParameterError("on_failure", on_failure, "must be 'raise' or 'nan'")
     phi1_a = require_finite("phi1", phi1)
-    L1_a = require_positive("L1", L1)
-    lam2 = require_positive("lambda2", lambda2)
-    lame = require_finite("lambda_e", lambda_e)
-    w1 = require_finite("omega1", omega1)
-    e1 = require_finite("eps1", eps1)
-    shape = common_shape(phi1=phi1_a, L1=L1_a, lambda2=lam2, lambda_e=lame, omega1=w1, eps1=e1)
-    # Every output depends on phi1, so broadcasting phi1 alone to the common shape makes every
-    # output that shape; the parameters broadcast in the arithmetic (no copies).
-    phi1_b = phi1_a if phi1_a.shape == shape else np.broadcast_to(phi1_a, shape)
+    L1_v = positive_value("L1", L1)
+    lam2 = positive_value("lambda2", lambda2)
+    lame = finite_value("lambda_e", lambda_e)
+    w1 = finite_value("omega1", omega1)
+    e1 = finite_value("eps1", eps1)
+    if type(L1_v) is float and type(lam2) is float and type(lame) is float \
+            and type(w1) is float and type(e1) is float:
+        shape = phi1_a.shape  # one design: the outputs have the shape of the angles
+        phi1_b = phi1_a
+    else:
+        shape = common_shape(phi1=phi1_a, L1=np.asarray(L1_v), lambda2=np.asarray(lam2),
+                             lambda_e=np.asarray(lame), omega1=np.asarray(w1),
+                             eps1=np.asarray(e1))
+        # Every output depends on phi1, so broadcasting phi1 alone to the common shape makes
+        # every output that shape; the parameters broadcast in the arithmetic (no copies).
+        phi1_b = phi1_a if phi1_a.shape == shape else np.broadcast_to(phi1_a, shape)
 
     def fail(bad: np.ndarray) -> None:
         if on_failure == "raise":
             _raise_assembly(phi1_a, bad, lam2, lame)
 
-    args: tuple[Any, ...] = (L1_a, lam2, lame, w1, e1)
-    if L1_a.ndim == lam2.ndim == lame.ndim == w1.ndim == e1.ndim == 0:
-        # one design: Python floats in the arithmetic (a 0-d array costs ~0.5 us per operation)
-        args = tuple(float(a) for a in args)
-    L1v, lam2v, lamev, w1v, e1v = args
-    res = _evaluate(phi1_b, shape, L1v, lam2v, lamev, w1v, e1v, branch, fail)
+    res = _evaluate(phi1_b, shape, L1_v, lam2, lame, w1, e1, branch, fail)
     assert res is not None
     return res
 
@@ -354,8 +341,7 @@ def _evaluate(phi1: np.ndarray, shape: tuple[int, ...], L1: Any, lam2: Any, lame
     })
 
 
-def _raise_assembly(phi1: np.ndarray, bad: np.ndarray, lam2: np.ndarray,
-                    lame: np.ndarray) -> None:
+def _raise_assembly(phi1: np.ndarray, bad: np.ndarray, lam2: Any, lame: Any) -> None:
     if phi1.ndim <= 1 and phi1.size > 1:
         order = np.argsort(phi1)
         per_angle = np.asarray(bad.reshape(-1, bad.shape[-1]).any(axis=0))
@@ -363,6 +349,7 @@ def _raise_assembly(phi1: np.ndarray, bad: np.ndarray, lam2: np.ndarray,
     else:
         vals = np.unique(np.broadcast_to(phi1, bad.shape)[bad])
         ranges = [(v, v) for v in vals[:8]]
+    lam2, lame = np.asarray(lam2), np.asarray(lame)  # Python floats for one design
     shape = np.broadcast_shapes(lam2.shape, lame.shape)
     l2_all = np.broadcast_to(lam2, shape)
     lim_all = np.broadcast_to(assembly_limit(lame), shape)

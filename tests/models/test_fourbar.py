@@ -767,11 +767,11 @@ def test_property_rocker_limits_are_stationary_points_of_theta4(a, b, c, d, bran
 
 
 @pytest.mark.parametrize("branch", [1, -1])
-def test_fast_path_equals_the_checked_path_exactly(branch, monkeypatch):
-    """One design in Python floats over a float64 array is checked with plain comparisons; the
-    same call with numpy scalars and a list of angles takes the named checks.  Both run the
-    same kernel: every field bit-identical.  Blocked evaluation (>= 16384 positions) gives the
-    same numbers as one call."""
+def test_python_numbers_and_numpy_arguments_give_identical_results(branch, monkeypatch):
+    """One design in Python floats over a float64 array reaches the kernel as Python floats (the
+    checks keep them); the same call with numpy scalars and a list of angles as 0-d arrays.
+    Both run the same kernel: every field bit-identical.  Blocked evaluation (>= 16384
+    positions) gives the same numbers as one call."""
     from linkwork.models import fourbar as fb
 
     calls = []
