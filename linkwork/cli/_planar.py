@@ -12,6 +12,7 @@ paths, guides and slots, driving torque, reactions, shaking).
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -49,32 +50,50 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
     return study
 
 
+@dataclass(frozen=True)
+class _Shown:
+    """How the tables show the driver: its coordinate (name, unit, from SI) and its load."""
+
+    position: str        # column head of the driver position
+    unit: str            # display unit of the position
+    scale: float         # SI -> display unit
+    load: str            # "driving torque" / "driving force"
+    load_unit: str       # unit of Q as printed
+
+
+#: by the unit of the driver coordinate (``Crank.coordinate``, ``Linear.coordinate``)
+_SHOWN = {"rad": _Shown("φ1 [deg]", "deg", 180.0 / np.pi, "driving torque", "N·m"),
+          "m": _Shown("s1 [mm]", "mm", 1e3, "driving force", "N")}
+
+
+def _shown(study: PlanarStudy) -> _Shown:
+    return _SHOWN[study.mechanism.driver.coordinate[1]]
+
+
 def _structure_and_dead_centres(study: PlanarStudy, console: Any) -> None:
-    s, crank = study.structure, study.crank
+    s, shown = study.structure, _shown(study)
     title = escape(study.doc.name or "planar mechanism")
     console.print(f"[bold]{title}[/bold]: mobility W = {s.mobility}; structure {s.formula()}")
     if study.dead_centres:
-        unit = "deg" if crank else "mm"
-        conv = np.degrees if crank else (lambda v: v * 1e3)
         console.print("dead centres:")
         for d, (label, _) in zip(study.dead_centres, study.dead_centre_labels, strict=True):
-            console.print(f"  {escape(label)} at {conv(d.phi1):.2f} {unit}")
+            console.print(f"  {escape(label)} at {d.phi1 * shown.scale:.2f} {shown.unit}")
 
 
 def _table(study: PlanarStudy) -> Table:
-    crank, tphi = study.crank, study.table_positions
+    shown, tphi = _shown(study), study.table_positions
     tk, td, trans = study.table_kinematics, study.table_dynamics, study.table_transmission
     ab = np.asarray(study.dynamics.about, dtype=float) * 1e3
     table = Table(title=escape(
-        f"{'driving torque' if crank else 'driving force'}, joint reactions |R| (force of a on "
+        f"{shown.load}, joint reactions |R| (force of a on "
         f"b), shaking force and moment (about ({ab[0]:g}, {ab[1]:g}) mm)"))
-    heads = ["φ1 [deg]" if crank else "s1 [mm]", "Q [N·m]" if crank else "Q [N]"]
+    heads = [shown.position, f"Q [{shown.load_unit}]"]
     heads += [f"|R {j}| [N]" for j in td.joints]
     heads += ["|F_sh| [N]", "M_sh [N·m]"] + [f"μ {key} [deg]" for key in trans]
     for h in heads:  # escape: "[mm]", "[deg]" would be read as Rich markup
         table.add_column(escape(h), justify="right", min_width=len(h), no_wrap=True)
     for i in range(tk.n):
-        row = [f"{np.degrees(tphi[i]) if crank else tphi[i] * 1e3:.1f}", f"{td.Q[i]:.4g}"]
+        row = [f"{tphi[i] * shown.scale:.1f}", f"{td.Q[i]:.4g}"]
         row += [f"{td.reaction_magnitude(j)[i]:.4g}" for j in td.joints]
         row += [f"{np.hypot(td.shaking_fx[i], td.shaking_fy[i]):.4g}", f"{td.shaking_m[i]:.4g}"]
         row += [f"{np.degrees(mu[i]):.1f}" for mu, _ in trans.values()]
@@ -83,20 +102,19 @@ def _table(study: PlanarStudy) -> Table:
 
 
 def _extremes(study: PlanarStudy) -> Table:
-    crank = study.crank
-    where = "φ1 [deg]" if crank else "s1 [mm]"
+    shown = _shown(study)
     ptab = Table(title=escape(f"extremes over the cycle ({study.kinematics.n} positions of "
                               "[analysis])"))
     ptab.add_column("quantity", no_wrap=True)
-    for h in ("value", where):
+    for h in ("value", shown.position):
         ptab.add_column(escape(h), justify="right", no_wrap=True)
     for pk in study.peaks:
-        pos = np.degrees(pk["phi1"]) if crank else pk["phi1"] * 1e3
+        pos = pk["phi1"] * shown.scale
         value, unit = pk["value"], pk["unit"].replace("*", "·")
         if unit == "rad":  # transmission angles: shown in degrees, as in the table above
             value, unit = np.degrees(value), "deg"
         ptab.add_row(escape(f"{pk['name']} [{unit}]"), f"{value:.4g}", f"{pos:.1f}")
-    ptab.add_row(escape(f"Q mean (work / range) [{'N·m' if crank else 'N'}]"),
+    ptab.add_row(escape(f"Q mean (work / range) [{shown.load_unit}]"),
                  f"{study.means['Q_mean']:.4g}", "")
     ptab.add_row("driving power, mean [W]", f"{study.means['power_mean']:.4g}", "")
     return ptab

@@ -58,11 +58,11 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
     """Readable per-position columns: name -> (values, unit). ``transmission``: the result of
     :func:`~linkwork.planar.transmission_angles` of ``kin`` if already computed."""
     mech = kin.mechanism
-    crank = isinstance(mech.driver, Crank)
+    units = mech.driver.field_units  # rad, rad/s, rad/s^2, N*m of a crank; m, m/s, m/s^2, N
     cols: dict[str, tuple[np.ndarray, str]] = {
-        "phi1": (kin.phi1, "rad" if crank else "m"),
-        "omega1": (kin.omega1, "rad/s" if crank else "m/s"),
-        "eps1": (kin.eps1, "rad/s^2" if crank else "m/s^2"),
+        "phi1": (kin.phi1, units["phi1"]),
+        "omega1": (kin.omega1, units["omega1"]),
+        "eps1": (kin.eps1, units["eps1"]),
     }
     for b in mech.bodies:
         i = mech.index[b.name]
@@ -77,7 +77,7 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
         cols[f"R_{j}.y"] = (dyn.fy[k], "N")
         if np.any(dyn.mz[k] != 0):
             cols[f"R_{j}.mz"] = (dyn.mz[k], "N*m")
-    cols["Q"] = (dyn.Q, "N*m" if crank else "N")
+    cols["Q"] = (dyn.Q, units["Q"])
     cols["shaking_fx"] = (dyn.shaking_fx, "N")
     cols["shaking_fy"] = (dyn.shaking_fy, "N")
     cols["shaking_m"] = (dyn.shaking_m, "N*m")
@@ -116,8 +116,7 @@ def cycle_peaks(kin: Kinematics, dyn: Dynamics, transmission: Transmission | Non
     between them); unassembled positions (NaN) are skipped. ``transmission``: the result of
     :func:`~linkwork.planar.transmission_angles` of ``kin`` if already computed.
     """
-    crank = isinstance(kin.mechanism.driver, Crank)
-    unit_q = "N*m" if crank else "N"
+    unit_q = kin.mechanism.driver.field_units["Q"]
     series: list[tuple[str, np.ndarray, str, str]] = [
         ("Q max", dyn.Q, unit_q, "max"), ("Q min", dyn.Q, unit_q, "min")]
     for k, j in enumerate(dyn.joints):
@@ -253,13 +252,13 @@ class PlanarStudy:
             "shaking_sign": ("force and moment exerted by the moving bodies on the frame "
                              "(motor reaction included), moment counter-clockwise + about "
                              f"({a_x:g}, {a_y:g}) m"),
-            "positions_unit": "rad" if crank else "m",
+            "positions_unit": mech.driver.field_units["phi1"],
             "dead_centres": [{"group": d.group, "body": d.body, "phi1": d.phi1, "kind": d.kind,
                               "of": lab[0], "joint": lab[1]}
                              for d, lab in zip(self.dead_centres, self.dead_centre_labels,
                                                strict=True)],
             "peaks": self.peaks,
-            "means": {**self.means, "units": {"Q_mean": "N*m" if crank else "N",
+            "means": {**self.means, "units": {"Q_mean": mech.driver.field_units["Q"],
                                               "power_mean": "W"}},
             "units": {k: u for k, (_, u) in cols.items()},
             "columns": {k: [None if not np.isfinite(x) else float(x) for x in v]
