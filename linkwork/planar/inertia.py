@@ -121,14 +121,11 @@ def inertia_wrenches(kin: Kinematics, gravity: ArrayLike | None = None) -> Inert
         if gv.shape != (2,):
             raise ParameterError("gravity", gravity, "must be a vector (gx, gy) [m/s^2]")
         g = (float(gv[0]), float(gv[1]))
-    nm, n = len(mech.bodies), kin.n
-    cx, cy, fx, fy, mz = (np.empty((nm, n)) for _ in range(5))
-    for k, b in enumerate(mech.bodies):
-        c = kin.point(b.name, "com")
-        cx[k], cy[k] = c.x, c.y
-        fx[k], fy[k] = inertia_force(b.mass, c.ax, c.ay, g[0], g[1])
-        mz[k] = inertia_couple(b.inertia, kin.eps[mech.index[b.name]])
-    return InertiaWrenches(tuple(b.name for b in mech.bodies),
-                           np.array([b.mass for b in mech.bodies], dtype=float),
-                           np.array([b.inertia for b in mech.bodies], dtype=float),
+    mass = np.array([b.mass for b in mech.bodies], dtype=float)
+    inertia = np.array([b.inertia for b in mech.bodies], dtype=float)
+    c = kin.centres_of_mass()  # (bodies, positions), rows 1.. of the kinematics
+    fx, fy = inertia_force(mass[:, None], c.ax, c.ay, g[0], g[1])
+    mz = inertia_couple(inertia[:, None], kin.eps[1:1 + len(mech.bodies)])
+    cx, cy = c.x, c.y
+    return InertiaWrenches(tuple(b.name for b in mech.bodies), mass, inertia,
                            cx, cy, fx, fy, mz, g)

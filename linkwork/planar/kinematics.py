@@ -152,12 +152,25 @@ class Kinematics(Result):
         i = self._row(body)
         p = self.mechanism.body(body).point(point) if isinstance(point, str) else require_point(
             f"point of {body}", point)
-        c, s = self._cos_sin[0][i], self._cos_sin[1][i]
-        rx, ry = c * p[0] - s * p[1], s * p[0] + c * p[1]
-        w, e = self.omega[i], self.eps[i]
-        return PointMotion(self.phi1, self.x[i] + rx, self.y[i] + ry,
-                           self.vx[i] - w * ry, self.vy[i] + w * rx,
-                           self.ax[i] - e * ry - w * w * rx, self.ay[i] + e * rx - w * w * ry)
+        return PointMotion(self.phi1, *self._motion(i, p[0], p[1]))
+
+    def centres_of_mass(self) -> PointMotion:
+        """Motion of the centres of mass of the moving bodies, in the mechanism's order: every
+        field of shape ``(n_moving_bodies, n)`` (the same numbers as :meth:`point` per body)."""
+        bodies = self.mechanism.bodies
+        com = np.array([b.point("com") for b in bodies], dtype=float).reshape(-1, 2)
+        # the moving bodies are rows 1.. of the arrays, in order: a slice, so no copies
+        return PointMotion(self.phi1, *self._motion(slice(1, 1 + len(bodies)), com[:, :1],
+                                                    com[:, 1:]))
+
+    def _motion(self, rows: int | slice, px: Any, py: Any) -> tuple[Arr, ...]:
+        """x, y, vx, vy, ax, ay of the body-frame points (px, py) of the bodies in ``rows``."""
+        c, s = self._cos_sin[0][rows], self._cos_sin[1][rows]
+        rx, ry = c * px - s * py, s * px + c * py
+        w, e = self.omega[rows], self.eps[rows]
+        return (self.x[rows] + rx, self.y[rows] + ry, self.vx[rows] - w * ry,
+                self.vy[rows] + w * rx, self.ax[rows] - e * ry - w * w * rx,
+                self.ay[rows] + e * rx - w * w * ry)
 
     def angle(self, body: str) -> Arr:
         """Angle of ``body``'s x-axis [rad] (continuous only where the model is)."""

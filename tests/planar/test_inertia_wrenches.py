@@ -127,3 +127,15 @@ def test_massless_bodies_add_nothing_and_bad_arguments_are_refused():
         inertia_wrenches(kin, (0.0, -9.81, 0.0))
     with pytest.raises(ParameterError, match="kin"):
         inertia_wrenches(mech)  # type: ignore[arg-type]
+
+
+def test_centres_of_mass_equal_point_motion_of_each_body():
+    """Kinematics.centres_of_mass() (all bodies at once, the rows of inertia_wrenches) gives
+    bit for bit what Kinematics.point(body, "com") gives body by body."""
+    mech, kin = _fourbar()
+    com = kin.centres_of_mass()
+    for k, b in enumerate(mech.bodies):
+        one = kin.point(b.name, "com")
+        for name in ("x", "y", "vx", "vy", "ax", "ay"):
+            np.testing.assert_array_equal(getattr(com, name)[k], getattr(one, name),
+                                          err_msg=f"{b.name}.{name}")
