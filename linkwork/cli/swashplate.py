@@ -24,6 +24,7 @@ from rich.table import Table
 from linkwork import io
 from linkwork.cli._args import output_dir, parse_angles
 from linkwork.cli._console import console as make_console
+from linkwork.cli._format import fmt
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.swashplate import SwashplateFile
 from linkwork.models import swashplate as sw
@@ -137,9 +138,10 @@ def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
         save(plot_drive_forces(f)[0].figure, out / "forces.png")
         u = study.doc.operation.positions
         slides = f"{u} slide" + ("" if u == 1 else "s")
+        eff = (fmt(f.efficiency, decimals=4) if math.isfinite(f.efficiency) else
+               "undefined (the load does no net work per revolution)")
         console.print(f"drive: peak rod force {np.max(np.abs(f.S)) * 1e-3:.4g} kN, peak torque "
-                      f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), "
-                      f"efficiency {f.efficiency:.4f}")
+                      f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), efficiency {eff}")
     write_json(out / "characteristics.json", _json_values(study.to_dict()))
     console.print(f"written: {out}/cycle.csv, cycle.json, characteristics.json, kinematics.png"
                   + (", forces.csv, forces.json, forces.png" if f is not None else ""))
