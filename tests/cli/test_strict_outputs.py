@@ -126,3 +126,67 @@ def test_swashplate_4a_efficiency_is_undefined_exactly_where_the_load_is_zero(tm
     assert all(e == (float(r[F]) == 0.0) for e, r in zip(empty, rows[1:], strict=True))
     data = strict_json(out / "forces.json")
     assert sum(v is None for v in data["columns"]["eta_inst"]) == 242
+
+
+def test_fmt_prints_round_off_as_zero_and_undefined_as_dash():
+    from linkwork.cli._format import ROUND_OFF, fmt, scale_of, unit_label
+
+    assert ROUND_OFF == 1e-9
+    # the issue's two cases: a closed cycle's mean torque, a planar joint's out-of-plane force
+    assert fmt(2.209e-16, 3.528) == "0" and fmt(-7e-14, 79.84) == "0"
+    assert fmt(-7e-14) == "-7e-14"  # no scale: no round-off test
+    assert fmt(3.6e-9, 3.528) == "3.6e-09"  # above 1e-9 of the scale: a value
+    assert fmt(1.2345678, 10.0) == format(1.2345678, ".4g")
+    assert fmt(0.0012345, 0.0, 5) == format(0.0012345, ".5g")
+    assert fmt(-1e-20, 1.0, decimals=3) == "0.000" and fmt(-0.0004, decimals=3) == "0.000"
+    assert fmt(2.0005, decimals=3) == f"{round(2.0005, 3):.3f}"
+    assert fmt(-0.0) == "0" and fmt(float("nan"), 1.0) == "-"
+    assert scale_of([1.0, -5.0, float("nan")], 2.0, [[float("inf")]]) == 5.0
+    assert scale_of() == 0.0 and unit_label("N*m") == "N·m" and unit_label("kg*m") == "kg·m"
+
+
+def _row_values(stdout, label):
+    """The cells of the table row starting with ``label``."""
+    for line in stdout.splitlines():
+        cells = [c.strip() for c in line.strip("│ ").split("│")]
+        if cells and cells[0] == label:
+            return cells[1:]
+    raise AssertionError(f"no row {label!r} in\n{stdout}")
+
+
+def test_round_off_prints_as_zero_while_files_keep_it(tmp_path, capsys):
+    """The four-bar of paper 001 is conservative (no load, no gravity): the mean driving
+    torque over its closed cycle is 0 up to round-off. Printed 0; the JSON keeps the number
+    as computed (round-off is data), below 1e-9 of the peak torque."""
+    f = ROOT / "examples" / "fourbar_paper001.toml"
+    out = tmp_path / "a"
+    code, stdout, stderr = run_cli(["analyze", str(f), "--out", str(out)], capsys)
+    assert code == 0, stderr
+    assert _row_values(stdout, "Q mean (work / range) [N·m]")[0] == "0"
+    assert _row_values(stdout, "driving power, mean [W]")[0] == "0"
+    data = strict_json(out / "planar.json")
+    q = data["columns"]["Q"]
+    peak = max(abs(x) for x in q)
+    assert 0 < abs(data["means"]["Q_mean"]) < 1e-9 * peak  # kept as computed in the file
+    # the reactions of a planar mechanism without out-of-plane loads: fz, mx, my are round-off
+    out = tmp_path / "r"
+    code, stdout, stderr = run_cli(["reactions", str(f), "--no-plots", "--out", str(out)],
+                                   capsys)
+    assert code == 0, stderr
+    for joint in ("O", "A", "B", "C"):
+        assert _row_values(stdout, joint)[2:5] == ["0", "0", "0"], stdout
+    cols = strict_json(out / "reactions.json")["columns"]
+    assert any(x != 0.0 for x in cols["fz_A"])  # the file keeps the round-off
+
+
+def test_tables_spell_newton_metre_with_a_dot_and_files_keep_n_star_m(tmp_path, capsys):
+    f = ROOT / "examples" / "fourbar_paper001.toml"
+    out = tmp_path / "b"
+    code, stdout, stderr = run_cli(["balance", str(f), "--out", str(out)], capsys)
+    assert code == 0, stderr
+    assert "N*m" not in stdout and "kg*m" not in stdout and "[N·m]" in stdout
+    summary = strict_json(out / "balance_summary.json")
+    assert "N*m" in json.dumps(summary)  # the files keep the SI strings
+    with (out / "balance_cycle.csv").open(newline="") as fh:
+        head = next(csv.reader(fh))
+    assert any("[N*m]" in h for h in head) and not any("·" in h for h in head)
