@@ -107,10 +107,10 @@ def _tables(study: BalanceStudy, console: Any) -> None:
     if not fb.full:
         console.print(escape(f"  not fully balanceable: {fb.reason}"))
     for cw in comp.counterweights:
-        r = cw.radius if cw.radius is not None else float("nan")
-        console.print(escape(f"  counterweight on {cw.link}: S = {cw.static_moment:.5g} kg·m "
-                             f"at {np.degrees(cw.angle):.2f} deg, r = {r * 1000:.4g} mm, "
-                             f"m = {cw.mass():.4g} kg"))
+        rm = ("no radius: mass not known" if cw.radius is None else
+              f"r = {fmt(cw.radius * 1000)} mm, m = {fmt(cw.mass())} kg")
+        console.print(escape(f"  counterweight on {cw.link}: S = {fmt(cw.static_moment, 0, 5)} "
+                             f"kg·m at {fmt(np.degrees(cw.angle), decimals=2)} deg, {rm}"))
     mm = [fmt(v * 1000, decimals=2) for v in (comp.x2, comp.y2, comp.x3, comp.y3)]
     console.print(f"moved crank-counterweight axis O1: first harmonic (x, y) = "
                   f"({mm[0]}, {mm[1]}) mm; least squares over the table = ({mm[2]}, {mm[3]}) mm")
