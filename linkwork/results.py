@@ -14,6 +14,7 @@ import csv
 import dataclasses
 import functools
 import json
+import math
 from pathlib import Path
 from typing import Any, ClassVar
 
@@ -21,7 +22,7 @@ import numpy as np
 
 from linkwork.errors import ParameterError
 
-__all__ = ["Result", "all_true", "write_csv", "write_json"]
+__all__ = ["Result", "all_true", "strict_json_values", "write_csv", "write_json"]
 
 
 @functools.lru_cache(maxsize=64)
@@ -37,27 +38,92 @@ def all_true(shape: tuple[int, ...]) -> np.ndarray:
     return arr
 
 
+_TOO_LARGE = ("must be finite: an input is too large for double precision (check the "
+              "magnitudes and units of speeds, lengths and loads)")
+
+
+def _refuse_inf(name: str, values: Any) -> None:
+    """Raise a :class:`ParameterError` naming ``name`` if ``values`` hold an infinity."""
+    arr = np.asarray(values)
+    if arr.dtype.kind in "fc" and np.isinf(arr).any():
+        raise ParameterError(name, f"inf at {int(np.isinf(arr).sum())} of {arr.size} positions",
+                             _TOO_LARGE)
+
+
+def _cell(x: float) -> str:
+    """A CSV cell: ``repr(float)``, or empty for NaN (a value undefined at that position)."""
+    return "" if x != x else repr(x)
+
+
 def write_csv(path: str | Path, columns: dict[str, tuple[Any, str]]) -> Path:
     """Write equal-length columns as CSV: header ``name [unit]``, values as ``repr(float)``.
 
     The one CSV writer of linkwork: every result and every command's table goes through it, so
-    that all CSV files read the same way (full double precision, units in the header).
-    ``columns`` maps a column name to ``(values, unit)``.  Returns the path.
+    that all CSV files read the same way (full double precision, units in the header; a value
+    smaller than round-off stays as computed: round-off there is data).  ``columns`` maps a
+    column name to ``(values, unit)``.  Returns the path.
+
+    An empty cell is a value undefined at that position: unassembled (a result computed with
+    ``on_failure="nan"``), or 0/0 (e.g. the efficiency of a slide that carries no load); NaN in
+    the arrays is written so, never as ``nan``.  An infinite value is refused before the file
+    is opened (:class:`~linkwork.errors.ParameterError` naming the column): it means an input
+    beyond double precision, not a result.
     """
+    for name, (values, _) in columns.items():
+        _refuse_inf(name, values)
     p = Path(path)
     with p.open("w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow([f"{k} [{u}]" for k, (_, u) in columns.items()])
         for row in zip(*(np.asarray(v) for v, _ in columns.values()), strict=True):
-            w.writerow([repr(float(x)) for x in row])
+            w.writerow([_cell(float(x)) for x in row])
     return p
 
 
+def _strict_item(value: Any, where: str) -> Any:
+    if isinstance(value, dict | list | tuple):
+        return strict_json_values(value, where)
+    if isinstance(value, float):  # also numpy.float64
+        if value != value:
+            return None
+        if math.isinf(value):
+            raise ParameterError(where or "value", value, _TOO_LARGE)
+    return value
+
+
+def strict_json_values(data: Any, where: str = "") -> Any:
+    """``data`` with every NaN replaced by ``None`` (JSON ``null``), for strict JSON.
+
+    Dicts, lists and tuples are walked (tuples become lists, as JSON writes them); a float NaN
+    (Python or NumPy double) becomes ``None``; an infinite float is refused with a
+    :class:`~linkwork.errors.ParameterError` naming its key path (``where`` is the path of
+    ``data``), since it means an input beyond double precision.  Everything else is returned
+    as it is.
+    """
+    if isinstance(data, dict):
+        return {k: _strict_item(v, f"{where}.{k}" if where else str(k))
+                for k, v in data.items()}
+    if isinstance(data, list | tuple):
+        out = []
+        for i, v in enumerate(data):
+            if isinstance(v, float) and v == v and not math.isinf(v):
+                out.append(v)  # the common case, without building the key path
+            else:
+                out.append(_strict_item(v, f"{where}[{i}]"))
+        return out
+    return _strict_item(data, where)
+
+
 def write_json(path: str | Path, data: Any) -> Path:
-    """Write ``data`` (JSON-able Python values) as indented JSON; the one JSON writer.  Returns
-    the path."""
+    """Write ``data`` (JSON-able Python values) as indented, strict JSON; the one JSON writer.
+
+    Strict: NaN (a value undefined at a position, see :func:`write_csv`) is written as
+    ``null``, never as the bare ``NaN`` that strict parsers reject; an infinite value is
+    refused before the file is opened (:func:`strict_json_values`).  Returns the path.
+    """
+    text = json.dumps(strict_json_values(data), indent=1, allow_nan=False)
     p = Path(path)
-    p.write_text(json.dumps(data, indent=1))
+    p.write_text(text)
     return p
 
 
@@ -131,30 +197,32 @@ class Result:
     def _check_no_overflow(self, cols: dict[str, np.ndarray]) -> None:
         """Refuse to write infinite values: they mean an input far beyond double precision
         (e.g. a crank speed of 1e200 rad/s squared into an acceleration), not a result.  NaN
-        stays (positions that cannot be assembled, with ``on_failure="nan"``)."""
+        stays: a value undefined at a position (unassembled with ``on_failure="nan"``, or
+        0/0), written as an empty CSV cell and JSON ``null``."""
         for k, v in cols.items():
-            arr = np.asarray(v)
-            if arr.dtype.kind == "f" and np.isinf(arr).any():
-                raise ParameterError(
-                    k, f"inf at {int(np.isinf(arr).sum())} of {arr.size} positions",
-                    "must be finite: an input is too large for double precision (check the "
-                    "magnitudes and units of speeds, lengths and loads)")
+            _refuse_inf(k, v)
 
     def to_dict(self) -> dict[str, Any]:
-        """Everything as JSON-able Python values, with units."""
+        """Everything as strict-JSON-able Python values, with units.
+
+        A value undefined at a position (NaN in the arrays: unassembled, or 0/0) is ``None``
+        (JSON ``null``), as :func:`write_json` writes it; an infinite value is refused
+        (:class:`~linkwork.errors.ParameterError` naming the field).
+        """
         data: dict[str, Any] = {"type": type(self).__name__, "units": dict(self.units)}
         data.update(self.scalars())
         cols = self.columns()
         self._check_no_overflow(cols)
         data["columns"] = {k: v.tolist() for k, v in cols.items()}
-        return data
+        return strict_json_values(data)
 
     def to_json(self, path: str | Path) -> Path:
         """Write :meth:`to_dict` as JSON; return the path."""
         return write_json(path, self.to_dict())
 
     def to_csv(self, path: str | Path) -> Path:
-        """Write the per-position columns as CSV with a unit row in the header names."""
+        """Write the per-position columns as CSV with a unit row in the header names (through
+        :func:`write_csv`: a value undefined at a position is an empty cell)."""
         cols = self.columns() or {  # a single position: one row of its numbers
             k: np.atleast_1d(v) for k, v in self.scalars().items()
             if isinstance(v, int | float)}

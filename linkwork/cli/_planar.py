@@ -20,6 +20,7 @@ import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
+from linkwork.cli._format import fmt, scale_of, unit_label
 from linkwork.io.planar import PlanarFile
 from linkwork.results import write_csv, write_json
 from linkwork.studies import planar as study_planar
@@ -80,9 +81,22 @@ def _structure_and_dead_centres(study: PlanarStudy, console: Any) -> None:
             console.print(f"  {escape(label)} at {d.phi1 * shown.scale:.2f} {shown.unit}")
 
 
+def _scales(study: PlanarStudy) -> dict[str, float]:
+    """The round-off scale of each unit (``N``, ``N*m``; the driver's ``Q`` in its own unit):
+    the largest peak over the cycle of the quantities in that unit (:func:`fmt`)."""
+    scales: dict[str, float] = {}
+    for pk in study.peaks:
+        if pk["unit"] != "rad":
+            scales[pk["unit"]] = max(scales.get(pk["unit"], 0.0), abs(pk["value"]))
+    return scales
+
+
 def _table(study: PlanarStudy) -> Table:
     shown, tphi = _shown(study), study.table_positions
     tk, td, trans = study.table_kinematics, study.table_dynamics, study.table_transmission
+    scales = _scales(study)
+    f_q = scales.get(study.mechanism.driver.field_units["Q"], 0.0)
+    f_n, f_nm = scales.get("N", 0.0), scales.get("N*m", 0.0)
     ab = np.asarray(study.dynamics.about, dtype=float) * 1e3
     table = Table(title=escape(
         f"{shown.load}, joint reactions |R| (force of a on "
@@ -93,16 +107,17 @@ def _table(study: PlanarStudy) -> Table:
     for h in heads:  # escape: "[mm]", "[deg]" would be read as Rich markup
         table.add_column(escape(h), justify="right", min_width=len(h), no_wrap=True)
     for i in range(tk.n):
-        row = [f"{tphi[i] * shown.scale:.1f}", f"{td.Q[i]:.4g}"]
-        row += [f"{td.reaction_magnitude(j)[i]:.4g}" for j in td.joints]
-        row += [f"{np.hypot(td.shaking_fx[i], td.shaking_fy[i]):.4g}", f"{td.shaking_m[i]:.4g}"]
-        row += [f"{np.degrees(mu[i]):.1f}" for mu, _ in trans.values()]
+        row = [fmt(tphi[i] * shown.scale, decimals=1), fmt(td.Q[i], f_q)]
+        row += [fmt(td.reaction_magnitude(j)[i], f_n) for j in td.joints]
+        row += [fmt(np.hypot(td.shaking_fx[i], td.shaking_fy[i]), f_n),
+                fmt(td.shaking_m[i], f_nm)]
+        row += [fmt(np.degrees(mu[i]), decimals=1) for mu, _ in trans.values()]
         table.add_row(*row)
     return table
 
 
 def _extremes(study: PlanarStudy) -> Table:
-    shown = _shown(study)
+    shown, scales = _shown(study), _scales(study)
     ptab = Table(title=escape(f"extremes over the cycle ({study.kinematics.n} positions of "
                               "[analysis])"))
     ptab.add_column("quantity", no_wrap=True)
@@ -110,13 +125,19 @@ def _extremes(study: PlanarStudy) -> Table:
         ptab.add_column(escape(h), justify="right", no_wrap=True)
     for pk in study.peaks:
         pos = pk["phi1"] * shown.scale
-        value, unit = pk["value"], pk["unit"].replace("*", "·")
+        value, unit = pk["value"], pk["unit"]
+        scale = scales.get(unit, 0.0)
         if unit == "rad":  # transmission angles: shown in degrees, as in the table above
             value, unit = np.degrees(value), "deg"
-        ptab.add_row(escape(f"{pk['name']} [{unit}]"), f"{value:.4g}", f"{pos:.1f}")
+        ptab.add_row(escape(f"{pk['name']} [{unit_label(unit)}]"), fmt(value, scale),
+                     fmt(pos, decimals=1))
+    # over a closed cycle the work of the driver is round-off for a conservative mechanism:
+    # its scale is that of the driving torque (force), and of the power over the cycle
     ptab.add_row(escape(f"Q mean (work / range) [{shown.load_unit}]"),
-                 f"{study.means['Q_mean']:.4g}", "")
-    ptab.add_row("driving power, mean [W]", f"{study.means['power_mean']:.4g}", "")
+                 fmt(study.means["Q_mean"],
+                     scales.get(study.mechanism.driver.field_units["Q"], 0.0)), "")
+    ptab.add_row("driving power, mean [W]",
+                 fmt(study.means["power_mean"], scale_of(study.dynamics.power)), "")
     return ptab
 
 

@@ -22,6 +22,7 @@ import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
+from linkwork.cli._format import fmt
 from linkwork.io.sine_press import SinePressFile
 from linkwork.models.variable_structure import MODES
 from linkwork.results import write_json
@@ -32,8 +33,8 @@ __all__ = ["analyze_sine_press", "render"]
 
 
 def _f(x: Any, nd: int = 4) -> str:
-    v = round(float(x), nd)
-    return f"{(v if v != 0.0 else 0.0):.{nd}f}"
+    """Fixed decimals (:func:`linkwork.cli._format.fmt`)."""
+    return fmt(x, decimals=nd)
 
 
 def analyze_sine_press(doc: SinePressFile, out: Path, angles: np.ndarray, console: Any
@@ -57,7 +58,7 @@ def _mode_tables(study: SinePressStudy) -> tuple[Table, Table]:
                 "ε2 [rad/s²]", "pressure angle [deg]"):
         ti.add_column(escape(col), justify="right")
     for i, p in enumerate(study.angles):
-        ti.add_row(f"{math.degrees(p):.4g}", _f(cs.Y_C[i] * 1e3, 3), _f(cs.V_C[i]),
+        ti.add_row(fmt(math.degrees(p)), _f(cs.Y_C[i] * 1e3, 3), _f(cs.V_C[i]),
                    _f(cs.a_C[i], 3), _f(np.degrees(cs.phi2[i]), 3), _f(cs.omega2[i]),
                    _f(cs.eps2[i], 2), _f(np.degrees(cs.pressure_angle[i]), 3))
     tw = Table(title=escape(f"working mode: sine mechanism, slot at alpha = "
@@ -66,7 +67,7 @@ def _mode_tables(study: SinePressStudy) -> tuple[Table, Table]:
                 "a32 [m/s²]"):
         tw.add_column(escape(col), justify="right")
     for i, p in enumerate(study.angles):
-        tw.add_row(f"{math.degrees(p):.4g}", _f(sn.X3[i] * 1e3, 3), _f(sn.V3[i]),
+        tw.add_row(fmt(math.degrees(p)), _f(sn.X3[i] * 1e3, 3), _f(sn.V3[i]),
                    _f(sn.a3[i], 3), _f(sn.X32[i] * 1e3, 3), _f(sn.V32[i]), _f(sn.a32[i], 3))
     return ti, tw
 

@@ -31,6 +31,7 @@ from rich.table import Table
 from linkwork import io
 from linkwork.cli._args import output_dir, parse_angles_deg
 from linkwork.cli._console import console as make_console
+from linkwork.cli._format import fmt, scale_of, unit_label
 from linkwork.errors import FileFormatError
 from linkwork.io.planar import BalanceSection, PlanarFile
 from linkwork.io.toml import read_toml
@@ -56,8 +57,20 @@ def load_balance_file(path: str | Path) -> tuple[Mechanism, BalanceSection, Plan
 
 
 def _fmt(x: float, nd: int = 3) -> str:
-    v = round(float(x), nd)
-    return f"{(v if v != 0.0 else 0.0):.{nd}f}"
+    """Fixed decimals (:func:`linkwork.cli._format.fmt`)."""
+    return fmt(x, decimals=nd)
+
+
+def _unit_scales(summary: dict[str, dict[str, float]], lever: float) -> dict[str, float]:
+    """The round-off scale of each unit of the summary (``[N]``, ``[N*m]``): its largest
+    value; moments also the largest force times the counterweights' lever (a mechanism whose
+    moments are all round-off has no moment scale of its own)."""
+    scales: dict[str, float] = {}
+    for q, vals in summary.items():
+        unit = q[q.rfind("["):]
+        scales[unit] = max(scales.get(unit, 0.0), scale_of(list(vals.values())))
+    scales["[N*m]"] = max(scales.get("[N*m]", 0.0), scales.get("[N]", 0.0) * lever)
+    return scales
 
 
 def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
@@ -84,23 +97,29 @@ def _tables(study: BalanceStudy, console: Any) -> None:
     t.add_row("R_j [%]", "", "", _fmt(comp.R2, 1), _fmt(comp.R3, 1))
     console.print(t)
     fb = comp.balance
+    summary = comp.summary()
+    lever = max((cw.radius for cw in comp.counterweights if cw.radius is not None),
+                default=0.0)
+    scales = _unit_scales(summary, lever)
+    f_n = scales.get("[N]", 0.0)
     console.print(f"static balancing: {'full' if fb.full else 'PARTIAL'}; RMS shaking force "
-                  f"{fb.force_rms_before:.4g} N -> {fb.force_rms_after:.3g} N")
+                  f"{fmt(fb.force_rms_before, f_n)} N -> {fmt(fb.force_rms_after, f_n, 3)} N")
     if not fb.full:
         console.print(escape(f"  not fully balanceable: {fb.reason}"))
     for cw in comp.counterweights:
-        r = cw.radius if cw.radius is not None else float("nan")
-        console.print(escape(f"  counterweight on {cw.link}: S = {cw.static_moment:.5g} kg*m "
-                             f"at {np.degrees(cw.angle):.2f} deg, r = {r * 1000:.4g} mm, "
-                             f"m = {cw.mass():.4g} kg"))
+        rm = ("no radius: mass not known" if cw.radius is None else
+              f"r = {fmt(cw.radius * 1000)} mm, m = {fmt(cw.mass())} kg")
+        console.print(escape(f"  counterweight on {cw.link}: S = {fmt(cw.static_moment, 0, 5)} "
+                             f"kg·m at {fmt(np.degrees(cw.angle), decimals=2)} deg, {rm}"))
+    mm = [fmt(v * 1000, decimals=2) for v in (comp.x2, comp.y2, comp.x3, comp.y3)]
     console.print(f"moved crank-counterweight axis O1: first harmonic (x, y) = "
-                  f"({comp.x2 * 1000:.2f}, {comp.y2 * 1000:.2f}) mm; least squares over the "
-                  f"table = ({comp.x3 * 1000:.2f}, {comp.y3 * 1000:.2f}) mm")
+                  f"({mm[0]}, {mm[1]}) mm; least squares over the table = ({mm[2]}, {mm[3]}) mm")
     s = Table(title="Peaks and RMS over the cycle")
     s.add_column("quantity")
     s.add_column("values")
-    for q, vals in comp.summary().items():
-        s.add_row(q, ", ".join(f"{k} {v:.4g}" for k, v in vals.items()))
+    for q, vals in summary.items():
+        scale = scales[q[q.rfind("["):]]
+        s.add_row(unit_label(q), ", ".join(f"{k} {fmt(v, scale)}" for k, v in vals.items()))
     console.print(s)
     ht = Table(title="Harmonic amplitudes A_j (f = a0 + sum A_j cos(j*phi1 - psi_j))")
     ht.add_column("quantity")
@@ -113,7 +132,7 @@ def _tables(study: BalanceStudy, console: Any) -> None:
     if study.increases:
         console.print("[bold]balancing raises:[/bold]")
         for m in study.increases:
-            console.print(escape(f"  {m}"))
+            console.print(escape(f"  {m.replace('N*m', unit_label('N*m'))}"))
 
 
 def _plots(study: BalanceStudy, out: Path) -> None:

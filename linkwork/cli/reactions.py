@@ -21,6 +21,7 @@ from rich.table import Table
 from linkwork import io
 from linkwork.cli._args import output_dir, parse_angles
 from linkwork.cli._console import console as make_console
+from linkwork.cli._format import fmt
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.planar import PlanarFile, SpatialSpec
 from linkwork.io.toml import read_toml
@@ -61,8 +62,20 @@ def load_problem(path: Path) -> tuple[Mechanism, dict[str, Any], SpatialSpec]:
     return doc.mechanism(), kwargs, doc.spatial
 
 
-def _fmt(v: float) -> str:
-    return f"{v:.4g}"
+def _fmt(v: float, scale: float = 0.0) -> str:
+    """4 significant digits, round-off against ``scale`` as 0 (:func:`fmt`)."""
+    return fmt(v, scale)
+
+
+def _scales(study: ReactionsStudy) -> tuple[float, float]:
+    """The round-off scales (force [N], moment [N·m]) of the reaction tables: the largest
+    force and moment components (and driving force or torque) over the cycle."""
+    peaks = study.peaks
+    joints = [v for k, v in peaks.items() if k != "driver"]
+    force = max((p[c] for p in joints for c in ("fx", "fy", "fz")), default=0.0)
+    moment = max((p[c] for p in joints for c in ("mx", "my", "mz", "bending")), default=0.0)
+    q = peaks["driver"]["Q"]
+    return (max(force, q), moment) if study.linear else (force, max(moment, q))
 
 
 def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
@@ -112,15 +125,18 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
     q_name, q_unit = ("driving force", "N") if linear else ("driving torque", "N·m")
     at, res, peaks = study.table, study.reactions, study.peaks
     comp = at.components()
+    f_n, f_nm = _scales(study)
+    f_q = f_n if linear else f_nm
+    col_scale = (f_n, f_n, f_n, f_nm, f_nm, f_nm)
     for k, phi in enumerate(study.table_positions):
-        where = f"s1 = {phi * 1e3:.4g} mm" if linear else f"φ1 = {np.degrees(phi):.4g} deg"
+        where = f"s1 = {fmt(phi * 1e3)} mm" if linear else f"φ1 = {fmt(np.degrees(phi))} deg"
         t = Table(title=f"reactions at {where} (by body a on body b, at the joint centre)")
         for col in ("joint", "fx [N]", "fy [N]", "fz [N]", "mx [N·m]", "my [N·m]",
                     "mz [N·m]"):
             t.add_column(col, justify="right")
         for j, name in enumerate(at.joints):
-            t.add_row(name, *(_fmt(comp[j, i, k]) for i in range(6)))
-        t.caption = f"{q_name} Q = {_fmt(at.Q[k])} {q_unit}"
+            t.add_row(name, *(_fmt(comp[j, i, k], col_scale[i]) for i in range(6)))
+        t.caption = f"{q_name} Q = {_fmt(at.Q[k], f_q)} {q_unit}"
         console.print(t)
     t = Table(title=f"peaks over the cycle ({len(study.cycle)} positions)")
     for col in ("joint", "|fx| [N]", "|fy| [N]", "|fz| [N]", "|mx| [N·m]", "|my| [N·m]",
@@ -128,8 +144,9 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
         t.add_column(col, justify="right")
     for name in res.joints:
         p = peaks[name]
-        t.add_row(name, *(_fmt(p[c]) for c in ("fx", "fy", "fz", "mx", "my", "bending")))
-    t.caption = f"peak |Q| = {_fmt(peaks['driver']['Q'])} {q_unit}"
+        t.add_row(name, *(_fmt(p[c], sc) for c, sc in zip(
+            ("fx", "fy", "fz", "mx", "my", "bending"), col_scale, strict=True)))
+    t.caption = f"peak |Q| = {_fmt(peaks['driver']['Q'], f_q)} {q_unit}"
     console.print(t)
     written = [res.to_csv(out / "reactions.csv"), res.to_json(out / "reactions.json"),
                write_json(out / "reactions_peaks.json", study.peaks_dict())]
@@ -155,12 +172,13 @@ def render_tolerance(study: ReactionsStudy, tol: ToleranceStudy, *, out: Path, c
             "p50", "p95", "p99"]
     for col in cols:
         t.add_column(col, justify="right")
+    f_n, f_nm = _scales(study)
     for name in tol.joints:
-        for qty in ("fz", "bending"):
+        for qty, sc in (("fz", f_n), ("bending", f_nm)):
             row = pct[name][qty]
-            mid = [_fmt(peaks[name][qty])] if sysdev else []
-            t.add_row(name, qty, _fmt(row["nominal"]), *mid,
-                      *(_fmt(row[k]) for k in ("p50", "p95", "p99")))
+            mid = [_fmt(peaks[name][qty], sc)] if sysdev else []
+            t.add_row(name, qty, _fmt(row["nominal"], sc), *mid,
+                      *(_fmt(row[k], sc) for k in ("p50", "p95", "p99")))
     console.print(t)
     written = [tol.to_json(out / "tolerance.json"), tol.to_csv(out / "tolerance_samples.csv")]
     if plots:

@@ -24,6 +24,7 @@ from rich.table import Table
 from linkwork import io
 from linkwork.cli._args import output_dir, parse_angles
 from linkwork.cli._console import console as make_console
+from linkwork.cli._format import fmt
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.swashplate import SwashplateFile
 from linkwork.models import swashplate as sw
@@ -41,11 +42,12 @@ sub = typer.Typer(name="swashplate", no_args_is_help=True, add_completion=False,
 
 
 def _deg(x: Any) -> str:
-    return f"{math.degrees(float(x)):.4g}"
+    return fmt(math.degrees(float(x)))
 
 
-def _mm(x: Any) -> str:
-    return f"{float(x) * 1e3:.4g}"
+def _mm(x: Any, scale: Any = 0.0) -> str:
+    """A length [m] in mm; round-off against the length ``scale`` [m] as 0 (:func:`fmt`)."""
+    return fmt(float(x) * 1e3, float(scale) * 1e3)
 
 
 def analyze_swashplate(doc: SwashplateFile, out: Path, angles: np.ndarray, console: Any
@@ -60,7 +62,7 @@ def _table(study: SwashplateStudy) -> Table:
     d, res_t = study.design, study.table
     t = Table(title=escape(f"{study.doc.name}: scheme {d.scheme}, R = {_mm(d.R)} mm, r = "
                            f"{_mm(d.r)} mm, l = {_mm(d.l)} mm, alpha = {_deg(d.alpha)} deg, "
-                           f"a = {_mm(d.a)} mm, b = {_mm(d.b)} mm"))
+                           f"a = {_mm(d.a, d.R)} mm, b = {_mm(d.b, d.R)} mm"))
     # without a rotor speed the slide speed is unknown: no columns of zeros that look measured
     speeds = study.omega > 0
     cols = ["φ [deg]", "s [mm]", "δz [deg]", "Πv [mm/rad]", "d²s/dφ² [mm/rad²]"]
@@ -69,10 +71,11 @@ def _table(study: SwashplateStudy) -> Table:
     if not speeds:
         t.caption = "no rotor speed in [operation] (speed or productivity): slide speeds omitted"
     for i, p in enumerate(study.angles):
-        row = [_deg(p), f"{res_t.s[i] * 1e3:.4f}", f"{math.degrees(res_t.delta_z[i]):.4f}",
-               f"{res_t.Pi_v[i] * 1e3:.4f}", f"{res_t.Pi_a[i] * 1e3:.4f}"]
+        row = [_deg(p), fmt(res_t.s[i] * 1e3, decimals=4),
+               fmt(math.degrees(res_t.delta_z[i]), decimals=4),
+               fmt(res_t.Pi_v[i] * 1e3, decimals=4), fmt(res_t.Pi_a[i] * 1e3, decimals=4)]
         if speeds:
-            row += [f"{res_t.v[i]:.4f}", f"{res_t.acc[i]:.4f}"]
+            row += [fmt(res_t.v[i], decimals=4), fmt(res_t.acc[i], decimals=4)]
         t.add_row(*row)
     return t
 
@@ -88,7 +91,8 @@ def _characteristics(study: SwashplateStudy) -> Table:
             ("axial size L ≈ 2 r sin α + l (exact)", f"{_mm(c.L)} ({_mm(c.L_exact)}) mm"),
             ("unimodal s(φ)", "yes" if bool(c.unimodal) else "NO"),
             ("harmonic form (6): max / RMS error",
-             f"{_mm(err['harmonic_error_max'])} / {_mm(err['harmonic_error_rms'])} mm")]
+             f"{_mm(err['harmonic_error_max'], c.H)} / {_mm(err['harmonic_error_rms'], c.H)} "
+             "mm")]
     if omega > 0:
         rows.append(("rotor speed / max slide speed",
                      f"{omega * 30 / math.pi:.4g} rpm / {study.v_max:.4g} m/s"))
@@ -137,9 +141,10 @@ def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
         save(plot_drive_forces(f)[0].figure, out / "forces.png")
         u = study.doc.operation.positions
         slides = f"{u} slide" + ("" if u == 1 else "s")
+        eff = (fmt(f.efficiency, decimals=4) if math.isfinite(f.efficiency) else
+               "undefined (the load does no net work per revolution)")
         console.print(f"drive: peak rod force {np.max(np.abs(f.S)) * 1e-3:.4g} kN, peak torque "
-                      f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), "
-                      f"efficiency {f.efficiency:.4f}")
+                      f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), efficiency {eff}")
     write_json(out / "characteristics.json", _json_values(study.to_dict()))
     console.print(f"written: {out}/cycle.csv, cycle.json, characteristics.json, kinematics.png"
                   + (", forces.csv, forces.json, forces.png" if f is not None else ""))
@@ -259,13 +264,13 @@ def render_synthesis(study: SwashplateSynthesis, *, out: Path, console: Any) -> 
         t.add_column(escape(col), justify="right")
     for i in range(len(res.designs)):
         row = [str(i + 1), _mm(tab["r"][i]), _mm(tab["l"][i]), _deg(tab["alpha"][i]),
-               _mm(tab["a"][i]), _mm(tab["b"][i]), _mm(tab["H"][i]),
+               _mm(tab["a"][i], req.R), _mm(tab["b"][i], req.R), _mm(tab["H"][i]),
                _deg(tab["delta_f"][i]), _deg(tab["delta_r"][i]), _mm(tab["Pi_v_max"][i]),
                _deg(tab["phi_f"][i]), _mm(tab["L"][i])]
         if req.point is not None:
             row.insert(-1, _mm(tab["s_point"][i]))
         if req.objective != "L":
-            row.append(f"{tab['objective'][i]:.5g}")
+            row.append(fmt(tab["objective"][i], digits=5))
         t.add_row(*row)
     console.print(t)
     on_bound = [f"{n} at its {side} bound ({_deg(b)} deg)" if n == "alpha"

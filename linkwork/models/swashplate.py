@@ -978,10 +978,16 @@ class DriveForces(Result):
     ``S`` rod force [N] (positive = compression), ``N`` lateral guide reaction [N], ``M_disk``
     and ``M_rotor`` [N m] the torques the disk and the rotor need for one slide (sum ``M``),
     ``M_total`` the sum over the ``u`` phase-shifted slides, ``eta_inst`` the instantaneous
-    efficiency of one slide (``F Pi_v / M``, NaN where ``M = 0``), shape ``(n,)``. Scalars:
-    ``efficiency`` over the cycle (``work_useful / work_input``; NaN when the load does no net
-    useful work per revolution, e.g. a constant force, which gives back on one stroke what it
-    takes on the other), ``work_useful`` and ``work_input`` per revolution [J] (all slides).
+    efficiency of one slide (``F Pi_v / M``), shape ``(n,)``. Scalars: ``efficiency`` over the
+    cycle (``work_useful / work_input``), ``work_useful`` and ``work_input`` per revolution [J]
+    (all slides).
+
+    Undefined values: ``eta_inst`` is undefined where the slide carries no load (``F = 0``,
+    hence ``M = 0``: 0/0; also wherever ``M`` is exactly 0), ``efficiency`` when the load does
+    no net useful work per revolution (no load, or e.g. a constant force, which gives back on
+    one stroke what it takes on the other). Both are NaN in the result and are written as an
+    empty CSV cell and JSON ``null`` (:func:`linkwork.results.write_csv`,
+    :func:`~linkwork.results.write_json`).
     """
 
     phi: np.ndarray

@@ -202,7 +202,7 @@ def test_cli_balance_bundled_example(tmp_path, capsys):
               "balancing_torque.png", "balancing_bearings.png"):
         assert (out / f).stat().st_size > 0
     assert "R_j" in text and "φ1 [deg]" in text
-    assert "S = 0.2 kg*m" in text and "S = 0.5 kg*m" in text
+    assert "S = 0.2 kg·m" in text and "S = 0.5 kg·m" in text
 
 
 def _write(tmp_path, text, name="m.toml"):

@@ -463,3 +463,60 @@ def test_swashplate_shape_mismatch_and_sample_count_are_named():
     # designs (m, 1) against angles (n,) still broadcast
     s = sw.position(np.linspace(0, 6, 5), 0.1, np.array([[0.07], [0.09]]), 0.25, 0.3)
     assert s.shape == (2, 5)
+
+
+def test_eta_inst_is_undefined_exactly_where_the_slide_carries_no_load():
+    """Reference: eta = useful power / input power from its definition on the 3-D construction
+    of tests/_swashplate_reference.py: the rod force S from the slide's axial equilibrium with
+    guide friction (S (e_z - sgn(F v) mu |e_h|) = F), the input torque from the power the disk
+    and the rotor deliver (central differences of the disk point B and the slide's circle), the
+    useful power F ds/dphi (central differences of the 3-D position). Tolerance: 1e-6. Where
+    the load is zero the efficiency is 0/0: NaN in the result, an empty CSV cell and JSON
+    null."""
+    p = DESIGNS["1"]
+    d = sw.Design(*p)
+    rho = 5 * DEG
+    mu = math.tan(rho)
+    # load diagram: zero over [0, 90] deg and [270, 360] deg, a drawing force between
+    load = (np.radians([0.0, 90.0, 120.0, 240.0, 270.0, 360.0]),
+            np.array([0.0, 0.0, 800.0, 800.0, 0.0, 0.0]))
+    phi = np.radians([10.0, 60.0, 100.0, 150.0, 200.0, 260.0, 300.0, 350.0])
+    f = sw.drive_forces(d, load, rho_guide=rho, phi=phi)
+    h = 1e-6
+    for i, x in enumerate(phi):
+        F = float(np.interp(x, *load))
+        ds = (ref_s(x + h, *p) - ref_s(x - h, *p)) / (2 * h)
+        if F == 0.0:
+            assert math.isnan(f.eta_inst[i]), (np.degrees(x), f.eta_inst[i])
+            continue
+        B = disk_point(x, *p)
+        A = slide_point(x, p[0], ref_z(x, *p))
+        e = (A - B) / np.linalg.norm(A - B)
+        S = F / (e[2] - math.copysign(1.0, F * ds) * mu * math.hypot(e[0], e[1]))
+        dB = (disk_point(x + h, *p) - disk_point(x - h, *p)) / (2 * h)
+        dA = (slide_point(x + h, p[0], 0.0) - slide_point(x - h, p[0], 0.0)) / (2 * h)
+        M_in = S * e @ dB - S * (e[0] * dA[0] + e[1] * dA[1])
+        eta = F * ds / M_in
+        assert abs(f.eta_inst[i] - eta) < 1e-6, (np.degrees(x), f.eta_inst[i], eta)
+        # friction takes a part of the power where the rod drives the slide (F v > 0)
+        assert (eta < 1.0) == (F * ds > 0)
+    assert np.isnan(f.eta_inst).sum() == 4
+
+
+def test_zero_load_efficiency_is_undefined_and_written_as_empty_and_null(tmp_path):
+    import csv
+    import json
+
+    d = sw.scheme_4a(0.1, 0.2, 15 * DEG)
+    f = sw.drive_forces(d, 0.0, u=3, rho_guide=5 * DEG, n=37)
+    assert np.isnan(f.eta_inst).all() and math.isnan(f.efficiency)
+    assert f.work_useful == 0.0 and f.work_input == 0.0
+    with f.to_csv(tmp_path / "forces.csv").open(newline="") as fh:
+        rows = list(csv.reader(fh))
+    k = rows[0].index("eta_inst []")
+    assert all(r[k] == "" for r in rows[1:]) and len(rows) == 38
+
+    def refuse(name):
+        raise ValueError(name)
+    data = json.loads(f.to_json(tmp_path / "forces.json").read_text(), parse_constant=refuse)
+    assert data["efficiency"] is None and data["columns"]["eta_inst"] == [None] * 37

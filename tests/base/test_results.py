@@ -1,0 +1,104 @@
+"""The one CSV and JSON writer (linkwork.results): an undefined value (NaN) is an empty CSV cell
+and JSON null, the JSON is strict, infinities are refused naming the column or key. Checked
+with the standard library's readers, independent of the writers."""
+
+import csv
+import json
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+import pytest
+
+from linkwork.errors import ParameterError
+from linkwork.results import Result, strict_json_values, write_csv, write_json
+
+
+def _strict_loads(text):
+    """json.loads that refuses NaN, Infinity and -Infinity (as strict parsers do)."""
+    def refuse(name):
+        raise ValueError(f"non-standard JSON constant {name}")
+    return json.loads(text, parse_constant=refuse)
+
+
+@dataclass(frozen=True)
+class _Curve(Result):
+    phi: np.ndarray
+    ratio: np.ndarray
+    mean: float
+
+    units: ClassVar[dict[str, str]] = {"phi": "rad", "ratio": "", "mean": ""}
+    position_field: ClassVar[str] = "phi"
+
+    def plot(self, **kwargs):  # every Result family overrides it (tests/plot/test_figures.py)
+        raise NotImplementedError("a writer test's result has no figure")
+
+
+def test_write_csv_nan_is_an_empty_cell_and_numbers_stay_exact(tmp_path):
+    x = np.array([0.1, 1.0 / 3.0, -2.5e-300, 7.0])
+    y = np.array([1.0, np.nan, 0.0, np.nan])
+    p = write_csv(tmp_path / "a.csv", {"x": (x, "m"), "y": (y, "")})
+    with p.open(newline="") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["x [m]", "y []"]
+    assert [r[1] for r in rows[1:]] == ["1.0", "", "0.0", ""]
+    assert [float(r[0]) for r in rows[1:]] == x.tolist()  # full precision, round trip
+    assert "nan" not in p.read_text().lower()
+
+
+def test_write_csv_refuses_inf_naming_the_column_before_writing(tmp_path):
+    with pytest.raises(ParameterError, match=r"b = inf at 1 of 2 positions.*too large"):
+        write_csv(tmp_path / "b.csv", {"a": ([1.0, 2.0], ""), "b": ([1.0, -np.inf], "N")})
+    assert not (tmp_path / "b.csv").exists()
+
+
+def test_write_json_is_strict_nan_becomes_null(tmp_path):
+    data = {"a": float("nan"), "b": [1.0, np.float64("nan"), 2.5], "c": (np.nan, "text"),
+            "d": {"e": [[np.nan, 1e-300]]}, "f": True, "g": None, "h": 3}
+    p = write_json(tmp_path / "a.json", data)
+    back = _strict_loads(p.read_text())
+    assert back == {"a": None, "b": [1.0, None, 2.5], "c": [None, "text"],
+                    "d": {"e": [[None, 1e-300]]}, "f": True, "g": None, "h": 3}
+    assert "NaN" not in p.read_text()
+
+
+@pytest.mark.parametrize(("data", "where"), [
+    ({"a": {"b": [0.0, float("inf")]}}, r"a\.b\[1\]"),
+    ({"q": -np.inf}, "q"),
+    ([1.0, [2.0, float("-inf")]], r"\[1\]\[1\]"),
+])
+def test_write_json_refuses_inf_naming_its_key_before_writing(tmp_path, data, where):
+    with pytest.raises(ParameterError, match=where + ".*too large"):
+        write_json(tmp_path / "c.json", data)
+    assert not (tmp_path / "c.json").exists()
+
+
+def test_strict_json_values_leaves_the_input_alone_and_dumps_never_fail():
+    data = {"x": [float("nan"), 1.0], "y": float("nan")}
+    out = strict_json_values(data)
+    assert math.isnan(data["x"][0]) and math.isnan(data["y"])  # not modified in place
+    json.dumps(out, allow_nan=False)  # must not raise
+
+
+def test_result_exports_undefined_values_as_empty_cells_and_null(tmp_path):
+    r = _Curve(phi=np.array([0.0, 1.0, 2.0]), ratio=np.array([0.5, np.nan, 0.25]),
+               mean=float("nan"))
+    d = r.to_dict()
+    assert d["columns"]["ratio"] == [0.5, None, 0.25] and d["mean"] is None
+    json.dumps(d, allow_nan=False)
+    back = _strict_loads(r.to_json(tmp_path / "r.json").read_text())
+    assert back["columns"]["ratio"] == [0.5, None, 0.25] and back["mean"] is None
+    with r.to_csv(tmp_path / "r.csv").open(newline="") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["phi [rad]", "ratio []"]
+    assert [row[1] for row in rows[1:]] == ["0.5", "", "0.25"]
+
+
+def test_result_with_inf_is_refused_by_every_export(tmp_path):
+    r = _Curve(phi=np.array([0.0, 1.0]), ratio=np.array([1.0, np.inf]), mean=1.0)
+    for export in (r.to_dict, lambda: r.to_json(tmp_path / "r.json"),
+                   lambda: r.to_csv(tmp_path / "r.csv")):
+        with pytest.raises(ParameterError, match="ratio = inf at 1 of 2 positions"):
+            export()
+    assert not list(tmp_path.iterdir())
