@@ -129,12 +129,12 @@ def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
     console.print(_characteristics(study))
     study.cycle.to_csv(out / "cycle.csv")
     study.cycle.to_json(out / "cycle.json")
-    save(plot_kinematics(study.cycle)[0].figure, out / "kinematics.png")
+    save(plot_kinematics(study.cycle, name=study.doc.name)[0].figure, out / "kinematics.png")
     f = study.forces
     if f is not None:
         f.to_csv(out / "forces.csv")
         f.to_json(out / "forces.json")
-        save(plot_drive_forces(f)[0].figure, out / "forces.png")
+        save(plot_drive_forces(f, name=study.doc.name)[0].figure, out / "forces.png")
         u = study.doc.operation.positions
         slides = f"{u} slide" + ("" if u == 1 else "s")
         console.print(f"drive: peak rod force {np.max(np.abs(f.S)) * 1e-3:.4g} kN, peak torque "

@@ -143,6 +143,11 @@ def angle_axis(ax: Any, degrees: Any, axis: str = "x") -> None:
     lo, hi = float(d.min()), float(d.max())
     if hi <= lo:
         return
+    if d.size > 2:  # whole turns sampled without their end (0, h, ..., 360 - h): show to 360
+        h = float(np.median(np.abs(np.diff(d))))
+        turns = (hi - lo + h) / 360.0
+        if h > 0 and round(turns) >= 1 and abs(turns - round(turns)) < 1e-6:
+            hi = lo + 360.0 * round(turns)
     step = next((s for s in _ANGLE_STEPS if (hi - lo) / s <= 12.5), _ANGLE_STEPS[-1])
     target = ax.xaxis if axis == "x" else ax.yaxis
     target.set_major_locator(MultipleLocator(step))
@@ -188,15 +193,22 @@ def distinguish(ax: Any, share: float = 0.5, tol: float = 0.01) -> list[Any]:
     return restyled
 
 
-def legend(ax: Any, **kw: Any) -> Any:
+def legend(ax: Any, outside: str = "right", **kw: Any) -> Any:
     """The legend of ``ax``: inside (``loc="best"``) for up to :data:`LEGEND_INSIDE` entries,
-    else outside, right of the data. ``kw`` go to ``ax.legend``. None when nothing is
-    labelled."""
+    else outside the data, right of the axes (``outside="right"``) or below them
+    (``"below"``, e.g. when a colour bar takes the right). ``kw`` go to ``ax.legend``. None
+    when nothing is labelled."""
     handles, labels = ax.get_legend_handles_labels()
     if not handles:
         return None
     kw.setdefault("fontsize", "small")
-    if len(handles) > LEGEND_INSIDE:
+    spec = ax.get_subplotspec()
+    if spec is not None and spec.colspan.stop < spec.get_gridspec().ncols:
+        outside = "below"  # an axes to the right: the legend goes under this one
+    if len(handles) > LEGEND_INSIDE and outside == "below":
+        kw.update(loc="upper center", bbox_to_anchor=(0.5, -0.14), borderaxespad=0.0)
+        kw.setdefault("ncol", 2)
+    elif len(handles) > LEGEND_INSIDE:
         kw.update(loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     else:
         kw.setdefault("loc", "best")
