@@ -125,9 +125,20 @@ def titled(name: str | None, default: str, quantity: str) -> str:
     return f"{name or default}: {quantity}"
 
 
+def _fit(title: str, width_in: float) -> str:
+    """``title`` broken after the mechanism's name when it is wider than ``width_in`` inches
+    (about 10 characters an inch at the title's size)."""
+    if "\n" not in title and len(title) > 10 * width_in and ": " in title:
+        return title.replace(": ", ":\n", 1)
+    return title
+
+
 def figure_title(fig: Any, title: str) -> Any:
-    """Title of a figure of several axes (above all of them)."""
-    return fig.suptitle(text(title))
+    """Title of a figure of several axes, just above the top row (and its axes titles)."""
+    top = max(a.get_position().y1 for a in fig.axes)
+    titled_row = any(a.get_title() for a in fig.axes if abs(a.get_position().y1 - top) < 1e-9)
+    pad = (0.42 if titled_row else 0.12) / fig.get_figheight()
+    return fig.suptitle(text(_fit(title, fig.get_figwidth())), y=top + pad, va="bottom")
 
 
 def angle_axis(ax: Any, degrees: Any, axis: str = "x") -> None:
@@ -236,7 +247,8 @@ def finish(ax: Any, *, title: str | None = None, angle: Any = None, angle_on: st
     for t in (*ax.texts, ax.xaxis.label, ax.yaxis.label):
         t.set_text(text(t.get_text()))
     if title is not None:
-        ax.set_title(text(title))
+        width = ax.get_position().width * ax.figure.get_figwidth()
+        ax.set_title(text(_fit(title, width)))
     if angle is not None:
         angle_axis(ax, angle, angle_on)
     if grid:

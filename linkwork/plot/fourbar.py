@@ -96,9 +96,9 @@ def plot_fourbar_forces(forces: FourbarForces, axes: Any = None, *, name: str | 
     [deg]; ``name`` (of the mechanism) heads the title."""
     axes = _axes(axes, ncols=2)
     t = np.degrees(forces.phi1)
-    for name, fx, fy in (("O2", forces.R_Ox, forces.R_Oy), ("A", forces.R_Ax, forces.R_Ay),
-                         ("B", forces.R_Bx, forces.R_By), ("O4", forces.R_Cx, forces.R_Cy)):
-        axes[0].plot(t, np.hypot(fx, fy), label=f"|R| at {name}")
+    for joint, fx, fy in (("O2", forces.R_Ox, forces.R_Oy), ("A", forces.R_Ax, forces.R_Ay),
+                          ("B", forces.R_Bx, forces.R_By), ("O4", forces.R_Cx, forces.R_Cy)):
+        axes[0].plot(t, np.hypot(fx, fy), label=f"|R| at {joint}")
     axes[0].set_xlabel("crank angle φ1 [deg]")
     axes[0].set_ylabel("joint reaction [N]")
     finish(axes[0], title="joint reactions", angle=t)

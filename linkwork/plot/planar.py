@@ -249,12 +249,12 @@ def kinematics_figure(kin: Kinematics, bodies: Sequence[str] | None = None, axes
     x, label = _x(kin)
     names = list(kin.bodies[1:]) if bodies is None else list(bodies)
     lines: dict[str, list[Any]] = {}
-    for name in names:
-        i = kin.bodies.index(name)
-        lines[name] = [
-            ax[0].plot(x, np.degrees(np.unwrap(kin.theta[i])), label=name)[0],
-            ax[1].plot(x, kin.omega[i], label=name)[0],
-            ax[2].plot(x, kin.eps[i], label=name)[0]]
+    for body in names:
+        i = kin.bodies.index(body)
+        lines[body] = [
+            ax[0].plot(x, np.degrees(np.unwrap(kin.theta[i])), label=body)[0],
+            ax[1].plot(x, kin.omega[i], label=body)[0],
+            ax[2].plot(x, kin.eps[i], label=body)[0]]
     for a, ylab in zip(ax, ("angle θ [deg]", "angular velocity ω [rad/s]",
                             "angular acceleration ε [rad/s²]"), strict=True):
         a.set_ylabel(ylab)

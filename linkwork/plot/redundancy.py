@@ -79,8 +79,8 @@ def plot_components(result: Any, component: str = "fz", joints: Sequence[str] | 
     data = result.bending() if component == "bending" else getattr(result, component)
     deg, xlabel = _driver_axis(result)
     out: dict[str, Any] = {"ax": ax}
-    for name in names:
-        (out[name],) = ax.plot(deg, data[result.joints.index(name)], label=name)
+    for joint in names:
+        (out[joint],) = ax.plot(deg, data[result.joints.index(joint)], label=joint)
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(f"{component} [{_UNIT.get(component, '')}]")
@@ -110,6 +110,8 @@ def plot_bending(result: Any, axes: Any = None, *, name: str | None = None) -> d
     ax[3].set_xlabel(xlabel)
     finish(ax[3], title="driving force" if linear else "driving torque",
            angle=None if _linear(result) else deg)
+    for a in ax[:2]:  # the x axis is shared: its label under the bottom row only
+        a.set_xlabel("")
     figure_title(ax[0].figure, titled(name, "SpatialReactions", "joint reactions in space"))
     return out
 

@@ -45,9 +45,9 @@ def plot_kinematics(res: KinematicsResult, axes: Any = None, label: str | None =
     c = res.characteristics
     lab = label or f"scheme {res.design.scheme}"
     axes[0].plot(deg, res.s * 1e3, label=lab)
-    for phi_e, s_e, name in ((c.phi_min, c.s_min, "min"), (c.phi_max, c.s_max, "max")):
+    for phi_e, s_e, extreme in ((c.phi_min, c.s_min, "min"), (c.phi_max, c.s_max, "max")):
         axes[0].plot(math.degrees(float(phi_e)), float(s_e) * 1e3, "o", ms=4)
-        axes[0].annotate(name, (math.degrees(float(phi_e)), float(s_e) * 1e3), fontsize=8,
+        axes[0].annotate(extreme, (math.degrees(float(phi_e)), float(s_e) * 1e3), fontsize=8,
                          xytext=(4, 4), textcoords="offset points")
     axes[1].plot(deg, np.degrees(res.delta_z), label=lab)
     axes[2].plot(deg, res.Pi_v * 1e3, label=lab)
