@@ -187,7 +187,10 @@ def plot_driving_torque(dyn: Any, ax: Any = None, *, name: str | None = None
     div, unit = _prefixed("N·m" if crank else "N", dyn.Q)
     (ln,) = ax.plot(x, dyn.Q / div, label="Q")
     mean = dyn.Q_mean / div
-    ax.axhline(mean, color="k", lw=0.8, ls=":", label=f"mean {mean:.4g} {unit} (work / range)")
+    peak = float(np.nanmax(np.abs(dyn.Q))) / div if np.isfinite(dyn.Q).any() else 0.0
+    shown = 0.0 if abs(mean) <= 1e-9 * peak else mean  # round-off of a zero mean: 0
+    ax.axhline(mean, color="k", lw=0.8, ls=":",
+               label=f"mean {shown:.4g} {unit} (work / range)")
     ax.set_xlabel(label)
     quantity = "driving torque Q" if crank else "driving force Q"
     ax.set_ylabel(f"{quantity} [{unit}]")

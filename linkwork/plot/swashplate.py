@@ -108,7 +108,7 @@ def plot_feasible_region(region: FeasibleRegion, ax: Any = None, best: Any = Non
         ax.clabel(cs, fontsize=7)
     from matplotlib.lines import Line2D
 
-    handles = []
+    handles: list[Any] = []
     colours = {"H": "C0", "delta_f": "C1", "delta_r": "C4", "Pi_v": "C3", "point": "C5",
                "phi_f": "C6"}
     for key, v in region.violations.items():
@@ -117,13 +117,17 @@ def plot_feasible_region(region: FeasibleRegion, ax: Any = None, best: Any = Non
         vv = np.where(np.isfinite(v), v, np.nan)
         if np.isfinite(vv).any() and np.nanmin(vv) < 0 < np.nanmax(vv):
             col = colours.get(key, "0.3")
-            ax.contour(X, Y, vv, levels=[0.0], colors=[col], linewidths=1.2, linestyles="--")
-            handles.append(Line2D([], [], color=col, ls="--", lw=1.2,
+            # each limit its own dash pattern: limits that coincide (forward and return stroke
+            # of a symmetric drive) stay visible, both colours alternating
+            dash = _DASHES[len(handles) % len(_DASHES)]
+            ax.contour(X, Y, vv, levels=[0.0], colors=[col], linewidths=1.4,
+                       linestyles=[dash])
+            handles.append(Line2D([], [], color=col, ls=dash, lw=1.4,
                                   label=f"limit: {_CONSTRAINT_LABEL.get(key, key)}"))
     if best is not None:
         rel = best.relative()
         (star,) = ax.plot(rel[region.x_name] * xs, rel[region.y_name] * ys, "r*", ms=12,
-                          label="best design")
+                          label="best design", clip_on=False, zorder=5)
         handles.append(star)
     for h in handles:
         if h not in ax.get_lines():
@@ -142,6 +146,10 @@ def plot_feasible_region(region: FeasibleRegion, ax: Any = None, best: Any = Non
     ax.title.set_fontsize(9)
     return ax
 
+
+#: dash patterns of the constraint limits, in the order drawn
+_DASHES = ((0, (6.0, 4.0)), (3.0, (6.0, 4.0)), (0, (1.5, 2.5)), (0, (8.0, 2.0, 1.5, 2.0)),
+           (0, (3.0, 3.0)), (0, (10.0, 3.0)))
 
 _CONSTRAINT_LABEL = {"H": "stroke H", "delta_f": "δz on the forward stroke",
                      "delta_r": "δz on the return stroke", "Pi_v": "max |Πv|",
