@@ -150,16 +150,17 @@ def _plots(study: PlanarStudy, out: Path) -> list[Path]:
     fig, ax = plt.subplots(figsize=(7, 6))
     good = np.flatnonzero(kin.valid)
     picks = [int(good[k]) for k in np.linspace(0, good.size - 1, 4, endpoint=False).astype(int)]
-    pplot.plot_skeleton(kin, picks, paths=study.paths, ax=ax)
+    name = study.doc.name or None
+    pplot.plot_skeleton(kin, picks, ax=ax, name=name)  # every named point's path
     written = [save(fig, out / "planar_skeleton.png")]
     fig, ax = plt.subplots()
-    pplot.plot_driving_torque(dyn, ax=ax)
+    pplot.plot_driving_torque(dyn, ax=ax, name=name)
     written.append(save(fig, out / "planar_driving_torque.png"))
     fig, ax = plt.subplots()
-    pplot.plot_reactions(dyn, ax=ax)
+    pplot.plot_reactions(dyn, ax=ax, name=name)
     written.append(save(fig, out / "planar_reactions.png"))
     fig, axes = plt.subplots(2, 1, sharex=True)
-    pplot.plot_shaking(dyn, axes=axes)
+    pplot.plot_shaking(dyn, axes=axes, name=name)
     written.append(save(fig, out / "planar_shaking.png"))
     return written
 

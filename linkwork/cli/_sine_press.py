@@ -115,12 +115,15 @@ def render(study: SinePressStudy, *, out: Path, console: Any) -> None:
     written = [cyc_idle.to_csv(out / "idle_cycle.csv"), cyc_idle.to_json(out / "idle_cycle.json"),
                cyc_work.to_csv(out / "working_cycle.csv"),
                cyc_work.to_json(out / "working_cycle.json")]
-    written.append(save(plot_cycle(cyc_idle, cyc_work)[0].figure, out / "kinematics.png"))
-    written.append(save(study.force_ratio.plot(work.alpha).figure, out / "working_range.png"))
+    name = study.doc.name
+    written.append(save(plot_cycle(cyc_idle, cyc_work, name=name)[0].figure,
+                        out / "kinematics.png"))
+    written.append(save(study.force_ratio.plot(work.alpha, name=name).figure,
+                        out / "working_range.png"))
     sched = study.schedule
     if sched is not None:
         written += [sched.to_csv(out / "schedule.csv"), sched.to_json(out / "schedule.json")]
-        written.append(save(plot_schedule(sched)[0].figure, out / "schedule.png"))
+        written.append(save(plot_schedule(sched, name=name)[0].figure, out / "schedule.png"))
     written.append(write_json(out / "summary.json", study.summary))
     pyplot().close("all")
     console.print(_characteristics(study))

@@ -135,8 +135,8 @@ def _tables(study: BalanceStudy, console: Any) -> None:
             console.print(escape(f"  {m.replace('N*m', unit_label('N*m'))}"))
 
 
-def _plots(study: BalanceStudy, out: Path) -> None:
-    from linkwork.plot import pyplot, save
+def _plots(study: BalanceStudy, out: Path, name: str | None = None) -> None:
+    from linkwork.plot import figure_title, pyplot, save, titled
     from linkwork.plot.balancing import (
         plot_force_hodograph,
         plot_moments,
@@ -148,39 +148,41 @@ def _plots(study: BalanceStudy, out: Path) -> None:
     c = study.comparison.cycle
     fig, ax = plt.subplots(figsize=(7, 4))
     plot_moments(c.phi1, {"M unbalanced": c.M, "ΔM1 static": c.dM1,
-                          "ΔM2 first harmonic": c.dM2, "ΔM3 least squares": c.dM3}, ax=ax)
+                          "ΔM2 first harmonic": c.dM2, "ΔM3 least squares": c.dM3}, ax=ax,
+                 name=name)
     save(fig, out / "balancing_moments.png")
     fig, ax = plt.subplots(figsize=(5, 5))
-    plot_force_hodograph({"unbalanced": c.F0, "static": c.F1}, ax=ax)
+    plot_force_hodograph({"unbalanced": c.F0, "static": c.F1}, ax=ax, name=name)
     save(fig, out / "balancing_force.png")
     fig, ax = plt.subplots(figsize=(7, 4))
-    plot_torques(c.phi1, {"unbalanced": c.Q0, "balanced": c.Q1}, ax=ax)
+    plot_torques(c.phi1, {"unbalanced": c.Q0, "balanced": c.Q1}, ax=ax, name=name)
     save(fig, out / "balancing_torque.png")
     joints = list(c.reactions0)
     if joints:
         fig, axes = plt.subplots(len(joints), 1, figsize=(7, 2.6 * len(joints) + 0.6),
                                  sharex=True, squeeze=False)
-        for ax, name in zip(axes[:, 0], joints, strict=True):
-            curves = {"unbalanced": c.reactions0[name], "static": c.reactions1[name],
-                      "moved axis (paper 001)": c.reactions3[name]}
-            if name == study.mechanism.driver.joint and "O1" in c.reactions3:
+        for ax, joint in zip(axes[:, 0], joints, strict=True):
+            curves = {"unbalanced": c.reactions0[joint], "static": c.reactions1[joint],
+                      "moved axis (paper 001)": c.reactions3[joint]}
+            if joint == study.mechanism.driver.joint and "O1" in c.reactions3:
                 curves["moved counterweight's bearing O1"] = c.reactions3["O1"]
-            plot_moments(c.phi1, curves, ax=ax, ylabel=f"|R| at {name} [N]")
+            plot_moments(c.phi1, curves, ax=ax, ylabel=f"|R| at {joint} [N]", title="")
             if ax is not axes[-1, 0]:
                 ax.set_xlabel("")
-        axes[0, 0].set_title("frame-bearing reactions before and after balancing")
+        figure_title(fig, titled(name, "Balancing", "frame-bearing reactions before and after "
+                                 "balancing"))
         save(fig, out / "balancing_bearings.png")
     p: Any = study.pareto  # arrays, where plot_pareto names sequences
     if p is not None:
         fig, ax = plt.subplots(figsize=(7, 5))
         plot_pareto(p.force_rms, p.moment_rms, p.torque_fluct, ax=ax,
-                    points=study.pareto_points(), dominated=p.dominated)
+                    points=study.pareto_points(), dominated=p.dominated, name=name)
         save(fig, out / "balancing_pareto.png")
 
 
-def render(study: BalanceStudy, *, out: Path, console: Any) -> None:
+def render(study: BalanceStudy, *, out: Path, console: Any, name: str | None = None) -> None:
     """Print a :class:`~linkwork.studies.balance.BalanceStudy` on ``console`` and write its
-    tables, summary and plots into ``out``."""
+    tables, summary and plots into ``out`` (``name``: of the mechanism, on the plots)."""
     _tables(study, console)
     output_dir(out)
     comp = study.comparison
@@ -188,7 +190,7 @@ def render(study: BalanceStudy, *, out: Path, console: Any) -> None:
     comp.to_json(out / "balance_table.json")
     comp.cycle.to_csv(out / "balance_cycle.csv")
     write_json(out / "balance_summary.json", study.summary())
-    _plots(study, out)
+    _plots(study, out, name)
     if study.pareto is not None:
         write_json(out / "balance_pareto.json", study.pareto_dict())
         console.print(f"Pareto set: {int((~study.pareto.dominated).sum())} non-dominated of "
@@ -218,4 +220,5 @@ def register(app: typer.Typer) -> None:
         if doc.load:
             console.print("note: the file's external loads enter the driving torque and the "
                           "bearing reactions, not the shaking-moment table (inertia forces)")
-        render(study_balance.run(doc, angles=table, pareto=pareto), out=out, console=console)
+        render(study_balance.run(doc, angles=table, pareto=pareto), out=out, console=console,
+               name=doc.name or None)

@@ -100,26 +100,29 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
 
 
 def _report(study: ReactionsStudy, *, out: Path, console: Any, plots: bool, n: int, seed: int,
-            scheduler: str | None, chunk_size: int) -> tuple[ToleranceStudy | None, list[Path]]:
+            scheduler: str | None, chunk_size: int, mechanism: str | None = None
+            ) -> tuple[ToleranceStudy | None, list[Path]]:
     """Render the study, run and render its tolerance study of ``n`` samples (0: none), list
     the files written; return (tolerance study or None, files)."""
-    written = render(study, out=out, console=console, plots=plots)
+    written = render(study, out=out, console=console, plots=plots, mechanism=mechanism)
     tol = None
     if n:
         tols = study_reactions.tolerances(study, n)  # its errors come before the progress bar
         with rich_progress("tolerance study", console=console) as progress:
             tol = study_reactions.tolerance(study, n, tols=tols, seed=seed, scheduler=scheduler,
                                             chunk_size=chunk_size, progress=progress)
-        written += render_tolerance(study, tol, out=out, console=console, plots=plots)
+        written += render_tolerance(study, tol, out=out, console=console, plots=plots,
+                                    mechanism=mechanism)
     console.print("written: " + ", ".join(str(p) for p in written))
     return tol, written
 
 
-def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
-           ) -> list[Path]:
+def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True,
+           mechanism: str | None = None) -> list[Path]:
     """Print a :class:`~linkwork.studies.reactions.ReactionsStudy` (count, a table per table
     position, the peaks) and write ``reactions.csv/.json``, ``reactions_peaks.json`` and the
-    bending plot into ``out``; return the paths written."""
+    bending plot into ``out`` (``mechanism``: its name, on the plot); return the paths
+    written."""
     console.print(f"[bold]structure in space[/bold]: {study.count.summary()}")
     linear = study.linear
     q_name, q_unit = ("driving force", "N") if linear else ("driving torque", "N·m")
@@ -154,13 +157,13 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
         from linkwork.plot import save
         from linkwork.plot.redundancy import plot_bending
 
-        fig = plot_bending(res)["axes"].ravel()[0].figure
+        fig = plot_bending(res, name=mechanism)["axes"].ravel()[0].figure
         written.append(save(fig, out / "reactions_bending.png"))
     return written
 
 
 def render_tolerance(study: ReactionsStudy, tol: ToleranceStudy, *, out: Path, console: Any,
-                     plots: bool = True) -> list[Path]:
+                     plots: bool = True, mechanism: str | None = None) -> list[Path]:
     """Print the tolerance study's percentiles of the peaks and write its JSON, samples and
     histograms into ``out``; return the paths written."""
     peaks = study.peaks
@@ -185,11 +188,11 @@ def render_tolerance(study: ReactionsStudy, tol: ToleranceStudy, *, out: Path, c
         from linkwork.plot import pyplot, save
         from linkwork.plot.redundancy import plot_peak_histogram
 
-        for name in tol.joints:
+        for joint in tol.joints:
             fig, ax = pyplot().subplots(figsize=(7, 4))
-            ref = {"file's deviations": peaks[name]["bending"]} if sysdev else None
-            plot_peak_histogram(tol, name, "bending", ax=ax, reference=ref)
-            written.append(save(fig, out / f"tolerance_bending_{name}.png"))
+            ref = {"file's deviations": peaks[joint]["bending"]} if sysdev else None
+            plot_peak_histogram(tol, joint, "bending", ax=ax, reference=ref, name=mechanism)
+            written.append(save(fig, out / f"tolerance_bending_{joint}.png"))
     return written
 
 
@@ -234,4 +237,5 @@ def register(app: typer.Typer) -> None:
         output_dir(out)
         study = study_reactions.run(doc, angles=table, method=method)
         _report(study, out=out, console=make_console(), plots=plots, n=tolerance_study or 0,
-                seed=seed, scheduler=scheduler, chunk_size=chunk_size)
+                seed=seed, scheduler=scheduler, chunk_size=chunk_size,
+                mechanism=doc.name or None)

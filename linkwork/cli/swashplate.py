@@ -133,12 +133,12 @@ def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
     console.print(_characteristics(study))
     study.cycle.to_csv(out / "cycle.csv")
     study.cycle.to_json(out / "cycle.json")
-    save(plot_kinematics(study.cycle)[0].figure, out / "kinematics.png")
+    save(plot_kinematics(study.cycle, name=study.doc.name)[0].figure, out / "kinematics.png")
     f = study.forces
     if f is not None:
         f.to_csv(out / "forces.csv")
         f.to_json(out / "forces.json")
-        save(plot_drive_forces(f)[0].figure, out / "forces.png")
+        save(plot_drive_forces(f, name=study.doc.name)[0].figure, out / "forces.png")
         u = study.doc.operation.positions
         slides = f"{u} slide" + ("" if u == 1 else "s")
         eff = (fmt(f.efficiency, decimals=4) if math.isfinite(f.efficiency) else

@@ -408,7 +408,7 @@ class ForceRatioCurve(Result):
         from linkwork.plot.sine import plot_force_ratio_curve
 
         return Figure.of(plot_force_ratio_curve(self.slot_angle, self.eta, self.working,
-                                                alpha=alpha, ax=ax))
+                                                alpha=alpha, ax=ax, **kw))
 
 
 def force_ratio_curve(f_slot: float, f_guide: float, n: int = 721) -> ForceRatioCurve:

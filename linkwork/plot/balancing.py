@@ -16,7 +16,10 @@ from numpy.typing import ArrayLike
 from linkwork.plot._base import (
     Figure,
     axes_or_new,
+    figure_title,
+    finish,
     pyplot,  # noqa: F401  (importable here, as before)
+    titled,
 )
 
 if TYPE_CHECKING:
@@ -37,10 +40,15 @@ def _ax(ax: Any) -> Any:
     return axes_or_new(ax, figsize=(7, 4))
 
 
+def _quantity(label: str) -> str:
+    """An axis label without its unit: ``"shaking moment [N·m]"`` -> ``"shaking moment"``."""
+    return label.split(" [")[0]
+
+
 def plot_moments(phi: ArrayLike, curves: Mapping[str, ArrayLike], ax: Any = None,
                  ylabel: str = "shaking moment [N·m]",
                  markers: Mapping[str, tuple[ArrayLike, ArrayLike]] | None = None,
-                 ) -> dict[str, Any]:
+                 *, name: str | None = None, title: str | None = None) -> dict[str, Any]:
     """Curves over the crank angle (e.g. M, dM1, dM2, dM3 of paper 001's table).
 
     Parameters
@@ -52,6 +60,10 @@ def plot_moments(phi: ArrayLike, curves: Mapping[str, ArrayLike], ax: Any = None
     ax : matplotlib Axes, optional
     markers : mapping label -> (phi_deg, values), optional
         Extra points drawn as markers (e.g. the paper's printed table).
+    name : str, optional
+        Of the mechanism, heads the title (``"<name>: <quantity of ylabel>"``).
+    title : str, optional
+        The title as given instead ("": none, e.g. under a figure title).
 
     Returns
     -------
@@ -70,24 +82,27 @@ def plot_moments(phi: ArrayLike, curves: Mapping[str, ArrayLike], ax: Any = None
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel("crank angle φ1 [deg]")
     ax.set_ylabel(ylabel)
-    ax.set_xlim(deg.min(), deg.max())
-    ax.legend(fontsize=8)
-    ax.grid(True, alpha=0.3)
+    finish(ax, title=titled(name, "Balancing", _quantity(ylabel)) if title is None
+           else title or None, angle=deg)
     return out
 
 
-def plot_torques(phi: ArrayLike, curves: Mapping[str, ArrayLike], ax: Any = None) -> dict[str, Any]:
+def plot_torques(phi: ArrayLike, curves: Mapping[str, ArrayLike], ax: Any = None, *,
+                 name: str | None = None) -> dict[str, Any]:
     """Driving torque (or bearing-reaction magnitudes) over the crank angle, before/after."""
-    return plot_moments(phi, curves, ax=ax, ylabel="driving torque [N·m]")
+    return plot_moments(phi, curves, ax=ax, ylabel="driving torque [N·m]", name=name)
 
 
-def plot_force_hodograph(forces: Mapping[str, ArrayLike], ax: Any = None) -> dict[str, Any]:
+def plot_force_hodograph(forces: Mapping[str, ArrayLike], ax: Any = None, *,
+                         name: str | None = None) -> dict[str, Any]:
     """Shaking-force hodographs: the tip of (Fx, Fy) over a cycle, per mechanism variant.
 
     Parameters
     ----------
     forces : mapping label -> array_like of shape (n, 2)
         Shaking force [N].
+    name : str, optional
+        Of the mechanism, heads the title.
     """
     ax = _ax(ax)
     out: dict[str, Any] = {"ax": ax}
@@ -108,15 +123,15 @@ def plot_force_hodograph(forces: Mapping[str, ArrayLike], ax: Any = None) -> dic
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("Fx [N]")
     ax.set_ylabel("Fy [N]")
-    ax.legend(fontsize=8)
-    ax.grid(True, alpha=0.3)
+    finish(ax, title=titled(name, "Balancing", "shaking-force hodograph over a cycle"))
     return out
 
 
 def plot_pareto(force_rms: ArrayLike, moment_rms: ArrayLike,
                 torque_fluct: ArrayLike, ax: Any = None,
                 points: Mapping[str, tuple[float, float]] | None = None,
-                dominated: ArrayLike | None = None) -> dict[str, Any]:
+                dominated: ArrayLike | None = None, *, name: str | None = None
+                ) -> dict[str, Any]:
     """Trade-off of optimal balancing: RMS shaking force vs RMS shaking moment.
 
     Colour = driving-torque fluctuation. ``points`` adds labelled comparison designs
@@ -147,14 +162,15 @@ def plot_pareto(force_rms: ArrayLike, moment_rms: ArrayLike,
                                 markerfacecolor="none", markeredgewidth=1.5)
     ax.set_xlabel("RMS shaking force [N]")
     ax.set_ylabel("RMS shaking moment [N·m]")
-    ax.legend(fontsize=8)
-    ax.grid(True, alpha=0.3)
+    finish(ax, title=titled(name, "Balancing", "optimal counterweights, RMS shaking force and "
+                            "moment"), legend_kw={"outside": "below"})
     return out
 
 
 def plot_bars(values: Mapping[str, float], ax: Any = None, ylabel: str = "",
-              fmt: str = "%.4g") -> dict[str, Any]:
-    """One labelled bar per entry of ``values`` (label -> number), values written on the bars.
+              fmt: str = "%.4g", *, title: str | None = None) -> dict[str, Any]:
+    """One labelled bar per entry of ``values`` (label -> number), values written on the bars,
+    ``title`` above.
 
     Returns ``{"ax": ax, "bars": BarContainer}``.
     """
@@ -164,19 +180,21 @@ def plot_bars(values: Mapping[str, float], ax: Any = None, ylabel: str = "",
     ax.bar_label(bars, fmt=fmt, fontsize=8)
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_ylabel(ylabel)
-    ax.grid(True, axis="y", alpha=0.3)
+    finish(ax, title=title, grid="y")
     return {"ax": ax, "bars": bars}
 
 
-def axis_offset_figure(r: AxisOffset, ax: Any = None) -> Figure:
+def axis_offset_figure(r: AxisOffset, ax: Any = None, *, name: str | None = None) -> Figure:
     """Residual moment before and after moving the counterweight axis to O1 (1 axes)."""
     out = plot_moments(r.phi1, {"before": r.moment,
                                 f"after ({r.method}), O1 = ({r.x * 1e3:.4g}, {r.y * 1e3:.4g})"
-                                " mm": r.residual}, ax=ax, ylabel="residual moment [N·m]")
+                                " mm": r.residual}, ax=ax, ylabel="residual moment [N·m]",
+                       title=titled(name, "AxisOffset", "residual moment"))
     return Figure.of(out)
 
 
-def counterweights_figure(counterweights: Sequence[Counterweight], ax: Any = None) -> Figure:
+def counterweights_figure(counterweights: Sequence[Counterweight], ax: Any = None, *,
+                          name: str | None = None) -> Figure:
     """Each counterweight as its first moment of mass S [kg·m], drawn as a vector at its angle
     in the frame of its link, from the link's hinge (1 axes)."""
     ax = axes_or_new(ax, figsize=(5, 5))
@@ -192,62 +210,72 @@ def counterweights_figure(counterweights: Sequence[Counterweight], ax: Any = Non
     ax.set_aspect("equal", adjustable="datalim")
     ax.set_xlabel("S along the link [kg·m]")
     ax.set_ylabel("S normal to the link [kg·m]")
-    ax.legend(fontsize=8)
-    ax.grid(True, alpha=0.3)
+    finish(ax, title=titled(name, "Counterweight", "first moments of mass S of the "
+                            "counterweights"))
     return Figure.of(ax, lines=arrows)
 
 
-def force_balance_figure(fb: ForceBalance, ax: Any = None) -> Figure:
+def force_balance_figure(fb: ForceBalance, ax: Any = None, *, name: str | None = None
+                         ) -> Figure:
     """RMS shaking force before and after the counterweights (1 axes, bars)."""
     out = plot_bars({"unbalanced": fb.force_rms_before, "balanced": fb.force_rms_after}, ax=ax,
-                    ylabel="RMS shaking force [N]")
-    out["ax"].set_title("full force balance" if fb.full else "partial force balance",
-                        fontsize=9)
+                    ylabel="RMS shaking force [N]",
+                    title=titled(name, "ForceBalance", "RMS shaking force, " + (
+                        "full force balance" if fb.full else "partial force balance")))
     return Figure.of(out)
 
 
-def optimal_balance_figure(ob: OptimalBalance, ax: Any = None) -> Figure:
+def optimal_balance_figure(ob: OptimalBalance, ax: Any = None, *, name: str | None = None
+                           ) -> Figure:
     """The three criteria of an optimal design (1 axes, bars): RMS shaking force [N], RMS
     shaking moment [N·m], driving-torque fluctuation [N·m]."""
     out = plot_bars({"force RMS [N]": ob.force_rms, "moment RMS [N·m]": ob.moment_rms,
-                     "torque fluct. [N·m]": ob.torque_fluct}, ax=ax, ylabel="criterion")
-    out["ax"].set_title("weights (w_F, w_M, w_Q) = ({:g}, {:g}, {:g})".format(*ob.weights),
-                        fontsize=9)
+                     "torque fluct. [N·m]": ob.torque_fluct}, ax=ax, ylabel="criterion",
+                    title=titled(name, "OptimalBalance", "criteria at weights (w_F, w_M, w_Q)"
+                                 " = ({:g}, {:g}, {:g})".format(*ob.weights)))
     return Figure.of(out)
 
 
-def pareto_figure(ps: ParetoSet, ax: Any = None) -> Figure:
+def pareto_figure(ps: ParetoSet, ax: Any = None, *, name: str | None = None) -> Figure:
     """The trade-off of a Pareto set (1 axes): :func:`plot_pareto` with the unbalanced and the
     statically balanced mechanism as reference points."""
     return Figure.of(plot_pareto(ps.force_rms, ps.moment_rms, ps.torque_fluct, ax=ax,
                                  points={"unbalanced": ps.unbalanced[:2],
                                          "static": ps.static[:2]},
-                                 dominated=ps.dominated))
+                                 dominated=ps.dominated, name=name or "ParetoSet"))
 
 
-def shaking_loads_figure(sl: ShakingLoads, axes: Any = None) -> Figure:
+def shaking_loads_figure(sl: ShakingLoads, axes: Any = None, *, name: str | None = None
+                         ) -> Figure:
     """Shaking-force hodograph and shaking moment over the crank angle (2 axes)."""
     ax = axes_or_new(axes, 1, 2, figsize=(12, 4.5))
-    force = plot_force_hodograph({"shaking force": sl.force}, ax=ax[0])
+    force = plot_force_hodograph({"shaking force": sl.force}, ax=ax[0],
+                                 name=name or "ShakingLoads")
     moment = plot_moments(sl.phi1, {"M": sl.moment}, ax=ax[1],
                           ylabel="shaking moment about ({:g}, {:g}) mm [N·m]".format(
-                              *(1e3 * np.asarray(sl.point, dtype=float))))
+                              *(1e3 * np.asarray(sl.point, dtype=float))),
+                          name=name or "ShakingLoads")
     return Figure.of(ax, force=force, moment=moment)
 
 
-def cycle_comparison_figure(c: CycleComparison, axes: Any = None) -> Figure:
+def cycle_comparison_figure(c: CycleComparison, axes: Any = None, *, name: str | None = None
+                            ) -> Figure:
     """The paper-001 comparison over a cycle (3 axes): shaking moments M, dM1, dM2, dM3; the
     shaking-force hodographs unbalanced and static; the driving torques."""
     ax = axes_or_new(axes, 1, 3, figsize=(17, 4.5))
     moments = plot_moments(c.phi1, {"M unbalanced": c.M, "ΔM1 static": c.dM1,
                                     "ΔM2 1st harmonic": c.dM2, "ΔM3 least sq.": c.dM3},
-                           ax=ax[0])
+                           ax=ax[0], title="shaking moment")
     force = plot_force_hodograph({"unbalanced": c.F0, "static": c.F1}, ax=ax[1])
+    ax[1].set_title("shaking-force hodograph")
     torque = plot_torques(c.phi1, {"unbalanced": c.Q0, "balanced": c.Q1}, ax=ax[2])
+    ax[2].set_title("driving torque")
+    figure_title(ax[0].figure, titled(name, "CycleComparison", "balancing over a cycle"))
     return Figure.of(ax, moments=moments, force=force, torque=torque)
 
 
-def balancing_comparison_figure(bc: BalancingComparison, ax: Any = None) -> Figure:
+def balancing_comparison_figure(bc: BalancingComparison, ax: Any = None, *,
+                                name: str | None = None) -> Figure:
     """The paper-001 table as grouped bars (1 axes): M, dM1, dM2, dM3 at the table positions,
     with R2 and R3 in the title."""
     ax = _ax(ax)
@@ -264,13 +292,12 @@ def balancing_comparison_figure(bc: BalancingComparison, ax: Any = None) -> Figu
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel("crank angle φ1 [deg]")
     ax.set_ylabel("shaking moment [N·m]")
-    ax.set_title(f"R2 = {bc.R2:.1f} %, R3 = {bc.R3:.1f} %", fontsize=9)
-    ax.legend(fontsize=8)
-    ax.grid(True, axis="y", alpha=0.3)
+    finish(ax, title=titled(name, "BalancingComparison", "shaking moment at the table "
+                            f"positions, R2 = {bc.R2:.1f} %, R3 = {bc.R3:.1f} %"), grid="y")
     return Figure.of(ax, bars=bars)
 
 
-def harmonics_figure(h: Harmonics, ax: Any = None) -> Figure:
+def harmonics_figure(h: Harmonics, ax: Any = None, *, name: str | None = None) -> Figure:
     """Amplitudes A_j of the harmonics as bars over their order j, the mean a0 as a line
     (1 axes)."""
     ax = _ax(ax)
@@ -279,6 +306,5 @@ def harmonics_figure(h: Harmonics, ax: Any = None) -> Figure:
     ax.set_xticks(np.asarray(h.order))
     ax.set_xlabel("harmonic order j")
     ax.set_ylabel("amplitude A_j [unit of the quantity]")
-    ax.legend(fontsize=8)
-    ax.grid(True, axis="y", alpha=0.3)
+    finish(ax, title=titled(name, "Harmonics", "amplitudes of the harmonics"), grid="y")
     return Figure.of(ax, bars=bars, mean=line)

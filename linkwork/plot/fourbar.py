@@ -13,7 +13,10 @@ import numpy as np
 from linkwork.plot._base import (
     Figure,
     axes_or_new,
+    figure_title,
+    finish,
     pyplot,  # noqa: F401  (importable here, as before)
+    titled,
 )
 
 if TYPE_CHECKING:
@@ -27,7 +30,8 @@ def _axes(ax: Any, ncols: int = 1) -> Any:
     return axes_or_new(ax, 1, ncols, figsize=(6 * ncols, 4.5))
 
 
-def plot_fourbar_linkage(result: FourbarResult, indices: Any = None, ax: Any = None) -> Any:
+def plot_fourbar_linkage(result: FourbarResult, indices: Any = None, ax: Any = None, *,
+                         name: str | None = None) -> Any:
     """Draw the linkage (frame, crank, coupler, rocker) at some positions of a 1-D result.
 
     Parameters
@@ -38,6 +42,8 @@ def plot_fourbar_linkage(result: FourbarResult, indices: Any = None, ax: Any = N
         Positions to draw (default: 8 evenly spaced ones). The path of B (and of P, if present)
         is drawn over the whole result.
     ax : matplotlib Axes, optional
+    name : str, optional
+        Of the mechanism, heads the title.
 
     Returns
     -------
@@ -59,13 +65,15 @@ def plot_fourbar_linkage(result: FourbarResult, indices: Any = None, ax: Any = N
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.legend(loc="best")
+    finish(ax, title=titled(name, "Four-bar", "linkage at "
+                            f"{np.size(np.atleast_1d(indices))} positions and point paths"))
     return ax
 
 
-def plot_fourbar_motion(result: FourbarResult, axes: Any = None) -> Any:
+def plot_fourbar_motion(result: FourbarResult, axes: Any = None, *, name: str | None = None
+                        ) -> Any:
     """Angles, angular velocities and accelerations of coupler and rocker over the crank angle
-    phi1 [deg]."""
+    phi1 [deg]; ``name`` (of the mechanism) heads the title."""
     axes = _axes(axes, ncols=3)
     t = np.degrees(result.phi1)
     for ax, (q3, q4, label) in zip(axes, (
@@ -75,26 +83,30 @@ def plot_fourbar_motion(result: FourbarResult, axes: Any = None) -> Any:
             (result.eps3, result.eps4, "angular acceleration [rad/s^2]")), strict=True):
         ax.plot(t, q3, label="coupler")
         ax.plot(t, q4, label="rocker")
-        ax.set_xlabel("crank angle phi1 [deg]")
+        ax.set_xlabel("crank angle φ1 [deg]")
         ax.set_ylabel(label)
-        ax.legend(loc="best")
+        finish(ax, angle=t)
+    figure_title(axes[0].figure, titled(name, "Four-bar", "motion of coupler and rocker"))
     return axes
 
 
-def plot_fourbar_forces(forces: FourbarForces, axes: Any = None) -> Any:
+def plot_fourbar_forces(forces: FourbarForces, axes: Any = None, *, name: str | None = None
+                        ) -> Any:
     """Joint reaction magnitudes [N] and the driving moment Q [N m] over the crank angle phi1
-    [deg]."""
+    [deg]; ``name`` (of the mechanism) heads the title."""
     axes = _axes(axes, ncols=2)
     t = np.degrees(forces.phi1)
-    for name, fx, fy in (("O2", forces.R_Ox, forces.R_Oy), ("A", forces.R_Ax, forces.R_Ay),
-                         ("B", forces.R_Bx, forces.R_By), ("O4", forces.R_Cx, forces.R_Cy)):
-        axes[0].plot(t, np.hypot(fx, fy), label=f"|R| at {name}")
-    axes[0].set_xlabel("crank angle phi1 [deg]")
+    for joint, fx, fy in (("O2", forces.R_Ox, forces.R_Oy), ("A", forces.R_Ax, forces.R_Ay),
+                          ("B", forces.R_Bx, forces.R_By), ("O4", forces.R_Cx, forces.R_Cy)):
+        axes[0].plot(t, np.hypot(fx, fy), label=f"|R| at {joint}")
+    axes[0].set_xlabel("crank angle φ1 [deg]")
     axes[0].set_ylabel("joint reaction [N]")
-    axes[0].legend(loc="best")
+    finish(axes[0], title="joint reactions", angle=t)
     axes[1].plot(t, forces.Q)
-    axes[1].set_xlabel("crank angle phi1 [deg]")
-    axes[1].set_ylabel("driving moment Q [N m]")
+    axes[1].set_xlabel("crank angle φ1 [deg]")
+    axes[1].set_ylabel("driving moment Q [N·m]")
+    finish(axes[1], title="driving moment", angle=t)
+    figure_title(axes[0].figure, titled(name, "Four-bar", "joint reactions and driving moment"))
     return axes
 
 

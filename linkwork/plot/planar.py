@@ -15,7 +15,10 @@ import numpy as np
 from linkwork.plot._base import (
     Figure,
     axes_or_new,
-    pyplot,  # noqa: F401  (importable here, as before)
+    figure_title,
+    finish,
+    pyplot,
+    titled,
 )
 
 if TYPE_CHECKING:
@@ -41,13 +44,45 @@ def _x(kin: Any) -> tuple[np.ndarray, str]:
     return kin.phi1 * 1e3, "driver position s1 [mm]"
 
 
+def _angle(kin: Any, x: np.ndarray) -> np.ndarray | None:
+    """The degrees drawn on the x axis, or None for a linear driver (mm, not an angle)."""
+    return None if _linear(kin) else x
+
+
+#: line styles of the point paths (colours repeat after ten paths, the styles tell them apart)
+_PATH_STYLES = ("--", "-.", (0, (1.5, 1.5)), (0, (6.0, 2.0, 1.5, 2.0, 1.5, 2.0)))
+
+
+def named_point_paths(kin: Any) -> list[tuple[str, str]]:
+    """Every named point of every moving body whose path is a curve, each path once: a
+    joint's point named on both of its bodies (coupler.B, rocker.B) is kept under its first
+    body; points that do not move (a crank's pivot) are left out."""
+    kept: list[tuple[str, str]] = []
+    seen: list[np.ndarray] = []
+    for body in kin.mechanism.bodies:
+        for pt in body.points:
+            pm = kin.point(body.name, pt)
+            xy = np.concatenate([pm.x, pm.y])
+            ok = np.isfinite(pm.x) & np.isfinite(pm.y)
+            if not ok.any() or (np.ptp(pm.x[ok]) <= 1e-9 and np.ptp(pm.y[ok]) <= 1e-9):
+                continue
+            if any(np.allclose(xy, other, rtol=0.0, atol=1e-9, equal_nan=True)
+                   for other in seen):
+                continue
+            kept.append((body.name, pt))
+            seen.append(xy)
+    return kept
+
+
 def plot_skeleton(kin: Any, positions: Sequence[int] | None = None, *,
-                  paths: Sequence[tuple[str, str]] = (), ax: Any = None) -> dict[str, Any]:
+                  paths: Sequence[tuple[str, str]] | None = None, ax: Any = None,
+                  name: str | None = None) -> dict[str, Any]:
     """Draw the mechanism at some positions (indices into ``kin.phi1``) and point paths.
 
     Each body is drawn as the polygon of its named points (joint centres); ``paths`` lists
-    (body, point) whose paths over the whole cycle are drawn. Returns ``{"ax", "lines",
-    "paths"}``.
+    (body, point) whose paths over the whole cycle are drawn, default (None) the path of every
+    named point that moves, each once (:func:`named_point_paths`). ``name`` (of the mechanism)
+    heads the title. Returns ``{"ax", "lines", "paths", "guides"}``.
     """
     ax = _ax(ax)
     mech = kin.mechanism
@@ -79,14 +114,18 @@ def plot_skeleton(kin: Any, positions: Sequence[int] | None = None, *,
     ax.plot(fx, fy, "k^", ms=9, label="frame")
     guides = _draw_guides(ax, kin, positions[:1], colours)
     drawn = []
-    for body, point in paths:
+    for k, (body, point) in enumerate(named_point_paths(kin) if paths is None else paths):
         pm = kin.point(body, point)
-        (ln,) = ax.plot(pm.x * 1e3, pm.y * 1e3, "--", lw=1, label=f"path {body}.{point}")
+        (ln,) = ax.plot(pm.x * 1e3, pm.y * 1e3, ls=_PATH_STYLES[k % len(_PATH_STYLES)],
+                        lw=1.2, color=pyplot().get_cmap("tab10")((len(colours) + k) % 10),
+                        label=f"path {body}.{point}")
         drawn.append(ln)
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
-    ax.legend(fontsize="small")
+    shown = len(positions)
+    finish(ax, title=titled(name, "Kinematics", f"skeleton at {shown} position"
+                            + ("" if shown == 1 else "s") + " and point paths"))
     return {"ax": ax, "lines": lines, "paths": drawn, "guides": guides}
 
 
@@ -138,24 +177,32 @@ def _prefixed(unit: str, *values: Any) -> tuple[float, str]:
     return 1.0, unit
 
 
-def plot_driving_torque(dyn: Any, ax: Any = None) -> dict[str, Any]:
-    """Driving torque (or force) over the cycle, with its mean. Returns ``{"ax", "line"}``."""
+def plot_driving_torque(dyn: Any, ax: Any = None, *, name: str | None = None
+                        ) -> dict[str, Any]:
+    """Driving torque (or force) over the cycle, with its mean. ``name`` (of the mechanism)
+    heads the title. Returns ``{"ax", "line"}``."""
     ax = _ax(ax)
     x, label = _x(dyn.kinematics)
     crank = not _linear(dyn.kinematics)
     div, unit = _prefixed("N·m" if crank else "N", dyn.Q)
     (ln,) = ax.plot(x, dyn.Q / div, label="Q")
     mean = dyn.Q_mean / div
-    ax.axhline(mean, color="k", lw=0.8, ls=":", label=f"mean {mean:.4g} {unit} (work / range)")
+    peak = float(np.nanmax(np.abs(dyn.Q))) / div if np.isfinite(dyn.Q).any() else 0.0
+    shown = 0.0 if abs(mean) <= 1e-9 * peak else mean  # round-off of a zero mean: 0
+    ax.axhline(mean, color="k", lw=0.8, ls=":",
+               label=f"mean {shown:.4g} {unit} (work / range)")
     ax.set_xlabel(label)
-    ax.set_ylabel(f"driving torque Q [{unit}]" if crank else f"driving force Q [{unit}]")
-    ax.legend()
+    quantity = "driving torque Q" if crank else "driving force Q"
+    ax.set_ylabel(f"{quantity} [{unit}]")
+    finish(ax, title=titled(name, "Dynamics", quantity), angle=_angle(dyn.kinematics, x))
     return {"ax": ax, "line": ln}
 
 
-def plot_reactions(dyn: Any, joints: Sequence[str] | None = None, ax: Any = None
-                   ) -> dict[str, Any]:
-    """Magnitudes of joint reactions over the cycle. Returns ``{"ax", "lines"}``."""
+def plot_reactions(dyn: Any, joints: Sequence[str] | None = None, ax: Any = None, *,
+                   name: str | None = None) -> dict[str, Any]:
+    """Magnitudes of joint reactions over the cycle; reactions equal over most of the cycle
+    (the two ends of a two-force member) in their own dash pattern and markers. ``name`` (of
+    the mechanism) heads the title. Returns ``{"ax", "lines"}``."""
     ax = _ax(ax)
     x, label = _x(dyn.kinematics)
     mags = {j: dyn.reaction_magnitude(j) for j in joints or dyn.joints}
@@ -166,12 +213,14 @@ def plot_reactions(dyn: Any, joints: Sequence[str] | None = None, ax: Any = None
         lines.append(ln)
     ax.set_xlabel(label)
     ax.set_ylabel(f"|R| [{unit}]")
-    ax.legend(fontsize="small", ncol=2)
+    finish(ax, title=titled(name, "Dynamics", "joint reactions |R| (force of a on b)"),
+           angle=_angle(dyn.kinematics, x), legend_kw={"title": "joint"})
     return {"ax": ax, "lines": lines}
 
 
-def plot_shaking(dyn: Any, axes: Any = None) -> dict[str, Any]:
-    """Shaking force components and shaking moment. Returns ``{"axes", "lines"}``."""
+def plot_shaking(dyn: Any, axes: Any = None, *, name: str | None = None) -> dict[str, Any]:
+    """Shaking force components and shaking moment. ``name`` (of the mechanism) heads the
+    title. Returns ``{"axes", "lines"}``."""
     axes = axes_or_new(axes, 2, 1, sharex=True)
     x, label = _x(dyn.kinematics)
     fdiv, funit = _prefixed("N", dyn.shaking_fx, dyn.shaking_fy)
@@ -183,8 +232,10 @@ def plot_shaking(dyn: Any, axes: Any = None) -> dict[str, Any]:
     axes[0].set_ylabel(f"shaking force [{funit}]")
     axes[1].set_ylabel(f"shaking moment [{munit}]")
     axes[1].set_xlabel(label)
-    axes[0].legend()
-    axes[1].legend()
+    angle = _angle(dyn.kinematics, x)
+    finish(axes[0], title=titled(name, "Dynamics", "shaking force and moment on the frame"),
+           angle=angle)
+    finish(axes[1], angle=angle)
     return {"axes": axes, "lines": lines}
 
 
@@ -192,32 +243,35 @@ def _pva_axes(axes: Any) -> Any:
     return axes_or_new(axes, 3, 1, figsize=(8, 8.5), sharex=True)
 
 
-def kinematics_figure(kin: Kinematics, bodies: Sequence[str] | None = None, axes: Any = None
-                      ) -> Figure:
+def kinematics_figure(kin: Kinematics, bodies: Sequence[str] | None = None, axes: Any = None,
+                      *, name: str | None = None) -> Figure:
     """Angles [deg], angular velocities [rad/s] and angular accelerations [rad/s²] of the moving
-    bodies over the driver (3 axes, one line per body)."""
+    bodies over the driver (3 axes, one line per body); ``name`` (of the mechanism) heads the
+    title."""
     ax = _pva_axes(axes)
     x, label = _x(kin)
     names = list(kin.bodies[1:]) if bodies is None else list(bodies)
     lines: dict[str, list[Any]] = {}
-    for name in names:
-        i = kin.bodies.index(name)
-        lines[name] = [
-            ax[0].plot(x, np.degrees(np.unwrap(kin.theta[i])), label=name)[0],
-            ax[1].plot(x, kin.omega[i], label=name)[0],
-            ax[2].plot(x, kin.eps[i], label=name)[0]]
+    for body in names:
+        i = kin.bodies.index(body)
+        lines[body] = [
+            ax[0].plot(x, np.degrees(np.unwrap(kin.theta[i])), label=body)[0],
+            ax[1].plot(x, kin.omega[i], label=body)[0],
+            ax[2].plot(x, kin.eps[i], label=body)[0]]
     for a, ylab in zip(ax, ("angle θ [deg]", "angular velocity ω [rad/s]",
                             "angular acceleration ε [rad/s²]"), strict=True):
         a.set_ylabel(ylab)
-        a.grid(True, alpha=0.3)
-    ax[0].legend(fontsize="small", ncol=2)
+        finish(a, angle=_angle(kin, x), show_legend=a is ax[0])
     ax[-1].set_xlabel(label)
+    figure_title(ax[0].figure, titled(name, "Kinematics", "angles, angular velocities and "
+                                      "accelerations of the bodies"))
     return Figure.of(ax, lines=lines)
 
 
-def point_motion_figure(pm: PointMotion, axes: Any = None) -> Figure:
+def point_motion_figure(pm: PointMotion, axes: Any = None, *, name: str | None = None
+                        ) -> Figure:
     """Position [mm], velocity [m/s] and acceleration [m/s²] components of a point over the
-    driver positions (3 axes, x and y in each)."""
+    driver positions (3 axes, x and y in each); ``name`` (of the mechanism) heads the title."""
     ax = _pva_axes(axes)
     linear = _linear(pm)
     x = pm.phi1 * 1e3 if linear else np.degrees(pm.phi1)
@@ -227,17 +281,17 @@ def point_motion_figure(pm: PointMotion, axes: Any = None) -> Figure:
         a.plot(x, qx, label="x")
         a.plot(x, qy, label="y")
         a.set_ylabel(ylab)
-        a.grid(True, alpha=0.3)
-        a.legend(fontsize="small")
+        finish(a, angle=None if linear else x)
     ax[-1].set_xlabel("driver position s1 [mm]" if linear else "driver angle φ1 [deg]")
+    figure_title(ax[0].figure, titled(name, "PointMotion", "motion of a point"))
     return Figure.of(ax)
 
 
-def dynamics_figure(dyn: Dynamics, joints: Sequence[str] | None = None, axes: Any = None
-                    ) -> Figure:
+def dynamics_figure(dyn: Dynamics, joints: Sequence[str] | None = None, axes: Any = None,
+                    *, name: str | None = None) -> Figure:
     """Driving torque (or force) with its mean, and the joint reaction magnitudes over the
     driver positions (2 axes): :func:`plot_driving_torque`, :func:`plot_reactions`."""
     ax = axes_or_new(axes, 2, 1, figsize=(8, 7), sharex=True)
-    torque = plot_driving_torque(dyn, ax=ax[0])
-    reactions = plot_reactions(dyn, joints, ax=ax[1])
+    torque = plot_driving_torque(dyn, ax=ax[0], name=name)
+    reactions = plot_reactions(dyn, joints, ax=ax[1], name=name)
     return Figure.of(ax, torque=torque, reactions=reactions)

@@ -11,7 +11,10 @@ import numpy as np
 from linkwork.plot._base import (
     Figure,
     axes_or_new,
+    figure_title,
+    finish,
     pyplot,  # noqa: F401  (importable here, as before)
+    titled,
 )
 
 if TYPE_CHECKING:
@@ -25,11 +28,19 @@ _UNIT = {"fx": "N", "fy": "N", "fz": "N", "mx": "N·m", "my": "N·m", "mz": "N·
          "bending": "N·m", "Q": "N·m"}
 
 
+_NAME = {"fx": "force fx", "fy": "force fy", "fz": "axial force fz", "mx": "moment mx",
+         "my": "moment my", "mz": "moment mz", "bending": "bending moment"}
+
+
+def _linear(result: Any) -> bool:
+    """A linear driver: its results carry ``units["phi1"] == "m"``."""
+    return bool(getattr(result, "units", {}).get("phi1") == "m")
+
+
 def _driver_axis(result: Any) -> tuple[np.ndarray, str]:
-    """x values and label of the driver positions: degrees, or mm for a linear driver (whose
-    results carry ``units["phi1"] == "m"``)."""
+    """x values and label of the driver positions: degrees, or mm for a linear driver."""
     phi = np.asarray(result.phi1, dtype=float)
-    if getattr(result, "units", {}).get("phi1") == "m":
+    if _linear(result):
         return phi * 1e3, "driver position s1 [mm]"
     return np.degrees(phi), "driver position φ1 [deg]"
 
@@ -39,7 +50,8 @@ def _ax(ax: Any) -> Any:
 
 
 def plot_components(result: Any, component: str = "fz", joints: Sequence[str] | None = None,
-                    ax: Any = None) -> dict[str, Any]:
+                    ax: Any = None, *, name: str | None = None, title: str | None = None,
+                    legend: bool = True) -> dict[str, Any]:
     """One reaction component of several joints over the driver positions.
 
     Parameters
@@ -50,6 +62,12 @@ def plot_components(result: Any, component: str = "fz", joints: Sequence[str] | 
     joints : sequence of str, optional
         Default all joints.
     ax : matplotlib Axes, optional
+    name : str, optional
+        Of the mechanism, heads the title.
+    title : str, optional
+        The title as given instead of ``"<name>: <component>"``.
+    legend : bool
+        Draw the legend (a panel of components shows it once).
 
     Returns
     -------
@@ -61,19 +79,21 @@ def plot_components(result: Any, component: str = "fz", joints: Sequence[str] | 
     data = result.bending() if component == "bending" else getattr(result, component)
     deg, xlabel = _driver_axis(result)
     out: dict[str, Any] = {"ax": ax}
-    for name in names:
-        (out[name],) = ax.plot(deg, data[result.joints.index(name)], label=name)
+    for joint in names:
+        (out[joint],) = ax.plot(deg, data[result.joints.index(joint)], label=joint)
     ax.axhline(0.0, color="0.6", lw=0.6)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(f"{component} [{_UNIT.get(component, '')}]")
-    ax.set_xlim(deg.min(), deg.max())
-    ax.legend(fontsize=8, title="joint")
-    ax.grid(True, alpha=0.3)
+    quantity = f"{_NAME.get(component, component)} in the joints"
+    finish(ax, title=titled(name, "SpatialReactions", quantity) if title is None else title,
+           angle=None if _linear(result) else deg, legend_kw={"title": "joint"},
+           show_legend=legend)
     return out
 
 
-def plot_bending(result: Any, axes: Any = None) -> dict[str, Any]:
-    """A 2x2 panel: axial forces fz, bending moments mx, my and the driving torque Q.
+def plot_bending(result: Any, axes: Any = None, *, name: str | None = None) -> dict[str, Any]:
+    """A 2x2 panel: axial forces fz, bending moments mx, my and the driving torque Q; ``name``
+    (of the mechanism) heads the figure's title.
 
     Returns ``{"axes": axes, "fz": {...}, "mx": {...}, "my": {...}, "Q": Line2D}``.
     """
@@ -81,19 +101,25 @@ def plot_bending(result: Any, axes: Any = None) -> dict[str, Any]:
     ax = np.asarray(axes).ravel()
     out: dict[str, Any] = {"axes": axes}
     for a, comp in zip(ax[:3], ("fz", "mx", "my"), strict=True):
-        out[comp] = plot_components(result, comp, ax=a)
+        # one legend for the three panels (same joints, same colours): top right
+        out[comp] = plot_components(result, comp, ax=a, title=_NAME[comp], legend=a is ax[1])
     deg, xlabel = _driver_axis(result)
     (out["Q"],) = ax[3].plot(deg, result.Q, color="k")
     linear = getattr(result, "units", {}).get("Q") == "N"
     ax[3].set_ylabel("driving force Q [N]" if linear else "driving torque Q [N·m]")
     ax[3].set_xlabel(xlabel)
-    ax[3].grid(True, alpha=0.3)
+    finish(ax[3], title="driving force" if linear else "driving torque",
+           angle=None if _linear(result) else deg)
+    for a in ax[:2]:  # the x axis is shared: its label under the bottom row only
+        a.set_xlabel("")
+    figure_title(ax[0].figure, titled(name, "SpatialReactions", "joint reactions in space"))
     return out
 
 
 def plot_peak_histogram(study: Any, joint: str, quantity: str = "bending", ax: Any = None,
                         bins: int = 40, percentiles: Sequence[float] = (50.0, 95.0, 99.0),
-                        reference: dict[str, float] | None = None) -> dict[str, Any]:
+                        reference: dict[str, float] | None = None, *,
+                        name: str | None = None) -> dict[str, Any]:
     """Histogram of the peak over the cycle of one quantity of one joint, over the samples.
 
     Parameters
@@ -109,6 +135,8 @@ def plot_peak_histogram(study: Any, joint: str, quantity: str = "bending", ax: A
     reference : mapping label -> value, optional
         Further peaks drawn as dash-dotted lines (e.g. the file's systematic deviations, around
         which the samples are drawn).
+    name : str, optional
+        Of the mechanism, heads the title.
 
     Returns
     -------
@@ -134,13 +162,15 @@ def plot_peak_histogram(study: Any, joint: str, quantity: str = "bending", ax: A
     ax.set_xlabel(f"peak {quantity} at joint {joint} over the cycle "
                   f"[{_UNIT.get(quantity, '')}]")
     ax.set_ylabel(f"samples (N = {study.n_samples})")
-    ax.legend(fontsize=8)
+    finish(ax, title=titled(name, "ToleranceStudy", f"peak {_NAME.get(quantity, quantity)} at "
+                            f"joint {joint}, {study.n_samples} samples"))
     return out
 
 
-def reactions_figure(result: SpatialReactions, axes: Any = None) -> Figure:
+def reactions_figure(result: SpatialReactions, axes: Any = None, *, name: str | None = None
+                     ) -> Figure:
     """Axial forces, bending moments and the driving torque (4 axes): :func:`plot_bending`."""
-    return Figure.of(plot_bending(result, axes=axes))
+    return Figure.of(plot_bending(result, axes=axes, name=name))
 
 
 def tolerance_figure(study: ToleranceStudy, quantity: str = "bending", axes: Any = None,

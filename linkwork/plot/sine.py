@@ -17,7 +17,10 @@ from linkwork.deprecation import warn_renamed
 from linkwork.plot._base import (
     Figure,
     axes_or_new,
+    figure_title,
+    finish,
     pyplot,  # noqa: F401  (importable here, as before)
+    titled,
 )
 
 if TYPE_CHECKING:
@@ -34,8 +37,9 @@ def _axes3(axes: Any, sharex: bool = True) -> Any:
 
 
 def plot_cycle(idle: CrankSliderResult | None, working: InclinedSlotResult | None,
-               axes: Any = None) -> Any:
-    """Position, velocity and acceleration of the output link against crank angle, both modes.
+               axes: Any = None, *, name: str | None = None) -> Any:
+    """Position, velocity and acceleration of the output link against crank angle, both modes;
+    ``name`` (of the press) heads the title.
 
     Idle mode: slider C of the crank-slider (``Y_C``, ``V_C``, ``a_C``); working mode: the ram
     (``X3``, ``V3``, ``a3``).  Both must be 1-D over crank angle.
@@ -45,13 +49,16 @@ def plot_cycle(idle: CrankSliderResult | None, working: InclinedSlotResult | Non
     axes : array of 3 matplotlib Axes (position [mm], velocity [m/s], acceleration [m/s^2]).
     """
     ax = _axes3(axes)
+    drawn = []
     if idle is not None:
         deg = np.degrees(idle.phi1)
+        drawn.append(deg)
         ax[0].plot(deg, idle.Y_C * 1e3, label="idle: slider C, $Y_C$")
         ax[1].plot(deg, idle.V_C, label="idle: $V_C$")
         ax[2].plot(deg, idle.a_C, label="idle: $a_C$")
     if working is not None:
         deg = np.degrees(working.phi1)
+        drawn.append(deg)
         a = float(np.degrees(np.asarray(working.alpha).reshape(-1)[0]))
         ax[0].plot(deg, working.X3 * 1e3, label=f"working: ram $X_3$ ($\\alpha$ = {a:.4g}°)")
         ax[1].plot(deg, working.V3, label="working: $V_3$")
@@ -59,17 +66,22 @@ def plot_cycle(idle: CrankSliderResult | None, working: InclinedSlotResult | Non
     for a_, lab in zip(ax, ("position [mm]", "velocity [m/s]", "acceleration [m/s²]"),
                        strict=True):
         a_.set_ylabel(lab)
-        a_.grid(True, alpha=0.3)
         a_.axhline(0.0, color="0.6", lw=0.6)
-        a_.legend(loc="best", fontsize=8)
+        finish(a_, angle=np.concatenate(drawn) if drawn else None)
     ax[-1].set_xlabel("crank angle φ1 [deg]")
-    ax[-1].set_xticks(np.arange(0, 361, 45))
-    ax[0].set_title("Output link over one crank revolution")
+    kind = ("idle and working modes" if idle is not None and working is not None
+            else "idle mode (crank-slider)" if idle is not None else "working mode (sine)")
+    default = ("Sine press" if idle is not None and working is not None
+               else "CrankSliderResult" if idle is not None else "InclinedSlotResult")
+    figure_title(ax[0].figure, titled(name, default, f"output link over one crank revolution, "
+                                      f"{kind}"))
     return ax
 
 
-def plot_schedule(res: ScheduleResult, axes: Any = None, ram: bool = True) -> Any:
-    """Output-link motion over a duty schedule against time, switch points marked.
+def plot_schedule(res: ScheduleResult, axes: Any = None, ram: bool = True, *,
+                  name: str | None = None) -> Any:
+    """Output-link motion over a duty schedule against time, switch points marked; ``name``
+    (of the press) heads the title.
 
     Draws ``s, v, a`` of the active structure's output link and, if ``ram``, the press ram's
     motion (dashed); working segments are shaded and every switch is a vertical line.
@@ -101,10 +113,11 @@ def plot_schedule(res: ScheduleResult, axes: Any = None, ram: bool = True) -> An
     for a_, lab in zip(ax, ("position [mm]", "velocity [m/s]", "acceleration [m/s²]"),
                        strict=True):
         a_.set_ylabel(lab)
-        a_.grid(True, alpha=0.3)
-    ax[0].legend(loc="upper right", fontsize=8)
+        finish(a_, show_legend=a_ is ax[0])
     ax[-1].set_xlabel("time [s] (dotted: mode switches)")
-    ax[0].set_title("Duty schedule: idle and working modes")
+    ax[-1].set_xlim(float(res.t[0]), float(res.t[-1]))
+    figure_title(ax[0].figure, titled(name, "ScheduleResult", "duty schedule, idle and "
+                                      "working modes"))
     return ax
 
 
@@ -121,7 +134,7 @@ def plot_force_ratio(f_slot: float, f_guide: float, alpha: float | None = None,
 
 def plot_force_ratio_curve(slot_angle: ArrayLike, eta: ArrayLike,
                            working: tuple[float, float], alpha: float | None = None,
-                           ax: Any = None) -> Any:
+                           ax: Any = None, *, name: str | None = None) -> Any:
     """Draw a force-ratio curve ``eta`` [-] over ``slot_angle`` [rad], the working range
     ``working`` = (alpha_min, alpha_max) [rad] shaded and the chosen ``alpha`` [rad] if given.
 
@@ -141,21 +154,24 @@ def plot_force_ratio_curve(slot_angle: ArrayLike, eta: ArrayLike,
     ax.set_ylim(-1.0, 1.05)
     ax.set_xlabel("slot angle α [deg]")
     ax.set_ylabel("η [-]")
-    ax.grid(True, alpha=0.3)
-    ax.legend(loc="lower center", fontsize=8)
+    finish(ax, title=titled(name, "ForceRatioCurve", "worst-case force ratio over the slot "
+                            "angle"), angle=np.degrees(a), legend_kw={"loc": "lower center"})
     return ax
 
 
-def crank_slider_figure(result: CrankSliderResult, axes: Any = None) -> Figure:
+def crank_slider_figure(result: CrankSliderResult, axes: Any = None, *,
+                        name: str | None = None) -> Figure:
     """Slider position, velocity and acceleration over the crank angle (3 axes)."""
-    return Figure.of(plot_cycle(result, None, axes=axes))
+    return Figure.of(plot_cycle(result, None, axes=axes, name=name))
 
 
-def inclined_slot_figure(result: InclinedSlotResult, axes: Any = None) -> Figure:
+def inclined_slot_figure(result: InclinedSlotResult, axes: Any = None, *,
+                         name: str | None = None) -> Figure:
     """Ram position, velocity and acceleration of the sine mechanism (3 axes)."""
-    return Figure.of(plot_cycle(None, result, axes=axes))
+    return Figure.of(plot_cycle(None, result, axes=axes, name=name))
 
 
-def schedule_figure(result: ScheduleResult, axes: Any = None, ram: bool = True) -> Figure:
+def schedule_figure(result: ScheduleResult, axes: Any = None, ram: bool = True, *,
+                    name: str | None = None) -> Figure:
     """Output-link motion over a duty schedule (3 axes): :func:`plot_schedule`."""
-    return Figure.of(plot_schedule(result, axes=axes, ram=ram))
+    return Figure.of(plot_schedule(result, axes=axes, ram=ram, name=name))

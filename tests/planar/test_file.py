@@ -391,10 +391,10 @@ def test_load_range_of_a_crank_must_be_an_angle(tmp_path, capsys):
 
 def test_file_straight_link_with_a_point_redefining_its_end_one_line_exit_2(tmp_path, capsys):
     text = (ROOT / "examples" / "fourbar_paper001.toml").read_text()
-    old = 'name = "coupler"\n'
+    old = 'points = { P = '  # the coupler's named points (its coupler point P)
     assert old in text
     f = tmp_path / "m.toml"
-    f.write_text(text.replace(old, old + 'points = { B = ["250 mm", 0] }\n', 1))
+    f.write_text(text.replace(old, 'points = { B = ["250 mm", 0], P = ', 1))
     code, _, err = run_cli(["analyze", str(f), "--out", str(tmp_path / "o")], capsys)
     assert code == 2 and len(err.strip().splitlines()) == 1 and "coupler.points.B" in err
 

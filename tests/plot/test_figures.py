@@ -62,13 +62,49 @@ def mech() -> Any:
 
 
 def _check(fig: Any, n_axes: int) -> Figure:
-    """The one handle type, ``n_axes`` data axes on one figure, something drawn on each."""
+    """The one handle type, ``n_axes`` data axes on one figure, something drawn on each, and
+    what a designer prints (:func:`_printable`)."""
     assert isinstance(fig, Figure)
     assert len(fig) == len(fig.axes) == n_axes
     for ax in fig.axes:
         assert ax.figure is fig.figure
         assert ax.lines or ax.patches or ax.collections
+    _printable(fig)
     return fig
+
+
+def _title(fig: Any) -> str:
+    sup = fig.figure.get_suptitle()
+    return sup or " / ".join(ax.get_title() for ax in fig.axes if ax.get_title())
+
+
+def _printable(fig: Figure) -> None:
+    """A title (the figure's or every axes'); angle axes over a turn ticked at multiples of 30
+    deg (90 over wider ranges) and limited to the range drawn; a grid; legends of more than 3
+    entries outside the axes (their boxes do not meet once drawn)."""
+    assert _title(fig), "figure without a title"
+    if not fig.figure.get_suptitle():
+        assert all(ax.get_title() for ax in fig.axes), "an axes without a title"
+    fig.figure.canvas.draw()
+    renderer = fig.figure.canvas.get_renderer()
+    for ax in fig.axes:
+        label = ax.get_xlabel() or next((a.get_xlabel() for a in fig.axes if a.get_xlabel() and
+                                         a.get_shared_x_axes().joined(a, ax)), "")
+        lo, hi = ax.get_xlim()
+        if "[deg]" in label and "angle" in label and hi - lo >= 300:
+            ticks = [t for t in ax.get_xticks() if lo - 1e-9 <= t <= hi + 1e-9]
+            step = 30.0 if hi - lo <= 400 else 90.0
+            assert all(abs(t / step - round(t / step)) < 1e-9 for t in ticks), (label, ticks)
+            drawn = np.concatenate([np.asarray(ln.get_xdata(), float) for ln in ax.lines
+                                    if np.size(ln.get_xdata()) > 2])
+            assert lo == pytest.approx(drawn.min(), abs=1e-9)
+            assert drawn.max() <= hi + 1e-9 and hi - drawn.max() <= 10.0
+        assert any(g.get_visible() for g in ax.get_xgridlines() + ax.get_ygridlines()), \
+            "no grid"
+        leg = ax.get_legend()
+        if leg is not None and len(leg.get_texts()) > 3:
+            box, frame = leg.get_window_extent(renderer), ax.get_window_extent(renderer)
+            assert not box.overlaps(frame), f"legend of {len(leg.get_texts())} entries inside"
 
 
 # --- closed forms ----------------------------------------------------------------------------
@@ -216,3 +252,56 @@ def test_every_result_class_overrides_plot() -> None:
         return out.union(*(subclasses(s) for s in out)) if out else out
     missing = [c.__qualname__ for c in subclasses(Result) if c.plot is Result.plot]
     assert missing == []
+
+
+# --- what a designer prints ----------------------------------------------------------------
+
+NAMES = ("Пресс КГШП φ", "压力机 (press)", "Four-bar ÆØÅ ß")
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_names_in_any_script_titled_without_missing_glyphs(mech: Any, name: str) -> None:
+    """A name in Cyrillic (with φ) is shown as written; letters the font lacks (CJK under
+    DejaVu Sans) become "?" instead of the 'Glyph ... missing' warning (an error here)."""
+    k = kinematics(mech, PHI)
+    dyn = inverse_dynamics(k)
+    for fig in (k.plot(name=name), dyn.plot(name=name),
+                shaking_loads(k).plot(name=name)):
+        fig.figure.canvas.draw()  # glyphs are looked up when drawing: warnings are errors
+        title = _title(fig)
+        if name.startswith("压"):
+            assert "??? (press)" in title
+        else:
+            assert name in title
+
+
+def test_coincident_curves_get_their_own_style(mech: Any) -> None:
+    """The coupler is a two-force member in space: |fz| at A and B are one curve; each must
+    stay visible (another dash pattern and markers)."""
+    r = spatial_reactions(mech, PHI, gravity=(0, -9.81), default={"e": 0.03, "z": 0.01})
+    fig = r.plot()
+    lines = {ln.get_label(): ln for ln in fig[0].lines}
+    a, b = lines["A"], lines["B"]
+    np.testing.assert_allclose(a.get_ydata(), b.get_ydata(), rtol=1e-9, atol=1e-9)
+    assert (a.get_linestyle(), a.get_marker()) != (b.get_linestyle(), b.get_marker())
+    assert b.get_marker() not in ("None", "", None)
+
+
+def test_angle_axis_steps() -> None:
+    """Ticks at 30 deg up to a turn, 90 deg to three turns; limits at the range; a cycle
+    sampled without its end is shown to 360."""
+    from linkwork.plot import angle_axis
+
+    plt = pyplot()
+    for data, step, lim in ((np.arange(0.0, 360.0, 1.0), 30.0, (0.0, 360.0)),
+                            (np.linspace(0.0, 360.0, 361), 30.0, (0.0, 360.0)),
+                            (np.linspace(0.0, 720.0, 50), 90.0, (0.0, 720.0)),
+                            (np.linspace(-180.0, 180.0, 73), 30.0, (-180.0, 180.0)),
+                            (np.linspace(20.0, 200.0, 50), 30.0, (20.0, 200.0))):
+        _, ax = plt.subplots()
+        ax.plot(data, np.sin(data))
+        angle_axis(ax, data)
+        assert ax.get_xlim() == pytest.approx(lim)
+        ticks = [t for t in ax.get_xticks() if lim[0] <= t <= lim[1]]
+        assert all(abs(t / step - round(t / step)) < 1e-9 for t in ticks)
+        assert len(ticks) >= 4
