@@ -5,17 +5,20 @@ this package and registers itself on :data:`app` through a ``register(app)`` fun
 modules are listed in :data:`COMMAND_MODULES`. A command parses its arguments, loads the file
 (:func:`linkwork.io.load`), runs a study (:mod:`linkwork.studies`) and renders its result.
 Every expected failure (bad file, bad parameter, impossible mechanism) prints one line on
-stderr and exits with code 2 -- see :func:`main`.
+stderr and exits with code 2 -- see :func:`main`. ``-h`` is ``--help`` on every command;
+``linkwork --version`` prints the version; ``python -m linkwork`` runs the same app.
 """
 
 from __future__ import annotations
 
 import sys
 from collections.abc import Sequence
+from typing import Annotated
 
 import numpy as np
 import typer
 
+from linkwork import __version__
 from linkwork.cli import analyze, balance, reactions, swashplate
 from linkwork.errors import LinkworkError
 
@@ -27,15 +30,26 @@ app = typer.Typer(
     add_completion=False,
     no_args_is_help=True,
     pretty_exceptions_enable=False,
+    # inherited by every sub-command's context (Click takes the parent's help option names)
+    context_settings={"help_option_names": ["-h", "--help"]},
 )
 
 #: Modules of linkwork.cli that define commands (each has ``register(app)``).
 COMMAND_MODULES = (analyze, balance, reactions, swashplate)
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        print(f"linkwork {__version__}")
+        raise typer.Exit(0)
+
 
 @app.callback()
-def _root() -> None:
+def _root(
+    version: Annotated[bool, typer.Option(
+        "--version", callback=_print_version, is_eager=True,
+        help="Print the version and exit.")] = False,
+) -> None:
     """Kinematics, kinetostatics, balancing and synthesis of machine mechanisms."""
 
 

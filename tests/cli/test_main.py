@@ -1,10 +1,13 @@
 """The CLI's failure policy: one line on stderr and exit code 2, never a traceback."""
 
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 from _cli_files import edit_example_and_run
 
+import linkwork
 from linkwork.cli import main
 
 
@@ -210,3 +213,29 @@ def test_cli_angle_unit_traps_are_refused(example, old, new, words, cmd, tmp_pat
     err = edit_example_and_run(tmp_path, capsys, example, old, new, cmd=cmd)
     for w in words:
         assert w in err, (w, err)
+
+
+# --- the command itself: --version, -h, python -m linkwork ---------------------------------
+
+def test_version_prints_the_package_version(capsys):
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out == f"linkwork {linkwork.__version__}\n"
+
+
+@pytest.mark.parametrize("cmd", [[], ["analyze"], ["balance"], ["reactions"], ["swashplate"],
+                                 ["swashplate", "analyze"], ["swashplate", "synthesize"]])
+def test_short_help_is_long_help_on_every_command(cmd, capsys):
+    assert main([*cmd, "--help"]) == 0
+    long = capsys.readouterr().out
+    assert main([*cmd, "-h"]) == 0
+    assert capsys.readouterr().out == long and "Usage: linkwork" in long
+
+
+def test_python_dash_m_linkwork_runs_the_cli():
+    root = Path(__file__).resolve().parents[2]
+    r = subprocess.run([sys.executable, "-m", "linkwork", "--version"], cwd=root,
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and r.stdout.startswith("linkwork ")
+    r = subprocess.run([sys.executable, "-m", "linkwork", "analyze", "no-such-file.toml"],
+                       cwd=root, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1
