@@ -13,14 +13,15 @@ from __future__ import annotations
 
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Annotated
 
 import numpy as np
 import typer
 
 from linkwork import __version__
-from linkwork.cli import analyze, balance, reactions, swashplate
-from linkwork.errors import LinkworkError
+from linkwork.cli import analyze, balance, examples, reactions, swashplate
+from linkwork.errors import FileFormatError, LinkworkError
 
 __all__ = ["COMMAND_MODULES", "app", "main"]
 
@@ -35,7 +36,7 @@ app = typer.Typer(
 )
 
 #: Modules of linkwork.cli that define commands (each has ``register(app)``).
-COMMAND_MODULES = (analyze, balance, reactions, swashplate)
+COMMAND_MODULES = (analyze, balance, reactions, swashplate, examples)
 
 
 def _print_version(value: bool) -> None:
@@ -63,6 +64,15 @@ def _fail(message: str) -> int:
     return 2
 
 
+def _bundled_hint(exc: FileFormatError) -> str:
+    """For a missing file named like a bundled example: how to get the examples."""
+    name = Path(exc.file).name
+    if exc.problem != "file not found" or name not in {ex.name for ex in examples.bundled()}:
+        return ""
+    return (f" ({name} is a bundled example: `linkwork examples --copy examples` copies them "
+            "into ./examples)")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line; return the exit code (0 ok, 2 bad input or impossible request).
 
@@ -87,6 +97,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except typer.TyperException as exc:  # usage errors: bad option, missing argument, ...
         fmt = getattr(exc, "format_message", None)
         return _fail(fmt() if callable(fmt) else str(exc))
+    except FileFormatError as exc:
+        return _fail(str(exc) + _bundled_hint(exc))
     except (LinkworkError, OSError) as exc:
         return _fail(str(exc))
     return int(rv) if isinstance(rv, int) else 0
