@@ -29,7 +29,7 @@ from linkwork.redundancy import ToleranceStudy
 from linkwork.results import write_json
 from linkwork.studies import reactions as study_reactions
 from linkwork.studies.reactions import ReactionsStudy
-from linkwork.sweep import rich_progress
+from linkwork.sweep import check_client, rich_progress
 
 __all__ = ["load_problem", "register", "render", "render_tolerance", "run"]
 
@@ -209,6 +209,7 @@ def register(app: typer.Typer) -> None:
             raise ParameterError("--chunk-size", chunk_size, "must be >= 1")
         if seed < 0:
             raise ParameterError("--seed", seed, "must be >= 0")
+        check_client(scheduler, option="--scheduler")  # address and dask, before any work
         doc = _load(file)
         table = parse_angles(angles)
         if doc.driver.type == "linear":    # positions in mm for a linear driver

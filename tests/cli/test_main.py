@@ -2,13 +2,20 @@
 
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 from _cli_files import edit_example_and_run
 
 import linkwork
 from linkwork.cli import main
+from linkwork.errors import LinkworkError, MissingExtraError
+from linkwork.models.crank_slider import offset_crank_slider
+from linkwork.sweep import check_client, evaluate
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_missing_file_one_line_exit_2(tmp_path, capsys):
@@ -239,3 +246,61 @@ def test_python_dash_m_linkwork_runs_the_cli():
     r = subprocess.run([sys.executable, "-m", "linkwork", "analyze", "no-such-file.toml"],
                        cwd=root, capture_output=True, text=True, timeout=120)
     assert r.returncode == 2 and r.stderr.count("\n") == 1
+
+
+# --- missing optional extras: one line naming the install command --------------------------
+
+def test_scheduler_without_dask_is_one_line_before_any_output(tmp_path, monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)  # as if the extra were missing
+    out = tmp_path / "o"
+    example = Path(__file__).resolve().parents[2] / "examples" / "loom_fourbar_spatial.toml"
+    for cmd in (["reactions", str(example), "--tolerance-study", "10", "--scheduler",
+                 "tcp://127.0.0.1:8786"],
+                ["swashplate", "synthesize", "-R", "100 mm", "-H", "60 mm", "--delta", "10 deg",
+                 "--scheduler", "tcp://127.0.0.1:8786"]):
+        assert main([*cmd, "--out", str(out)]) == 2
+        assert capsys.readouterr().err == ("linkwork: error: --scheduler needs dask: "
+                                           "pip install 'linkwork[dask]'\n")
+        assert not out.exists()
+
+
+@pytest.mark.parametrize("address", ["foo bar", "tcp://host:notaport", "http://host:1",
+                                     "tcp://host:99999", "::::", ""])
+def test_malformed_scheduler_address_is_one_line(address, tmp_path, capsys):
+    cmd = ["swashplate", "synthesize", "-R", "100 mm", "-H", "60 mm", "--delta", "10 deg",
+           "--scheduler", address, "--out", str(tmp_path / "o")]
+    assert main(cmd) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--scheduler" in err and "tcp://10.0.0.1:8786" in err
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("address", ["tcp://10.0.0.1:8786", "10.0.0.1:8786", "localhost",
+                                     "tls://[::1]:8786", "scheduler-0.cluster.local:8786"])
+def test_well_formed_addresses_pass_the_check(address):
+    check_client(address, option="--scheduler")  # dask is installed with the test extras
+
+
+def test_evaluate_with_an_address_but_no_dask_names_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)
+    with pytest.raises(MissingExtraError, match=r"client needs dask: pip install "
+                                                r"'linkwork\[dask\]'") as info:
+        evaluate(np.sqrt, np.arange(4.0), client="tcp://127.0.0.1:8786")
+    assert isinstance(info.value, ImportError) and isinstance(info.value, LinkworkError)
+
+
+def test_to_frame_without_pandas_names_pip_install_pandas(monkeypatch):
+    res = offset_crank_slider(np.radians([0.0, 90.0]), L1=0.05, lambda2=4.0, lambda_e=0.0,
+                              omega1=10.0, eps1=0.0)
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(ImportError, match="pip install pandas") as info:
+        res.to_frame()
+    assert isinstance(info.value, LinkworkError)
+    assert "linkwork[pandas]" in str(info.value)
+
+
+def test_pyproject_names_the_extras_the_messages_name():
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text()
+                           )["project"]["optional-dependencies"]
+    assert any(r.startswith("dask[distributed]") for r in extras["dask"])
+    assert any(r.startswith("pandas") for r in extras["pandas"])
