@@ -183,7 +183,7 @@ def register(app: typer.Typer) -> None:
         file: Annotated[Path, typer.Argument(help="planar mechanism file (TOML) with an "
                                              "optional \\[spatial] table")],
         out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
-            "linkwork-reactions"),
+            "linkwork-output"),
         angles: Annotated[str, typer.Option(help="driver positions for the table, deg (mm for a "
                                             "linear driver), comma-separated")
                           ] = "0,90,180,270",

@@ -7,10 +7,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import typer
 from _cli_files import edit_example_and_run
 
 import linkwork
-from linkwork.cli import main
+from linkwork.cli import app, main
 from linkwork.errors import LinkworkError, MissingExtraError
 from linkwork.models.crank_slider import offset_crank_slider
 from linkwork.sweep import check_client, evaluate
@@ -304,3 +305,22 @@ def test_pyproject_names_the_extras_the_messages_name():
                            )["project"]["optional-dependencies"]
     assert any(r.startswith("dask[distributed]") for r in extras["dask"])
     assert any(r.startswith("pandas") for r in extras["pandas"])
+
+
+def _commands(group, path=()):
+    for name, cmd in group.commands.items():
+        if hasattr(cmd, "commands"):
+            yield from _commands(cmd, (*path, name))
+        else:
+            yield (*path, name), cmd
+
+
+def test_one_default_output_folder_for_every_command_and_git_ignores_it():
+    defaults = {" ".join(path): next(p.default for p in cmd.params if p.name == "out")
+                for path, cmd in _commands(typer.main.get_command(app))
+                if any(p.name == "out" for p in cmd.params)}
+    assert set(defaults) >= {"analyze", "balance", "reactions", "swashplate analyze",
+                             "swashplate synthesize"}
+    assert {str(v) for v in defaults.values()} == {"linkwork-output"}
+    ignored = (ROOT / ".gitignore").read_text().splitlines()
+    assert "linkwork-output/" in ignored and "demo-output/" in ignored
