@@ -11,7 +11,7 @@ import typer
 from _cli_files import edit_example_and_run
 
 import linkwork
-from linkwork.cli import app, main
+from linkwork.cli import COMMAND_HELP, _real_commands, app, main
 from linkwork.errors import LinkworkError, MissingExtraError
 from linkwork.models.crank_slider import offset_crank_slider
 from linkwork.sweep import check_client, evaluate
@@ -324,3 +324,40 @@ def test_one_default_output_folder_for_every_command_and_git_ignores_it():
     assert {str(v) for v in defaults.values()} == {"linkwork-output"}
     ignored = (ROOT / ".gitignore").read_text().splitlines()
     assert "linkwork-output/" in ignored and "demo-output/" in ignored
+
+
+# --- start-up: `linkwork --help` lists the commands without importing their modules ---------
+
+_HELP_SCRIPT = """
+import sys
+from linkwork.cli import _real_commands, main
+main(["--help"]); main(["--version"])
+heavy = sorted(m for m in ("linkwork.studies", "linkwork.io", "linkwork.planar", "pydantic",
+                           "scipy", "matplotlib", "pint") if m in sys.modules)
+print("HEAVY", heavy)
+_real_commands()
+main(["--help"])
+"""
+
+
+def test_help_and_version_import_no_study_and_list_the_commands_as_their_modules_do():
+    r = subprocess.run([sys.executable, "-c", _HELP_SCRIPT], cwd=ROOT, capture_output=True,
+                       text=True, timeout=120, env={"COLUMNS": "100", "PATH": ""})
+    assert r.returncode == 0, r.stderr
+    lazy, rest = r.stdout.split("HEAVY ")
+    heavy, loaded = rest.split("\n", 1)
+    assert heavy == "[]"
+    version = f"linkwork {linkwork.__version__}\n"
+    assert lazy.endswith(version) and lazy[:-len(version)] == loaded  # same listing
+
+
+def test_command_help_is_the_first_paragraph_of_each_commands_help():
+    real = _real_commands()
+    assert list(real) == list(COMMAND_HELP)
+    for name, cmd in real.items():
+        assert " ".join(cmd.help.split("\n\n")[0].split()) == COMMAND_HELP[name]
+
+
+def test_command_modules_are_still_importable_from_linkwork_cli():
+    from linkwork.cli import COMMAND_MODULES, analyze, balance, examples, reactions, swashplate
+    assert COMMAND_MODULES == (analyze, balance, reactions, swashplate, examples)
