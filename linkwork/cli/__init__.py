@@ -92,7 +92,7 @@ app = typer.Typer(
     cls=_LazyGroup,
     name="linkwork",
     help="Kinematics, kinetostatics, balancing and synthesis of machine mechanisms.",
-    add_completion=False,
+    add_completion=True,  # --install-completion / --show-completion (bash, zsh, fish, pwsh)
     no_args_is_help=True,
     pretty_exceptions_enable=False,
     # inherited by every sub-command's context (Click takes the parent's help option names)
@@ -156,6 +156,9 @@ def main(argv: Sequence[str] | None = None) -> int:
                      "double precision; check the magnitudes and units in the file and options")
     except typer.Exit as exc:
         return int(exc.exit_code)
+    except SystemExit as exc:  # Typer's --show-completion / --install-completion exit this way
+        return exc.code if isinstance(exc.code, int) else 0 if exc.code is None \
+            else _fail(str(exc.code))
     except typer.Abort:
         return _fail("aborted")
     except typer.TyperException as exc:  # usage errors: bad option, missing argument, ...

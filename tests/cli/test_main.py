@@ -361,3 +361,24 @@ def test_command_help_is_the_first_paragraph_of_each_commands_help():
 def test_command_modules_are_still_importable_from_linkwork_cli():
     from linkwork.cli import COMMAND_MODULES, analyze, balance, examples, reactions, swashplate
     assert COMMAND_MODULES == (analyze, balance, reactions, swashplate, examples)
+
+
+def _complete(words: str, cword: int) -> list[str]:
+    env = {"PATH": "", "_LINKWORK_COMPLETE": "complete_bash", "COMP_WORDS": words,
+           "COMP_CWORD": str(cword)}
+    r = subprocess.run([sys.executable, "-c", "from linkwork.cli import main; main()"],
+                       cwd=ROOT, env=env, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    return r.stdout.split()
+
+
+def test_shell_completion_of_commands_sub_commands_and_options():
+    assert _complete("linkwork ana", 1) == ["analyze"]
+    assert _complete("linkwork swashplate ", 2) == ["analyze", "synthesize"]
+    assert _complete("linkwork reactions --met", 2) == ["--method"]
+
+
+def test_show_completion_prints_the_bash_script(capsys, monkeypatch):
+    monkeypatch.setenv("SHELL", "/bin/bash")
+    assert main(["--show-completion", "bash"]) == 0
+    assert "_LINKWORK_COMPLETE=complete_bash" in capsys.readouterr().out
