@@ -3,6 +3,7 @@
 first commands in an empty folder, outside the checkout."""
 
 import os
+import shlex
 import subprocess
 import sys
 import venv
@@ -11,6 +12,13 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
+
+
+def _readme_commands() -> list[list[str]]:
+    """The `linkwork ...` lines of the README's command-line section, as argument lists."""
+    text = (ROOT / "README.md").read_text().split("## Command line", 1)[1].split("\n## ", 1)[0]
+    return [shlex.split(line.strip().split("#", 1)[0])[1:] for line in text.splitlines()
+            if line.strip().startswith("linkwork ")]
 
 
 def _run(cmd: list[str | Path], cwd: Path, timeout: float = 900.0) -> subprocess.CompletedProcess:
@@ -47,6 +55,13 @@ def test_wheel_installs_and_runs_the_readme_commands_in_an_empty_folder(tmp_path
     assert (work / "out").is_dir() and any((work / "out").glob("*.csv"))
     assert any((work / "out").glob("*.png"))
     _run([py, "-m", "linkwork", "-h"], cwd=work)
+    # the README's set-up, then its command-line section as printed, in that folder
+    _run([linkwork, "examples", "--copy", "examples"], cwd=work)
+    cmds = _readme_commands()
+    assert len(cmds) >= 6
+    for argv in cmds:
+        _run([linkwork, *argv], cwd=work)
+    assert any((work / "linkwork-output").glob("*.csv"))  # the default folder
     # the installed package is the one imported, not the checkout
     where = _run([py, "-c", "import linkwork; print(linkwork.__file__)"], cwd=work).stdout
     assert str(env_dir) in where
