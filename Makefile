@@ -34,4 +34,4 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/tolerance_study.py
 
 clean:
-	rm -rf $(VENV) demo-output .pytest_cache .mypy_cache .ruff_cache
+	rm -rf $(VENV) demo-output linkwork-output dist .pytest_cache .mypy_cache .ruff_cache

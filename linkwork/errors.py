@@ -23,6 +23,7 @@ __all__ = [
     "FileFormatError",
     "InfeasibleError",
     "LinkworkError",
+    "MissingExtraError",
     "ParameterError",
     "StructureError",
     "angle_ranges",
@@ -116,6 +117,19 @@ class InfeasibleError(LinkworkError, ValueError):
         if detail:
             msg += f" ({detail})"
         super().__init__(msg)
+
+
+class MissingExtraError(LinkworkError, ImportError):
+    """An optional dependency is not installed; the message names the install command.
+
+    ``what`` needs ``package``, installed by ``install`` (e.g. ``pip install 'linkwork[dask]'``).
+    """
+
+    def __init__(self, what: str, package: str, install: str) -> None:
+        self.what = what
+        self.package = package
+        self.install = install
+        super().__init__(f"{what} needs {package}: {install}", name=package)
 
 
 def _fmt(value: Any) -> str:

@@ -20,7 +20,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from linkwork.errors import ParameterError
+from linkwork.errors import MissingExtraError, ParameterError
 
 __all__ = ["Result", "all_true", "strict_json_values", "write_csv", "write_json"]
 
@@ -243,7 +243,13 @@ class Result:
         raise NotImplementedError(f"{type(self).__name__} has no default figure")
 
     def to_frame(self) -> Any:
-        """A pandas DataFrame of the per-position columns (requires pandas)."""
-        import pandas as pd  # optional dependency
+        """A pandas DataFrame of the per-position columns (requires pandas: ``pip install
+        'linkwork[pandas]'``; without it a :class:`~linkwork.errors.MissingExtraError`, an
+        ImportError)."""
+        try:
+            import pandas as pd  # optional dependency
+        except ImportError:
+            raise MissingExtraError("Result.to_frame()", "pandas",
+                                    "pip install pandas (or 'linkwork[pandas]')") from None
 
         return pd.DataFrame(self.columns())

@@ -41,15 +41,25 @@ A progress bar::
 from __future__ import annotations
 
 import functools
+import re
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from typing import Any
 
 import numpy as np
 
-from linkwork.errors import ParameterError
+from linkwork.errors import MissingExtraError, ParameterError
 
-__all__ = ["Generated", "chunk_slices", "evaluate", "rich_progress"]
+__all__ = ["DASK_INSTALL", "Generated", "check_client", "chunk_slices", "evaluate",
+           "rich_progress"]
+
+#: How to install the optional dask extra (named by every "needs dask" message).
+DASK_INSTALL = "pip install 'linkwork[dask]'"
+
+# [scheme://]host[:port], host a name, an IPv4 address or a bracketed IPv6 address
+_ADDRESS = re.compile(r"(?:(?P<scheme>[a-z]+)://)?(?P<host>\[[0-9A-Fa-f:.]+\]|[A-Za-z0-9_.-]+)"
+                      r"(?::(?P<port>[0-9]{1,5}))?")
+_SCHEMES = ("tcp", "tls", "ucx", "ws", "wss")
 
 #: A progress callback: called as ``progress(done, total)`` with numbers of candidates.
 Progress = Callable[[int, int], None]
@@ -126,6 +136,31 @@ def _join(parts: Sequence[Any]) -> Any:
     return np.concatenate([np.atleast_1d(np.asarray(p)) for p in parts])
 
 
+def check_client(client: Any, *, option: str = "client") -> None:
+    """Check a ``client`` argument of :func:`evaluate` before any work is done.
+
+    ``None`` and a ``Client`` object pass. A scheduler address must read
+    ``[scheme://]host[:port]`` (scheme tcp, tls, ucx, ws or wss; port 1-65535), else a
+    :class:`~linkwork.errors.ParameterError` naming ``option``; dask.distributed must be
+    installed, else a :class:`~linkwork.errors.MissingExtraError` naming ``pip install
+    'linkwork[dask]'``. A well-formed address is not contacted here.
+    """
+    if client is None:
+        return
+    if isinstance(client, str):
+        m = _ADDRESS.fullmatch(client)
+        port = m and m["port"]
+        if (m is None or (m["scheme"] is not None and m["scheme"] not in _SCHEMES)
+                or (port and not 1 <= int(port) <= 65535)):
+            raise ParameterError(option, client, "must be a dask scheduler address "
+                                 "[scheme://]host[:port], e.g. tcp://10.0.0.1:8786 (scheme "
+                                 f"{', '.join(_SCHEMES)}; port 1-65535)")
+    try:
+        import dask.distributed  # noqa: F401  (optional dependency)
+    except ImportError:
+        raise MissingExtraError(option, "dask", DASK_INSTALL) from None
+
+
 def evaluate(func: Callable[[Any], Any], candidates: Any, *, chunk_size: int = 10_000,
              client: Any = None, progress: Progress | None = None,
              combine: Callable[[Any, Any], Any] | None = None) -> Any:
@@ -159,6 +194,7 @@ def evaluate(func: Callable[[Any], Any], candidates: Any, *, chunk_size: int = 1
     the final accumulated value when ``combine`` is given. ``N = 0`` returns ``func`` applied
     to the empty selection.
     """
+    check_client(client)
     n = _length(candidates)
     slices = chunk_slices(n, chunk_size) or [slice(0, 0)]
     if client is None:

@@ -1,52 +1,140 @@
 """The ``linkwork`` command.
 
 A thin layer: it parses, calls the library and prints. Each command lives in its own module of
-this package and registers itself on :data:`app` through a ``register(app)`` function; the
-modules are listed in :data:`COMMAND_MODULES`. A command parses its arguments, loads the file
+this package and registers itself on a Typer app through a ``register(app)`` function; the
+modules are listed in :data:`COMMAND_MODULES`. They are imported when a command runs (or its
+help is asked for), not for ``linkwork --help`` and ``--version``: :data:`COMMAND_HELP` gives
+the command list its one-line helps (the start-up cost is importing the studies, pydantic and the
+engine; docs/performance.md). A command parses its arguments, loads the file
 (:func:`linkwork.io.load`), runs a study (:mod:`linkwork.studies`) and renders its result.
 Every expected failure (bad file, bad parameter, impossible mechanism) prints one line on
-stderr and exits with code 2 -- see :func:`main`.
+stderr and exits with code 2 -- see :func:`main`. ``-h`` is ``--help`` on every command;
+``linkwork --version`` prints the version; ``python -m linkwork`` runs the same app.
 """
 
 from __future__ import annotations
 
+import functools
 import sys
 from collections.abc import Sequence
+from pathlib import Path
+from types import ModuleType
+from typing import Annotated, Any
 
 import numpy as np
 import typer
 
-from linkwork.cli import analyze, balance, reactions, swashplate
-from linkwork.errors import LinkworkError
+from linkwork import __version__
+from linkwork.cli import examples
+from linkwork.errors import FileFormatError, LinkworkError
 
-__all__ = ["COMMAND_MODULES", "app", "main"]
+__all__ = ["COMMAND_HELP", "COMMAND_MODULES", "app", "main"]
+
+#: The commands in the order ``linkwork --help`` lists them (Typer's: commands, then groups),
+#: with their one-line help (the first paragraph of each command's help;
+#: tests/cli/test_main.py checks they agree).
+COMMAND_HELP: dict[str, str] = {
+    "analyze": "Analyse a mechanism over a cycle: table, CSV/JSON and plots in an output folder.",
+    "balance": "Balance a planar mechanism: paper 001's table, torque and bearing loads, plots.",
+    "reactions": "Spatial joint reactions (axial forces, bending moments) with redundant "
+                 "constraints.",
+    "examples": "List the bundled example files, or copy them into a folder (--copy DIR).",
+    "swashplate": "Swash-plate (inclined-disk) drive of rotor machines (paper 003).",
+}
+
+
+def _command_modules() -> tuple[ModuleType, ...]:
+    # Lazy on purpose (issue 19, item 7): `linkwork --help` and `--version` must not import
+    # the studies; tests/docs/test_architecture.py allows this one import in a function.
+    from linkwork.cli import analyze, balance, reactions, swashplate
+
+    return (analyze, balance, reactions, swashplate, examples)
+
+
+@functools.cache
+def _real_commands() -> dict[str, Any]:
+    """The Click commands of every command module, registered on one Typer app."""
+    full = typer.Typer(add_completion=False, pretty_exceptions_enable=False)
+    for module in _command_modules():
+        module.register(full)
+    return dict(typer.main.get_command(full).commands)  # type: ignore[attr-defined]
+
+
+class _LazyGroup(typer.core.TyperGroup):
+    """The root group: lists the commands from :data:`COMMAND_HELP`; imports their modules
+    only to run one (resolve_command) or when ``commands`` is read."""
+
+    @property  # type: ignore[override]
+    def commands(self) -> dict[str, Any]:
+        return _real_commands()
+
+    @commands.setter
+    def commands(self, value: Any) -> None:  # TyperGroup.__init__ sets the (empty) mapping
+        if value:
+            raise TypeError("linkwork's commands come from COMMAND_MODULES")
+
+    def list_commands(self, ctx: Any) -> list[str]:
+        return list(COMMAND_HELP)
+
+    def get_command(self, ctx: Any, cmd_name: str) -> Any:
+        if _real_commands.cache_info().currsize:
+            return _real_commands().get(cmd_name)
+        if cmd_name not in COMMAND_HELP:
+            return None
+        return typer.core.TyperCommand(cmd_name, help=COMMAND_HELP[cmd_name])  # listing only
+
+    def resolve_command(self, ctx: Any, args: list[str]) -> Any:
+        _real_commands()
+        return super().resolve_command(ctx, args)
+
 
 app = typer.Typer(
+    cls=_LazyGroup,
     name="linkwork",
     help="Kinematics, kinetostatics, balancing and synthesis of machine mechanisms.",
-    add_completion=False,
+    add_completion=True,  # --install-completion / --show-completion (bash, zsh, fish, pwsh)
     no_args_is_help=True,
     pretty_exceptions_enable=False,
+    # inherited by every sub-command's context (Click takes the parent's help option names)
+    context_settings={"help_option_names": ["-h", "--help"]},
 )
 
-#: Modules of linkwork.cli that define commands (each has ``register(app)``).
-COMMAND_MODULES = (analyze, balance, reactions, swashplate)
 
+
+def _print_version(value: bool) -> None:
+    if value:
+        print(f"linkwork {__version__}")
+        raise typer.Exit(0)
 
 
 @app.callback()
-def _root() -> None:
+def _root(
+    version: Annotated[bool, typer.Option(
+        "--version", callback=_print_version, is_eager=True,
+        help="Print the version and exit.")] = False,
+) -> None:
     """Kinematics, kinetostatics, balancing and synthesis of machine mechanisms."""
 
 
-for _module in COMMAND_MODULES:
-    _module.register(app)
+def __getattr__(name: str) -> Any:
+    if name == "COMMAND_MODULES":  # imports them: see the module docstring
+        return _command_modules()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def _fail(message: str) -> int:
     first = " ".join(str(message).split())
     print(f"linkwork: error: {first}", file=sys.stderr)
     return 2
+
+
+def _bundled_hint(exc: FileFormatError) -> str:
+    """For a missing file named like a bundled example: how to get the examples."""
+    name = Path(exc.file).name
+    if exc.problem != "file not found" or name not in {ex.name for ex in examples.bundled()}:
+        return ""
+    return (f" ({name} is a bundled example: `linkwork examples --copy examples` copies them "
+            "into ./examples)")
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -68,11 +156,16 @@ def main(argv: Sequence[str] | None = None) -> int:
                      "double precision; check the magnitudes and units in the file and options")
     except typer.Exit as exc:
         return int(exc.exit_code)
+    except SystemExit as exc:  # Typer's --show-completion / --install-completion exit this way
+        return exc.code if isinstance(exc.code, int) else 0 if exc.code is None \
+            else _fail(str(exc.code))
     except typer.Abort:
         return _fail("aborted")
     except typer.TyperException as exc:  # usage errors: bad option, missing argument, ...
         fmt = getattr(exc, "format_message", None)
         return _fail(fmt() if callable(fmt) else str(exc))
+    except FileFormatError as exc:
+        return _fail(str(exc) + _bundled_hint(exc))
     except (LinkworkError, OSError) as exc:
         return _fail(str(exc))
     return int(rv) if isinstance(rv, int) else 0

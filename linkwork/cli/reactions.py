@@ -30,7 +30,7 @@ from linkwork.redundancy import ToleranceStudy
 from linkwork.results import write_json
 from linkwork.studies import reactions as study_reactions
 from linkwork.studies.reactions import ReactionsStudy
-from linkwork.sweep import rich_progress
+from linkwork.sweep import check_client, rich_progress
 
 __all__ = ["load_problem", "register", "render", "render_tolerance", "run"]
 
@@ -204,7 +204,7 @@ def register(app: typer.Typer) -> None:
         file: Annotated[Path, typer.Argument(help="planar mechanism file (TOML) with an "
                                              "optional \\[spatial] table")],
         out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
-            "linkwork-reactions"),
+            "linkwork-output"),
         angles: Annotated[str, typer.Option(help="driver positions for the table, deg (mm for a "
                                             "linear driver), comma-separated")
                           ] = "0,90,180,270",
@@ -230,6 +230,7 @@ def register(app: typer.Typer) -> None:
             raise ParameterError("--chunk-size", chunk_size, "must be >= 1")
         if seed < 0:
             raise ParameterError("--seed", seed, "must be >= 0")
+        check_client(scheduler, option="--scheduler")  # address and dask, before any work
         doc = _load(file)
         table = parse_angles(angles)
         if doc.driver.type == "linear":    # positions in mm for a linear driver

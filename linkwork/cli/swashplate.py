@@ -31,7 +31,7 @@ from linkwork.models import swashplate as sw
 from linkwork.results import write_json
 from linkwork.studies import swashplate as study_swashplate
 from linkwork.studies.swashplate import SwashplateStudy, SwashplateSynthesis
-from linkwork.sweep import rich_progress
+from linkwork.sweep import check_client, rich_progress
 from linkwork.synthesis import swashplate as syn
 from linkwork.units import to_si
 
@@ -329,6 +329,7 @@ def synthesize_cmd(
         "linkwork-output"),
 ) -> None:
     """Find designs of a scheme meeting the stroke, pressure-angle and speed limits (ranked)."""
+    check_client(scheduler, option="--scheduler")  # address and dask, before any output
     output_dir(out)  # before the search: an unusable --out must not cost a synthesis
     if scheme not in sw.SCHEMES:
         raise ParameterError("--scheme", scheme, f"must be one of {', '.join(sw.SCHEMES)}")

@@ -1,11 +1,22 @@
 """The CLI's failure policy: one line on stderr and exit code 2, never a traceback."""
 
+import subprocess
+import sys
+import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
+import typer
 from _cli_files import edit_example_and_run
 
-from linkwork.cli import main
+import linkwork
+from linkwork.cli import COMMAND_HELP, _real_commands, app, main
+from linkwork.errors import LinkworkError, MissingExtraError
+from linkwork.models.crank_slider import offset_crank_slider
+from linkwork.sweep import check_client, evaluate
+
+ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_missing_file_one_line_exit_2(tmp_path, capsys):
@@ -210,3 +221,164 @@ def test_cli_angle_unit_traps_are_refused(example, old, new, words, cmd, tmp_pat
     err = edit_example_and_run(tmp_path, capsys, example, old, new, cmd=cmd)
     for w in words:
         assert w in err, (w, err)
+
+
+# --- the command itself: --version, -h, python -m linkwork ---------------------------------
+
+def test_version_prints_the_package_version(capsys):
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out == f"linkwork {linkwork.__version__}\n"
+
+
+@pytest.mark.parametrize("cmd", [[], ["analyze"], ["balance"], ["reactions"], ["swashplate"],
+                                 ["swashplate", "analyze"], ["swashplate", "synthesize"]])
+def test_short_help_is_long_help_on_every_command(cmd, capsys):
+    assert main([*cmd, "--help"]) == 0
+    long = capsys.readouterr().out
+    assert main([*cmd, "-h"]) == 0
+    assert capsys.readouterr().out == long and "Usage: linkwork" in long
+
+
+def test_python_dash_m_linkwork_runs_the_cli():
+    root = Path(__file__).resolve().parents[2]
+    r = subprocess.run([sys.executable, "-m", "linkwork", "--version"], cwd=root,
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0 and r.stdout.startswith("linkwork ")
+    r = subprocess.run([sys.executable, "-m", "linkwork", "analyze", "no-such-file.toml"],
+                       cwd=root, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and r.stderr.count("\n") == 1
+
+
+# --- missing optional extras: one line naming the install command --------------------------
+
+def test_scheduler_without_dask_is_one_line_before_any_output(tmp_path, monkeypatch, capsys):
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)  # as if the extra were missing
+    out = tmp_path / "o"
+    example = Path(__file__).resolve().parents[2] / "examples" / "loom_fourbar_spatial.toml"
+    for cmd in (["reactions", str(example), "--tolerance-study", "10", "--scheduler",
+                 "tcp://127.0.0.1:8786"],
+                ["swashplate", "synthesize", "-R", "100 mm", "-H", "60 mm", "--delta", "10 deg",
+                 "--scheduler", "tcp://127.0.0.1:8786"]):
+        assert main([*cmd, "--out", str(out)]) == 2
+        assert capsys.readouterr().err == ("linkwork: error: --scheduler needs dask: "
+                                           "pip install 'linkwork[dask]'\n")
+        assert not out.exists()
+
+
+@pytest.mark.parametrize("address", ["foo bar", "tcp://host:notaport", "http://host:1",
+                                     "tcp://host:99999", "::::", ""])
+def test_malformed_scheduler_address_is_one_line(address, tmp_path, capsys):
+    cmd = ["swashplate", "synthesize", "-R", "100 mm", "-H", "60 mm", "--delta", "10 deg",
+           "--scheduler", address, "--out", str(tmp_path / "o")]
+    assert main(cmd) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--scheduler" in err and "tcp://10.0.0.1:8786" in err
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("address", ["tcp://10.0.0.1:8786", "10.0.0.1:8786", "localhost",
+                                     "tls://[::1]:8786", "scheduler-0.cluster.local:8786"])
+def test_well_formed_addresses_pass_the_check(address):
+    check_client(address, option="--scheduler")  # dask is installed with the test extras
+
+
+def test_evaluate_with_an_address_but_no_dask_names_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)
+    with pytest.raises(MissingExtraError, match=r"client needs dask: pip install "
+                                                r"'linkwork\[dask\]'") as info:
+        evaluate(np.sqrt, np.arange(4.0), client="tcp://127.0.0.1:8786")
+    assert isinstance(info.value, ImportError) and isinstance(info.value, LinkworkError)
+
+
+def test_to_frame_without_pandas_names_pip_install_pandas(monkeypatch):
+    res = offset_crank_slider(np.radians([0.0, 90.0]), L1=0.05, lambda2=4.0, lambda_e=0.0,
+                              omega1=10.0, eps1=0.0)
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(ImportError, match="pip install pandas") as info:
+        res.to_frame()
+    assert isinstance(info.value, LinkworkError)
+    assert "linkwork[pandas]" in str(info.value)
+
+
+def test_pyproject_names_the_extras_the_messages_name():
+    extras = tomllib.loads((ROOT / "pyproject.toml").read_text()
+                           )["project"]["optional-dependencies"]
+    assert any(r.startswith("dask[distributed]") for r in extras["dask"])
+    assert any(r.startswith("pandas") for r in extras["pandas"])
+
+
+def _commands(group, path=()):
+    for name, cmd in group.commands.items():
+        if hasattr(cmd, "commands"):
+            yield from _commands(cmd, (*path, name))
+        else:
+            yield (*path, name), cmd
+
+
+def test_one_default_output_folder_for_every_command_and_git_ignores_it():
+    defaults = {" ".join(path): next(p.default for p in cmd.params if p.name == "out")
+                for path, cmd in _commands(typer.main.get_command(app))
+                if any(p.name == "out" for p in cmd.params)}
+    assert set(defaults) >= {"analyze", "balance", "reactions", "swashplate analyze",
+                             "swashplate synthesize"}
+    assert {str(v) for v in defaults.values()} == {"linkwork-output"}
+    ignored = (ROOT / ".gitignore").read_text().splitlines()
+    assert "linkwork-output/" in ignored and "demo-output/" in ignored
+
+
+# --- start-up: `linkwork --help` lists the commands without importing their modules ---------
+
+_HELP_SCRIPT = """
+import sys
+from linkwork.cli import _real_commands, main
+main(["--help"]); main(["--version"])
+heavy = sorted(m for m in ("linkwork.studies", "linkwork.io", "linkwork.planar", "pydantic",
+                           "scipy", "matplotlib", "pint") if m in sys.modules)
+print("HEAVY", heavy)
+_real_commands()
+main(["--help"])
+"""
+
+
+def test_help_and_version_import_no_study_and_list_the_commands_as_their_modules_do():
+    r = subprocess.run([sys.executable, "-c", _HELP_SCRIPT], cwd=ROOT, capture_output=True,
+                       text=True, timeout=120, env={"COLUMNS": "100", "PATH": ""})
+    assert r.returncode == 0, r.stderr
+    lazy, rest = r.stdout.split("HEAVY ")
+    heavy, loaded = rest.split("\n", 1)
+    assert heavy == "[]"
+    version = f"linkwork {linkwork.__version__}\n"
+    assert lazy.endswith(version) and lazy[:-len(version)] == loaded  # same listing
+
+
+def test_command_help_is_the_first_paragraph_of_each_commands_help():
+    real = _real_commands()
+    assert list(real) == list(COMMAND_HELP)
+    for name, cmd in real.items():
+        assert " ".join(cmd.help.split("\n\n")[0].split()) == COMMAND_HELP[name]
+
+
+def test_command_modules_are_still_importable_from_linkwork_cli():
+    from linkwork.cli import COMMAND_MODULES, analyze, balance, examples, reactions, swashplate
+    assert COMMAND_MODULES == (analyze, balance, reactions, swashplate, examples)
+
+
+def _complete(words: str, cword: int) -> list[str]:
+    env = {"PATH": "", "_LINKWORK_COMPLETE": "complete_bash", "COMP_WORDS": words,
+           "COMP_CWORD": str(cword)}
+    r = subprocess.run([sys.executable, "-c", "from linkwork.cli import main; main()"],
+                       cwd=ROOT, env=env, capture_output=True, text=True, timeout=120)
+    assert r.returncode == 0, r.stderr
+    return r.stdout.split()
+
+
+def test_shell_completion_of_commands_sub_commands_and_options():
+    assert _complete("linkwork ana", 1) == ["analyze"]
+    assert _complete("linkwork swashplate ", 2) == ["analyze", "synthesize"]
+    assert _complete("linkwork reactions --met", 2) == ["--method"]
+
+
+def test_show_completion_prints_the_bash_script(capsys, monkeypatch):
+    monkeypatch.setenv("SHELL", "/bin/bash")
+    assert main(["--show-completion", "bash"]) == 0
+    assert "_LINKWORK_COMPLETE=complete_bash" in capsys.readouterr().out

@@ -17,9 +17,13 @@ PACKAGE = ROOT / "linkwork"
 LAZY = ("linkwork.plot", "matplotlib", "pandas", "dask", "scipy", "pint", "rich")
 #: Deprecated names that import their new home when used (also ignored by import-linter):
 #: plot.sine.plot_force_ratio evaluates its model; errors.require_* are now in linkwork.checks.
+#: And the command modules, which linkwork.cli imports only to run a command: `linkwork --help`
+#: would otherwise import the studies, pydantic and the engine (issue 19 item 7: start-up
+#: under 0.3 s; 0.51 s with them, measured in docs/performance.md).
 LAZY_EXCEPTIONS = {("linkwork/plot/sine.py", "linkwork.models.sine"),
                    ("linkwork/errors.py", "linkwork.checks"),
-                   ("linkwork/errors.py", "linkwork.deprecation")}
+                   ("linkwork/errors.py", "linkwork.deprecation"),
+                   ("linkwork/cli/__init__.py", "linkwork.cli")}
 
 
 def _modules() -> list[Path]:
