@@ -18,7 +18,14 @@ from pathlib import Path
 TOL = 1e-9
 
 
+#: How a value undefined at a position is written: NaN before the strict outputs of issue 19, an
+#: empty CSV cell / JSON null since; the same meaning, so equal here.
+_UNDEFINED = {"nan", "", "None"}
+
+
 def _close(a: str, b: str) -> bool:
+    if a in _UNDEFINED or b in _UNDEFINED:
+        return a in _UNDEFINED and b in _UNDEFINED
     try:
         x, y = float(a), float(b)
     except ValueError:
