@@ -21,6 +21,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork.cli._format import fmt, scale_of, unit_label
+from linkwork.cli._tables import print_table
 from linkwork.io.planar import PlanarFile
 from linkwork.results import write_csv, write_json
 from linkwork.studies import planar as study_planar
@@ -169,8 +170,8 @@ def render(study: PlanarStudy, *, out: Path, console: Any) -> None:
     """Print a :class:`~linkwork.studies.planar.PlanarStudy` on ``console`` and write its CSV,
     JSON and plots into ``out``."""
     _structure_and_dead_centres(study, console)
-    console.print(_table(study))
-    console.print(_extremes(study))
+    print_table(console, _table(study))
+    print_table(console, _extremes(study))
     written = [write_csv(out / "planar_kinematics.csv", study.kinematics_columns()),
                write_csv(out / "planar_dynamics.csv", study.dynamics_columns()),
                write_json(out / "planar.json", study.to_dict())]

@@ -32,6 +32,7 @@ from linkwork import io
 from linkwork.cli._args import output_dir, parse_angles_deg
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt, scale_of, unit_label
+from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError
 from linkwork.io.planar import BalanceSection, PlanarFile
 from linkwork.io.toml import read_toml
@@ -95,7 +96,7 @@ def _tables(study: BalanceStudy, console: Any) -> None:
         t.add_row(_fmt(p, 1), _fmt(comp.M[i]), _fmt(comp.dM1[i]), _fmt(comp.dM2[i]),
                   _fmt(comp.dM3[i]))
     t.add_row("R_j [%]", "", "", _fmt(comp.R2, 1), _fmt(comp.R3, 1))
-    console.print(t)
+    print_table(console, t)
     fb = comp.balance
     summary = comp.summary()
     lever = max((cw.radius for cw in comp.counterweights if cw.radius is not None),
@@ -120,7 +121,7 @@ def _tables(study: BalanceStudy, console: Any) -> None:
     for q, vals in summary.items():
         scale = scales[q[q.rfind("["):]]
         s.add_row(unit_label(q), ", ".join(f"{k} {fmt(v, scale)}" for k, v in vals.items()))
-    console.print(s)
+    print_table(console, s)
     ht = Table(title="Harmonic amplitudes A_j (f = a0 + sum A_j cos(j*phi1 - psi_j))")
     ht.add_column("quantity")
     ht.add_column("mean", justify="right")
@@ -128,7 +129,7 @@ def _tables(study: BalanceStudy, console: Any) -> None:
         ht.add_column(f"A{j}", justify="right")
     for name, hv in study.harmonics.items():
         ht.add_row(name, _fmt(hv.mean), *(_fmt(a) for a in hv.amplitude))
-    console.print(ht)
+    print_table(console, ht)
     if study.increases:
         console.print("[bold]balancing raises:[/bold]")
         for m in study.increases:

@@ -22,6 +22,7 @@ from linkwork import io
 from linkwork.cli._args import output_dir, parse_angles
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
+from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.planar import PlanarFile, SpatialSpec
 from linkwork.io.toml import read_toml
@@ -140,7 +141,7 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
         for j, name in enumerate(at.joints):
             t.add_row(name, *(_fmt(comp[j, i, k], col_scale[i]) for i in range(6)))
         t.caption = f"{q_name} Q = {_fmt(at.Q[k], f_q)} {q_unit}"
-        console.print(t)
+        print_table(console, t)
     t = Table(title=f"peaks over the cycle ({len(study.cycle)} positions)")
     for col in ("joint", "|fx| [N]", "|fy| [N]", "|fz| [N]", "|mx| [N·m]", "|my| [N·m]",
                 "bending [N·m]"):
@@ -150,7 +151,7 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
         t.add_row(name, *(_fmt(p[c], sc) for c, sc in zip(
             ("fx", "fy", "fz", "mx", "my", "bending"), col_scale, strict=True)))
     t.caption = f"peak |Q| = {_fmt(peaks['driver']['Q'], f_q)} {q_unit}"
-    console.print(t)
+    print_table(console, t)
     written = [res.to_csv(out / "reactions.csv"), res.to_json(out / "reactions.json"),
                write_json(out / "reactions_peaks.json", study.peaks_dict())]
     if plots:
@@ -182,7 +183,7 @@ def render_tolerance(study: ReactionsStudy, tol: ToleranceStudy, *, out: Path, c
             mid = [_fmt(peaks[name][qty], sc)] if sysdev else []
             t.add_row(name, qty, _fmt(row["nominal"], sc), *mid,
                       *(_fmt(row[k], sc) for k in ("p50", "p95", "p99")))
-    console.print(t)
+    print_table(console, t)
     written = [tol.to_json(out / "tolerance.json"), tol.to_csv(out / "tolerance_samples.csv")]
     if plots:
         from linkwork.plot import pyplot, save

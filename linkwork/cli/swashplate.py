@@ -25,6 +25,7 @@ from linkwork import io
 from linkwork.cli._args import output_dir, parse_angles
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
+from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.swashplate import SwashplateFile
 from linkwork.models import swashplate as sw
@@ -129,8 +130,8 @@ def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
     from linkwork.plot import save
     from linkwork.plot.swashplate import plot_drive_forces, plot_kinematics
 
-    console.print(_table(study))
-    console.print(_characteristics(study))
+    print_table(console, _table(study))
+    print_table(console, _characteristics(study))
     study.cycle.to_csv(out / "cycle.csv")
     study.cycle.to_json(out / "cycle.json")
     save(plot_kinematics(study.cycle, name=study.doc.name)[0].figure, out / "kinematics.png")
@@ -272,7 +273,7 @@ def render_synthesis(study: SwashplateSynthesis, *, out: Path, console: Any) -> 
         if req.objective != "L":
             row.append(fmt(tab["objective"][i], digits=5))
         t.add_row(*row)
-    console.print(t)
+    print_table(console, t)
     on_bound = [f"{n} at its {side} bound ({_deg(b)} deg)" if n == "alpha"
                 else f"{n} at its {side} bound ({b:.4g} R = {_mm(b * req.R)} mm)"
                 for n, side, b in res.at_bounds(0)]
