@@ -75,11 +75,13 @@ def _shown(study: PlanarStudy) -> _Shown:
 def _structure_and_dead_centres(study: PlanarStudy, console: Any) -> None:
     s, shown = study.structure, _shown(study)
     title = escape(study.doc.name or "planar mechanism")
-    console.print(f"[bold]{title}[/bold]: mobility W = {s.mobility}; structure {s.formula()}")
+    console.print(f"[bold]{title}[/bold]: mobility W = {s.mobility}; structure "
+                  f"{escape(s.formula())}", highlight=False)
     if study.dead_centres:
-        console.print("dead centres:")
+        console.print("dead centres:", highlight=False)
         for d, (label, _) in zip(study.dead_centres, study.dead_centre_labels, strict=True):
-            console.print(f"  {escape(label)} at {d.phi1 * shown.scale:.2f} {shown.unit}")
+            console.print(f"  {escape(label)} at {d.phi1 * shown.scale:.2f} {shown.unit}",
+                          highlight=False)
 
 
 def _scales(study: PlanarStudy) -> dict[str, float]:
@@ -176,4 +178,4 @@ def render(study: PlanarStudy, *, out: Path, console: Any) -> None:
                write_csv(out / "planar_dynamics.csv", study.dynamics_columns()),
                write_json(out / "planar.json", study.to_dict())]
     written += _plots(study, out)
-    console.print("wrote " + ", ".join(str(w) for w in written))
+    console.print(escape("wrote " + ", ".join(str(w) for w in written)), highlight=False)

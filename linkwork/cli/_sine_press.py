@@ -128,4 +128,4 @@ def render(study: SinePressStudy, *, out: Path, console: Any) -> None:
     written.append(write_json(out / "summary.json", study.summary))
     pyplot().close("all")
     print_table(console, _characteristics(study))
-    console.print("written: " + ", ".join(str(p) for p in written))
+    console.print(escape("written: " + ", ".join(str(p) for p in written)), highlight=False)

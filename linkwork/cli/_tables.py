@@ -130,4 +130,4 @@ def split_table(console: Console, table: Table, width: int | None = None) -> lis
 def print_table(console: Console, table: Table) -> None:
     """Print ``table`` on ``console`` without cropping a column (:func:`split_table`)."""
     for part in split_table(console, table):
-        console.print(part)
+        console.print(part, highlight=False)

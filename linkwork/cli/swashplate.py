@@ -145,10 +145,12 @@ def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
         eff = (fmt(f.efficiency, decimals=4) if math.isfinite(f.efficiency) else
                "undefined (the load does no net work per revolution)")
         console.print(f"drive: peak rod force {np.max(np.abs(f.S)) * 1e-3:.4g} kN, peak torque "
-                      f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), efficiency {eff}")
+                      f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), efficiency {eff}",
+                      highlight=False)
     write_json(out / "characteristics.json", _json_values(study.to_dict()))
-    console.print(f"written: {out}/cycle.csv, cycle.json, characteristics.json, kinematics.png"
-                  + (", forces.csv, forces.json, forces.png" if f is not None else ""))
+    console.print(escape(f"written: {out}/cycle.csv, cycle.json, characteristics.json, "
+                         "kinematics.png" + (", forces.csv, forces.json, forces.png"
+                                             if f is not None else "")), highlight=False)
 
 
 def _q(value: str | None, kind: str, name: str) -> float | None:
@@ -280,11 +282,12 @@ def render_synthesis(study: SwashplateSynthesis, *, out: Path, console: Any) -> 
     if on_bound:
         console.print("note: design 1 lies on the search box: " + ", ".join(on_bound)
                       + "; a better design may lie beyond it (widen the bound with "
-                      "linkwork.synthesis.swashplate.Request(bounds=...))")
+                      "linkwork.synthesis.swashplate.Request(bounds=...))", highlight=False)
     res.to_csv(out / "synthesis.csv")
     res.to_json(out / "synthesis.json")
     save(plot_feasible_region(study.region, best=res.best).figure, out / "feasible_region.png")
-    console.print(f"written: {out}/synthesis.csv, synthesis.json, feasible_region.png")
+    console.print(escape(f"written: {out}/synthesis.csv, synthesis.json, feasible_region.png"),
+                  highlight=False)
 
 
 @sub.command("synthesize")
