@@ -167,3 +167,17 @@ def test_a_column_too_wide_for_the_console_is_folded_not_cropped():
              if line.strip().startswith("│")]
     assert [c[0] for c in cells if c[0]] == ["K2"]
     assert "".join(c[1] for c in cells) == "123456789012345678901234"
+
+
+def test_into_a_pipe_the_console_is_160_columns_and_wider_tables_are_split(capsys):
+    """Into a pipe (pytest captures stdout) a command's console is PIPE_WIDTH = 160 columns;
+    a table of 20 number columns (about 250 wide) prints as two tables, every column kept."""
+    console = _console.console()
+    assert not console.is_terminal and console.width == _console.PIPE_WIDTH == 160
+    table = _numbers_table(20)
+    print_table(console, table)
+    narrow = capsys.readouterr().out
+    wide = Console(width=WIDE, record=True, file=StringIO())
+    wide.print(table)
+    assert narrow.count("(columns 1") == 2
+    _assert_same_tables(narrow, wide.export_text(), 160)
