@@ -21,6 +21,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork.cli._format import fmt, scale_of, unit_label
+from linkwork.cli._tables import print_table
 from linkwork.io.planar import PlanarFile
 from linkwork.results import write_csv, write_json
 from linkwork.studies import planar as study_planar
@@ -74,11 +75,13 @@ def _shown(study: PlanarStudy) -> _Shown:
 def _structure_and_dead_centres(study: PlanarStudy, console: Any) -> None:
     s, shown = study.structure, _shown(study)
     title = escape(study.doc.name or "planar mechanism")
-    console.print(f"[bold]{title}[/bold]: mobility W = {s.mobility}; structure {s.formula()}")
+    console.print(f"[bold]{title}[/bold]: mobility W = {s.mobility}; structure "
+                  f"{escape(s.formula())}", highlight=False)
     if study.dead_centres:
-        console.print("dead centres:")
+        console.print("dead centres:", highlight=False)
         for d, (label, _) in zip(study.dead_centres, study.dead_centre_labels, strict=True):
-            console.print(f"  {escape(label)} at {d.phi1 * shown.scale:.2f} {shown.unit}")
+            console.print(f"  {escape(label)} at {d.phi1 * shown.scale:.2f} {shown.unit}",
+                          highlight=False)
 
 
 def _scales(study: PlanarStudy) -> dict[str, float]:
@@ -169,10 +172,10 @@ def render(study: PlanarStudy, *, out: Path, console: Any) -> None:
     """Print a :class:`~linkwork.studies.planar.PlanarStudy` on ``console`` and write its CSV,
     JSON and plots into ``out``."""
     _structure_and_dead_centres(study, console)
-    console.print(_table(study))
-    console.print(_extremes(study))
+    print_table(console, _table(study))
+    print_table(console, _extremes(study))
     written = [write_csv(out / "planar_kinematics.csv", study.kinematics_columns()),
                write_csv(out / "planar_dynamics.csv", study.dynamics_columns()),
                write_json(out / "planar.json", study.to_dict())]
     written += _plots(study, out)
-    console.print("wrote " + ", ".join(str(w) for w in written))
+    console.print(escape("wrote " + ", ".join(str(w) for w in written)), highlight=False)

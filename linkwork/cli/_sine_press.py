@@ -23,6 +23,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork.cli._format import fmt
+from linkwork.cli._tables import print_table
 from linkwork.io.sine_press import SinePressFile
 from linkwork.models.variable_structure import MODES
 from linkwork.results import write_json
@@ -109,7 +110,7 @@ def render(study: SinePressStudy, *, out: Path, console: Any) -> None:
     from linkwork.plot.sine import plot_cycle, plot_schedule
 
     for table in _mode_tables(study):
-        console.print(table)
+        print_table(console, table)
     work = study.doc.working
     cyc_idle, cyc_work = study.idle_cycle, study.working_cycle
     written = [cyc_idle.to_csv(out / "idle_cycle.csv"), cyc_idle.to_json(out / "idle_cycle.json"),
@@ -126,5 +127,5 @@ def render(study: SinePressStudy, *, out: Path, console: Any) -> None:
         written.append(save(plot_schedule(sched, name=name)[0].figure, out / "schedule.png"))
     written.append(write_json(out / "summary.json", study.summary))
     pyplot().close("all")
-    console.print(_characteristics(study))
-    console.print("written: " + ", ".join(str(p) for p in written))
+    print_table(console, _characteristics(study))
+    console.print(escape("written: " + ", ".join(str(p) for p in written)), highlight=False)

@@ -32,6 +32,7 @@ from linkwork import io
 from linkwork.cli._args import output_dir, parse_angles_deg
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt, scale_of, unit_label
+from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError
 from linkwork.io.planar import BalanceSection, PlanarFile
 from linkwork.io.toml import read_toml
@@ -95,7 +96,7 @@ def _tables(study: BalanceStudy, console: Any) -> None:
         t.add_row(_fmt(p, 1), _fmt(comp.M[i]), _fmt(comp.dM1[i]), _fmt(comp.dM2[i]),
                   _fmt(comp.dM3[i]))
     t.add_row("R_j [%]", "", "", _fmt(comp.R2, 1), _fmt(comp.R3, 1))
-    console.print(t)
+    print_table(console, t)
     fb = comp.balance
     summary = comp.summary()
     lever = max((cw.radius for cw in comp.counterweights if cw.radius is not None),
@@ -103,36 +104,40 @@ def _tables(study: BalanceStudy, console: Any) -> None:
     scales = _unit_scales(summary, lever)
     f_n = scales.get("[N]", 0.0)
     console.print(f"static balancing: {'full' if fb.full else 'PARTIAL'}; RMS shaking force "
-                  f"{fmt(fb.force_rms_before, f_n)} N -> {fmt(fb.force_rms_after, f_n, 3)} N")
+                  f"{fmt(fb.force_rms_before, f_n)} N -> {fmt(fb.force_rms_after, f_n, 3)} N",
+                  highlight=False)
     if not fb.full:
-        console.print(escape(f"  not fully balanceable: {fb.reason}"))
+        console.print(escape(f"  not fully balanceable: {fb.reason}"), highlight=False)
     for cw in comp.counterweights:
         rm = ("no radius: mass not known" if cw.radius is None else
               f"r = {fmt(cw.radius * 1000)} mm, m = {fmt(cw.mass())} kg")
         console.print(escape(f"  counterweight on {cw.link}: S = {fmt(cw.static_moment, 0, 5)} "
-                             f"kg·m at {fmt(np.degrees(cw.angle), decimals=2)} deg, {rm}"))
+                             f"kg·m at {fmt(np.degrees(cw.angle), decimals=2)} deg, {rm}"),
+                      highlight=False)
     mm = [fmt(v * 1000, decimals=2) for v in (comp.x2, comp.y2, comp.x3, comp.y3)]
     console.print(f"moved crank-counterweight axis O1: first harmonic (x, y) = "
-                  f"({mm[0]}, {mm[1]}) mm; least squares over the table = ({mm[2]}, {mm[3]}) mm")
+                  f"({mm[0]}, {mm[1]}) mm; least squares over the table = ({mm[2]}, {mm[3]}) mm",
+                  highlight=False)
     s = Table(title="Peaks and RMS over the cycle")
     s.add_column("quantity")
     s.add_column("values")
     for q, vals in summary.items():
         scale = scales[q[q.rfind("["):]]
-        s.add_row(unit_label(q), ", ".join(f"{k} {fmt(v, scale)}" for k, v in vals.items()))
-    console.print(s)
+        s.add_row(escape(unit_label(q)),
+                  escape(", ".join(f"{k} {fmt(v, scale)}" for k, v in vals.items())))
+    print_table(console, s)
     ht = Table(title="Harmonic amplitudes A_j (f = a0 + sum A_j cos(j*phi1 - psi_j))")
     ht.add_column("quantity")
     ht.add_column("mean", justify="right")
     for j in range(1, study_balance.HARMONICS + 1):
         ht.add_column(f"A{j}", justify="right")
     for name, hv in study.harmonics.items():
-        ht.add_row(name, _fmt(hv.mean), *(_fmt(a) for a in hv.amplitude))
-    console.print(ht)
+        ht.add_row(escape(name), _fmt(hv.mean), *(_fmt(a) for a in hv.amplitude))
+    print_table(console, ht)
     if study.increases:
-        console.print("[bold]balancing raises:[/bold]")
+        console.print("[bold]balancing raises:[/bold]", highlight=False)
         for m in study.increases:
-            console.print(escape(f"  {m.replace('N*m', unit_label('N*m'))}"))
+            console.print(escape(f"  {m.replace('N*m', unit_label('N*m'))}"), highlight=False)
 
 
 def _plots(study: BalanceStudy, out: Path, name: str | None = None) -> None:
@@ -194,8 +199,8 @@ def render(study: BalanceStudy, *, out: Path, console: Any, name: str | None = N
     if study.pareto is not None:
         write_json(out / "balance_pareto.json", study.pareto_dict())
         console.print(f"Pareto set: {int((~study.pareto.dominated).sum())} non-dominated of "
-                      f"{len(study.pareto.designs)}")
-    console.print(f"written to {escape(str(out))}")
+                      f"{len(study.pareto.designs)}", highlight=False)
+    console.print(f"written to {escape(str(out))}", highlight=False)
 
 
 def register(app: typer.Typer) -> None:
@@ -219,6 +224,7 @@ def register(app: typer.Typer) -> None:
         console = make_console()
         if doc.load:
             console.print("note: the file's external loads enter the driving torque and the "
-                          "bearing reactions, not the shaking-moment table (inertia forces)")
+                          "bearing reactions, not the shaking-moment table (inertia forces)",
+                          highlight=False)
         render(study_balance.run(doc, angles=table, pareto=pareto), out=out, console=console,
                name=doc.name or None)

@@ -16,12 +16,14 @@ from typing import Annotated, Any
 
 import numpy as np
 import typer
+from rich.markup import escape
 from rich.table import Table
 
 from linkwork import io
 from linkwork.cli._args import output_dir, parse_angles
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
+from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.planar import PlanarFile, SpatialSpec
 from linkwork.io.toml import read_toml
@@ -113,7 +115,7 @@ def _report(study: ReactionsStudy, *, out: Path, console: Any, plots: bool, n: i
                                             chunk_size=chunk_size, progress=progress)
         written += render_tolerance(study, tol, out=out, console=console, plots=plots,
                                     mechanism=mechanism)
-    console.print("written: " + ", ".join(str(p) for p in written))
+    console.print(escape("written: " + ", ".join(str(p) for p in written)), highlight=False)
     return tol, written
 
 
@@ -123,7 +125,8 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
     position, the peaks) and write ``reactions.csv/.json``, ``reactions_peaks.json`` and the
     bending plot into ``out`` (``mechanism``: its name, on the plot); return the paths
     written."""
-    console.print(f"[bold]structure in space[/bold]: {study.count.summary()}")
+    console.print(f"[bold]structure in space[/bold]: {escape(study.count.summary())}",
+                  highlight=False)
     linear = study.linear
     q_name, q_unit = ("driving force", "N") if linear else ("driving torque", "N·m")
     at, res, peaks = study.table, study.reactions, study.peaks
@@ -138,19 +141,19 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
                     "mz [N·m]"):
             t.add_column(col, justify="right")
         for j, name in enumerate(at.joints):
-            t.add_row(name, *(_fmt(comp[j, i, k], col_scale[i]) for i in range(6)))
+            t.add_row(escape(name), *(_fmt(comp[j, i, k], col_scale[i]) for i in range(6)))
         t.caption = f"{q_name} Q = {_fmt(at.Q[k], f_q)} {q_unit}"
-        console.print(t)
+        print_table(console, t)
     t = Table(title=f"peaks over the cycle ({len(study.cycle)} positions)")
     for col in ("joint", "|fx| [N]", "|fy| [N]", "|fz| [N]", "|mx| [N·m]", "|my| [N·m]",
                 "bending [N·m]"):
         t.add_column(col, justify="right")
     for name in res.joints:
         p = peaks[name]
-        t.add_row(name, *(_fmt(p[c], sc) for c, sc in zip(
+        t.add_row(escape(name), *(_fmt(p[c], sc) for c, sc in zip(
             ("fx", "fy", "fz", "mx", "my", "bending"), col_scale, strict=True)))
     t.caption = f"peak |Q| = {_fmt(peaks['driver']['Q'], f_q)} {q_unit}"
-    console.print(t)
+    print_table(console, t)
     written = [res.to_csv(out / "reactions.csv"), res.to_json(out / "reactions.json"),
                write_json(out / "reactions_peaks.json", study.peaks_dict())]
     if plots:
@@ -180,9 +183,9 @@ def render_tolerance(study: ReactionsStudy, tol: ToleranceStudy, *, out: Path, c
         for qty, sc in (("fz", f_n), ("bending", f_nm)):
             row = pct[name][qty]
             mid = [_fmt(peaks[name][qty], sc)] if sysdev else []
-            t.add_row(name, qty, _fmt(row["nominal"], sc), *mid,
+            t.add_row(escape(name), qty, _fmt(row["nominal"], sc), *mid,
                       *(_fmt(row[k], sc) for k in ("p50", "p95", "p99")))
-    console.print(t)
+    print_table(console, t)
     written = [tol.to_json(out / "tolerance.json"), tol.to_csv(out / "tolerance_samples.csv")]
     if plots:
         from linkwork.plot import pyplot, save

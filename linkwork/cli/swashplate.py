@@ -25,6 +25,7 @@ from linkwork import io
 from linkwork.cli._args import output_dir, parse_angles
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
+from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.swashplate import SwashplateFile
 from linkwork.models import swashplate as sw
@@ -129,8 +130,8 @@ def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
     from linkwork.plot import save
     from linkwork.plot.swashplate import plot_drive_forces, plot_kinematics
 
-    console.print(_table(study))
-    console.print(_characteristics(study))
+    print_table(console, _table(study))
+    print_table(console, _characteristics(study))
     study.cycle.to_csv(out / "cycle.csv")
     study.cycle.to_json(out / "cycle.json")
     save(plot_kinematics(study.cycle, name=study.doc.name)[0].figure, out / "kinematics.png")
@@ -144,10 +145,12 @@ def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
         eff = (fmt(f.efficiency, decimals=4) if math.isfinite(f.efficiency) else
                "undefined (the load does no net work per revolution)")
         console.print(f"drive: peak rod force {np.max(np.abs(f.S)) * 1e-3:.4g} kN, peak torque "
-                      f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), efficiency {eff}")
+                      f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), efficiency {eff}",
+                      highlight=False)
     write_json(out / "characteristics.json", _json_values(study.to_dict()))
-    console.print(f"written: {out}/cycle.csv, cycle.json, characteristics.json, kinematics.png"
-                  + (", forces.csv, forces.json, forces.png" if f is not None else ""))
+    console.print(escape(f"written: {out}/cycle.csv, cycle.json, characteristics.json, "
+                         "kinematics.png" + (", forces.csv, forces.json, forces.png"
+                                             if f is not None else "")), highlight=False)
 
 
 def _q(value: str | None, kind: str, name: str) -> float | None:
@@ -272,18 +275,19 @@ def render_synthesis(study: SwashplateSynthesis, *, out: Path, console: Any) -> 
         if req.objective != "L":
             row.append(fmt(tab["objective"][i], digits=5))
         t.add_row(*row)
-    console.print(t)
+    print_table(console, t)
     on_bound = [f"{n} at its {side} bound ({_deg(b)} deg)" if n == "alpha"
                 else f"{n} at its {side} bound ({b:.4g} R = {_mm(b * req.R)} mm)"
                 for n, side, b in res.at_bounds(0)]
     if on_bound:
         console.print("note: design 1 lies on the search box: " + ", ".join(on_bound)
                       + "; a better design may lie beyond it (widen the bound with "
-                      "linkwork.synthesis.swashplate.Request(bounds=...))")
+                      "linkwork.synthesis.swashplate.Request(bounds=...))", highlight=False)
     res.to_csv(out / "synthesis.csv")
     res.to_json(out / "synthesis.json")
     save(plot_feasible_region(study.region, best=res.best).figure, out / "feasible_region.png")
-    console.print(f"written: {out}/synthesis.csv, synthesis.json, feasible_region.png")
+    console.print(escape(f"written: {out}/synthesis.csv, synthesis.json, feasible_region.png"),
+                  highlight=False)
 
 
 @sub.command("synthesize")

@@ -1,0 +1,72 @@
+"""User strings never run through Rich's highlighter or markup (issue 19, part 7): a mechanism
+name of 100 kB took 94 s (the highlighter is quadratic in a string's length); a name with
+brackets or emoji codes prints as written."""
+
+from __future__ import annotations
+
+import re
+import time
+from pathlib import Path
+
+import pytest
+from rich.highlighter import ReprHighlighter
+
+import linkwork.plot
+from linkwork.cli import main
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+LONG = "x" * 100_000
+
+
+def _renamed(example: str, name: str, folder: Path) -> Path:
+    """``example`` with its (first) ``name`` replaced by ``name``."""
+    text = (EXAMPLES / example).read_text(encoding="utf-8")
+    text = re.sub(r'^name = ".*"', lambda _: f'name = "{name}"', text, count=1, flags=re.M)
+    path = folder / example
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@pytest.fixture
+def no_highlighter(monkeypatch):
+    """Rich's highlighter fails if called; the figures are closed unsaved (a figure titled with
+    a 100 kB name takes minutes to draw: not what this test is about)."""
+    def fail(self, text):
+        raise AssertionError(f"highlighter called on {str(text)[:60]!r}")
+
+    def close(fig, path, dpi=120):
+        linkwork.plot.pyplot().close(fig)
+        return Path(path)
+
+    monkeypatch.setattr(ReprHighlighter, "highlight", fail)
+    monkeypatch.setattr(linkwork.plot, "save", close)
+
+
+@pytest.mark.parametrize(("example", "command"), [
+    ("fourbar_paper001.toml", ["analyze"]),
+    ("fourbar_paper001.toml", ["reactions", "--no-plots"]),
+    ("fourbar_paper001.toml", ["balance"]),
+    ("sine_press.toml", ["analyze"]),
+    ("swashplate_4a.toml", ["analyze"]),
+])
+def test_a_100_kB_name_is_printed_whole_without_the_highlighter(example, command, tmp_path,
+                                                                capsys, no_highlighter):
+    path = _renamed(example, LONG, tmp_path)
+    start = time.perf_counter()
+    assert main([command[0], str(path), *command[1:], "--out", str(tmp_path / "out")]) == 0
+    assert time.perf_counter() - start < 30.0  # the highlighter alone took 94 s
+    out = capsys.readouterr().out
+    if command[0] == "analyze":  # the name heads the output, folded over many lines
+        assert LONG in re.sub(r"[\s│┃]", "", out)
+
+
+def test_names_print_as_written_not_as_markup_or_emoji(tmp_path, capsys, no_highlighter):
+    """A name with Rich markup ("[bold]") or an emoji code (":smile:") prints as written."""
+    name = "press [bold]B[/bold] :smile: [deg]"
+    path = _renamed("fourbar_paper001.toml", name, tmp_path)
+    assert main(["analyze", str(path), "--out", str(tmp_path / "out")]) == 0
+    out = capsys.readouterr().out
+    assert out.startswith(f"{name}: mobility W = 1")
+    out_dir = tmp_path / "[red]out[/red]"
+    assert main(["reactions", str(path), "--no-plots", "--out", str(out_dir)]) == 0
+    assert f"{out_dir}/reactions.csv" in capsys.readouterr().out.replace("\n", "")
