@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -42,9 +43,10 @@ def parse_angles(text: str) -> np.ndarray:
 
 
 def output_dir(out: Path) -> Path:
-    """Create the output folder ``--out`` (with parents), or a ParameterError naming it: an
-    existing file of that name or a folder that cannot be created (permissions, read-only
-    disk) was "[Errno 17] File exists: 'README.md'" without saying which option."""
+    """Create the output folder ``--out`` (with parents) and check that files can be written
+    into it, before any work; else a ParameterError naming it: an existing file of that name,
+    a folder that cannot be created, or one that cannot be written into (permissions,
+    read-only disk: found before the study, not at its first file)."""
     try:
         out.mkdir(parents=True, exist_ok=True)
     except FileExistsError:
@@ -52,5 +54,11 @@ def output_dir(out: Path) -> Path:
                              "exists") from None
     except OSError as exc:
         raise ParameterError("--out", str(out), f"cannot be created as a folder "
+                             f"({exc.strerror or exc})") from None
+    try:  # a real file, removed at once: os.access ignores read-only mounts
+        with tempfile.TemporaryFile(dir=out, prefix=".linkwork-probe-"):
+            pass
+    except OSError as exc:
+        raise ParameterError("--out", str(out), f"cannot be written into "
                              f"({exc.strerror or exc})") from None
     return out

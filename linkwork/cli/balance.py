@@ -214,8 +214,8 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Balance a planar mechanism: paper 001's table, torque and bearing loads, plots."""
         _, _, doc = load_balance_file(file)
-        output_dir(out)  # before the work: an unusable --out must not cost an optimisation
         table = None if angles is None else parse_angles_deg(angles)
+        output_dir(out)  # before the work: an unusable --out must not cost an optimisation
         console = make_console()
         if doc.load:
             console.print("note: the file's external loads enter the driving torque and the "

@@ -104,10 +104,12 @@ def _report(study: ReactionsStudy, *, out: Path, console: Any, plots: bool, n: i
             ) -> tuple[ToleranceStudy | None, list[Path]]:
     """Render the study, run and render its tolerance study of ``n`` samples (0: none), list
     the files written; return (tolerance study or None, files)."""
+    # the tolerances' errors (none in the file, a joint or body not of the model) come
+    # before the first file is written
+    tols = study_reactions.tolerances(study, n) if n else None
     written = render(study, out=out, console=console, plots=plots, mechanism=mechanism)
     tol = None
     if n:
-        tols = study_reactions.tolerances(study, n)  # its errors come before the progress bar
         with rich_progress("tolerance study", console=console) as progress:
             tol = study_reactions.tolerance(study, n, tols=tols, seed=seed, scheduler=scheduler,
                                             chunk_size=chunk_size, progress=progress)

@@ -330,7 +330,6 @@ def synthesize_cmd(
 ) -> None:
     """Find designs of a scheme meeting the stroke, pressure-angle and speed limits (ranked)."""
     check_client(scheduler, option="--scheduler")  # address and dask, before any output
-    output_dir(out)  # before the search: an unusable --out must not cost a synthesis
     if scheme not in sw.SCHEMES:
         raise ParameterError("--scheme", scheme, f"must be one of {', '.join(sw.SCHEMES)}")
     if objective not in ("L", "torque"):
@@ -351,6 +350,7 @@ def synthesize_cmd(
     if len(names) != 2 or any(n not in free for n in names) or names[0] == names[1]:
         raise ParameterError("--map", region, f"must name two free parameters of scheme "
                              f"{scheme}: {', '.join(free)}")
+    output_dir(out)  # after the options, before the search: it must not cost a synthesis
     console = make_console()
     err_console = make_console(stderr=True)
     kw: dict[str, Any] = {"region": (names[0], names[1]), "n_candidates": candidates,
