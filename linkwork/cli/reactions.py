@@ -19,7 +19,7 @@ import typer
 from rich.table import Table
 
 from linkwork import io
-from linkwork.cli._args import output_dir, parse_angles
+from linkwork.cli._args import output_dir, output_run, parse_angles
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
 from linkwork.errors import FileFormatError, ParameterError
@@ -237,8 +237,8 @@ def register(app: typer.Typer) -> None:
         table = parse_angles(angles)
         if doc.driver.type == "linear":    # positions in mm for a linear driver
             table = np.degrees(table) * 1e-3
-        output_dir(out)
-        study = study_reactions.run(doc, angles=table, method=method)
-        _report(study, out=out, console=make_console(), plots=plots, n=tolerance_study or 0,
-                seed=seed, scheduler=scheduler, chunk_size=chunk_size,
-                mechanism=doc.name or None)
+        with output_run(out, command="reactions", file=file):
+            study = study_reactions.run(doc, angles=table, method=method)
+            _report(study, out=out, console=make_console(), plots=plots,
+                    n=tolerance_study or 0, seed=seed, scheduler=scheduler,
+                    chunk_size=chunk_size, mechanism=doc.name or None)

@@ -22,7 +22,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork import io
-from linkwork.cli._args import output_dir, parse_angles
+from linkwork.cli._args import output_run, parse_angles
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
 from linkwork.errors import FileFormatError, ParameterError
@@ -174,8 +174,8 @@ def analyze_cmd(
     if not isinstance(doc, SwashplateFile):
         raise FileFormatError(str(file), "type", f"is {doc.type!r}, expected 'swashplate'")
     table_angles = parse_angles(angles)
-    output_dir(out)
-    analyze_swashplate(doc, out=out, angles=table_angles, console=make_console())
+    with output_run(out, command="swashplate analyze", file=file):
+        analyze_swashplate(doc, out=out, angles=table_angles, console=make_console())
 
 
 def _speed(speed: str | None, productivity: str | None, positions: int) -> float | None:
@@ -350,19 +350,20 @@ def synthesize_cmd(
     if len(names) != 2 or any(n not in free for n in names) or names[0] == names[1]:
         raise ParameterError("--map", region, f"must name two free parameters of scheme "
                              f"{scheme}: {', '.join(free)}")
-    output_dir(out)  # after the options, before the search: it must not cost a synthesis
     console = make_console()
     err_console = make_console(stderr=True)
     kw: dict[str, Any] = {"region": (names[0], names[1]), "n_candidates": candidates,
                           "n_best": best, "n_refine": refine, "seed": seed,
                           "client": scheduler}
-    if err_console.is_terminal:  # a live bar, erased afterwards: stderr keeps one error line
-        with rich_progress("screening candidates", console=err_console,
-                           transient=True) as progress:
-            study = study_swashplate.synthesize(req, progress=progress, **kw)
-    else:
-        study = study_swashplate.synthesize(req, **kw)
-    render_synthesis(study, out=out, console=console)
+    # --out checked after the options, before the search: it must not cost a synthesis
+    with output_run(out, command="swashplate synthesize"):
+        if err_console.is_terminal:  # a live bar, erased afterwards: stderr keeps one line
+            with rich_progress("screening candidates", console=err_console,
+                               transient=True) as progress:
+                study = study_swashplate.synthesize(req, progress=progress, **kw)
+        else:
+            study = study_swashplate.synthesize(req, **kw)
+        render_synthesis(study, out=out, console=console)
 
 
 def register(app: typer.Typer) -> None:
