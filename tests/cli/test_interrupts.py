@@ -4,6 +4,7 @@ KeyboardInterrupt, as Python does on SIGINT, and linkwork.cli.main is called."""
 
 from __future__ import annotations
 
+import shutil
 from pathlib import Path
 from typing import Any
 
@@ -72,3 +73,21 @@ def test_interrupt_while_writing_leaves_no_partial_file(tmp_path, capsys, monkey
     assert "planar_dynamics.csv" not in names and not [n for n in names if ".part" in n]
     kin = (out / "planar_kinematics.csv").read_text().splitlines()
     assert len(kin) == 1 + 361 and kin[-1].count(",") == kin[0].count(",")  # complete
+
+
+def test_interrupted_examples_copy_leaves_no_partial_example(tmp_path, capsys, monkeypatch):
+    real, calls = shutil.copyfile, {"n": 0}
+
+    def copy_then_interrupt(src: Any, dst: Any) -> Any:
+        calls["n"] += 1
+        if calls["n"] == 2:  # the second example: half of it on disk, then Ctrl-C
+            Path(dst).write_bytes(Path(src).read_bytes()[:100])
+            raise KeyboardInterrupt
+        return real(src, dst)
+
+    monkeypatch.setattr(shutil, "copyfile", copy_then_interrupt)
+    dest = tmp_path / "ex"
+    assert main(["examples", "--copy", str(dest)]) == 130
+    _one_line(capsys.readouterr().err, "examples")
+    (first,) = dest.iterdir()
+    assert first.read_bytes() == (ROOT / "examples" / first.name).read_bytes()
