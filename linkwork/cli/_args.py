@@ -15,6 +15,8 @@ import datetime
 import json
 import math
 import os
+import re
+import socket
 import stat
 import tempfile
 from collections.abc import Iterator
@@ -28,7 +30,8 @@ from linkwork.io.planar import MAX_ANGLE
 from linkwork.outputs import recording
 from linkwork.results import write_json
 
-__all__ = ["MANIFEST", "output_dir", "output_run", "parse_angles", "parse_angles_deg"]
+__all__ = ["MANIFEST", "output_dir", "output_run", "parse_angles", "parse_angles_deg",
+           "reach_scheduler"]
 
 #: The record of what linkwork wrote into an output folder (see the module docstring).
 MANIFEST = "linkwork-run.json"
@@ -82,6 +85,27 @@ def output_dir(out: Path) -> Path:
         raise ParameterError("--out", str(out), f"cannot be written into "
                              f"({exc.strerror or exc})") from None
     return out
+
+
+_TCP_ADDRESS = re.compile(r"(?:tcp://)?\[?(?P<host>[^\[\]/]+?)\]?(?::(?P<port>[0-9]{1,5}))?")
+
+
+def reach_scheduler(address: str | None, option: str = "--scheduler",
+                    timeout: float = 5.0) -> None:
+    """Check that a dask scheduler at ``address`` (already well-formed,
+    :func:`linkwork.sweep.check_client`) accepts a connection, before any work: an
+    unreachable one was found after the other outputs were written (dask waits 30 s). Only
+    plain TCP addresses (``tcp://`` or no scheme; port 8786 if none) are probed; a
+    ParameterError naming ``option`` if the connection fails."""
+    m = None if address is None else _TCP_ADDRESS.fullmatch(address)
+    if m is None:
+        return
+    try:
+        with socket.create_connection((m["host"], int(m["port"] or 8786)), timeout=timeout):
+            pass
+    except OSError as exc:
+        why = exc.strerror or str(exc) or type(exc).__name__
+        raise ParameterError(option, address, f"cannot be reached ({why})") from None
 
 
 def _stat(path: Path) -> dict[str, int] | None:

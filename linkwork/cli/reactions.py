@@ -19,7 +19,7 @@ import typer
 from rich.table import Table
 
 from linkwork import io
-from linkwork.cli._args import output_dir, output_run, parse_angles
+from linkwork.cli._args import output_dir, output_run, parse_angles, reach_scheduler
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
 from linkwork.errors import FileFormatError, ParameterError
@@ -233,6 +233,8 @@ def register(app: typer.Typer) -> None:
         if seed < 0:
             raise ParameterError("--seed", seed, "must be >= 0")
         check_client(scheduler, option="--scheduler")  # address and dask, before any work
+        if tolerance_study:
+            reach_scheduler(scheduler)  # the study is the only work that uses it
         doc = _load(file)
         table = parse_angles(angles)
         if doc.driver.type == "linear":    # positions in mm for a linear driver

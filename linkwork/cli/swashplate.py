@@ -22,7 +22,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork import io
-from linkwork.cli._args import output_run, parse_angles
+from linkwork.cli._args import output_run, parse_angles, reach_scheduler
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
 from linkwork.errors import FileFormatError, ParameterError
@@ -355,6 +355,7 @@ def synthesize_cmd(
     kw: dict[str, Any] = {"region": (names[0], names[1]), "n_candidates": candidates,
                           "n_best": best, "n_refine": refine, "seed": seed,
                           "client": scheduler}
+    reach_scheduler(scheduler)
     # --out checked after the options, before the search: it must not cost a synthesis
     with output_run(out, command="swashplate synthesize"):
         if err_console.is_terminal:  # a live bar, erased afterwards: stderr keeps one line

@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import errno
+import socket
 import tempfile
 from pathlib import Path
 from typing import Any
@@ -85,3 +86,28 @@ def test_output_folder_that_cannot_be_written_is_refused_before_the_study(
 def test_output_folder_probe_leaves_nothing(tmp_path):
     out = output_dir(tmp_path / "new" / "folder")
     assert out.is_dir() and _files(out) == []
+
+
+def _closed_port() -> int:
+    """A local TCP port with nothing listening (bound, then released)."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@pytest.mark.parametrize("cmd", [
+    ["reactions", str(ROOT / "examples" / "loom_fourbar_spatial.toml"), "--no-plots",
+     "--tolerance-study", "10"],
+    ["swashplate", "synthesize", "-R", "100 mm", "-H", "60 mm", "--candidates", "256"],
+])
+def test_unreachable_scheduler_is_refused_before_any_work(cmd, tmp_path, capsys, monkeypatch):
+    """A well-formed address nobody answers at was found by dask after 30 s, after
+    reactions.csv/.json and the plots were written."""
+    monkeypatch.setattr(study_swashplate, "synthesize", _no_work)
+    address = f"tcp://127.0.0.1:{_closed_port()}"
+    out = tmp_path / "X"
+    assert main([*cmd, "--scheduler", address, "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"linkwork: error: --scheduler = {address} is invalid: cannot be "
+                          "reached (") and err.count("\n") == 1
+    assert not out.exists()
