@@ -174,7 +174,8 @@ def analyze_cmd(
     if not isinstance(doc, SwashplateFile):
         raise FileFormatError(str(file), "type", f"is {doc.type!r}, expected 'swashplate'")
     table_angles = parse_angles(angles)
-    with output_run(out, command="swashplate analyze", file=file):
+    # recorded as `analyze`, which runs the same analysis of a swashplate file
+    with output_run(out, command="analyze", file=file):
         analyze_swashplate(doc, out=out, angles=table_angles, console=make_console())
 
 

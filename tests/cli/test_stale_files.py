@@ -55,9 +55,9 @@ def test_a_run_writing_fewer_files_removes_the_stale_ones_and_keeps_the_users(tm
     assert _names(out) == (first - set(FORCES)) | {"notes.txt", "forces_by_hand.csv"}
     assert (out / "notes.txt").read_text() == "my own notes"
     notice = [ln for ln in stdout.splitlines() if ln.startswith("removed")]
-    assert notice == [f"removed 3 stale files of the previous 'swashplate analyze' run in {out} "
+    assert notice == [f"removed 3 stale files of the previous 'analyze' run in {out} "
                       "(not written by this run): " + ", ".join(FORCES)]
-    assert _recorded(out) == {"swashplate analyze": first - set(FORCES) - {MANIFEST}}
+    assert _recorded(out) == {"analyze": first - set(FORCES) - {MANIFEST}}
     # the same run again: nothing stale, no notice
     code, stdout, _ = run_cli([*args[:2], str(_without_load(tmp_path)), *args[2:]], capsys)
     assert code == 0 and "removed" not in stdout
@@ -74,7 +74,18 @@ def test_the_first_run_prints_what_it_always_printed(tmp_path, capsys):
         f"written: {out}/cycle.csv, cycle.json, characteristics.json, kinematics.png, "
         "forces.csv, forces.json, forces.png")
     assert "removed" not in stdout
-    assert _recorded(out)["swashplate analyze"] == _names(out) - {MANIFEST}
+    assert _recorded(out)["analyze"] == _names(out) - {MANIFEST}
+
+
+def test_swashplate_analyze_and_analyze_are_one_command_for_the_record(tmp_path, capsys):
+    """`linkwork analyze FILE` runs the same analysis of a swashplate file as `linkwork
+    swashplate analyze FILE`: either one finds the other's stale files."""
+    out = tmp_path / "out"
+    assert run_cli(["analyze", str(SWASH), "--out", str(out)], capsys)[0] == 0
+    code, stdout, _ = run_cli(["swashplate", "analyze", str(_without_load(tmp_path)),
+                               "--out", str(out)], capsys)
+    assert code == 0 and "forces.csv, forces.json, forces.png" in stdout
+    assert not any((out / f).exists() for f in FORCES)
 
 
 def test_other_commands_files_in_the_same_folder_stay(tmp_path, capsys):
@@ -116,7 +127,7 @@ def test_a_file_changed_since_linkwork_wrote_it_is_not_removed(tmp_path, capsys)
     assert code == 0
     assert (out / "forces.csv").read_text() == "edited by hand\n"
     assert not (out / "forces.json").exists() and "forces.json, forces.png" in stdout
-    assert "forces.csv" not in _recorded(out)["swashplate analyze"]  # the user's now
+    assert "forces.csv" not in _recorded(out)["analyze"]  # the user's now
 
 
 def test_an_interrupted_run_removes_nothing_and_keeps_the_record(tmp_path, capsys,
@@ -141,8 +152,8 @@ def test_an_interrupted_run_removes_nothing_and_keeps_the_record(tmp_path, capsy
 
 @pytest.mark.parametrize("record", [
     "not json",
-    json.dumps({"runs": {"swashplate analyze": {"files": "forces.csv"}}}),
-    json.dumps({"runs": {"swashplate analyze": {"files": [
+    json.dumps({"runs": {"analyze": {"files": "forces.csv"}}}),
+    json.dumps({"runs": {"analyze": {"files": [
         {"name": "../outside.txt", "bytes": 4, "mtime_ns": 0},
         {"name": "/etc/hostname", "bytes": 4, "mtime_ns": 0}]}}}),
 ])
@@ -157,4 +168,4 @@ def test_a_damaged_or_hostile_record_removes_nothing(record, tmp_path, capsys):
     assert code == 0 and "removed" not in stdout
     assert (tmp_path / "outside.txt").read_text() == "keep"
     assert (out / "forces.csv").read_text() == "keep"
-    assert "forces.csv" not in _recorded(out)["swashplate analyze"]
+    assert "forces.csv" not in _recorded(out)["analyze"]
