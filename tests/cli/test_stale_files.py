@@ -150,19 +150,27 @@ def test_an_interrupted_run_removes_nothing_and_keeps_the_record(tmp_path, capsy
     assert _names(out) == first - {"reactions_bending.png"}
 
 
+def _hostile(tmp_path: Path) -> str:
+    """A record naming files out of the folder, with their true size and mtime."""
+    files = []
+    for name, path in (("../outside.txt", tmp_path / "outside.txt"),
+                       (str(tmp_path / "outside.txt"), tmp_path / "outside.txt")):
+        st = path.stat()
+        files.append({"name": name, "bytes": st.st_size, "mtime_ns": st.st_mtime_ns})
+    return json.dumps({"runs": {"analyze": {"files": files}}})
+
+
 @pytest.mark.parametrize("record", [
     "not json",
     json.dumps({"runs": {"analyze": {"files": "forces.csv"}}}),
-    json.dumps({"runs": {"analyze": {"files": [
-        {"name": "../outside.txt", "bytes": 4, "mtime_ns": 0},
-        {"name": "/etc/hostname", "bytes": 4, "mtime_ns": 0}]}}}),
+    "hostile",
 ])
 def test_a_damaged_or_hostile_record_removes_nothing(record, tmp_path, capsys):
     out = tmp_path / "out"
     out.mkdir()
     (tmp_path / "outside.txt").write_text("keep")
     (out / "forces.csv").write_text("keep")
-    (out / MANIFEST).write_text(record)
+    (out / MANIFEST).write_text(_hostile(tmp_path) if record == "hostile" else record)
     code, stdout, _ = run_cli(["swashplate", "analyze", str(_without_load(tmp_path)),
                                "--out", str(out)], capsys)
     assert code == 0 and "removed" not in stdout
