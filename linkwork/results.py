@@ -21,8 +21,10 @@ from typing import Any, ClassVar
 import numpy as np
 
 from linkwork.errors import MissingExtraError, ParameterError
+from linkwork.outputs import atomic_path
 
-__all__ = ["Result", "all_true", "strict_json_values", "write_csv", "write_json"]
+__all__ = ["Result", "all_true", "atomic_path", "strict_json_values", "write_csv",
+           "write_json"]
 
 
 @functools.lru_cache(maxsize=64)
@@ -68,11 +70,14 @@ def write_csv(path: str | Path, columns: dict[str, tuple[Any, str]]) -> Path:
     the arrays is written so, never as ``nan``.  An infinite value is refused before the file
     is opened (:class:`~linkwork.errors.ParameterError` naming the column): it means an input
     beyond double precision, not a result.
+
+    The file is written beside ``path`` and renamed when complete (:func:`atomic_path`): an
+    interrupted write leaves no partial file.
     """
     for name, (values, _) in columns.items():
         _refuse_inf(name, values)
     p = Path(path)
-    with p.open("w", newline="") as fh:
+    with atomic_path(p) as tmp, tmp.open("w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow([f"{k} [{u}]" for k, (_, u) in columns.items()])
         for row in zip(*(np.asarray(v) for v, _ in columns.values()), strict=True):
@@ -119,11 +124,13 @@ def write_json(path: str | Path, data: Any) -> Path:
 
     Strict: NaN (a value undefined at a position, see :func:`write_csv`) is written as
     ``null``, never as the bare ``NaN`` that strict parsers reject; an infinite value is
-    refused before the file is opened (:func:`strict_json_values`).  Returns the path.
+    refused before the file is opened (:func:`strict_json_values`).  Written beside ``path``
+    and renamed when complete (:func:`atomic_path`).  Returns the path.
     """
     text = json.dumps(strict_json_values(data), indent=1, allow_nan=False)
     p = Path(path)
-    p.write_text(text)
+    with atomic_path(p) as tmp:
+        tmp.write_text(text)
     return p
 
 

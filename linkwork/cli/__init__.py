@@ -8,7 +8,8 @@ the command list its one-line helps (the start-up cost is importing the studies,
 engine; docs/performance.md). A command parses its arguments, loads the file
 (:func:`linkwork.io.load`), runs a study (:mod:`linkwork.studies`) and renders its result.
 Every expected failure (bad file, bad parameter, impossible mechanism) prints one line on
-stderr and exits with code 2 -- see :func:`main`. ``-h`` is ``--help`` on every command;
+stderr and exits with code 2, Ctrl-C one line naming the command and exit code 130 -- see
+:func:`main`. ``-h`` is ``--help`` on every command;
 ``linkwork --version`` prints the version; ``python -m linkwork`` runs the same app.
 """
 
@@ -60,6 +61,11 @@ def _real_commands() -> dict[str, Any]:
     return dict(typer.main.get_command(full).commands)  # type: ignore[attr-defined]
 
 
+class _Interrupted(Exception):
+    """Ctrl-C while a command ran: a KeyboardInterrupt carried past Typer, which would turn it
+    into a silent exit 130 (:meth:`_LazyGroup.invoke`, :func:`main`)."""
+
+
 class _LazyGroup(typer.core.TyperGroup):
     """The root group: lists the commands from :data:`COMMAND_HELP`; imports their modules
     only to run one (resolve_command) or when ``commands`` is read."""
@@ -86,6 +92,12 @@ class _LazyGroup(typer.core.TyperGroup):
     def resolve_command(self, ctx: Any, args: list[str]) -> Any:
         _real_commands()
         return super().resolve_command(ctx, args)
+
+    def invoke(self, ctx: Any) -> Any:
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt:
+            raise _Interrupted from None
 
 
 app = typer.Typer(
@@ -137,14 +149,45 @@ def _bundled_hint(exc: FileFormatError) -> str:
             "into ./examples)")
 
 
+#: Exit code of a command stopped by Ctrl-C (128 + SIGINT, as the shells report it).
+INTERRUPTED = 130
+
+
+def _doing(args: Sequence[str]) -> str:
+    """What the command line was doing, for the interrupt message: its leading words up to the
+    first option (``swashplate synthesize``, ``analyze examples/press.toml``)."""
+    words: list[str] = []
+    for a in args:
+        if a.startswith("-") or len(words) == 3:
+            break
+        words.append(a)
+    return " ".join(words) or "linkwork"
+
+
+def _interrupted(args: Sequence[str]) -> int:
+    print(f"linkwork: interrupted (Ctrl-C) during '{_doing(args)}'; no file was left "
+          "half-written", file=sys.stderr)
+    return INTERRUPTED
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Run the command line; return the exit code (0 ok, 2 bad input or impossible request).
+    """Run the command line; return the exit code (0 ok, 2 bad input or impossible request,
+    130 interrupted).
 
     Expected failures never show a traceback: a :class:`~linkwork.errors.LinkworkError`, a
     missing or unreadable file, or a usage error prints one line on stderr and returns 2.
+    Ctrl-C (KeyboardInterrupt) prints one line naming the command and returns 130; no output
+    file is left half-written (:func:`linkwork.outputs.atomic_path`).
     """
-    command = typer.main.get_command(app)
     args = list(sys.argv[1:] if argv is None else argv)
+    try:
+        return _main(args)
+    except (_Interrupted, KeyboardInterrupt):
+        return _interrupted(args)
+
+
+def _main(args: list[str]) -> int:
+    command = typer.main.get_command(app)
     try:
         # an overflow means an input far outside any machine (e.g. speed = 1e200 rad/s): stop
         # with a message instead of writing inf into the output files and exiting 0

@@ -19,7 +19,7 @@ import numpy as np
 import typer
 
 from linkwork import io
-from linkwork.cli._args import output_dir, parse_angles, parse_angles_deg
+from linkwork.cli._args import output_dir, output_run, parse_angles, parse_angles_deg
 from linkwork.cli._console import console as make_console
 from linkwork.cli._planar import analyze_planar
 from linkwork.cli._sine_press import analyze_sine_press
@@ -78,5 +78,5 @@ def register(app: typer.Typer) -> None:
                 parse_angles_deg(angles, angles=False)) * 1e-3
         else:
             table = parse_angles(DEFAULT_ANGLES if angles is None else angles)
-        output_dir(out)
-        analyzers[type(doc)](doc, out=out, angles=table, console=make_console())
+        with output_run(out, command="analyze", file=file):
+            analyzers[type(doc)](doc, out=out, angles=table, console=make_console())

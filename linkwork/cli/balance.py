@@ -29,7 +29,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork import io
-from linkwork.cli._args import output_dir, parse_angles_deg
+from linkwork.cli._args import output_dir, output_run, parse_angles_deg
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt, scale_of, unit_label
 from linkwork.cli._tables import print_table
@@ -219,12 +219,13 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Balance a planar mechanism: paper 001's table, torque and bearing loads, plots."""
         _, _, doc = load_balance_file(file)
-        output_dir(out)  # before the work: an unusable --out must not cost an optimisation
         table = None if angles is None else parse_angles_deg(angles)
-        console = make_console()
-        if doc.load:
-            console.print("note: the file's external loads enter the driving torque and the "
-                          "bearing reactions, not the shaking-moment table (inertia forces)",
-                          highlight=False)
-        render(study_balance.run(doc, angles=table, pareto=pareto), out=out, console=console,
-               name=doc.name or None)
+        # --out checked before the work: an unusable one must not cost an optimisation
+        with output_run(out, command="balance", file=file):
+            console = make_console()
+            if doc.load:
+                console.print("note: the file's external loads enter the driving torque and "
+                              "the bearing reactions, not the shaking-moment table (inertia "
+                              "forces)", highlight=False)
+            render(study_balance.run(doc, angles=table, pareto=pareto), out=out,
+                   console=console, name=doc.name or None)

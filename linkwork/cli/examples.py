@@ -22,6 +22,7 @@ from typing import Annotated
 import typer
 
 from linkwork.errors import ParameterError
+from linkwork.outputs import atomic_path
 
 __all__ = ["Example", "bundled", "copy_examples", "examples_dir", "register"]
 
@@ -84,7 +85,12 @@ def copy_examples(dest: Path) -> list[Path]:
                              "choose another folder or remove them")
     try:
         dest.mkdir(parents=True, exist_ok=True)
-        return [Path(shutil.copyfile(ex.path, dest / ex.name)) for ex in found]
+        copied = []
+        for ex in found:  # each copied beside and renamed when complete: never half a file
+            with atomic_path(dest / ex.name) as tmp:
+                shutil.copyfile(ex.path, tmp)
+            copied.append(dest / ex.name)
+        return copied
     except OSError as exc:
         raise ParameterError("--copy", str(dest), f"cannot be written "
                              f"({exc.strerror or exc})") from None

@@ -20,7 +20,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork import io
-from linkwork.cli._args import output_dir, parse_angles
+from linkwork.cli._args import output_dir, output_run, parse_angles, reach_scheduler
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
 from linkwork.cli._tables import print_table
@@ -106,10 +106,12 @@ def _report(study: ReactionsStudy, *, out: Path, console: Any, plots: bool, n: i
             ) -> tuple[ToleranceStudy | None, list[Path]]:
     """Render the study, run and render its tolerance study of ``n`` samples (0: none), list
     the files written; return (tolerance study or None, files)."""
+    # the tolerances' errors (none in the file, a joint or body not of the model) come
+    # before the first file is written
+    tols = study_reactions.tolerances(study, n) if n else None
     written = render(study, out=out, console=console, plots=plots, mechanism=mechanism)
     tol = None
     if n:
-        tols = study_reactions.tolerances(study, n)  # its errors come before the progress bar
         with rich_progress("tolerance study", console=console) as progress:
             tol = study_reactions.tolerance(study, n, tols=tols, seed=seed, scheduler=scheduler,
                                             chunk_size=chunk_size, progress=progress)
@@ -234,12 +236,14 @@ def register(app: typer.Typer) -> None:
         if seed < 0:
             raise ParameterError("--seed", seed, "must be >= 0")
         check_client(scheduler, option="--scheduler")  # address and dask, before any work
+        if tolerance_study:
+            reach_scheduler(scheduler)  # the study is the only work that uses it
         doc = _load(file)
         table = parse_angles(angles)
         if doc.driver.type == "linear":    # positions in mm for a linear driver
             table = np.degrees(table) * 1e-3
-        output_dir(out)
-        study = study_reactions.run(doc, angles=table, method=method)
-        _report(study, out=out, console=make_console(), plots=plots, n=tolerance_study or 0,
-                seed=seed, scheduler=scheduler, chunk_size=chunk_size,
-                mechanism=doc.name or None)
+        with output_run(out, command="reactions", file=file):
+            study = study_reactions.run(doc, angles=table, method=method)
+            _report(study, out=out, console=make_console(), plots=plots,
+                    n=tolerance_study or 0, seed=seed, scheduler=scheduler,
+                    chunk_size=chunk_size, mechanism=doc.name or None)

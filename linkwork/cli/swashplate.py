@@ -22,7 +22,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork import io
-from linkwork.cli._args import output_dir, parse_angles
+from linkwork.cli._args import output_run, parse_angles, reach_scheduler
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
 from linkwork.cli._tables import print_table
@@ -177,8 +177,9 @@ def analyze_cmd(
     if not isinstance(doc, SwashplateFile):
         raise FileFormatError(str(file), "type", f"is {doc.type!r}, expected 'swashplate'")
     table_angles = parse_angles(angles)
-    output_dir(out)
-    analyze_swashplate(doc, out=out, angles=table_angles, console=make_console())
+    # recorded as `analyze`, which runs the same analysis of a swashplate file
+    with output_run(out, command="analyze", file=file):
+        analyze_swashplate(doc, out=out, angles=table_angles, console=make_console())
 
 
 def _speed(speed: str | None, productivity: str | None, positions: int) -> float | None:
@@ -334,7 +335,6 @@ def synthesize_cmd(
 ) -> None:
     """Find designs of a scheme meeting the stroke, pressure-angle and speed limits (ranked)."""
     check_client(scheduler, option="--scheduler")  # address and dask, before any output
-    output_dir(out)  # before the search: an unusable --out must not cost a synthesis
     if scheme not in sw.SCHEMES:
         raise ParameterError("--scheme", scheme, f"must be one of {', '.join(sw.SCHEMES)}")
     if objective not in ("L", "torque"):
@@ -360,13 +360,16 @@ def synthesize_cmd(
     kw: dict[str, Any] = {"region": (names[0], names[1]), "n_candidates": candidates,
                           "n_best": best, "n_refine": refine, "seed": seed,
                           "client": scheduler}
-    if err_console.is_terminal:  # a live bar, erased afterwards: stderr keeps one error line
-        with rich_progress("screening candidates", console=err_console,
-                           transient=True) as progress:
-            study = study_swashplate.synthesize(req, progress=progress, **kw)
-    else:
-        study = study_swashplate.synthesize(req, **kw)
-    render_synthesis(study, out=out, console=console)
+    reach_scheduler(scheduler)
+    # --out checked after the options, before the search: it must not cost a synthesis
+    with output_run(out, command="swashplate synthesize"):
+        if err_console.is_terminal:  # a live bar, erased afterwards: stderr keeps one line
+            with rich_progress("screening candidates", console=err_console,
+                               transient=True) as progress:
+                study = study_swashplate.synthesize(req, progress=progress, **kw)
+        else:
+            study = study_swashplate.synthesize(req, **kw)
+        render_synthesis(study, out=out, console=console)
 
 
 def register(app: typer.Typer) -> None:

@@ -59,6 +59,8 @@ from typing import Any
 
 import numpy as np
 
+from linkwork.outputs import atomic_path
+
 __all__ = ["LEGEND_INSIDE", "Figure", "angle_axis", "axes_or_new", "distinguish", "figure_title",
            "finish", "legend", "pyplot", "save", "text", "titled"]
 
@@ -260,10 +262,17 @@ def finish(ax: Any, *, title: str | None = None, angle: Any = None, angle_on: st
 
 
 def save(fig: Any, path: str | Path, dpi: int = 120) -> Path:
-    """Save ``fig`` to ``path`` (PNG by suffix), close it, and return the path."""
+    """Save ``fig`` to ``path`` (PNG by suffix), close it, and return the path.
+
+    Written beside ``path`` and renamed when complete (:func:`linkwork.outputs.atomic_path`):
+    an interrupted save leaves no partial image. The figure is closed even if saving fails.
+    """
     p = Path(path)
-    fig.savefig(p, dpi=dpi, bbox_inches="tight")
-    pyplot().close(fig)
+    try:
+        with atomic_path(p) as tmp:
+            fig.savefig(tmp, dpi=dpi, bbox_inches="tight")
+    finally:
+        pyplot().close(fig)
     return p
 
 
@@ -352,7 +361,11 @@ class Figure:
         """``matplotlib.figure.Figure.savefig`` (the figure stays open), with a tight bounding
         box unless ``bbox_inches`` is given (legends outside the axes stay on the page)."""
         kwargs.setdefault("bbox_inches", "tight")
-        self.figure.savefig(path, **kwargs)
+        if not isinstance(path, str | os.PathLike):  # a file object: matplotlib writes to it
+            self.figure.savefig(path, **kwargs)
+            return
+        with atomic_path(path) as tmp:  # beside, renamed when complete
+            self.figure.savefig(tmp, **kwargs)
 
     def save(self, path: str | Path, dpi: int = 120) -> Path:
         """Save as :func:`save` does (tight bounding box), close the figure, return the path."""
