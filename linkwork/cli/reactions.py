@@ -27,6 +27,7 @@ from linkwork.io.planar import PlanarFile, SpatialSpec
 from linkwork.io.toml import read_toml
 from linkwork.planar import Mechanism
 from linkwork.redundancy import ToleranceStudy
+from linkwork.redundancy.tolerance import check_samples
 from linkwork.results import write_json
 from linkwork.studies import reactions as study_reactions
 from linkwork.studies.reactions import ReactionsStudy
@@ -232,6 +233,9 @@ def register(app: typer.Typer) -> None:
             raise ParameterError("--seed", seed, "must be >= 0")
         check_client(scheduler, option="--scheduler")  # address and dask, before any work
         doc = _load(file)
+        if tolerance_study and doc.spatial.tolerance:  # its memory bound, before any work
+            check_samples(tolerance_study, len(doc.joint), doc.spatial.n_deviations(),
+                          parameter="--tolerance-study")
         table = parse_angles(angles)
         if doc.driver.type == "linear":    # positions in mm for a linear driver
             table = np.degrees(table) * 1e-3

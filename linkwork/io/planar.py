@@ -139,9 +139,10 @@ from linkwork.planar.model import (
 from linkwork.redundancy.core import DEFAULT_BEARING_STIFFNESS, check_tilt
 from linkwork.units import to_si
 
-__all__ = ["MAX_ANGLE", "AnalysisSection", "BalanceSection", "BodySection", "DeviationSpec",
-           "DriverSection", "FrameSection", "JointSection", "JointSpec", "LoadSection",
-           "OutOfPlaneSpec", "PlanarFile", "SpatialSpec", "ToleranceSpec", "read_spatial"]
+__all__ = ["BYTES_PER_POSITION", "MAX_ANGLE", "MAX_POSITIONS", "AnalysisSection",
+           "BalanceSection", "BodySection", "DeviationSpec", "DriverSection", "FrameSection",
+           "JointSection", "JointSpec", "LoadSection", "OutOfPlaneSpec", "PlanarFile",
+           "SpatialSpec", "ToleranceSpec", "read_spatial"]
 
 XY = tuple[Length, Length]
 
@@ -253,15 +254,40 @@ class DriverSection(FileModel):
         return Linear(self.joint, self.v1, self.a1)
 
 
+#: The most driver positions of ``[analysis] n``: ``linkwork analyze`` keeps about
+#: :data:`BYTES_PER_POSITION` per position (kinematics, dynamics, the CSV/JSON columns of every
+#: body and named point, the plots), so the largest example (``loom_sixbar``, five moving
+#: bodies) peaks near 1.5 GB at the limit. Beyond it (the schema allowed 10^7: 11 GB and 8 GB of
+#: CSV) a file is refused before any work; a finer step over part of the cycle is a narrower
+#: ``start``/``stop``.
+MAX_POSITIONS = 100_000
+
+#: Peak memory per position of ``linkwork analyze examples/loom_sixbar.toml`` [bytes], stated in
+#: the message: resident set size 1.26 GB at 10^5 positions (12.6 kB each), rounded up.
+BYTES_PER_POSITION = 15_000
+
+
 class AnalysisSection(FileModel):
     """Driver positions, branches, gravity, shaking-moment point."""
 
     start: float | str = 0.0
     stop: float | str = "360 deg"
-    n: Annotated[int, Field(ge=2, le=10_000_000)] = 361
+    n: Annotated[int, Field(ge=2)] = 361
     branches: dict[str, Literal[1, -1]] = Field(default_factory=dict)
     gravity: tuple[Acceleration, Acceleration] | None = None
     about: XY = (0.0, 0.0)
+
+    @field_validator("n")
+    @classmethod
+    def _bounded(cls, v: int) -> int:
+        if v > MAX_POSITIONS:
+            raise ValueError(
+                f"must be at most {MAX_POSITIONS} positions (got {v}): about "
+                f"{BYTES_PER_POSITION // 1000} kB of memory per position, "
+                f"{v * BYTES_PER_POSITION / 1e9:.3g} GB asked, "
+                f"{MAX_POSITIONS * BYTES_PER_POSITION / 1e9:.2g} GB at the limit; for a finer "
+                "step analyse part of the range (start, stop)")
+        return v
 
 
 class LoadSection(FileModel):
@@ -487,6 +513,14 @@ class SpatialSpec(FileModel):
     deviation: list[DeviationSpec] = Field(default_factory=list)
     out_of_plane: list[OutOfPlaneSpec] = Field(default_factory=list)
     tolerance: list[ToleranceSpec] = Field(default_factory=list)
+
+    def n_deviations(self) -> int:
+        """The deviations a tolerance study draws or holds fixed: one per
+        ``[[spatial.tolerance]]`` and one per non-zero component of a joint element's
+        ``[[spatial.deviation]]`` (the count that bounds ``--tolerance-study``)."""
+        fixed = {(d.joint, d.body, c) for d in self.deviation
+                 for c in ("dx", "dy", "dz", "tx", "ty", "tz") if getattr(d, c) != 0.0}
+        return len(self.tolerance) + len(fixed)
 
     def default_kwargs(self) -> dict[str, Any]:
         """Keyword arguments for joints not listed (bearing defaults included)."""
