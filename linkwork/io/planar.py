@@ -257,14 +257,15 @@ class DriverSection(FileModel):
 #: The most driver positions of ``[analysis] n``: ``linkwork analyze`` keeps about
 #: :data:`BYTES_PER_POSITION` per position (kinematics, dynamics, the CSV/JSON columns of every
 #: body and named point, the plots), so the largest example (``loom_sixbar``, five moving
-#: bodies) peaks near 1.5 GB at the limit. Beyond it (the schema allowed 10^7: 11 GB and 8 GB of
-#: CSV) a file is refused before any work; a finer step over part of the cycle is a narrower
-#: ``start``/``stop``.
-MAX_POSITIONS = 100_000
+#: bodies, 104 columns of kinematics) peaks near 1.1 GB at the limit. Beyond it (the schema
+#: allowed 10^7: 11 GB and 8 GB of CSV) a file is refused before any work; a finer step over
+#: part of the cycle is a narrower ``start``/``stop``.
+MAX_POSITIONS = 50_000
 
 #: Peak memory per position of ``linkwork analyze examples/loom_sixbar.toml`` [bytes], stated in
-#: the message: resident set size 1.26 GB at 10^5 positions (12.6 kB each), rounded up.
-BYTES_PER_POSITION = 15_000
+#: the message: resident set size 1.10 GB at 5*10^4 positions, 2.08 GB at 10^5 (named-point
+#: columns included; 1.26 GB before them), rounded up.
+BYTES_PER_POSITION = 21_000
 
 
 class AnalysisSection(FileModel):
