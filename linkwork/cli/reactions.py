@@ -233,6 +233,7 @@ def register(app: typer.Typer) -> None:
             raise ParameterError("--seed", seed, "must be >= 0")
         check_client(scheduler, option="--scheduler")  # address and dask, before any work
         doc = _load(file)
+        doc.check_spatial_positions(file)  # the cycle's size, before any work
         if tolerance_study and doc.spatial.tolerance:  # its memory bound, before any work
             check_samples(tolerance_study, len(doc.joint), doc.spatial.n_deviations(),
                           parameter="--tolerance-study")

@@ -139,7 +139,8 @@ from linkwork.planar.model import (
 from linkwork.redundancy.core import DEFAULT_BEARING_STIFFNESS, check_tilt
 from linkwork.units import to_si
 
-__all__ = ["BYTES_PER_POSITION", "MAX_ANGLE", "MAX_POSITIONS", "AnalysisSection",
+__all__ = ["BYTES_PER_POSITION", "BYTES_PER_SPATIAL_POSITION", "MAX_ANGLE", "MAX_POSITIONS",
+           "MAX_SPATIAL_POSITIONS", "AnalysisSection",
            "BalanceSection", "BodySection", "DeviationSpec", "DriverSection", "FrameSection",
            "JointSection", "JointSpec", "LoadSection", "OutOfPlaneSpec", "PlanarFile",
            "SpatialSpec", "ToleranceSpec", "read_spatial"]
@@ -502,18 +503,42 @@ class ToleranceSpec(FileModel):
         return value
 
 
+#: The most positions of the cycle of ``linkwork reactions`` (``[spatial] positions``, or the
+#: ``[analysis] n`` positions when it is not set): the spatial model keeps matrices per position;
+#: measured 1.41 GB resident for ``loom_sixbar`` (7 joints) with its plots at 20 000 positions,
+#: 0.55 GB for ``loom_fourbar_spatial`` (4 joints) without plots. (The schema allowed 10^5.)
+MAX_SPATIAL_POSITIONS = 20_000
+
+#: Peak memory of ``linkwork reactions`` per cycle position for the six-bar [bytes], rounded up.
+BYTES_PER_SPATIAL_POSITION = 70_000
+
+
+def spatial_positions_limit(n: int) -> str:
+    """The message for ``n`` reactions positions above :data:`MAX_SPATIAL_POSITIONS`."""
+    return (f"must be at most {MAX_SPATIAL_POSITIONS} positions for the spatial reactions "
+            f"(about {BYTES_PER_SPATIAL_POSITION // 1000} kB of memory per position for a "
+            f"seven-joint mechanism: {n * BYTES_PER_SPATIAL_POSITION / 1e9:.3g} GB asked)")
+
+
 class SpatialSpec(FileModel):
     """The ``[spatial]`` table."""
 
     k_bearing: Annotated[Stiffness, Field(gt=0)] = DEFAULT_BEARING_STIFFNESS
     axial_ratio: Annotated[float, Field(gt=0)] = 1.0
-    positions: Annotated[int, Field(ge=8, le=100_000)] | None = None
+    positions: Annotated[int, Field(ge=8)] | None = None
     default: JointSpec = JointSpec()
     joints: dict[str, JointSpec] = Field(default_factory=dict)
     heights: dict[str, Length] = Field(default_factory=dict)
     deviation: list[DeviationSpec] = Field(default_factory=list)
     out_of_plane: list[OutOfPlaneSpec] = Field(default_factory=list)
     tolerance: list[ToleranceSpec] = Field(default_factory=list)
+
+    @field_validator("positions")
+    @classmethod
+    def _positions_bounded(cls, v: int | None) -> int | None:
+        if v is not None and v > MAX_SPATIAL_POSITIONS:
+            raise ValueError(spatial_positions_limit(v))
+        return v
 
     def n_deviations(self) -> int:
         """The deviations a tolerance study draws or holds fixed: one per
@@ -538,7 +563,7 @@ def _spatial_error(path: str | Path, err: Any) -> FileFormatError:
     """The error of the ``[spatial]`` table, worded as ``linkwork reactions`` words it: the
     dotted key from ``spatial``, pydantic's message with the value given."""
     key = ".".join(["spatial", *(str(x) for x in err["loc"])])
-    msg = err["msg"]
+    msg = err["msg"].removeprefix("Value error, ")
     if err["type"] == "extra_forbidden":
         msg = "unknown key"
     elif err["type"] == "missing":
@@ -603,6 +628,16 @@ class PlanarFile(FileModel):
                                   str(exc).removeprefix(f"{exc.parameter} = ")) from None
         doc._check_spatial_names(path)
         return doc
+
+    def check_spatial_positions(self, path: str | Path) -> None:
+        """Refuse a cycle of more than :data:`MAX_SPATIAL_POSITIONS` for ``linkwork reactions``
+        before any work: ``[analysis] n`` when ``[spatial] positions`` does not resample it
+        (``[spatial] positions`` itself is checked when the file is read)."""
+        n = self.analysis.n
+        if self.spatial.positions is None and n > MAX_SPATIAL_POSITIONS:
+            raise FileFormatError(str(path), "analysis.n", spatial_positions_limit(n)
+                                  + f" (got {n}); set [spatial] positions to resample the "
+                                  "range for the reactions")
 
     @model_validator(mode="after")
     def _check(self) -> PlanarFile:

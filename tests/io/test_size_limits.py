@@ -11,7 +11,7 @@ from _cli_files import run_cli
 
 from linkwork import io
 from linkwork.errors import FileFormatError
-from linkwork.io.planar import MAX_POSITIONS
+from linkwork.io.planar import MAX_POSITIONS, MAX_SPATIAL_POSITIONS
 from linkwork.io.sine_press import MAX_SCHEDULE_SAMPLES
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
@@ -76,3 +76,32 @@ def test_sine_press_schedule_at_the_limit_is_accepted(tmp_path):
     p.write_text(p.read_text().replace("83333", "83334"))
     with pytest.raises(FileFormatError, match="got 1000012"):
         io.load(p)
+
+
+def test_reactions_positions_above_the_limit(tmp_path, capsys):
+    # [spatial] positions itself, when the file is read
+    p = _with(tmp_path, "loom_fourbar_spatial.toml", r"^\[spatial\]$",
+              f"[spatial]\npositions = {MAX_SPATIAL_POSITIONS + 1}")
+    with pytest.raises(FileFormatError) as exc:
+        io.load(p)
+    assert exc.value.key == "spatial.positions"
+    assert f"at most {MAX_SPATIAL_POSITIONS} positions" in str(exc.value)
+    assert f"(got {MAX_SPATIAL_POSITIONS + 1})" in str(exc.value)
+    # the [analysis] positions that reactions would use without [spatial] positions: the file
+    # is fine for analyze, refused by reactions before any output
+    q = _with(tmp_path, "loom_fourbar_spatial.toml", r"^n = \d+",
+              f"n = {MAX_SPATIAL_POSITIONS + 1}")
+    out = tmp_path / "out"
+    code, stdout, err = run_cli(["reactions", str(q), "--out", str(out)], capsys)
+    assert code == 2 and stdout == "" and err.count("\n") == 1
+    assert "analysis.n" in err and f"(got {MAX_SPATIAL_POSITIONS + 1})" in err
+    assert "[spatial] positions" in err and not out.exists()
+
+
+def test_reactions_positions_at_the_limit_are_accepted(tmp_path):
+    p = _with(tmp_path, "loom_fourbar_spatial.toml", r"^\[spatial\]$",
+              f"[spatial]\npositions = {MAX_SPATIAL_POSITIONS}")
+    assert io.load(p).spatial.positions == MAX_SPATIAL_POSITIONS
+    q = _with(tmp_path, "loom_fourbar_spatial.toml", r"^n = \d+",
+              f"n = {MAX_SPATIAL_POSITIONS}")
+    io.load(q).check_spatial_positions(q)  # no error
