@@ -4,7 +4,7 @@ Prints the structure (mobility, Assur groups), dead centres, and a table at the 
 angles: driving torque, every joint reaction's magnitude, shaking force and moment,
 transmission angles (the kinetic energy is in the CSV/JSON), and the extremes over the cycle
 (largest and smallest driving torque, peak reactions, shaking) with where they occur. Writes
-``planar_kinematics.csv`` (every body's pose, velocity, acceleration), ``planar_dynamics.csv``
+``planar_kinematics.csv`` (every body's and named point's motion), ``planar_dynamics.csv``
 (every joint's reaction components, driving torque, shaking force and moment, kinetic
 energy), ``planar.json`` (both, with units and the structure) and plots (skeleton with point
 paths, guides and slots, driving torque, reactions, shaking).

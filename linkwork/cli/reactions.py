@@ -29,6 +29,7 @@ from linkwork.io.planar import PlanarFile, SpatialSpec
 from linkwork.io.toml import read_toml
 from linkwork.planar import Mechanism
 from linkwork.redundancy import ToleranceStudy
+from linkwork.redundancy.tolerance import check_samples
 from linkwork.results import write_json
 from linkwork.studies import reactions as study_reactions
 from linkwork.studies.reactions import ReactionsStudy
@@ -239,6 +240,10 @@ def register(app: typer.Typer) -> None:
         if tolerance_study:
             reach_scheduler(scheduler)  # the study is the only work that uses it
         doc = _load(file)
+        doc.check_spatial_positions(file)  # the cycle's size, before any work
+        if tolerance_study and doc.spatial.tolerance:  # its memory bound, before any work
+            check_samples(tolerance_study, len(doc.joint), doc.spatial.n_deviations(),
+                          parameter="--tolerance-study")
         table = parse_angles(angles)
         if doc.driver.type == "linear":    # positions in mm for a linear driver
             table = np.degrees(table) * 1e-3

@@ -339,10 +339,11 @@ def synthesize_cmd(
         raise ParameterError("--scheme", scheme, f"must be one of {', '.join(sw.SCHEMES)}")
     if objective not in ("L", "torque"):
         raise ParameterError("--objective", objective, "must be 'L' or 'torque'")
-    for opt, val, least in (("--positions", positions, 1), ("--candidates", candidates, 1),
-                            ("--best", best, 1), ("--refine", refine, 0)):
+    for opt, val, least in (("--positions", positions, 1), ("--best", best, 1),
+                            ("--refine", refine, 0)):
         if val < least:
             raise ParameterError(opt, val, f"must be an integer >= {least}")
+    syn.check_candidates(candidates, "--candidates")
     R = to_si(rotor_radius, "length", "--rotor-radius")
     req = _request({
         "R": R, "rotor_radius": rotor_radius, "stroke": stroke, "stroke_tol": stroke_tol,

@@ -139,9 +139,11 @@ from linkwork.planar.model import (
 from linkwork.redundancy.core import DEFAULT_BEARING_STIFFNESS, check_tilt
 from linkwork.units import to_si
 
-__all__ = ["MAX_ANGLE", "AnalysisSection", "BalanceSection", "BodySection", "DeviationSpec",
-           "DriverSection", "FrameSection", "JointSection", "JointSpec", "LoadSection",
-           "OutOfPlaneSpec", "PlanarFile", "SpatialSpec", "ToleranceSpec", "read_spatial"]
+__all__ = ["BYTES_PER_POSITION", "BYTES_PER_SPATIAL_POSITION", "MAX_ANGLE", "MAX_POSITIONS",
+           "MAX_SPATIAL_POSITIONS", "AnalysisSection",
+           "BalanceSection", "BodySection", "DeviationSpec", "DriverSection", "FrameSection",
+           "JointSection", "JointSpec", "LoadSection", "OutOfPlaneSpec", "PlanarFile",
+           "SpatialSpec", "ToleranceSpec", "read_spatial"]
 
 XY = tuple[Length, Length]
 
@@ -253,15 +255,41 @@ class DriverSection(FileModel):
         return Linear(self.joint, self.v1, self.a1)
 
 
+#: The most driver positions of ``[analysis] n``: ``linkwork analyze`` keeps about
+#: :data:`BYTES_PER_POSITION` per position (kinematics, dynamics, the CSV/JSON columns of every
+#: body and named point, the plots), so the largest example (``loom_sixbar``, five moving
+#: bodies, 104 columns of kinematics) peaks near 1.1 GB at the limit. Beyond it (the schema
+#: allowed 10^7: 11 GB and 8 GB of CSV) a file is refused before any work; a finer step over
+#: part of the cycle is a narrower ``start``/``stop``.
+MAX_POSITIONS = 50_000
+
+#: Peak memory per position of ``linkwork analyze examples/loom_sixbar.toml`` [bytes], stated in
+#: the message: resident set size 1.10 GB at 5*10^4 positions, 2.08 GB at 10^5 (named-point
+#: columns included; 1.26 GB before them), rounded up.
+BYTES_PER_POSITION = 21_000
+
+
 class AnalysisSection(FileModel):
     """Driver positions, branches, gravity, shaking-moment point."""
 
     start: float | str = 0.0
     stop: float | str = "360 deg"
-    n: Annotated[int, Field(ge=2, le=10_000_000)] = 361
+    n: Annotated[int, Field(ge=2)] = 361
     branches: dict[str, Literal[1, -1]] = Field(default_factory=dict)
     gravity: tuple[Acceleration, Acceleration] | None = None
     about: XY = (0.0, 0.0)
+
+    @field_validator("n")
+    @classmethod
+    def _bounded(cls, v: int) -> int:
+        if v > MAX_POSITIONS:
+            raise ValueError(
+                f"must be at most {MAX_POSITIONS} positions (got {v}): about "
+                f"{BYTES_PER_POSITION // 1000} kB of memory per position, "
+                f"{v * BYTES_PER_POSITION / 1e9:.3g} GB asked, "
+                f"{MAX_POSITIONS * BYTES_PER_POSITION / 1e9:.2g} GB at the limit; for a finer "
+                "step analyse part of the range (start, stop)")
+        return v
 
 
 class LoadSection(FileModel):
@@ -475,18 +503,50 @@ class ToleranceSpec(FileModel):
         return value
 
 
+#: The most positions of the cycle of ``linkwork reactions`` (``[spatial] positions``, or the
+#: ``[analysis] n`` positions when it is not set): the spatial model keeps matrices per position;
+#: measured 1.41 GB resident for ``loom_sixbar`` (7 joints) with its plots at 20 000 positions,
+#: 0.55 GB for ``loom_fourbar_spatial`` (4 joints) without plots. (The schema allowed 10^5.)
+MAX_SPATIAL_POSITIONS = 20_000
+
+#: Peak memory of ``linkwork reactions`` per cycle position for the six-bar [bytes], rounded up.
+BYTES_PER_SPATIAL_POSITION = 70_000
+
+
+def spatial_positions_limit(n: int) -> str:
+    """The message for ``n`` reactions positions above :data:`MAX_SPATIAL_POSITIONS`."""
+    return (f"must be at most {MAX_SPATIAL_POSITIONS} positions for the spatial reactions "
+            f"(about {BYTES_PER_SPATIAL_POSITION // 1000} kB of memory per position for a "
+            f"seven-joint mechanism: {n * BYTES_PER_SPATIAL_POSITION / 1e9:.3g} GB asked)")
+
+
 class SpatialSpec(FileModel):
     """The ``[spatial]`` table."""
 
     k_bearing: Annotated[Stiffness, Field(gt=0)] = DEFAULT_BEARING_STIFFNESS
     axial_ratio: Annotated[float, Field(gt=0)] = 1.0
-    positions: Annotated[int, Field(ge=8, le=100_000)] | None = None
+    positions: Annotated[int, Field(ge=8)] | None = None
     default: JointSpec = JointSpec()
     joints: dict[str, JointSpec] = Field(default_factory=dict)
     heights: dict[str, Length] = Field(default_factory=dict)
     deviation: list[DeviationSpec] = Field(default_factory=list)
     out_of_plane: list[OutOfPlaneSpec] = Field(default_factory=list)
     tolerance: list[ToleranceSpec] = Field(default_factory=list)
+
+    @field_validator("positions")
+    @classmethod
+    def _positions_bounded(cls, v: int | None) -> int | None:
+        if v is not None and v > MAX_SPATIAL_POSITIONS:
+            raise ValueError(spatial_positions_limit(v))
+        return v
+
+    def n_deviations(self) -> int:
+        """The deviations a tolerance study draws or holds fixed: one per
+        ``[[spatial.tolerance]]`` and one per non-zero component of a joint element's
+        ``[[spatial.deviation]]`` (the count that bounds ``--tolerance-study``)."""
+        fixed = {(d.joint, d.body, c) for d in self.deviation
+                 for c in ("dx", "dy", "dz", "tx", "ty", "tz") if getattr(d, c) != 0.0}
+        return len(self.tolerance) + len(fixed)
 
     def default_kwargs(self) -> dict[str, Any]:
         """Keyword arguments for joints not listed (bearing defaults included)."""
@@ -503,7 +563,7 @@ def _spatial_error(path: str | Path, err: Any) -> FileFormatError:
     """The error of the ``[spatial]`` table, worded as ``linkwork reactions`` words it: the
     dotted key from ``spatial``, pydantic's message with the value given."""
     key = ".".join(["spatial", *(str(x) for x in err["loc"])])
-    msg = err["msg"]
+    msg = err["msg"].removeprefix("Value error, ")
     if err["type"] == "extra_forbidden":
         msg = "unknown key"
     elif err["type"] == "missing":
@@ -568,6 +628,16 @@ class PlanarFile(FileModel):
                                   str(exc).removeprefix(f"{exc.parameter} = ")) from None
         doc._check_spatial_names(path)
         return doc
+
+    def check_spatial_positions(self, path: str | Path) -> None:
+        """Refuse a cycle of more than :data:`MAX_SPATIAL_POSITIONS` for ``linkwork reactions``
+        before any work: ``[analysis] n`` when ``[spatial] positions`` does not resample it
+        (``[spatial] positions`` itself is checked when the file is read)."""
+        n = self.analysis.n
+        if self.spatial.positions is None and n > MAX_SPATIAL_POSITIONS:
+            raise FileFormatError(str(path), "analysis.n", spatial_positions_limit(n)
+                                  + f" (got {n}); set [spatial] positions to resample the "
+                                  "range for the reactions")
 
     @model_validator(mode="after")
     def _check(self) -> PlanarFile:

@@ -53,9 +53,10 @@ from linkwork.io.toml import (
 )
 from linkwork.models import sine
 from linkwork.models.crank_slider import assembly_limit
+from linkwork.models.variable_structure import schedule_samples
 
-__all__ = ["CrankSection", "IdleSection", "OutputSection", "ScheduleEntry", "SinePressFile",
-           "WorkingSection"]
+__all__ = ["BYTES_PER_SCHEDULE_SAMPLE", "MAX_SCHEDULE_SAMPLES", "CrankSection", "IdleSection",
+           "OutputSection", "ScheduleEntry", "SinePressFile", "WorkingSection"]
 
 PositiveLength = Annotated[Length, Field(gt=0)]
 PositiveSpeed = Annotated[AngularVelocity, Field(gt=0)]
@@ -142,6 +143,17 @@ class ScheduleEntry(FileModel):
         return int(self.revolutions if self.revolutions is not None else self.strokes or 0)
 
 
+#: The most samples of a file's duty schedule (all entries, ``revolutions x
+#: samples_per_revolution + 1`` each): ``linkwork analyze`` peaked at 1.8 GB resident for 10^6
+#: samples (:data:`BYTES_PER_SCHEDULE_SAMPLE` each: the schedule's CSV/JSON columns and plot).
+#: The Python API's :meth:`~linkwork.models.variable_structure.VariableStructureMechanism.run`
+#: alone allows :data:`~linkwork.models.variable_structure.MAX_SAMPLES`.
+MAX_SCHEDULE_SAMPLES = 1_000_000
+
+#: Peak memory of ``linkwork analyze`` per schedule sample [bytes] (measured, rounded up).
+BYTES_PER_SCHEDULE_SAMPLE = 1_800
+
+
 class OutputSection(FileModel):
     """``[output]``: ``samples_per_revolution`` of the cycle files and plots (8 ... 100000)."""
 
@@ -173,6 +185,20 @@ class SinePressFile(FileModel):
         if sum(e.count for e in v) > 100_000:
             raise PydanticCustomError("too_long", "more than 100000 revolutions in total")
         return v
+
+    @model_validator(mode="after")
+    def _schedule_bounded(self) -> SinePressFile:
+        counts = [e.count for e in self.schedule]
+        spr = self.output.samples_per_revolution
+        total = schedule_samples(counts, spr)
+        if total > MAX_SCHEDULE_SAMPLES:
+            raise ParameterError(
+                "schedule", f"{sum(counts)} revolutions x {spr} samples_per_revolution",
+                f"at most {MAX_SCHEDULE_SAMPLES} samples in all (got {total}): `linkwork "
+                f"analyze` keeps about {BYTES_PER_SCHEDULE_SAMPLE} bytes per sample "
+                f"(its CSV/JSON and plots), {total * BYTES_PER_SCHEDULE_SAMPLE / 1e9:.3g} GB "
+                "asked; shorten the schedule or lower [output] samples_per_revolution")
+        return self
 
     def segments(self) -> list[tuple[str, int, float | None]]:
         """The schedule as ``(mode, revolutions, alpha [rad] or None)`` tuples."""

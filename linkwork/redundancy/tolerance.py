@@ -38,7 +38,8 @@ from linkwork.sweep import evaluate
 if TYPE_CHECKING:
     from linkwork.plot import Figure
 
-__all__ = ["PEAK_QUANTITIES", "Tolerance", "ToleranceStudy", "tolerance_study"]
+__all__ = ["MEMORY_BUDGET", "PEAK_QUANTITIES", "Tolerance", "ToleranceStudy", "check_samples",
+           "max_samples", "sample_bytes", "tolerance_study"]
 
 #: Quantities whose peak over the cycle is kept per joint: the six components and the bending
 #: moment magnitude sqrt(mx² + my²).
@@ -231,6 +232,49 @@ def _block(draws: np.ndarray, c0: np.ndarray, z: np.ndarray, n_joints: int) -> n
     return np.moveaxis(np.concatenate([peak, bend[:, None, :]], axis=1), -1, 0)
 
 
+#: Memory budget of a tolerance study [bytes]: the draws (N x n_tolerances) and the peaks
+#: (N x n_joints x 7) of all samples are kept in the result (the draws are made up front from
+#: one seeded generator, so the result does not depend on the chunking), so N is refused above
+#: :func:`max_samples`, the number whose arrays fit in this budget.
+MEMORY_BUDGET = 2**30
+
+#: Copies of the result's arrays alive at the peak (the chunks' peaks and their concatenation,
+#: the draws); measured: ``linkwork reactions examples/loom_fourbar_spatial.toml
+#: --tolerance-study 300000`` peaks 150 MB above 1000 samples, 500 B per sample for 4 joints
+#: and 9 deviations against 592 B by this count.
+_COPIES = 2
+
+
+def sample_bytes(n_joints: int, n_tolerances: int) -> int:
+    """Memory of one Monte-Carlo sample [bytes]: its draws and peaks, :data:`_COPIES` times."""
+    return _COPIES * 8 * (7 * int(n_joints) + int(n_tolerances))
+
+
+def max_samples(n_joints: int, n_tolerances: int) -> int:
+    """The most samples of a tolerance study of ``n_joints`` joints and ``n_tolerances`` random
+    deviations within :data:`MEMORY_BUDGET` (1 GiB): 1 813 753 for the 4 joints and 9
+    deviations of ``examples/loom_fourbar_spatial.toml``."""
+    return MEMORY_BUDGET // sample_bytes(n_joints, n_tolerances)
+
+
+def check_samples(n_samples: Any, n_joints: int, n_tolerances: int,
+                  parameter: str = "n_samples") -> int:
+    """``n_samples`` as an int, or a :class:`~linkwork.errors.ParameterError` naming
+    ``parameter``, the value and the limit: an integer >= 1 and at most :func:`max_samples`."""
+    if isinstance(n_samples, bool) or int(n_samples) != n_samples or int(n_samples) < 1:
+        raise ParameterError(parameter, n_samples, "must be an integer >= 1")
+    limit = max_samples(n_joints, n_tolerances)
+    if int(n_samples) > limit:
+        per = sample_bytes(n_joints, n_tolerances)
+        raise ParameterError(
+            parameter, n_samples,
+            f"at most {limit} samples for {n_joints} joints and {n_tolerances} deviations "
+            f"({per} bytes per sample kept: {int(n_samples) * per / 2**30:.3g} GiB asked, "
+            f"{MEMORY_BUDGET / 2**30:g} GiB at the limit); for tighter percentiles run "
+            "several studies with different seeds")
+    return int(n_samples)
+
+
 def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike,
                     tolerances: Sequence[Tolerance], n_samples: int, *,
                     seed: int | None = 0, chunk_size: int = 2000, client: Any = None,
@@ -244,7 +288,8 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     tolerances : sequence of Tolerance
         Independent random deviations (components not listed are zero).
     n_samples : int
-        Number of samples N, >= 1.
+        Number of samples N, >= 1 and at most :func:`max_samples` (the draws and peaks of
+        every sample are kept: 1 GiB at the limit, :data:`MEMORY_BUDGET`).
     seed : int or None
         Seed of the random generator (``numpy.random.default_rng``).
     chunk_size : int
@@ -260,8 +305,7 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     -------
     ToleranceStudy
     """
-    if isinstance(n_samples, bool) or int(n_samples) != n_samples or int(n_samples) < 1:
-        raise ParameterError("n_samples", n_samples, "must be an integer >= 1")
+    check_samples(n_samples, len(model.joints), len(tolerances))
     if seed is not None and (isinstance(seed, bool) or int(seed) != seed or int(seed) < 0):
         raise ParameterError("seed", seed, "must be None or an integer >= 0")
     if not tolerances:

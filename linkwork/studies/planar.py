@@ -56,7 +56,12 @@ def table_positions_error(exc: AssemblyError, positions: np.ndarray, linear: boo
 def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | None = None
                   ) -> dict[str, tuple[np.ndarray, str]]:
     """Readable per-position columns: name -> (values, unit). ``transmission``: the result of
-    :func:`~linkwork.planar.transmission_angles` of ``kin`` if already computed."""
+    :func:`~linkwork.planar.transmission_angles` of ``kin`` if already computed.
+
+    Per moving body: ``<body>.theta/omega/eps`` and its centre of mass ``<body>.xS/yS/vxS/vyS/
+    axS/ayS``, then every named point of the body (frame axes, :meth:`Kinematics.point`):
+    ``<body>.<point>.x/y`` [m], ``.vx/.vy`` [m/s], ``.ax/.ay`` [m/s^2]; a joint's point named
+    on both of its bodies appears under each."""
     mech = kin.mechanism
     units = mech.driver.field_units  # rad, rad/s, rad/s^2, N*m of a crank; m, m/s, m/s^2, N
     cols: dict[str, tuple[np.ndarray, str]] = {
@@ -72,6 +77,12 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
                                 ("yS", c.y, "m"), ("vxS", c.vx, "m/s"), ("vyS", c.vy, "m/s"),
                                 ("axS", c.ax, "m/s^2"), ("ayS", c.ay, "m/s^2")):
             cols[f"{b.name}.{name}"] = (arr, unit)
+        for pt in b.points:  # every named point (joint centres, coupler points): its path
+            p = kin.point(b.name, pt)
+            for name, arr, unit in (("x", p.x, "m"), ("y", p.y, "m"), ("vx", p.vx, "m/s"),
+                                    ("vy", p.vy, "m/s"), ("ax", p.ax, "m/s^2"),
+                                    ("ay", p.ay, "m/s^2")):
+                cols[f"{b.name}.{pt}.{name}"] = (arr, unit)
     for k, j in enumerate(dyn.joints):
         cols[f"R_{j}.x"] = (dyn.fx[k], "N")
         cols[f"R_{j}.y"] = (dyn.fy[k], "N")
@@ -218,8 +229,8 @@ class PlanarStudy:
         return named_columns(self.kinematics, self.dynamics, self.transmission)
 
     def kinematics_columns(self) -> dict[str, tuple[np.ndarray, str]]:
-        """The columns of ``planar_kinematics.csv``: poses, velocities, accelerations,
-        transmission angles."""
+        """The columns of ``planar_kinematics.csv``: poses, velocities, accelerations (of every
+        body, its centre of mass and its named points), transmission angles."""
         return {k: v for k, v in self.columns().items()
                 if not (k.startswith("R_") or k in DYNAMICS_COLUMNS)}
 

@@ -55,9 +55,12 @@ if TYPE_CHECKING:
 __all__ = [
     "CONSTRAINTS",
     "DEFAULT_BOUNDS",
+    "MAX_CANDIDATES",
+    "MAX_REGION_N",
     "FeasibleRegion",
     "Request",
     "SynthesisResult",
+    "check_candidates",
     "evaluate_candidates",
     "feasible_region",
     "synthesize",
@@ -567,6 +570,30 @@ def _screen(X: np.ndarray, req: Request, bounds: list[tuple[float, float]]
     return m
 
 
+#: The largest Sobol sample of :func:`synthesize`: 2^20 candidates. The screened sample and its
+#: characteristics are kept (about 250 bytes per candidate measured: 0.26 GB at the limit) and
+#: screening takes about 0.5 ms per candidate (some 10 minutes at the limit on one core); the
+#: refinements, not a larger sample, find the optimum.
+MAX_CANDIDATES = 2**20
+
+#: The largest side of the grid of :func:`feasible_region` (n x n points, 10^6 at the limit).
+MAX_REGION_N = 1000
+
+
+def check_candidates(n_candidates: Any, parameter: str = "n_candidates") -> int:
+    """``n_candidates`` as an int, or a :class:`~linkwork.errors.ParameterError` naming
+    ``parameter``, the value and the limit: an integer from 1 to :data:`MAX_CANDIDATES`."""
+    if isinstance(n_candidates, bool) or int(n_candidates) != n_candidates or n_candidates < 1:
+        raise ParameterError(parameter, n_candidates, "must be an integer >= 1")
+    if n_candidates > MAX_CANDIDATES:
+        raise ParameterError(parameter, n_candidates, f"must be at most {MAX_CANDIDATES} "
+                             "(2^20) candidates: the screened sample is kept (about 250 bytes "
+                             "per candidate) and screened at about 0.5 ms per candidate, some "
+                             "10 minutes at the limit; more --refine starts, not more "
+                             "candidates, sharpen the optimum")
+    return int(n_candidates)
+
+
 def synthesize(req: Request, *, n_candidates: int = 16384, n_best: int = 5, n_refine: int = 4,
                chunk_size: int = 4096, seed: int = 0, client: Any = None,
                progress: Progress | None = None) -> SynthesisResult:
@@ -577,7 +604,8 @@ def synthesize(req: Request, *, n_candidates: int = 16384, n_best: int = 5, n_re
     req : Request
         What is wanted.
     n_candidates : int
-        Size of the Sobol sample (rounded up to a power of two).
+        Size of the Sobol sample (rounded up to a power of two), at most
+        :data:`MAX_CANDIDATES` (2^20).
     n_best : int
         Number of ranked designs returned (at most).
     n_refine : int
@@ -600,8 +628,8 @@ def synthesize(req: Request, *, n_candidates: int = 16384, n_best: int = 5, n_re
     """
     from scipy.stats import qmc
 
-    for name, val, least in (("n_candidates", n_candidates, 1), ("n_best", n_best, 1),
-                             ("n_refine", n_refine, 0)):
+    check_candidates(n_candidates)
+    for name, val, least in (("n_best", n_best, 1), ("n_refine", n_refine, 0)):
         if isinstance(val, bool) or int(val) != val or val < least:
             raise ParameterError(name, val, f"must be an integer >= {least}")
     bounds = req.search_bounds()
@@ -816,7 +844,8 @@ def feasible_region(req: Request, base: sw.Design, x_name: str, y_name: str, *,
                     x_range: tuple[float, float] | None = None,
                     y_range: tuple[float, float] | None = None,
                     n: int = 60) -> FeasibleRegion:
-    """Map which ``(x, y)`` values of two free parameters meet every limit of ``req``.
+    """Map which ``(x, y)`` values of two free parameters meet every limit of ``req``
+    (``n`` x ``n`` points, ``n`` from 2 to :data:`MAX_REGION_N`).
 
     The other free parameters stay at their values in ``base``, except the scheme's stroke
     parameter (``alpha`` in schemes 1, 4a, 4b; ``r`` in 2; ``(a, b)`` in 3), which -- unless it
@@ -824,6 +853,9 @@ def feasible_region(req: Request, base: sw.Design, x_name: str, y_name: str, *,
     stroke equality leaves only a line in the map). Ranges default to the search bounds;
     lengths are relative (over ``R``), ``alpha`` in rad.
     """
+    if isinstance(n, bool) or int(n) != n or not 2 <= n <= MAX_REGION_N:
+        raise ParameterError("n", n, f"must be an integer from 2 to {MAX_REGION_N} (an n x n "
+                             "grid of candidates, 10^6 at the limit)")
     free = list(req.free)
     for name in (x_name, y_name):
         if name not in free:
