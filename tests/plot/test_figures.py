@@ -305,3 +305,15 @@ def test_angle_axis_steps() -> None:
         ticks = [t for t in ax.get_xticks() if lim[0] <= t <= lim[1]]
         assert all(abs(t / step - round(t / step)) < 1e-9 for t in ticks)
         assert len(ticks) >= 4
+
+
+def test_a_very_long_mechanism_name_is_cut_in_titles():
+    """A 100 000-character name (issue 19: ~100 s per figure in savefig) shows its first
+    TITLE_NAME_MAX - 1 characters and an ellipsis; short names are shown whole."""
+    from linkwork.plot._base import TITLE_NAME_MAX, titled
+
+    long = "Пресс " + "x" * 100_000
+    title = titled(long, "Dynamics", "driving torque")
+    assert title == long[:TITLE_NAME_MAX - 1] + "…: driving torque"
+    assert titled("Four-bar of paper 001", "Dynamics", "Q") == "Four-bar of paper 001: Q"
+    assert titled(None, "Dynamics", "Q") == "Dynamics: Q"
