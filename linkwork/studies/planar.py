@@ -190,8 +190,6 @@ class PlanarStudy:
         :func:`cycle_peaks` of the cycle.
     means : dict
         ``Q_mean`` (work / range) [N m or N] and ``power_mean`` [W] over the cycle.
-    paths : list of (body, point)
-        The distinct point paths of the skeleton plot (the second point of every body).
     """
 
     doc: PlanarFile
@@ -207,7 +205,6 @@ class PlanarStudy:
     dead_centre_labels: list[tuple[str, str]]
     peaks: list[dict[str, Any]]
     means: dict[str, float]
-    paths: list[tuple[str, str]]
 
     @property
     def crank(self) -> bool:
@@ -317,8 +314,6 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
     except AssemblyError as exc:
         raise table_positions_error(exc, tphi, not crank) from None
     trans = transmission_angles(kin)
-    paths = distinct_paths(kin, [(b.name, pt) for b in mech.bodies
-                                 for pt in list(b.points)[1:2]])
     return PlanarStudy(
         doc=doc, mechanism=mech, kinematics=kin, dynamics=dyn, transmission=trans,
         table_positions=tphi, table_kinematics=tk, table_dynamics=td,
@@ -326,5 +321,4 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
         dead_centre_labels=[dead_centre_label(mech, d) for d in dcs],
         peaks=cycle_peaks(kin, dyn, trans),
         means={"Q_mean": dyn.Q_mean,
-               "power_mean": mean_over_range(kin.phi1, dyn.power)},
-        paths=paths)
+               "power_mean": mean_over_range(kin.phi1, dyn.power)})
