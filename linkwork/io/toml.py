@@ -113,21 +113,38 @@ class FileModel(BaseModel):
         return doc
 
 
+MAX_FILE_BYTES = 16 * 2**20
+"""Largest input file read [bytes]: a mechanism with its tables is a few kB; anything larger is
+not an input file (``/dev/zero`` is refused after reading this much, not read for ever)."""
+
+
 def read_toml(path: str | Path) -> dict[str, Any]:
-    """Read a TOML file; missing, unreadable or invalid files raise FileFormatError."""
+    """Read a TOML file; missing, unreadable, oversized or invalid files raise FileFormatError.
+
+    Pipes work (``linkwork analyze <(generate)``); at most :data:`MAX_FILE_BYTES` are read, and
+    a document nested deeper than the parser can follow is refused, not a RecursionError.
+    """
     p = Path(path)
     if not p.exists():
         raise FileFormatError(str(p), None, "file not found")
     if p.is_dir():
         raise FileFormatError(str(p), None, "is a directory, not a file")
     try:
-        text = p.read_text(encoding="utf-8")
+        with p.open("rb") as fh:
+            raw = fh.read(MAX_FILE_BYTES + 1)
+        if len(raw) > MAX_FILE_BYTES:
+            raise FileFormatError(str(p), None, f"is larger than {MAX_FILE_BYTES // 2**20} MiB, "
+                                  "the limit of an input file")
+        text = raw.decode("utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise FileFormatError(str(p), None, f"cannot be read ({exc})") from None
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise FileFormatError(str(p), None, f"invalid TOML: {exc}") from None
+    except RecursionError:
+        raise FileFormatError(str(p), None, "invalid TOML: arrays or tables nested too deeply "
+                              "for the parser (a mechanism needs at most a few levels)") from None
 
 
 def _validation_error(path: str, exc: pydantic.ValidationError) -> FileFormatError:

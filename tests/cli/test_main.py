@@ -34,6 +34,24 @@ def test_invalid_toml(tmp_path, capsys):
     assert "invalid TOML" in err and err.count("\n") == 1
 
 
+@pytest.mark.parametrize("text", ["x = " + "[" * 700 + "]" * 700,
+                                  "x = " + "{a=" * 700 + "1" + "}" * 700])
+def test_nesting_too_deep_one_line(tmp_path, capsys, text):
+    f = tmp_path / "deep.toml"
+    f.write_text(text)
+    assert main(["analyze", str(f)]) == 2
+    err = capsys.readouterr().err
+    assert "nested too deeply" in err and err.count("\n") == 1
+
+
+def test_endless_device_one_line(capsys):
+    if not Path("/dev/zero").exists():
+        pytest.skip("no /dev/zero on this system")
+    assert main(["analyze", "/dev/zero"]) == 2
+    err = capsys.readouterr().err
+    assert "limit of an input file" in err and err.count("\n") == 1
+
+
 def test_unknown_type(tmp_path, capsys):
     f = tmp_path / "x.toml"
     f.write_text("type = 'perpetual_motion'\n")
