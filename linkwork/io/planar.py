@@ -123,6 +123,7 @@ from linkwork.io.toml import (
     Torque,
     Velocity,
     _validation_error,
+    parameter_error,
 )
 from linkwork.planar.dynamics import BodyTorque, PointForce
 from linkwork.planar.model import (
@@ -622,10 +623,9 @@ class PlanarFile(FileModel):
             if spatial and len(spatial) == exc.error_count():  # as `reactions` words them
                 err = spatial[0]
                 raise _spatial_error(path, {**err, "loc": err["loc"][1:]}) from None
-            raise _validation_error(str(path), exc) from None
+            raise _validation_error(str(path), exc, data) from None
         except ParameterError as exc:  # raised by model validators that build mechanisms
-            raise FileFormatError(str(path), exc.parameter,
-                                  str(exc).removeprefix(f"{exc.parameter} = ")) from None
+            raise parameter_error(path, exc, data) from None
         doc._check_spatial_names(path)
         return doc
 
@@ -687,7 +687,8 @@ class PlanarFile(FileModel):
             if not math.isfinite(si):
                 raise ParameterError(key, v, "must be finite")
         if not hi > lo:
-            raise ParameterError("analysis.stop", hi, f"must be > analysis.start = {lo:.6g}")
+            raise ParameterError("analysis.stop", self.analysis.stop,
+                                 f"must be > analysis.start = {self.analysis.start}")
         return np.linspace(lo, hi, self.analysis.n)
 
     def loads(self, phi1: np.ndarray) -> list[PointForce | BodyTorque]:

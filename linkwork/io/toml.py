@@ -147,7 +147,8 @@ def read_toml(path: str | Path) -> dict[str, Any]:
                               "for the parser (a mechanism needs at most a few levels)") from None
 
 
-def _validation_error(path: str, exc: pydantic.ValidationError) -> FileFormatError:
+def _validation_error(path: str, exc: pydantic.ValidationError,
+                      data: dict[str, Any] | None = None) -> FileFormatError:
     errs = exc.errors()
     err = errs[0]
     if err["type"].endswith("_type"):  # the wrong type for one member of a union (a point
@@ -172,7 +173,10 @@ def _validation_error(path: str, exc: pydantic.ValidationError) -> FileFormatErr
     elif "input" in err and len(repr(err["input"])) <= 80 and "(got " not in msg:  # short only
         msg = f"{msg} (got {err['input']!r})"
     extra = f" (+{len(errs) - 1} more problems)" if len(errs) > 1 else ""
-    return FileFormatError(path, key, msg + extra)
+    out = FileFormatError(path, key, msg)
+    if isinstance(cause, ParameterError) and data is not None:
+        out = _as_written(out, data, cause)
+    return FileFormatError(out.file, out.key, out.problem + extra)
 
 
 def validate(path: str | Path, data: dict[str, Any], schema: type[BaseModel]) -> Any:
@@ -180,9 +184,89 @@ def validate(path: str | Path, data: dict[str, Any], schema: type[BaseModel]) ->
     try:
         return schema.model_validate(data)
     except pydantic.ValidationError as exc:
-        raise _validation_error(str(path), exc) from None
+        raise _validation_error(str(path), exc, data) from None
     except ParameterError as exc:  # raised by model validators that build mechanisms
-        raise FileFormatError(str(path), exc.parameter,
-                              str(exc).removeprefix(f"{exc.parameter} = ")) from None
+        raise parameter_error(path, exc, data) from None
 
 
+def parameter_error(path: str | Path, exc: ParameterError,
+                    data: dict[str, Any]) -> FileFormatError:
+    """The FileFormatError of a ParameterError raised while a validated file builds its model
+    (a mechanism): the key and the value as they are written in the file where they can be
+    found there."""
+    err = FileFormatError(str(path), exc.parameter, str(exc).removeprefix(f"{exc.parameter} = "))
+    return _as_written(err, data, exc)
+
+
+def _lookup(data: Any, parts: list[str]) -> Any:
+    """The value at the dotted path ``parts`` of ``data`` (list indices as digits), or KeyError."""
+    for part in parts:
+        if isinstance(data, list) and part.isdigit() and int(part) < len(data):
+            data = data[int(part)]
+        elif isinstance(data, dict) and part in data:
+            data = data[part]
+        else:
+            raise KeyError(part)
+    return data
+
+
+def _file_key(data: dict[str, Any], key: str) -> tuple[str, Any] | None:
+    """The key as it is in the file and the value written there, for a key that is either a
+    dotted path of the file (``analysis.stop``, ``body.0.length``) or starts with the name of an
+    entry of an array of tables (``crank.length``: the ``[[body]]`` named crank)."""
+    parts = key.split(".")
+    try:
+        return key, _lookup(data, parts)
+    except KeyError:
+        pass
+    tables: list[str] = list(data)
+    if " " in parts[0]:  # "joint Q.point_a": the [[joint]] named Q
+        table, parts[0] = parts[0].split(" ", 1)
+        tables = [table]
+    for table in tables:
+        entries = data.get(table)
+        if not isinstance(entries, list):
+            continue
+        for i, entry in enumerate(entries):
+            if isinstance(entry, dict) and entry.get("name") == parts[0] and len(parts) > 1:
+                try:
+                    return f"{table}.{i}.{'.'.join(parts[1:])}", _lookup(entry, parts[1:])
+                except KeyError:
+                    return None
+    return None
+
+
+def _written(raw: Any) -> str | None:
+    """A value as the file writes it (``-100 mm``, ``["250 mm", 0]``), for numbers, strings
+    and short lists of them; None for anything else."""
+    if isinstance(raw, bool):
+        return None
+    if isinstance(raw, str | int | float):
+        return str(raw)
+    if isinstance(raw, list) and len(raw) <= 6:
+        items = [_written(x) for x in raw]
+        if all(x is not None for x in items):
+            return "[" + ", ".join(f'"{x}"' if isinstance(r, str) else str(x)
+                                   for x, r in zip(items, raw, strict=True)) + "]"
+    return None
+
+
+def _as_written(err: FileFormatError, data: dict[str, Any],
+                cause: ParameterError) -> FileFormatError:
+    """``err`` with the value as the user wrote it (``-100 mm``, not the SI ``-0.1``) and the
+    key as it is in the file (``body.0.length (crank)``), where the key can be found there."""
+    if err.key is None:
+        return err
+    found = _file_key(data, err.key)
+    if found is None:
+        return err
+    file_key, raw = found
+    if file_key != err.key:  # the entry's name: body.0.length (crank)
+        file_key = f"{file_key} ({err.key.split('.')[0].split(' ')[-1]})"
+    msg = err.problem
+    written = _written(raw)
+    if isinstance(raw, list) and not isinstance(cause.value, list | tuple):
+        written = None  # the key names a list and the message one of its items: keep it
+    if written is not None:
+        msg = f"{written} is invalid: {cause.limit}"
+    return FileFormatError(err.file, file_key, msg)

@@ -327,4 +327,4 @@ def test_cli_balance_negative_mass_is_short_and_keyed(tmp_path, capsys):
     rc = main(["balance", str(_write(tmp_path, text)), "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
     assert rc == 2 and len(err.strip().splitlines()) == 1
-    assert "coupler.mass" in err and len(err) < 300
+    assert "body.1.mass (coupler): -3 kg is invalid" in err and len(err) < 300

@@ -105,7 +105,8 @@ def test_validator_error_is_keyed_by_its_parameter_and_short(tmp_path, capsys):
     p = _edited_example(tmp_path, "fourbar_paper001.toml", 'mass = "3 kg"', 'mass = "-3 kg"')
     assert main(["analyze", str(p), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
-    assert err == f"linkwork: error: {p}: coupler.mass: -3 is invalid: must be finite and >= 0"
+    assert err == (f"linkwork: error: {p}: body.1.mass (coupler): -3 kg is invalid: "
+                   "must be finite and >= 0")
 
 
 @pytest.mark.parametrize("cmd", ["analyze", "balance", "reactions"])
