@@ -26,12 +26,12 @@ from typing import Any
 import numpy as np
 
 from linkwork.errors import ParameterError
-from linkwork.io.planar import MAX_ANGLE
+from linkwork.io.planar import MAX_ANGLE, PlanarFile
 from linkwork.outputs import recording
 from linkwork.results import write_json
 
 __all__ = ["MANIFEST", "output_dir", "output_run", "parse_angles", "parse_angles_deg",
-           "reach_scheduler"]
+           "reach_scheduler", "table_positions"]
 
 #: The record of what linkwork wrote into an output folder (see the module docstring).
 MANIFEST = "linkwork-run.json"
@@ -63,6 +63,14 @@ def parse_angles_deg(text: str, *, angles: bool = True) -> list[float]:
 def parse_angles(text: str) -> np.ndarray:
     """Parse a comma-separated list of crank angles in degrees (``"0,30,90"``) to radians."""
     return np.radians(np.array(parse_angles_deg(text)))
+
+
+def table_positions(doc: PlanarFile, text: str) -> np.ndarray:
+    """``--angles`` of a planar file: crank angles in degrees, or a linear driver's slide
+    positions in mm, to SI [rad or m]."""
+    if doc.driver.type == "linear":
+        return np.array(parse_angles_deg(text, angles=False)) * 1e-3
+    return parse_angles(text)
 
 
 def output_dir(out: Path) -> Path:

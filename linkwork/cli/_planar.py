@@ -44,8 +44,8 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
                    ) -> PlanarStudy:
     """Analyse a planar mechanism file: table on ``console``, CSV/JSON/PNG into ``out``.
 
-    ``angles``: the table's driver positions [rad, or m for a linear driver]; None: 12 evenly
-    spaced over the file's [analysis] range.
+    ``angles``: the table's driver positions [rad, or m for a linear driver]; None: those of
+    every command (:func:`linkwork.studies.planar.default_table_positions`).
     """
     study = study_planar.analyze(doc, angles=angles)
     render(study, out=out, console=console)

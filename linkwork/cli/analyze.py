@@ -15,11 +15,16 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any
 
-import numpy as np
 import typer
 
 from linkwork import io
-from linkwork.cli._args import output_dir, output_run, parse_angles, parse_angles_deg
+from linkwork.cli._args import (
+    output_dir,
+    output_run,
+    parse_angles,
+    parse_angles_deg,
+    table_positions,
+)
 from linkwork.cli._console import console as make_console
 from linkwork.cli._planar import analyze_planar
 from linkwork.cli._sine_press import analyze_sine_press
@@ -61,8 +66,8 @@ def register(app: typer.Typer) -> None:
             "linkwork-output"),
         angles: Annotated[str | None, typer.Option(
             help="table positions, comma-separated: crank angles in deg (slide positions in mm "
-                 f"for a linear driver) [default: {DEFAULT_ANGLES}; a linear driver: 12 "
-                 "positions over the file's \\[analysis] range]")] = None,
+                 f"for a linear driver) [default: {DEFAULT_ANGLES}; a planar file: every 30 "
+                 "deg of its \\[analysis] range, a linear driver 12 positions over it]")] = None,
     ) -> None:
         """Analyse a mechanism over a cycle: table, CSV/JSON and plots in an output folder."""
         doc = io.load(file)
@@ -72,10 +77,9 @@ def register(app: typer.Typer) -> None:
             known = sorted(k for k, c in io.FILE_TYPES.items() if c in analyzers)
             raise FileFormatError(str(file), "type", f"type {kind!r} cannot be analysed; "
                                   f"analysable: {known}")
-        if isinstance(doc, io.PlanarFile) and doc.driver.type == "linear":
-            # a planar file driven by a prismatic joint: positions in mm, as in `reactions`
-            table = None if angles is None else np.array(
-                parse_angles_deg(angles, angles=False)) * 1e-3
+        if isinstance(doc, io.PlanarFile):
+            # None: the positions every command tables (studies.planar.default_table_positions)
+            table = None if angles is None else table_positions(doc, angles)
         else:
             table = parse_angles(DEFAULT_ANGLES if angles is None else angles)
         with output_run(out, command="analyze", file=file):

@@ -33,7 +33,7 @@ from linkwork.cli._args import output_dir, output_run, parse_angles_deg
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt, scale_of, unit_label
 from linkwork.cli._tables import print_table
-from linkwork.errors import FileFormatError
+from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.planar import BalanceSection, PlanarFile
 from linkwork.io.toml import read_toml
 from linkwork.planar import Mechanism
@@ -54,6 +54,11 @@ def load_balance_file(path: str | Path) -> tuple[Mechanism, BalanceSection, Plan
         raise FileFormatError(str(path), "type", f"balance needs a 'planar' mechanism file, "
                               f"got {kind!r}")
     doc = io.load(path, types={"planar": io.PlanarFile})
+    try:  # before any work
+        study_balance.check(doc)
+    except ParameterError as exc:
+        raise FileFormatError(str(path), exc.parameter, str(exc).removeprefix(
+            f"{exc.parameter} = ")) from None
     return doc.mechanism(), doc.balance, doc
 
 

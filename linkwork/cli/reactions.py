@@ -20,7 +20,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork import io
-from linkwork.cli._args import output_dir, output_run, parse_angles, reach_scheduler
+from linkwork.cli._args import output_dir, output_run, reach_scheduler, table_positions
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
 from linkwork.cli._tables import print_table
@@ -211,9 +211,10 @@ def register(app: typer.Typer) -> None:
                                              "optional \\[spatial] table")],
         out: Annotated[Path, typer.Option("--out", "-o", help="output folder")] = Path(
             "linkwork-output"),
-        angles: Annotated[str, typer.Option(help="driver positions for the table, deg (mm for a "
-                                            "linear driver), comma-separated")
-                          ] = "0,90,180,270",
+        angles: Annotated[str | None, typer.Option(
+            help="driver positions for the table, deg (mm for a linear driver), comma-separated "
+                 "[default: as every command: every 30 deg of the file's \\[analysis] range, "
+                 "a linear driver 12 positions over it]")] = None,
         method: Annotated[str, typer.Option(help="force or displacement")] = "force",
         tolerance_study: Annotated[int | None, typer.Option(
             "--tolerance-study", help="Monte-Carlo samples of the deviations (N >= 1)")] = None,
@@ -244,9 +245,7 @@ def register(app: typer.Typer) -> None:
         if tolerance_study and doc.spatial.tolerance:  # its memory bound, before any work
             check_samples(tolerance_study, len(doc.joint), doc.spatial.n_deviations(),
                           parameter="--tolerance-study")
-        table = parse_angles(angles)
-        if doc.driver.type == "linear":    # positions in mm for a linear driver
-            table = np.degrees(table) * 1e-3
+        table = None if angles is None else table_positions(doc, angles)
         with output_run(out, command="reactions", file=file):
             study = study_reactions.run(doc, angles=table, method=method)
             _report(study, out=out, console=make_console(), plots=plots,

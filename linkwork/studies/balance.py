@@ -14,15 +14,15 @@ from typing import Any
 
 import numpy as np
 
-from linkwork.balancing import compare_balancing, rms
+from linkwork.balancing import compare_balancing, crank_axis, rms
 from linkwork.balancing.comparison import BalancingComparison
 from linkwork.balancing.loads import Harmonics
 from linkwork.balancing.optimal import ParetoSet, pareto_set
-from linkwork.errors import AssemblyError
+from linkwork.errors import AssemblyError, ParameterError
 from linkwork.io.planar import BalanceSection, PlanarFile
 from linkwork.planar import Mechanism
 
-__all__ = ["BalanceStudy", "compare", "run"]
+__all__ = ["BalanceStudy", "check", "compare", "run"]
 
 #: Harmonics listed in the table and in ``balance_summary.json``.
 HARMONICS = 4
@@ -109,6 +109,17 @@ def compare(mech: Mechanism, section: BalanceSection, *, pareto: bool = False,
                     n=min(section.n, 180)) if pareto else None)
     return BalanceStudy(mechanism=mech, section=section, comparison=comp, harmonics=harm,
                         increases=inc, pareto=p)
+
+
+def check(doc: PlanarFile) -> None:
+    """Refuse, before any work, a file that paper 001's balancing cannot take: its driver must
+    be a crank turning about a frame joint (ParameterError naming ``driver``)."""
+    try:
+        crank_axis(doc.mechanism())
+    except ParameterError as exc:
+        raise ParameterError("driver", f"{doc.driver.type} driver on joint {exc.value}",
+                             "balancing (paper 001) needs a crank turning about a frame joint"
+                             ) from None
 
 
 def run(doc: PlanarFile, *, angles: Sequence[float] | None = None, pareto: bool = False

@@ -33,8 +33,8 @@ from linkwork.planar import (
 )
 from linkwork.planar.structure import Structure
 
-__all__ = ["PlanarStudy", "analyze", "cycle_peaks", "dead_centre_label", "distinct_paths",
-           "named_columns", "table_positions_error"]
+__all__ = ["PlanarStudy", "analyze", "cycle_peaks", "dead_centre_label",
+           "default_table_positions", "distinct_paths", "named_columns", "table_positions_error"]
 
 #: Columns of ``planar_dynamics.csv`` besides the reactions ``R_*`` (the rest is kinematics).
 DYNAMICS_COLUMNS = ("Q", "shaking_fx", "shaking_fy", "shaking_m", "T")
@@ -281,6 +281,35 @@ def _solve(doc: PlanarFile, mech: Mechanism, phi: np.ndarray) -> tuple[Kinematic
     return kin, dyn
 
 
+#: Spacing of the default table positions of a crank [rad]: every 30 deg.
+TABLE_STEP = np.pi / 6
+#: Positions of the default table when the crank's range holds too few multiples of 30 deg,
+#: and of a linear driver.
+TABLE_COUNT = 12
+
+
+def default_table_positions(doc: PlanarFile) -> np.ndarray:
+    """The driver positions of the tables of every command when none are given [rad or m].
+
+    A crank: the multiples of 30 deg inside the file's [analysis] range (0, 30, ..., 330 deg on
+    a full turn: the end of a full turn is its start again); a range that holds fewer than 4 of
+    them, and a linear driver: 12 positions evenly spaced over the range, both ends included.
+    So every command (analyze, reactions, ...) tables the same positions, inside the range where
+    the file says the mechanism works, for either kind of driver.
+    """
+    phi = doc.positions()
+    lo, hi = float(phi[0]), float(phi[-1])
+    if doc.driver.type == "crank":
+        tol = 1e-9 * max(1.0, abs(lo), abs(hi))
+        k = np.arange(np.ceil((lo - tol) / TABLE_STEP), np.floor((hi + tol) / TABLE_STEP) + 1)
+        steps = k * TABLE_STEP + 0.0  # no -0
+        if hi - lo >= 2 * np.pi - tol:  # a whole turn: its end is its start
+            steps = steps[steps < lo + 2 * np.pi - tol]
+        if len(steps) >= 4:
+            return np.asarray(steps, float)
+    return np.linspace(lo, hi, TABLE_COUNT)
+
+
 def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
     """Analyse a planar mechanism file over its [analysis] positions and at table positions.
 
@@ -289,8 +318,8 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
     doc : PlanarFile
         The validated file (:func:`linkwork.io.load`).
     angles : array_like, optional
-        The table's driver positions [rad, or m for a linear driver]; default 12 evenly spaced
-        over the file's [analysis] range (both ends included).
+        The table's driver positions [rad, or m for a linear driver]; default
+        :func:`default_table_positions`.
 
     Returns
     -------
@@ -308,7 +337,7 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
     phi = doc.positions()
     kin, dyn = _solve(doc, mech, phi)
     dcs = dead_centres(kin)
-    tphi = np.linspace(phi[0], phi[-1], 12) if angles is None else np.asarray(angles, float)
+    tphi = default_table_positions(doc) if angles is None else np.asarray(angles, float)
     try:
         tk, td = _solve(doc, mech, tphi)
     except AssemblyError as exc:

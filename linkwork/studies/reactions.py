@@ -37,7 +37,7 @@ from linkwork.redundancy import (
     spatial_model,
     tolerance_study,
 )
-from linkwork.studies.planar import table_positions_error
+from linkwork.studies.planar import default_table_positions, table_positions_error
 
 __all__ = ["ReactionsStudy", "model_inputs", "run", "solve", "tolerance", "tolerances"]
 
@@ -192,12 +192,16 @@ def solve(mech: Mechanism, spec: SpatialSpec, *, angles: ArrayLike,
                           table=at, count=count, peaks=res.peaks(), method=method)
 
 
-def run(doc: PlanarFile, *, angles: ArrayLike, method: str = "force") -> ReactionsStudy:
+def run(doc: PlanarFile, *, angles: ArrayLike | None = None, method: str = "force"
+        ) -> ReactionsStudy:
     """Spatial reactions of a planar file with its ``[spatial]`` section, over the file's
     [analysis] positions (resampled to ``[spatial].positions`` when given), with its gravity
-    and external loads; the table at ``angles`` [rad, or m for a linear driver]."""
+    and external loads; the table at ``angles`` [rad, or m for a linear driver] (default: the
+    positions of every command's tables, :func:`~linkwork.studies.planar.default_table_positions`).
+    """
     gravity = doc.analysis.gravity
-    return solve(doc.mechanism(), doc.spatial, angles=angles, cycle=doc.positions(),
+    table = default_table_positions(doc) if angles is None else angles
+    return solve(doc.mechanism(), doc.spatial, angles=table, cycle=doc.positions(),
                  gravity=None if gravity is None else tuple(gravity), loads=doc.loads,
                  method=method)
 

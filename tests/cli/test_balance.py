@@ -328,3 +328,13 @@ def test_cli_balance_negative_mass_is_short_and_keyed(tmp_path, capsys):
     err = capsys.readouterr().err
     assert rc == 2 and len(err.strip().splitlines()) == 1
     assert "body.1.mass (coupler): -3 kg is invalid" in err and len(err) < 300
+
+
+def test_cli_balance_linear_driver_refused_before_work_naming_file(tmp_path, capsys):
+    from _cli_files import LINEAR_SLIDER_CRANK
+    f = tmp_path / "lin.toml"
+    f.write_text(LINEAR_SLIDER_CRANK)
+    code, text, err = run_cli(["balance", str(f), "--out", str(tmp_path / "o")], capsys)
+    assert code == 2 and text == "" and len(err.strip().splitlines()) == 1
+    assert f"{f}: driver: linear driver on joint G is invalid: balancing (paper 001)" in err
+    assert not (tmp_path / "o").exists() or not any((tmp_path / "o").iterdir())

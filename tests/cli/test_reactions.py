@@ -109,6 +109,19 @@ def test_run_tolerance_study_needs_tolerances(tmp_path):
 ROOT = Path(__file__).resolve().parents[2]
 
 
+def test_cli_reactions_linear_driver_by_default_tables_its_range(tmp_path, capsys):
+    """Without --angles a linear-driver file failed ("0, 90, 180, 270 mm" leave the stroke);
+    now it tables the positions every command tables: 12 over the file's [analysis] range."""
+    f = tmp_path / "lin.toml"
+    f.write_text(LINEAR_SLIDER_CRANK)
+    code, text, err = run_cli(["reactions", str(f), "--out", str(tmp_path / "o"),
+                               "--no-plots"], capsys)
+    assert code == 0, err
+    shown = [float(line.split("s1 = ")[1].split(" mm")[0])
+             for line in text.splitlines() if "reactions at s1 = " in line]
+    np.testing.assert_allclose(shown, np.linspace(160, 240, 12), rtol=1e-3)
+
+
 def test_cli_reactions_linear_driver_positions_in_mm_and_force_in_newtons(tmp_path, capsys):
     """With a linear driver the table said 'φ1 = 9.74 deg' for s1 = 170 mm and gave the
     driving force in N·m; the CSV/JSON said phi1 [rad] and Q [N*m]."""

@@ -49,8 +49,8 @@ def test_study_equals_the_engine_called_directly(path, capsys):
         np.testing.assert_array_equal(getattr(study.kinematics, name), getattr(kin, name))
     for name in ("fx", "fy", "mz", "Q", "shaking_fx", "shaking_fy", "shaking_m", "T"):
         np.testing.assert_array_equal(getattr(study.dynamics, name), getattr(dyn, name))
-    # the table: 12 positions over the file's range, solved on their own
-    tphi = np.linspace(phi[0], phi[-1], 12)
+    # the table: the default positions (tested below), solved on their own
+    tphi = study_planar.default_table_positions(doc)
     np.testing.assert_array_equal(study.table_positions, tphi)
     tdyn = planar.inverse_dynamics(planar.kinematics(mech, tphi), gravity=doc.analysis.gravity,
                                    loads=doc.loads(tphi), about=doc.analysis.about)
@@ -117,3 +117,46 @@ def test_distinct_paths_alias():
 
     assert _distinct_paths is study_planar.distinct_paths
     assert sys.modules["linkwork.cli._planar"].cycle_peaks is study_planar.cycle_peaks
+
+
+def _with_range(path: Path, tmp_path: Path, start: str, stop: str) -> io.PlanarFile:
+    text = path.read_text()
+    data = io.read_toml(path)["analysis"]
+    old = f'start = "{data["start"]}"\nstop = "{data["stop"]}"'
+    assert old in text
+    f = tmp_path / path.name
+    f.write_text(text.replace(old, f'start = "{start}"\nstop = "{stop}"'))
+    return io.load(f)
+
+
+def test_default_table_positions_crank_every_30_deg_of_the_range(tmp_path):
+    ex = ROOT / "examples" / "fourbar_paper001.toml"
+    whole = study_planar.default_table_positions(io.load(ex))
+    np.testing.assert_allclose(np.degrees(whole), np.arange(0, 360, 30), atol=1e-12)
+    part = study_planar.default_table_positions(_with_range(ex, tmp_path, "20 deg", "200 deg"))
+    np.testing.assert_allclose(np.degrees(part), np.arange(30, 181, 30), atol=1e-12)
+    # a range holding fewer than 4 multiples of 30 deg: 12 positions over it, ends included
+    small = study_planar.default_table_positions(_with_range(ex, tmp_path, "5 deg", "65 deg"))
+    np.testing.assert_allclose(np.degrees(small), np.linspace(5, 65, 12), atol=1e-12)
+
+
+def test_default_table_positions_linear_driver_over_its_range():
+    doc = io.load(ROOT / "tests" / "data" / "slider_driven_crank.toml")
+    phi = doc.positions()
+    np.testing.assert_array_equal(study_planar.default_table_positions(doc),
+                                  np.linspace(phi[0], phi[-1], 12))
+
+
+@pytest.mark.parametrize("path", PLANAR, ids=lambda p: p.name)
+def test_every_command_tables_the_same_default_positions(path):
+    """analyze and reactions, on crank and linear drivers alike, table the same positions by
+    default, and they lie where the file says the mechanism works."""
+    from linkwork.studies import reactions as study_reactions
+    doc = io.load(path)
+    tphi = study_planar.default_table_positions(doc)
+    phi = doc.positions()
+    assert phi[0] - 1e-12 <= tphi.min() and tphi.max() <= phi[-1] + 1e-12
+    np.testing.assert_array_equal(study_planar.analyze(doc).table_positions, tphi)
+    if not any(isinstance(j, planar.PinInSlot) for j in doc.mechanism().joints):
+        # (the spatial reactions take revolute and prismatic joints only)
+        np.testing.assert_array_equal(study_reactions.run(doc).table_positions, tphi)
