@@ -9,7 +9,11 @@ through :func:`linkwork.cli._tables.print_table`, which splits what is wider tha
 
 from __future__ import annotations
 
+import contextlib
+from collections.abc import Callable, Iterator
 from typing import Any
+
+from rich.markup import escape
 
 #: Width of tables written to a file or a pipe (Rich would use 80 columns and squash them);
 #: a table wider than this is split into tables of consecutive columns
@@ -26,3 +30,38 @@ def console(*, stderr: bool = False) -> Any:
     if not con.is_terminal:
         con = Console(stderr=stderr, width=PIPE_WIDTH, highlight=False, emoji=False)
     return con
+
+
+@contextlib.contextmanager
+def steps(total: int, *, console: Any) -> Iterator[Callable[[str], None]]:
+    """A progress bar of ``total`` named steps: ``step("writing cycle.csv")`` starts the next
+    one (and completes the one before).
+
+    Shown on ``console`` (the commands pass a stderr console) only where it is a terminal, and
+    erased when done (``transient``), so that a command's stderr keeps its one error line and
+    its stdout is untouched; elsewhere ``step`` does nothing. Nothing may be printed on another
+    console inside the block (the live bar would tear).
+    """
+    if not console.is_terminal:
+        yield lambda what: None
+        return
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        SpinnerColumn,
+        TimeElapsedColumn,
+    )
+
+    with Progress(SpinnerColumn(), "{task.description}", BarColumn(), MofNCompleteColumn(),
+                  TimeElapsedColumn(), console=console, transient=True) as bar:
+        task = bar.add_task("", total=total)
+        started = [0]
+
+        def step(what: str) -> None:
+            bar.update(task, description=escape(what), completed=started[0])
+            bar.refresh()  # shown at once: a step is seconds of work, not a tight loop
+            started[0] += 1
+
+        yield step
+        bar.update(task, completed=total)

@@ -12,6 +12,7 @@ paths, guides and slots, driving torque, reactions, shaking).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -20,6 +21,8 @@ import numpy as np
 from rich.markup import escape
 from rich.table import Table
 
+from linkwork.cli._console import console as make_console
+from linkwork.cli._console import steps
 from linkwork.cli._format import fmt, scale_of, unit_label
 from linkwork.cli._tables import print_table
 from linkwork.io.planar import PlanarFile
@@ -47,7 +50,9 @@ def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, con
     ``angles``: the table's driver positions [rad, or m for a linear driver]; None: those of
     every command (:func:`linkwork.studies.planar.default_table_positions`).
     """
-    study = study_planar.analyze(doc, angles=angles)
+    with steps(1, console=make_console(stderr=True)) as step:
+        step(f"solving {doc.analysis.n} positions")
+        study = study_planar.analyze(doc, angles=angles)
     render(study, out=out, console=console)
     return study
 
@@ -144,10 +149,17 @@ def _extremes(study: PlanarStudy) -> Table:
     return ptab
 
 
-def _plots(study: PlanarStudy, out: Path) -> list[Path]:
+#: The files that :func:`render` writes, in order (one step of its progress bar each).
+FILES = ("planar_kinematics.csv", "planar_dynamics.csv", "planar.json", "planar_skeleton.png",
+         "planar_driving_torque.png", "planar_reactions.png", "planar_shaking.png")
+
+
+def _plots(study: PlanarStudy, out: Path, step: Callable[[str], None] = lambda what: None
+           ) -> list[Path]:
     from linkwork.plot import planar as pplot
     from linkwork.plot import save
 
+    step(f"drawing {FILES[3]}")
     kin, dyn = study.kinematics, study.dynamics
     plt = pplot.pyplot()
     fig, ax = plt.subplots(figsize=(7, 6))
@@ -156,12 +168,15 @@ def _plots(study: PlanarStudy, out: Path) -> list[Path]:
     name = study.doc.name or None
     pplot.plot_skeleton(kin, picks, ax=ax, name=name)  # every named point's path
     written = [save(fig, out / "planar_skeleton.png")]
+    step(f"drawing {FILES[4]}")
     fig, ax = plt.subplots()
     pplot.plot_driving_torque(dyn, ax=ax, name=name)
     written.append(save(fig, out / "planar_driving_torque.png"))
+    step(f"drawing {FILES[5]}")
     fig, ax = plt.subplots()
     pplot.plot_reactions(dyn, ax=ax, name=name)
     written.append(save(fig, out / "planar_reactions.png"))
+    step(f"drawing {FILES[6]}")
     fig, axes = plt.subplots(2, 1, sharex=True)
     pplot.plot_shaking(dyn, axes=axes, name=name)
     written.append(save(fig, out / "planar_shaking.png"))
@@ -174,8 +189,12 @@ def render(study: PlanarStudy, *, out: Path, console: Any) -> None:
     _structure_and_dead_centres(study, console)
     print_table(console, _table(study))
     print_table(console, _extremes(study))
-    written = [write_csv(out / "planar_kinematics.csv", study.kinematics_columns()),
-               write_csv(out / "planar_dynamics.csv", study.dynamics_columns()),
-               write_json(out / "planar.json", study.to_dict())]
-    written += _plots(study, out)
+    with steps(len(FILES), console=make_console(stderr=True)) as step:
+        step(f"writing {FILES[0]}")
+        written = [write_csv(out / FILES[0], study.kinematics_columns())]
+        step(f"writing {FILES[1]}")
+        written.append(write_csv(out / FILES[1], study.dynamics_columns()))
+        step(f"writing {FILES[2]}")
+        written.append(write_json(out / FILES[2], study.to_dict()))
+        written += _plots(study, out, step)
     console.print(escape("wrote " + ", ".join(str(w) for w in written)), highlight=False)

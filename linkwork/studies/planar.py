@@ -32,6 +32,7 @@ from linkwork.planar import (
     transmission_angles,
 )
 from linkwork.planar.structure import Structure
+from linkwork.results import json_array
 
 __all__ = ["PlanarStudy", "analyze", "cycle_peaks", "dead_centre_label",
            "default_table_positions", "distinct_paths", "named_columns", "table_positions_error"]
@@ -269,8 +270,7 @@ class PlanarStudy:
             "means": {**self.means, "units": {"Q_mean": mech.driver.field_units["Q"],
                                               "power_mean": "W"}},
             "units": {k: u for k, (_, u) in cols.items()},
-            "columns": {k: [None if not np.isfinite(x) else float(x) for x in v]
-                        for k, (v, _) in cols.items()},
+            "columns": {k: json_array(v) for k, (v, _) in cols.items()},
         }
 
 

@@ -23,18 +23,20 @@ from linkwork.results import write_csv, write_json
 
 
 def _interrupt_after(monkeypatch: pytest.MonkeyPatch, calls: int) -> None:
-    """Make the CSV cell formatter raise KeyboardInterrupt after ``calls`` cells: the row
-    loop of write_csv is interrupted midway, after many rows went to the file's buffer."""
-    real = results._cell
-    count = {"n": 0}
+    """Make write_csv raise KeyboardInterrupt after ``calls`` cells: its blocks of rows are
+    made small (100 rows) and the interrupt comes from the progress report after the block
+    that passes ``calls`` cells, so that many rows already went to the file."""
+    monkeypatch.setattr(results, "CSV_BLOCK_ROWS", 100)
+    real = results.write_csv
 
-    def cell(x: float) -> str:
-        count["n"] += 1
-        if count["n"] > calls:
-            raise KeyboardInterrupt
-        return real(x)
+    def interrupting(path: Any, columns: dict[str, tuple[Any, str]], **kw: Any) -> Path:
+        def progress(done: int, total: int) -> None:
+            if done * len(columns) >= calls:
+                raise KeyboardInterrupt
 
-    monkeypatch.setattr(results, "_cell", cell)
+        return real(path, columns, progress=progress)
+
+    monkeypatch.setattr(results, "write_csv", interrupting)
 
 
 def _columns(n: int = 20000) -> dict[str, tuple[Any, str]]:
@@ -46,7 +48,7 @@ def test_interrupted_csv_leaves_no_target_and_no_temporary_file(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     _interrupt_after(monkeypatch, 2 * 15000)  # 15000 of 20000 rows: well past a buffer
     with pytest.raises(KeyboardInterrupt):
-        write_csv(tmp_path / "cycle.csv", _columns())
+        results.write_csv(tmp_path / "cycle.csv", _columns())
     assert list(tmp_path.iterdir()) == []
 
 
@@ -57,7 +59,7 @@ def test_interrupted_csv_keeps_the_earlier_complete_file(
     before = target.read_bytes()
     _interrupt_after(monkeypatch, 2 * 15000)
     with pytest.raises(KeyboardInterrupt):
-        write_csv(target, _columns())
+        results.write_csv(target, _columns())
     assert target.read_bytes() == before
     assert [p.name for p in tmp_path.iterdir()] == ["cycle.csv"]
 
@@ -73,15 +75,19 @@ def test_complete_csv_is_the_whole_file_and_nothing_beside_it(tmp_path: Path) ->
 
 def test_interrupted_json_leaves_no_target_and_no_temporary_file(
         tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    real = Path.write_text
+    real = results._json_lines
 
-    def half_then_interrupt(self: Path, text: str, *args: Any, **kwargs: Any) -> int:
-        real(self, text[: len(text) // 2], *args, **kwargs)  # half of it is on disk
+    def half_then_interrupt(value: Any, level: int, where: str = "") -> Any:
+        if level:  # the nested values, as written
+            yield from real(value, level, where)
+            return
+        pieces = list(real(value, level, where))
+        yield from pieces[: len(pieces) // 2]  # half of it goes to the file
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(Path, "write_text", half_then_interrupt)
+    monkeypatch.setattr(results, "_json_lines", half_then_interrupt)
     with pytest.raises(KeyboardInterrupt):
-        write_json(tmp_path / "summary.json", {"values": list(range(1000))})
+        write_json(tmp_path / "summary.json", {f"k{i}": list(range(100)) for i in range(100)})
     assert list(tmp_path.iterdir()) == []
 
 
@@ -135,6 +141,6 @@ def test_recording_lists_the_completed_files_only(
         write_csv(tmp_path / "b.csv", _columns(3))
         _interrupt_after(monkeypatch, 2)
         with pytest.raises(KeyboardInterrupt):
-            write_csv(tmp_path / "c.csv", _columns(3))
+            results.write_csv(tmp_path / "c.csv", _columns(3))
     write_json(tmp_path / "d.json", {})  # after the recording: not in it
     assert written == [tmp_path / "a.json", tmp_path / "b.csv"]

@@ -102,3 +102,45 @@ def test_result_with_inf_is_refused_by_every_export(tmp_path):
         with pytest.raises(ParameterError, match="ratio = inf at 1 of 2 positions"):
             export()
     assert not list(tmp_path.iterdir())
+
+
+def _csv_module_reference(columns: dict) -> str:
+    """The CSV text as the csv module writes it row by row, repr(float), NaN empty."""
+    import csv
+    import io
+    fh = io.StringIO(newline="")
+    w = csv.writer(fh)
+    w.writerow([f"{k} [{u}]" for k, (_, u) in columns.items()])
+    for row in zip(*(np.asarray(v, float) for v, _ in columns.values()), strict=True):
+        w.writerow(["" if x != x else repr(float(x)) for x in row])
+    return fh.getvalue()
+
+
+@pytest.mark.parametrize("ncols", [1, 2, 7])
+def test_block_csv_writer_is_the_csv_module_text(tmp_path, ncols, monkeypatch):
+    import linkwork.results as results
+    monkeypatch.setattr(results, "CSV_BLOCK_ROWS", 37)  # many blocks, a short last one
+    rng = np.random.default_rng(5)
+    n = 500
+    cols = {}
+    for i in range(ncols):
+        v = rng.normal(size=n) * 10.0 ** rng.integers(-30, 30, size=n)
+        v[::11] = np.nan
+        v[::13] = -0.0
+        v[::17] = 5e-324
+        cols[f"c{i}"] = (v, "m")
+    seen = []
+    p = results.write_csv(tmp_path / "a.csv", cols, progress=lambda d, t: seen.append((d, t)))
+    with open(p, newline="") as fh:
+        assert fh.read() == _csv_module_reference(cols)
+    assert seen[-1] == (n, n) and len(seen) == -(-n // 37)
+
+
+def test_json_writer_reads_back_as_the_strict_values(tmp_path):
+    data = {"name": "four-bar", "units": {"x": "m"}, "empty": {}, "none": [],
+            "x": [0.1, float("nan"), -0.0, 1e300], "nested": [{"a": [1, 2]}, {"b": "c"}],
+            "ints": (1, 2, 3), "flag": True, "text": 'quote " and \\ backslash'}
+    p = write_json(tmp_path / "a.json", data)
+    expected = json.loads(json.dumps({**data, "x": [0.1, None, -0.0, 1e300],
+                                      "ints": [1, 2, 3]}))
+    assert json.loads(p.read_text()) == expected

@@ -70,3 +70,22 @@ def test_names_print_as_written_not_as_markup_or_emoji(tmp_path, capsys, no_high
     out_dir = tmp_path / "[red]out[/red]"
     assert main(["reactions", str(path), "--no-plots", "--out", str(out_dir)]) == 0
     assert f"{out_dir}/reactions.csv" in capsys.readouterr().out.replace("\n", "")
+
+
+def test_steps_bar_only_on_a_terminal_and_named_by_its_step():
+    import io
+
+    from rich.console import Console
+
+    from linkwork.cli._console import steps
+    pipe = Console(file=io.StringIO(), force_terminal=False)
+    with steps(2, console=pipe) as step:
+        step("writing a.csv")
+        step("writing b.json")
+    assert pipe.file.getvalue() == ""  # a pipe or a file gets nothing
+    term = Console(file=io.StringIO(), force_terminal=True, width=100)
+    with steps(2, console=term) as step:
+        step("writing a.csv")
+        step("writing [b].json")  # markup in a name is shown as written
+    shown = term.file.getvalue()
+    assert "writing a.csv" in shown and "writing [b].json" in shown

@@ -50,21 +50,19 @@ def test_interrupted_reactions_and_synthesis_name_their_command(tmp_path, capsys
 def test_interrupt_while_writing_leaves_no_partial_file(tmp_path, capsys, monkeypatch):
     """Ctrl-C in the middle of writing planar_dynamics.csv (the second file): the first file is
     complete, the second neither present nor half-written, no temporary file remains."""
-    real, calls = results._cell, {"n": 0, "files": 0}
+    calls = {"files": 0}
     real_write = results.write_csv
+    monkeypatch.setattr(results, "CSV_BLOCK_ROWS", 50)  # 361 rows: 8 blocks
 
     def write_csv(path: Any, columns: Any) -> Any:
         calls["files"] += 1
-        return real_write(path, columns)
 
-    def cell(x: float) -> str:
-        if calls["files"] == 2:
-            calls["n"] += 1
-            if calls["n"] > 500:
+        def progress(done: int, total: int) -> None:
+            if calls["files"] == 2 and done >= 200:  # 4 blocks of the second file written
                 raise KeyboardInterrupt
-        return real(x)
 
-    monkeypatch.setattr(results, "_cell", cell)
+        return real_write(path, columns, progress=progress)
+
     monkeypatch.setattr("linkwork.cli._planar.write_csv", write_csv)
     out = tmp_path / "o"
     assert main(["analyze", str(FOURBAR), "--out", str(out)]) == 130
