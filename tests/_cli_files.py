@@ -78,6 +78,22 @@ LINEAR_SLIDER_CRANK = slider_crank(
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 
 
+def sine_press_with_friction(tmp_path: Path, angle: str = '"60 deg"') -> Path:
+    """``examples/sine_press_planar.toml`` with friction at the crank bearing (f 0.05, journal
+    30 mm), the ram's guide (f 0.10, a 200 mm block) and the slot (f 0.12, a sliding block),
+    its slot at ``angle`` (TOML value)."""
+    text = (EXAMPLES / "sine_press_planar.toml").read_text()
+    text = text.replace('type = "revolute"\n', 'type = "revolute"\nfriction = 0.05\n'
+                        'radius = "30 mm"\n', 1)
+    text = text.replace('type = "prismatic"\n', 'type = "prismatic"\nfriction = 0.1\n'
+                        'length = "200 mm"\n', 1)
+    text = text.replace('type = "slot"\n', 'type = "slot"\nfriction = 0.12\n', 1)
+    text = text.replace('angle = "60 deg"', f"angle = {angle}")
+    f = tmp_path / "press.toml"
+    f.write_text(text)
+    return f
+
+
 def edit_example_and_run(tmp_path, capsys, example: str, old: str, new: str,
                          cmd=("analyze",)) -> str:
     """Run a command on a bundled example with `old` replaced by `new`; one line, exit 2."""

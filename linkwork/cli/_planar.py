@@ -149,6 +149,39 @@ def _extremes(study: PlanarStudy) -> Table:
     return ptab
 
 
+def _friction(study: PlanarStudy, console: Any) -> None:
+    """With friction in some joint: the losses per joint over the cycle, the cycle efficiency
+    and the self-locking ranges (nothing is printed without friction)."""
+    fr = study.friction
+    if fr is None:
+        return
+    shown = _shown(study)
+    tab = Table(title=escape(f"friction losses over the cycle ({study.kinematics.n} positions "
+                             "of [analysis])"))
+    for h in ("joint", "loss [J]", "share of the driver's work [%]"):
+        tab.add_column(escape(h), justify="left" if h == "joint" else "right", no_wrap=True)
+    top = max((abs(v) for v in fr["losses"].values() if v is not None), default=0.0)
+    for j, loss in fr["losses"].items():
+        share = fr["loss_share"][j]
+        tab.add_row(escape(j), fmt(np.nan if loss is None else loss, top),
+                    fmt(np.nan if share is None else 100 * share, decimals=2))
+    print_table(console, tab)
+    eta = fr["efficiency_cycle"]
+    console.print("cycle efficiency (useful work / driver's work): " + (
+        fmt(eta, decimals=4) if eta is not None else
+        "undefined (the driver does no positive work over the range, or it self-locks)"),
+        highlight=False)
+    if fr["self_locking"]:
+        runs = ", ".join(f"{a * shown.scale:.1f}..{b * shown.scale:.1f}"
+                         for a, b in fr["self_locking"])
+        console.print(escape(f"self-locking (no finite {shown.load} moves it) at "
+                             f"{shown.position.split()[0]} = {runs} {shown.unit} "
+                             f"({fr['locked_positions']} positions; Q undefined there)"),
+                      highlight=False)
+    else:
+        console.print("self-locking: none over the range", highlight=False)
+
+
 #: The files that :func:`render` writes, in order (one step of its progress bar each).
 FILES = ("planar_kinematics.csv", "planar_dynamics.csv", "planar.json", "planar_skeleton.png",
          "planar_driving_torque.png", "planar_reactions.png", "planar_shaking.png")
@@ -189,6 +222,7 @@ def render(study: PlanarStudy, *, out: Path, console: Any) -> None:
     _structure_and_dead_centres(study, console)
     print_table(console, _table(study))
     print_table(console, _extremes(study))
+    _friction(study, console)
     with steps(len(FILES), console=make_console(stderr=True)) as step:
         step(f"writing {FILES[0]}")
         written = [write_csv(out / FILES[0], study.kinematics_columns())]

@@ -29,6 +29,10 @@ Example (the four-bar of ``examples/fourbar_paper001.toml``)::
     b = "crank"
     # prismatic / slot: angle (of the line in a), through (point name or [x, y]), point (of b),
     # rel_angle (prismatic: theta_b - theta_a)
+    # Coulomb friction (docs/friction.md), all optional, default none: friction = 0.1 (the
+    # coefficient, every type); revolute: radius = "15 mm" (journal), friction_torque =
+    # "0.5 N*m" (pin/axial); prismatic: length = "60 mm" (block along the guide; 0: point
+    # contact); slot: radius = "8 mm" (pin; 0: a sliding block)
 
     [driver]
     type = "crank"                 # "crank" (revolute joint) | "linear" (prismatic joint)
@@ -114,6 +118,7 @@ from linkwork.io.toml import (
     Angle,
     AngularAcceleration,
     AngularVelocity,
+    Dimensionless,
     FileModel,
     Force,
     Inertia,
@@ -210,6 +215,26 @@ class JointSection(FileModel):
     through: str | XY | None = None
     point: str | None = None
     rel_angle: Angle = 0.0
+    friction: Dimensionless = 0.0
+    radius: Length = 0.0
+    friction_torque: Torque = 0.0
+    length: Length = 0.0
+
+    @model_validator(mode="after")
+    def _friction_keys_of_type(self) -> JointSection:
+        """Friction keys of another joint type are refused (see :mod:`linkwork.planar.joints`)."""
+        takes = {"revolute": "friction, radius, friction_torque",
+                 "prismatic": "friction, length", "slot": "friction, radius"}
+        unused = {"revolute": ("length",), "prismatic": ("radius", "friction_torque"),
+                  "slot": ("length", "friction_torque")}
+        _refuse_keys(self, unused[self.type], f"the friction keys {takes[self.type]}")
+        return self
+
+    def _friction(self) -> dict[str, float]:
+        """The friction keyword arguments of the joint (only those given)."""
+        keys = {"revolute": ("friction", "radius", "friction_torque"),
+                "prismatic": ("friction", "length"), "slot": ("friction", "radius")}
+        return {k: getattr(self, k) for k in keys[self.type] if k in self.model_fields_set}
 
     @model_validator(mode="after")
     def _keys_of_type(self) -> JointSection:
@@ -224,12 +249,13 @@ class JointSection(FileModel):
         return self
 
     def build(self) -> Joint:
+        fr = self._friction()
         if self.type == "revolute":
-            return Revolute(self.name, self.a, self.b, self.point_a, self.point_b)
+            return Revolute(self.name, self.a, self.b, self.point_a, self.point_b, **fr)
         if self.type == "prismatic":
             return Prismatic(self.name, self.a, self.b, self.angle, self.through, self.point,
-                             self.rel_angle)
-        return PinInSlot(self.name, self.a, self.b, self.angle, self.through, self.point)
+                             self.rel_angle, **fr)
+        return PinInSlot(self.name, self.a, self.b, self.angle, self.through, self.point, **fr)
 
 
 class DriverSection(FileModel):

@@ -41,6 +41,7 @@ from numpy.typing import ArrayLike
 from linkwork.checks import per_position, require_finite
 from linkwork.cycles import mean_over_range
 from linkwork.errors import ParameterError
+from linkwork.planar import friction
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.joints import ResolvedJoint
 from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
@@ -116,6 +117,24 @@ class Dynamics(Result):
         Kinetic energy [J].
     gravity : tuple of float
         Gravity acceleration vector used [m/s^2].
+    Q_frictionless : ndarray (n,)
+        The driving torque (force) the same motion and loads need without friction (``Q``
+        itself when no joint has friction).
+    friction_fx, friction_fy, friction_mz : ndarray (n_joints, n)
+        The friction part of each joint's reaction (force [N] at the reaction point, couple
+        [N m]), exerted by a on b and included in ``fx, fy, mz`` (zero without friction).
+    friction_power : ndarray (n_joints, n)
+        Power dissipated by friction in each joint [W], >= 0 (:mod:`linkwork.planar.friction`).
+    locked : ndarray of bool (n,)
+        Self-locking positions: no finite driving torque (force) moves the mechanism there in
+        the given sense; reactions, ``Q`` and ``friction_power`` are NaN (undefined) there.
+    kappa : ndarray (n,)
+        Self-locking indicator ``det(J^T - dG/dlambda) / det(J^T)`` (1 without friction; <= 0
+        or NaN where locked).
+    friction_iterations : int
+        Newton steps of the friction solve (0 without friction).
+    friction_static : bool
+        The driver is at rest at every position: friction is not determined and set to zero.
     """
 
     kinematics: Kinematics
@@ -133,13 +152,25 @@ class Dynamics(Result):
     about: tuple[float, float]
     T: Arr
     gravity: tuple[float, float]
+    Q_frictionless: Arr
+    friction_fx: Arr
+    friction_fy: Arr
+    friction_mz: Arr
+    friction_power: Arr
+    locked: Arr
+    kappa: Arr
+    friction_iterations: int
+    friction_static: bool
     units: ClassVar[dict[str, str]] = {
         "phi1": "rad", "fx": "N", "fy": "N", "mz": "N*m", "px": "m", "py": "m", "Q": "N*m",
-        "shaking_fx": "N", "shaking_fy": "N", "shaking_m": "N*m", "T": "J"}
+        "shaking_fx": "N", "shaking_fy": "N", "shaking_m": "N*m", "T": "J",
+        "Q_frictionless": "N*m", "friction_fx": "N", "friction_fy": "N", "friction_mz": "N*m",
+        "friction_power": "W", "locked": "1", "kappa": ""}
 
     def __post_init__(self) -> None:
         du = self.kinematics.mechanism.driver.field_units  # a linear driver: slide, force
         units = {k: du[k] for k in ("phi1", "Q")}
+        units["Q_frictionless"] = du["Q"]
         if any(self.units[k] != v for k, v in units.items()):
             self._relabel_units(**units)
 
@@ -167,6 +198,87 @@ class Dynamics(Result):
         """Mean driving torque (force) over the analysed range: the work of ``Q`` over the
         range of the driver divided by it [N m] ([N]); :func:`linkwork.cycles.mean_over_range`."""
         return mean_over_range(self.kinematics.phi1, self.Q)
+
+    @property
+    def has_friction(self) -> bool:
+        """Some joint of the mechanism has friction."""
+        return any(j.has_friction for j in self.kinematics.mechanism.joints)
+
+    @property
+    def efficiency(self) -> Arr:
+        """Instantaneous efficiency ``1 - sum(friction_power) / (Q omega1)`` [-]: the useful
+        power (driving power less the friction losses) over the driving power, where the driver
+        delivers power (``Q omega1 > 0``); NaN (undefined, written empty/null) where it
+        delivers none or takes power back, and at self-locking positions."""
+        p = self.power
+        loss = np.sum(self.friction_power, axis=0)
+        with np.errstate(all="ignore"):
+            return np.where(p > 0, 1.0 - loss / np.where(p > 0, p, 1.0), np.nan)
+
+    @property
+    def friction_losses(self) -> Arr:
+        """Work dissipated in each joint over the analysed range [J] (n_joints,): the integral
+        of ``friction_power`` over time, ``trapezoid(friction_power / omega1, phi1)`` (taken
+        in the order the driver passes the positions); NaN (undefined) if the driver stops or
+        reverses (``omega1`` zero or of both signs) or a position is locked or unassembled."""
+        w1 = np.asarray(self.kinematics.omega1, dtype=float)
+        nj = len(self.joints)
+        order = self._time_order()
+        if order == 0:
+            return np.full(nj, np.nan)
+        with np.errstate(all="ignore"):
+            return order * np.asarray(np.trapezoid(self.friction_power / w1, self.phi1,
+                                                   axis=-1))
+
+    def _time_order(self) -> float:
+        """+1 if the positions are listed in the order the driver passes them in time
+        (``omega1 * (phi1[-1] - phi1[0]) > 0``), -1 if in the reverse order, 0 if undefined
+        (fewer than 2 positions, or the driver stops or reverses)."""
+        w1 = np.broadcast_to(np.asarray(self.kinematics.omega1, dtype=float), self.phi1.shape)
+        span = float(self.phi1[-1] - self.phi1[0]) if self.phi1.size >= 2 else 0.0
+        if span == 0.0 or not (np.all(w1 > 0) or np.all(w1 < 0)):
+            return 0.0
+        return float(np.sign(w1[0] * span))
+
+    @property
+    def driving_work(self) -> float:
+        """Work of the driver over the analysed range, in the order the driver passes the
+        positions [J]: ``+-trapezoid(Q, phi1)`` (NaN if some position is locked or
+        unassembled, or the driver stops or reverses)."""
+        order = self._time_order()
+        if order == 0:
+            return float("nan")
+        return order * float(np.trapezoid(self.Q, self.phi1))
+
+    @property
+    def efficiency_cycle(self) -> float | None:
+        """Cycle efficiency ``1 - sum(friction_losses) / driving_work`` [-]: the useful work
+        (work of the driver less the friction losses) over the work of the driver, over the
+        analysed range. None (undefined) where the driver does no positive work over the range
+        (a mechanism that the loads drive, or a conservative one without losses) or the
+        losses are undefined (:attr:`friction_losses`)."""
+        wd = self.driving_work
+        loss = float(np.sum(self.friction_losses))
+        if not (np.isfinite(wd) and np.isfinite(loss)) or wd <= 0:
+            return None
+        return 1.0 - loss / wd
+
+    def self_locking_ranges(self) -> list[tuple[float, float]]:
+        """The runs of self-locking positions, as (first, last) driver positions of each run
+        [rad, or m] (sampled: the true limits lie within one step outside)."""
+        out = []
+        lk = np.asarray(self.locked, dtype=bool)
+        i = 0
+        while i < lk.size:
+            if lk[i]:
+                j = i
+                while j + 1 < lk.size and lk[j + 1]:
+                    j += 1
+                out.append((float(self.phi1[i]), float(self.phi1[j])))
+                i = j + 1
+            else:
+                i += 1
+        return out
 
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
         """Driving torque (or force) with its mean and the joint reaction magnitudes: a
@@ -277,6 +389,9 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     else:
         with np.errstate(all="ignore"):
             fxr, fyr, mzr, Q = _group_reactions(plan, st, f)
+    fric = _with_friction(plan, st, f, kin, Q) if friction.has_friction(plan) else None
+    if fric is not None:
+        fxr, fyr, mzr, Q = fric.reactions
     # shaking force and moment on the frame
     sfx = np.zeros(n)
     sfy = np.zeros(n)
@@ -302,13 +417,61 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         sfy += rfy
         sm += (rpx - ab[0]) * rfy - (rpy - ab[1]) * rfx + rmz
     T = kinetic_energy(kin)
+    if fric is None:  # no joint dissipates
+        zeros = np.zeros((nj, n))
+        fric = _Friction((fxr, fyr, mzr, Q), Q, friction.FrictionSolution(
+            np.zeros((n, 0)), zeros, zeros, zeros, np.ones(n, dtype=bool), np.ones(n), 0),
+            zeros, np.zeros(n, dtype=bool), False)
     return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), fxr, fyr, mzr, pxr, pyr,
-                    Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]))
+                    Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]),
+                    Q_frictionless=fric.Q0, friction_fx=fric.sol.ffx,
+                    friction_fy=fric.sol.ffy, friction_mz=fric.sol.fmz,
+                    friction_power=fric.power, locked=fric.locked, kappa=fric.sol.kappa,
+                    friction_iterations=fric.sol.iterations,
+                    friction_static=fric.static)
 
 
-def _global_reactions(plan: Plan, st: State, f: Arr, good: Arr
-                      ) -> tuple[Arr, Arr, Arr, Arr]:
-    """All multipliers at once: J^T lambda = f with the full constraint Jacobian."""
+@dataclass(frozen=True)
+class _Friction:
+    """What the friction solve gives :func:`inverse_dynamics`."""
+
+    reactions: tuple[Arr, Arr, Arr, Arr]
+    Q0: Arr
+    sol: friction.FrictionSolution
+    power: Arr
+    locked: Arr
+    static: bool
+
+
+def _with_friction(plan: Plan, st: State, f: Arr, kin: Kinematics, Q0: Arr) -> _Friction:
+    """The reactions and driving load with Coulomb friction (:mod:`linkwork.planar.friction`),
+    the friction power of every joint and the self-locking positions."""
+    J, meta = _constraint_jacobian(plan, st)
+    JT = np.swapaxes(J, 1, 2)
+    good = np.asarray(kin.valid, dtype=bool)
+    lam0 = batched_solve(JT, f, good)
+    width = friction.sign_widths(plan, kin.omega1)
+    static = width == (0.0, 0.0)
+    sol = friction.solve(plan, st, JT, f, lam0, good, meta, width)
+    fxr, fyr, mzr, Q = _split(plan, st, sol.lam, meta)
+    fxr, fyr, mzr = fxr + sol.ffx, fyr + sol.ffy, mzr + sol.fmz
+    locked = good & ~(sol.converged & (sol.kappa > 0))
+    for arr in (fxr, fyr, mzr):
+        arr[:, locked] = np.nan
+    Q = np.where(locked, np.nan, Q)
+    power = np.zeros((len(plan.joints), st.n))
+    for rj in plan.joints:
+        if rj.joint.has_friction:
+            vx, vy, dw = rj.joint.relative_motion(st, rj)
+            k = rj.index
+            power[k] = -(sol.ffx[k] * vx + sol.ffy[k] * vy + sol.fmz[k] * dw)
+    power[:, locked] = np.nan
+    return _Friction((fxr, fyr, mzr, Q), Q0, sol, power, locked, static)
+
+
+def _constraint_jacobian(plan: Plan, st: State) -> tuple[Arr, list[tuple[ResolvedJoint, str]]]:
+    """The constraint Jacobian J (n, size, size), the driver's row included, and each row's
+    (joint, row kind or ``"drive"``)."""
     n = st.n
     size = 3 * (plan.nb - 1)
     J = np.zeros((n, size, size))
@@ -324,7 +487,21 @@ def _global_reactions(plan: Plan, st: State, f: Arr, good: Arr
                         J[:, r, 3 * body - 3 + comp] += row[key][comp]
             meta.append((rj, "drive" if row.get("drive") else rj.joint.row_kinds[k]))
             r += 1
+    return J, meta
+
+
+def _global_reactions(plan: Plan, st: State, f: Arr, good: Arr
+                      ) -> tuple[Arr, Arr, Arr, Arr]:
+    """All multipliers at once: J^T lambda = f with the full constraint Jacobian."""
+    J, meta = _constraint_jacobian(plan, st)
     lam = batched_solve(np.swapaxes(J, 1, 2), f, good)
+    return _split(plan, st, lam, meta)
+
+
+def _split(plan: Plan, st: State, lam: Arr, meta: list[tuple[ResolvedJoint, str]]
+           ) -> tuple[Arr, Arr, Arr, Arr]:
+    """The reactions (fx, fy, mz by a on b) and the driving load Q the multipliers carry."""
+    n = st.n
     nj = len(plan.joints)
     out = {"fx": np.zeros((nj, n)), "fy": np.zeros((nj, n)), "mz": np.zeros((nj, n))}
     Q = np.zeros(n)

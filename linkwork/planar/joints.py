@@ -31,7 +31,7 @@ from linkwork.checks import require_number, require_point
 from linkwork.errors import ParameterError, StructureError
 from linkwork.planar.state import Arr, State, Vec
 
-__all__ = ["Joint", "PinInSlot", "Prismatic", "ResolvedJoint", "Revolute"]
+__all__ = ["Joint", "PinInSlot", "Prismatic", "ResolvedJoint", "Revolute", "smooth_sign"]
 
 Point = tuple[float, float]
 #: a constraint row: ``ja``, ``jb`` (d/dx, d/dy, d/dtheta of bodies a and b), ``gam``
@@ -215,21 +215,107 @@ class Joint:
         own loads neglected), for the transmission angle."""
         raise NotImplementedError
 
+    # -- friction ----------------------------------------------------------------------------
+    @property
+    def has_friction(self) -> bool:
+        """The joint dissipates (a Coulomb coefficient or a constant friction torque > 0)."""
+        return False
+
+    def relative_motion(self, st: State, r: ResolvedJoint) -> tuple[Arr, Arr, Arr]:
+        """Velocity of body b's point at the reaction point P relative to body a's point there
+        (frame axes) [m/s] and ``omega_b - omega_a`` [rad/s]."""
+        P = st.wpt(r.ib, r.pb)
+        vb = st.point_vel(r.ib, r.pb)
+        wa = st.W[r.ia]
+        vax = st.VX[r.ia] - wa * (P[1] - st.Y[r.ia])
+        vay = st.VY[r.ia] + wa * (P[0] - st.X[r.ia])
+        return vb[0] - vax, vb[1] - vay, st.W[r.ib] - wa
+
+    def friction_wrench(self, st: State, r: ResolvedJoint, fx: Arr, fy: Arr, mz: Arr,
+                        width: tuple[float, float]) -> tuple[Arr, Arr, Arr]:
+        """The friction exerted by a on b (force ``Fx, Fy`` [N] at the reaction point P, couple
+        ``Mz`` [N m]) given the joint's constraint reaction ``fx, fy, mz`` (by a on b, without
+        friction) at the same position. ``width``: the widths (rotation [rad/s], sliding
+        [m/s]) of the smooth sign :func:`smooth_sign`. Frictionless joints: zeros."""
+        z = np.zeros(st.n)
+        return z, z, z
+
+    def check_fit(self, moving: list[_BodyLike]) -> None:
+        """Raise ParameterError if the joint's friction geometry does not fit the moving
+        bodies it joins (given: the frame is not a link)."""
+
+    def _check_friction(self, f: float, limit_key: str = "friction") -> float:
+        """``friction`` as a float in [0, 1)."""
+        v = require_number(f"joint {self.name}.{limit_key}", f)
+        if v < 0 or v >= 1:
+            raise ParameterError(f"joint {self.name}.{limit_key}", v,
+                                 "must be a Coulomb coefficient >= 0 and < 1 (a friction angle "
+                                 "below 45 deg; the friction circle f*r and the contact model "
+                                 "are the small-angle forms; dry and lubricated metal pairs "
+                                 "have 0.01 to 0.6)")
+        return v
+
+
+def smooth_sign(v: Arr, width: float) -> Arr:
+    """The regularised sign ``v / sqrt(v^2 + width^2)`` of a relative velocity: +-1 to within
+    ``width^2 / (2 v^2)`` once ``|v| >> width``, 0 at ``v = 0`` (a joint at rest relative to its
+    neighbour transmits no friction: its static friction is not determined by Coulomb's law);
+    ``width = 0``: the exact sign."""
+    if width == 0.0:
+        return np.sign(v)
+    return v / np.sqrt(v * v + width * width)
+
 
 @dataclass(frozen=True)
 class Revolute(Joint):
     """Revolute joint (turning pair): point ``point_a`` of ``a`` on point ``point_b`` of ``b``.
 
-    Reaction: force (fx, fy) exerted by ``a`` on ``b`` at the joint centre, in frame axes [N].
+    Reaction: force (fx, fy) exerted by ``a`` on ``b`` at the joint centre, in frame axes [N];
+    with friction also the friction couple ``mz`` [N m] exerted by ``a`` on ``b``.
+
+    Friction (``docs/friction.md``): ``friction`` f (Coulomb coefficient, 0 <= f < 1) and
+    ``radius`` r [m] of the journal (> 0 when f > 0; smaller than the links it joins): the
+    friction circle of radius ``f * r``, i.e. a couple ``-(f r |R| + friction_torque)
+    sign(omega_b - omega_a)`` on b; ``friction_torque`` [N m] >= 0 a constant pin or axial
+    (thrust-collar, seal) friction torque independent of the load.
     """
 
     point_a: str | None = None
     point_b: str | None = None
+    friction: float = 0.0
+    radius: float = 0.0
+    friction_torque: float = 0.0
     n_constraints = 2
     code = "R"
     is_pivot: ClassVar[bool] = True
     row_kinds: ClassVar[tuple[str, ...]] = ("x", "y")
     spatial_family: ClassVar[str | None] = "R"
+
+    def __post_init__(self) -> None:
+        f = self._check_friction(self.friction)
+        r = require_number(f"joint {self.name}.radius", self.radius)
+        if r < 0 or (f > 0 and r == 0):
+            raise ParameterError(f"joint {self.name}.radius", r,
+                                 "must be > 0 [m] (the journal radius of a joint with friction)"
+                                 if f > 0 else "must be >= 0 [m]")
+        t = require_number(f"joint {self.name}.friction_torque", self.friction_torque)
+        if t < 0:
+            raise ParameterError(f"joint {self.name}.friction_torque", t, "must be >= 0 [N m]")
+        for k, v in (("friction", f), ("radius", r), ("friction_torque", t)):
+            object.__setattr__(self, k, v)
+
+    @property
+    def has_friction(self) -> bool:
+        return self.friction > 0 or self.friction_torque > 0
+
+    def friction_wrench(self, st: State, r: ResolvedJoint, fx: Arr, fy: Arr, mz: Arr,
+                        width: tuple[float, float]) -> tuple[Arr, Arr, Arr]:
+        """The friction circle: a couple ``-(f r |R| + M0) sign(omega_b - omega_a)``."""
+        z = np.zeros(st.n)
+        dw = st.W[r.ib] - st.W[r.ia]
+        m = -(self.friction * self.radius * np.hypot(fx, fy) + self.friction_torque
+              ) * smooth_sign(dw, width[0])
+        return z, z, m
 
     @property
     def pa(self) -> str:
@@ -242,6 +328,26 @@ class Revolute(Joint):
     def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
         self._has(ba, "point_a", self.pa)
         self._has(bb, "point_b", self.pb)
+
+    def check_fit(self, moving: list[_BodyLike]) -> None:
+        """The journal must fit the moving links it joins: its radius below the longer link's
+        length from the joint (the largest distance to another of its points). Below the
+        longer one only: an eccentric's sheave is larger than its eccentricity (the crank)
+        but not than its rod."""
+        if self.radius <= 0:
+            return
+        sizes = []
+        for body in moving:
+            p = body.point(self.pa if body.name == self.a else self.pb)
+            size = max((float(np.hypot(q[0] - p[0], q[1] - p[1])) for q in body.points.values()),
+                       default=0.0)
+            if size > 0:
+                sizes.append((size, body.name))
+        if sizes and self.radius >= max(sizes)[0]:
+            size, name = max(sizes)
+            raise ParameterError(f"joint {self.name}.radius", self.radius,
+                                 f"must be < {size:g} m, the length of link {name!r} from the "
+                                 "joint (a journal larger than the links it joins)")
 
     def local_geometry(self, ba: _BodyLike, bb: _BodyLike) -> tuple[Point, Point, float]:
         return ba.point(self.pa), bb.point(self.pb), 0.0
@@ -493,16 +599,62 @@ class Prismatic(_LineJoint):
     rel_angle : float
         Constant ``theta_b - theta_a`` [rad].
 
-    Reaction: force (fx, fy) exerted by ``a`` on ``b`` (normal to the guide) applied at the
-    slider point, plus a couple ``mz`` [N m] exerted by ``a`` on ``b``.
+    Reaction: force (fx, fy) exerted by ``a`` on ``b`` (normal to the guide, plus the friction
+    along it) applied at the slider point, plus a couple ``mz`` [N m] exerted by ``a`` on ``b``.
+
+    Friction (``docs/friction.md``): ``friction`` f (0 <= f < 1) and the block's ``length`` l
+    [m] along the guide, centred on the slider point. With l > 0 the guide's normal force N and
+    couple m are carried by two contact forces at the block's ends, ``N1 = N/2 - m/l`` and
+    ``N2 = N/2 + m/l``, each with its own friction: the friction force is ``-f (|N1| + |N2|)
+    sign(v)`` along the guide (v the slide rate of b on a). With l = 0 (default) the block is a
+    point contact: the friction force is ``-f |N| sign(v)`` and the couple m carries no
+    friction (a long guide whose tilting is neglected, as in paper 000).
     """
 
     rel_angle: float = 0.0
+    friction: float = 0.0
+    length: float = 0.0
     n_constraints = 2
     code = "P"
     keeps_angle: ClassVar[bool] = True
     row_kinds: ClassVar[tuple[str, ...]] = ("n", "t")
     spatial_family: ClassVar[str | None] = "P"
+
+    def __post_init__(self) -> None:
+        f = self._check_friction(self.friction)
+        ln = require_number(f"joint {self.name}.length", self.length)
+        if ln < 0:
+            raise ParameterError(f"joint {self.name}.length", ln,
+                                 "must be >= 0 [m] (the block's length along the guide; 0: a "
+                                 "point contact)")
+        object.__setattr__(self, "friction", f)
+        object.__setattr__(self, "length", ln)
+
+    @property
+    def has_friction(self) -> bool:
+        return self.friction > 0
+
+    def normal_forces(self, st: State, r: ResolvedJoint, fx: Arr, fy: Arr, mz: Arr
+                      ) -> tuple[Arr, Arr]:
+        """The two contact forces ``N1, N2`` [N] (along the guide's normal ``k x u``) at the
+        block's rear and front ends (``N1 = N2 = N/2`` with the whole couple ignored when the
+        length is 0)."""
+        ux, uy = st.rot(r.ia, r.u_loc)
+        N = -uy * fx + ux * fy
+        if self.length == 0.0:
+            return 0.5 * N, 0.5 * N
+        return 0.5 * N - mz / self.length, 0.5 * N + mz / self.length
+
+    def friction_wrench(self, st: State, r: ResolvedJoint, fx: Arr, fy: Arr, mz: Arr,
+                        width: tuple[float, float]) -> tuple[Arr, Arr, Arr]:
+        """``-f (|N1| + |N2|) sign(v)`` along the guide at the slider point (l = 0:
+        ``-f |N| sign(v)``)."""
+        ux, uy = st.rot(r.ia, r.u_loc)
+        n1, n2 = self.normal_forces(st, r, fx, fy, mz)
+        vx, vy, _ = self.relative_motion(st, r)
+        ft = -self.friction * (np.abs(n1) + np.abs(n2)) * smooth_sign(ux * vx + uy * vy,
+                                                                      width[1])
+        return ft * ux, ft * uy, np.zeros(st.n)
 
     def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
         require_number(f"joint {self.name}.angle", self.angle)
@@ -579,9 +731,45 @@ class PinInSlot(_LineJoint):
 
     ``angle`` and ``through`` define the slot's line in ``a`` as for :class:`Prismatic`;
     ``theta_b - theta_a`` is free. Reaction: force exerted by ``a`` on ``b`` (normal to the slot,
-    frictionless) at the pin.
+    plus the friction along it) at the pin, and with a pin of radius r > 0 the friction's
+    couple ``mz`` about the pin's centre.
+
+    Friction (``docs/friction.md``): ``friction`` f (0 <= f < 1) and the pin's ``radius`` r
+    [m] >= 0. The pin touches the slot's wall on the side the normal force N pushes it from,
+    at ``C = P - r sign(N) n``; the material of b slips there at ``s = u . v_rel + r sign(N)
+    (omega_b - omega_a)`` along the slot, and the friction ``-f |N| sign(s)`` along the slot
+    acts at C: at the pin's centre a force and the couple ``-r f N sign(s)``. r = 0: a block
+    pinned to b without friction slides in the slot (paper 000's stone).
     """
 
+    friction: float = 0.0
+    radius: float = 0.0
     n_constraints = 1
     code = "S"
     row_kinds: ClassVar[tuple[str, ...]] = ("n",)
+
+    def __post_init__(self) -> None:
+        f = self._check_friction(self.friction)
+        r = require_number(f"joint {self.name}.radius", self.radius)
+        if r < 0:
+            raise ParameterError(f"joint {self.name}.radius", r,
+                                 "must be >= 0 [m] (the pin's radius; 0: a sliding block)")
+        object.__setattr__(self, "friction", f)
+        object.__setattr__(self, "radius", r)
+
+    @property
+    def has_friction(self) -> bool:
+        return self.friction > 0
+
+    def friction_wrench(self, st: State, r: ResolvedJoint, fx: Arr, fy: Arr, mz: Arr,
+                        width: tuple[float, float]) -> tuple[Arr, Arr, Arr]:
+        """``-f |N| sign(s)`` along the slot at the contact point, moved to the pin's centre."""
+        ux, uy = st.rot(r.ia, r.u_loc)
+        N = -uy * fx + ux * fy
+        vx, vy, dw = self.relative_motion(st, r)
+        slip = ux * vx + uy * vy
+        if self.radius > 0:
+            slip = slip + self.radius * np.sign(N) * dw
+        sg = smooth_sign(slip, width[1])
+        ft = -self.friction * np.abs(N) * sg
+        return ft * ux, ft * uy, -self.radius * self.friction * N * sg

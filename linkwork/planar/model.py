@@ -290,6 +290,7 @@ class Mechanism:
 
     def _check_joint_points(self, j: Joint) -> None:
         j.check_points(self.body(j.a), self.body(j.b))
+        j.check_fit([self.body(s) for s in (j.a, j.b) if s != self.frame.name])
 
     # -- look-ups ---------------------------------------------------------------------------
     @cached_property

@@ -180,12 +180,24 @@ def _prefixed(unit: str, *values: Any) -> tuple[float, str]:
 def plot_driving_torque(dyn: Any, ax: Any = None, *, name: str | None = None
                         ) -> dict[str, Any]:
     """Driving torque (or force) over the cycle, with its mean. ``name`` (of the mechanism)
-    heads the title. Returns ``{"ax", "line"}``."""
+    heads the title. With friction in some joint also the driving torque without friction
+    (dashed) and the self-locking ranges (shaded). Returns ``{"ax", "line"}`` (and
+    ``"frictionless"`` with friction)."""
     ax = _ax(ax)
     x, label = _x(dyn.kinematics)
     crank = not _linear(dyn.kinematics)
-    div, unit = _prefixed("N·m" if crank else "N", dyn.Q)
+    friction = bool(getattr(dyn, "has_friction", False))
+    div, unit = _prefixed("N·m" if crank else "N", dyn.Q,
+                          *((dyn.Q_frictionless,) if friction else ()))
     (ln,) = ax.plot(x, dyn.Q / div, label="Q")
+    extra: dict[str, Any] = {}
+    if friction:
+        (extra["frictionless"],) = ax.plot(x, dyn.Q_frictionless / div, ls="--", lw=1.0,
+                                           label="Q without friction")
+        sc = 180.0 / np.pi if crank else 1e3  # the x axis: deg or mm
+        for k, (a, b) in enumerate(dyn.self_locking_ranges()):
+            ax.axvspan(a * sc, b * sc, color="tab:red", alpha=0.2,
+                       label="self-locking" if k == 0 else None)
     mean = dyn.Q_mean / div
     peak = float(np.nanmax(np.abs(dyn.Q))) / div if np.isfinite(dyn.Q).any() else 0.0
     shown = 0.0 if abs(mean) <= 1e-9 * peak else mean  # round-off of a zero mean: 0
@@ -195,7 +207,7 @@ def plot_driving_torque(dyn: Any, ax: Any = None, *, name: str | None = None
     quantity = "driving torque Q" if crank else "driving force Q"
     ax.set_ylabel(f"{quantity} [{unit}]")
     finish(ax, title=titled(name, "Dynamics", quantity), angle=_angle(dyn.kinematics, x))
-    return {"ax": ax, "line": ln}
+    return {"ax": ax, "line": ln, **extra}
 
 
 def plot_reactions(dyn: Any, joints: Sequence[str] | None = None, ax: Any = None, *,

@@ -35,10 +35,15 @@ from linkwork.planar.structure import Structure
 from linkwork.results import json_array
 
 __all__ = ["PlanarStudy", "analyze", "cycle_peaks", "dead_centre_label",
-           "default_table_positions", "distinct_paths", "named_columns", "table_positions_error"]
+           "default_table_positions", "distinct_paths", "friction_summary", "named_columns",
+           "table_positions_error"]
 
-#: Columns of ``planar_dynamics.csv`` besides the reactions ``R_*`` (the rest is kinematics).
-DYNAMICS_COLUMNS = ("Q", "shaking_fx", "shaking_fy", "shaking_m", "T")
+#: Columns of ``planar_dynamics.csv`` besides the reactions ``R_*`` and the friction powers
+#: ``Pf_*`` (the rest is kinematics); the last three only with friction.
+DYNAMICS_COLUMNS = ("Q", "shaking_fx", "shaking_fy", "shaking_m", "T", "Q_frictionless",
+                    "efficiency", "locked")
+#: Prefixes of the per-joint columns of ``planar_dynamics.csv``.
+DYNAMICS_PREFIXES = ("R_", "Pf_")
 
 Transmission = dict[str, tuple[np.ndarray, np.ndarray]]
 
@@ -94,6 +99,13 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
     cols["shaking_fy"] = (dyn.shaking_fy, "N")
     cols["shaking_m"] = (dyn.shaking_m, "N*m")
     cols["T"] = (dyn.T, "J")
+    if dyn.has_friction:  # only then: frictionless files keep their columns
+        cols["Q_frictionless"] = (dyn.Q_frictionless, units["Q"])
+        for k, j in enumerate(dyn.joints):
+            if np.any(dyn.friction_power[k] != 0):
+                cols[f"Pf_{j}"] = (dyn.friction_power[k], "W")
+        cols["efficiency"] = (dyn.efficiency, "")
+        cols["locked"] = (dyn.locked.astype(float), "1")  # a flag, as "valid [1]"
     trans = transmission_angles(kin) if transmission is None else transmission
     for key, (mu, _) in trans.items():
         cols[f"mu_{key}"] = (mu, "rad")
@@ -149,6 +161,36 @@ def cycle_peaks(kin: Kinematics, dyn: Dynamics, transmission: Transmission | Non
     return peaks
 
 
+def friction_summary(dyn: Dynamics) -> dict[str, Any] | None:
+    """Efficiency and friction losses over the analysed range; None without friction.
+
+    ``efficiency_cycle`` (useful work over the driver's work, :attr:`Dynamics.efficiency_cycle`;
+    None where undefined), ``driving_work`` [J] (None if some position is locked),
+    ``losses`` (joint -> work dissipated [J], None if undefined), ``loss_share`` (joint ->
+    fraction of the driver's work, None if undefined), ``self_locking`` (list of [first,
+    last] driver positions [rad, or m] of the locked runs), ``locked_positions`` (count) and
+    ``newton_iterations`` of the friction solve."""
+    if not dyn.has_friction:
+        return None
+    wd = dyn.driving_work
+    losses = dyn.friction_losses
+    wd_ok = bool(np.isfinite(wd) and wd > 0)
+
+    def num(v: float) -> float | None:
+        return float(v) if np.isfinite(v) else None
+
+    return {
+        "efficiency_cycle": dyn.efficiency_cycle,
+        "driving_work": num(wd),
+        "losses": {j: num(v) for j, v in zip(dyn.joints, losses, strict=True)},
+        "loss_share": {j: (num(v / wd) if wd_ok else None)
+                       for j, v in zip(dyn.joints, losses, strict=True)},
+        "self_locking": [[a, b] for a, b in dyn.self_locking_ranges()],
+        "locked_positions": int(np.sum(dyn.locked)),
+        "newton_iterations": dyn.friction_iterations,
+    }
+
+
 def distinct_paths(kin: Kinematics, candidates: list[tuple[str, str]]
                    ) -> list[tuple[str, str]]:
     """The (body, point) pairs whose paths differ: a joint's point named on both of its bodies
@@ -191,6 +233,8 @@ class PlanarStudy:
         :func:`cycle_peaks` of the cycle.
     means : dict
         ``Q_mean`` (work / range) [N m or N] and ``power_mean`` [W] over the cycle.
+    friction : dict or None
+        :func:`friction_summary` of the cycle (None: no joint has friction).
     """
 
     doc: PlanarFile
@@ -206,6 +250,7 @@ class PlanarStudy:
     dead_centre_labels: list[tuple[str, str]]
     peaks: list[dict[str, Any]]
     means: dict[str, float]
+    friction: dict[str, Any] | None = None
 
     @property
     def crank(self) -> bool:
@@ -230,7 +275,7 @@ class PlanarStudy:
         """The columns of ``planar_kinematics.csv``: poses, velocities, accelerations (of every
         body, its centre of mass and its named points), transmission angles."""
         return {k: v for k, v in self.columns().items()
-                if not (k.startswith("R_") or k in DYNAMICS_COLUMNS)}
+                if not (k.startswith(DYNAMICS_PREFIXES) or k in DYNAMICS_COLUMNS)}
 
     def dynamics_columns(self) -> dict[str, tuple[np.ndarray, str]]:
         """The columns of ``planar_dynamics.csv``: reactions, driving torque, shaking, kinetic
@@ -238,7 +283,7 @@ class PlanarStudy:
         cols = self.columns()
         out = {"phi1": cols["phi1"]}
         out.update({k: v for k, v in cols.items()
-                    if k.startswith("R_") or k in DYNAMICS_COLUMNS})
+                    if k.startswith(DYNAMICS_PREFIXES) or k in DYNAMICS_COLUMNS})
         return out
 
     def to_dict(self) -> dict[str, Any]:
@@ -248,6 +293,7 @@ class PlanarStudy:
         cols = self.columns()
         a_x, a_y = (float(v) for v in dyn.about)
         drv = mech.joint(mech.driver.joint)
+        extra = {} if self.friction is None else {"friction": self.friction}
         return {
             "name": self.doc.name, "mobility": s.mobility, "structure": s.formula(),
             "groups": [{"kind": g.kind, "bodies": list(g.bodies), "joints": list(g.joints),
@@ -271,6 +317,7 @@ class PlanarStudy:
                                               "power_mean": "W"}},
             "units": {k: u for k, (_, u) in cols.items()},
             "columns": {k: json_array(v) for k, (v, _) in cols.items()},
+            **extra,
         }
 
 
@@ -350,4 +397,5 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
         dead_centre_labels=[dead_centre_label(mech, d) for d in dcs],
         peaks=cycle_peaks(kin, dyn, trans),
         means={"Q_mean": dyn.Q_mean,
-               "power_mean": mean_over_range(kin.phi1, dyn.power)})
+               "power_mean": mean_over_range(kin.phi1, dyn.power)},
+        friction=friction_summary(dyn))
