@@ -80,6 +80,7 @@ from linkwork.planar.kinematics import (
 from linkwork.planar.model import (
     Body,
     Crank,
+    Drawing,
     Joint,
     Linear,
     Mechanism,
@@ -92,6 +93,7 @@ from linkwork.planar.model import (
     fourbar,
     fourbar_mechanism,
 )
+from linkwork.planar.sketch import LinkMass, Slider, Slot, sketch
 from linkwork.planar.structure import Group, Structure, analyse, mobility
 
 __all__ = [
@@ -99,17 +101,21 @@ __all__ = [
     "BodyTorque",
     "Crank",
     "DeadCentre",
+    "Drawing",
     "Dynamics",
     "Group",
     "Joint",
     "Kinematics",
     "Linear",
+    "LinkMass",
     "Mechanism",
     "PinInSlot",
     "PointForce",
     "PointMotion",
     "Prismatic",
     "Revolute",
+    "Slider",
+    "Slot",
     "Structure",
     "analyse",
     "bar",
@@ -122,5 +128,6 @@ __all__ = [
     "kinematics",
     "kinetic_energy",
     "mobility",
+    "sketch",
     "transmission_angles",
 ]
