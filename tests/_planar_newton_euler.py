@@ -80,12 +80,17 @@ def _rot(th, p):
 
 
 def _pose_reference(mech, kin, k, w1, e1, step=2e-3):
-    """Poses and their rates of all moving bodies at position k, from the raw constraints."""
+    """Poses and their rates of all moving bodies at position k, from the raw constraints.
+
+    ``w1, e1``: the drivers' speeds and accelerations (a number for one driver, one per driver
+    for several); the drivers move as phi_d(t) = phi_d + w_d t + e_d t^2 / 2."""
     names = mech.body_names
     idx = {n: i for i, n in enumerate(names)}
     nb = len(names) - 1
-    phi0 = float(kin.phi1[k])
-    drv = mech.joint(mech.driver.joint)
+    drivers = mech.drivers
+    phi0 = np.atleast_2d(kin.phi1)[:, k].astype(float)
+    w1v = np.broadcast_to(np.asarray(w1, dtype=float), (len(drivers),))
+    e1v = np.broadcast_to(np.asarray(e1, dtype=float), (len(drivers),))
 
     def pose(q, i):
         if i == 0:
@@ -111,14 +116,16 @@ def _pose_reference(mech, kin, k, w1, e1, step=2e-3):
                 out.append(dvec[0] * nvec[0] + dvec[1] * nvec[1])
                 if isinstance(j, Prismatic):
                     out.append(pose(q, ib)[2] - tha - j.rel_angle)
-        phi = phi0 + w1 * t + 0.5 * e1 * t * t
-        if isinstance(mech.driver, Crank):
-            out.append(pose(q, idx[drv.b])[2] - pose(q, idx[drv.a])[2] - phi)
-        else:  # linear driver: slide coordinate u . (P_b - Q_a)
-            qa, pb, ang = mech.joint_geometry(drv)
-            u = _rot(pose(q, idx[drv.a])[2], (math.cos(ang), math.sin(ang)))
-            dvec = world(q, idx[drv.b], pb) - world(q, idx[drv.a], qa)
-            out.append(dvec[0] * u[0] + dvec[1] * u[1] - phi)
+        for d, p0, w, e in zip(drivers, phi0, w1v, e1v, strict=True):
+            drv = mech.joint(d.joint)
+            phi = p0 + w * t + 0.5 * e * t * t
+            if isinstance(d, Crank):
+                out.append(pose(q, idx[drv.b])[2] - pose(q, idx[drv.a])[2] - phi)
+            else:  # linear driver: slide coordinate u . (P_b - Q_a)
+                qa, pb, ang = mech.joint_geometry(drv)
+                u = _rot(pose(q, idx[drv.a])[2], (math.cos(ang), math.sin(ang)))
+                dvec = world(q, idx[drv.b], pb) - world(q, idx[drv.a], qa)
+                out.append(dvec[0] * u[0] + dvec[1] * u[1] - phi)
         return np.array(out)
 
     q0 = np.concatenate([[kin.x[i, k], kin.y[i, k], kin.theta[i, k]] for i in range(1, nb + 1)])
@@ -126,7 +133,7 @@ def _pose_reference(mech, kin, k, w1, e1, step=2e-3):
     def position(t):
         return _newton(residual, q0, np.asarray(t, dtype=complex))
 
-    return _motion(position, hd=step / max(abs(w1), 1.0))
+    return _motion(position, hd=step / max(float(np.max(np.abs(w1v))), 1.0))
 
 
 def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
@@ -156,7 +163,8 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
             cols.append((ji, "n", P, nvec))
             if isinstance(j, Prismatic):
                 cols.append((ji, "mz", P, None))
-    cols.append((-1, "Q", None, None))
+    for di in range(len(mech.drivers)):
+        cols.append((-1 - di, "Q", None, None))
     A = np.zeros((3 * nb, len(cols)))
     rhs = np.zeros(3 * nb)
 
@@ -166,9 +174,11 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
         r = slice(3 * i - 3, 3 * i)
         A[r, col] += [f[0], f[1], P[0] * f[1] - P[1] * f[0] + m]
 
-    drv = mech.joint(mech.driver.joint)
     for c, (ji, kind, P, dvec) in enumerate(cols):
-        if kind == "Q" and isinstance(mech.driver, Crank):
+        if kind == "Q":
+            d = mech.drivers[-1 - ji]
+            drv = mech.joint(d.joint)
+        if kind == "Q" and isinstance(d, Crank):
             add(idx[drv.b], c, (0.0, 0.0), (0.0, 0.0), 1.0)
             add(idx[drv.a], c, (0.0, 0.0), (0.0, 0.0), -1.0)
             continue
@@ -226,7 +236,9 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
             fy[ji] += sol[c] * dvec[1]
         elif kind == "mz":
             mz[ji] = sol[c]
-    Q = sol[-1]
+    nd = len(mech.drivers)
+    Qs = sol[len(cols) - nd:]
+    Q = Qs[0] if nd == 1 else Qs
     # force and moment of the moving bodies on the frame (about 'about'), motor included
     sf = np.zeros(2)
     sm = 0.0
@@ -239,19 +251,21 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
         f = sgn * np.array([fx[ji], fy[ji]])
         sf += f
         sm += (P[0] - about[0]) * f[1] - (P[1] - about[1]) * f[0] + sgn * mz[ji]
-    if isinstance(mech.driver, Crank):
-        if fr == drv.a:
-            sm -= Q
-        elif fr == drv.b:
-            sm += Q
-    elif fr in (drv.a, drv.b):  # the actuator's reaction on the frame
-        sgn = -1.0 if drv.a == fr else 1.0
-        _qa, pb, ang = mech.joint_geometry(drv)
-        u = _rot(pose(idx[drv.a])[2], (math.cos(ang), math.sin(ang)))
-        P = world(idx[drv.b], pb)
-        f = sgn * Q * u
-        sf += f
-        sm += (P[0] - about[0]) * f[1] - (P[1] - about[1]) * f[0]
+    for d, Qd in zip(mech.drivers, Qs, strict=True):
+        drv = mech.joint(d.joint)
+        if isinstance(d, Crank):
+            if fr == drv.a:
+                sm -= Qd
+            elif fr == drv.b:
+                sm += Qd
+        elif fr in (drv.a, drv.b):  # the actuator's reaction on the frame
+            sgn = -1.0 if drv.a == fr else 1.0
+            _qa, pb, ang = mech.joint_geometry(drv)
+            u = _rot(pose(idx[drv.a])[2], (math.cos(ang), math.sin(ang)))
+            P = world(idx[drv.b], pb)
+            f = sgn * Qd * u
+            sf += f
+            sm += (P[0] - about[0]) * f[1] - (P[1] - about[1]) * f[0]
     return dict(fx=fx, fy=fy, mz=mz, Q=Q, sf=sf, sm=sm, T=T)
 
 
@@ -259,31 +273,33 @@ def _check_engine(mech, phi, w1, e1, gravity, loads, about=(0.0, 0.0), label="",
     kin = kinematics(mech, phi, w1, e1)
     dyn = inverse_dynamics(kin, gravity=gravity, loads=loads, about=about)
     L = max(max(abs(v) for p in b.points.values() for v in p) for b in mech.bodies) + 1e-3
-    for k in range(len(phi)):
+    n = np.shape(phi)[-1]
+    for k in range(n):
         q, v, acc = _pose_reference(mech, kin, k, w1, e1, step)
         nb = len(mech.bodies)
         for i in range(1, nb + 1):
             _close(kin.x[i, k], q[3 * i - 3], L, label + "engine x,y")
             _close(kin.y[i, k], q[3 * i - 2], L, label + "engine x,y")
             _angle_close(kin.theta[i, k], q[3 * i - 1], label + "engine theta")
-            W = max(abs(w1), 1.0) * 5
+            W = max(float(np.max(np.abs(w1))), 1.0) * 5
             _close(kin.vx[i, k], v[3 * i - 3], L * W, label + "engine v")
             _close(kin.vy[i, k], v[3 * i - 2], L * W, label + "engine v")
             _close(kin.omega[i, k], v[3 * i - 1], W, label + "engine omega")
-            _close(kin.ax[i, k], acc[3 * i - 3], L * (W * W + abs(e1)), label + "engine a")
-            _close(kin.ay[i, k], acc[3 * i - 2], L * (W * W + abs(e1)), label + "engine a")
-            _close(kin.eps[i, k], acc[3 * i - 1], W * W + abs(e1), label + "engine eps")
+            E = float(np.max(np.abs(e1)))
+            _close(kin.ax[i, k], acc[3 * i - 3], L * (W * W + E), label + "engine a")
+            _close(kin.ay[i, k], acc[3 * i - 2], L * (W * W + E), label + "engine a")
+            _close(kin.eps[i, k], acc[3 * i - 1], W * W + E, label + "engine eps")
         ref = _newton_euler(mech, q, v, acc, gravity, [
-            PointForce(ld.body, ld.point, float(np.broadcast_to(ld.fx, phi.shape)[k]),
-                       float(np.broadcast_to(ld.fy, phi.shape)[k]))
+            PointForce(ld.body, ld.point, float(np.broadcast_to(ld.fx, (n,))[k]),
+                       float(np.broadcast_to(ld.fy, (n,))[k]))
             if isinstance(ld, PointForce) else
-            BodyTorque(ld.body, float(np.broadcast_to(ld.mz, phi.shape)[k])) for ld in loads],
+            BodyTorque(ld.body, float(np.broadcast_to(ld.mz, (n,))[k])) for ld in loads],
             about)
         F = max(np.max(np.abs(ref["fx"])), np.max(np.abs(ref["fy"])), 1.0)
         _close(dyn.fx[:, k], ref["fx"], F, label + "reactions")
         _close(dyn.fy[:, k], ref["fy"], F, label + "reactions")
         _close(dyn.mz[:, k], ref["mz"], F * L, label + "reactions mz")
-        _close(dyn.Q[k], ref["Q"], F * L, label + "Q")
+        _close(dyn.Q[..., k], ref["Q"], F * L, label + "Q")
         _close(dyn.shaking_fx[k], ref["sf"][0], F, label + "shaking force")
         _close(dyn.shaking_fy[k], ref["sf"][1], F, label + "shaking force")
         _close(dyn.shaking_m[k], ref["sm"], F * L, label + "shaking moment")

@@ -110,7 +110,7 @@ from typing import Annotated, Any, Literal, Self
 
 import numpy as np
 import pydantic
-from pydantic import Field, PrivateAttr, field_validator, model_validator
+from pydantic import Discriminator, Field, PrivateAttr, Tag, field_validator, model_validator
 
 from linkwork.errors import FileFormatError, LinkworkError, ParameterError
 from linkwork.io.toml import (
@@ -271,6 +271,8 @@ class DriverSection(FileModel):
     eps1: AngularAcceleration = 0.0
     v1: Velocity = 1.0
     a1: Acceleration = 0.0
+    start: float | str | None = None
+    stop: float | str | None = None
 
     @model_validator(mode="after")
     def _keys_of_type(self) -> DriverSection:
@@ -288,6 +290,23 @@ class DriverSection(FileModel):
             return Crank(self.joint, self.omega1, self.eps1)
         return Linear(self.joint, self.v1, self.a1)
 
+    def span(self, key: str) -> tuple[float, float]:
+        """``start`` and ``stop`` of one of several drivers in SI [rad or m] (required)."""
+        kind = "angle" if self.type == "crank" else "length"
+        out = []
+        for name in ("start", "stop"):
+            v = getattr(self, name)
+            if v is None:
+                raise ParameterError(f"{key}.{name}", "missing", "each of several [[driver]] "
+                                     "gives its own start and stop (its positions run from "
+                                     "start to stop over the [analysis] n positions)")
+            si = to_si(v, kind, f"{key}.{name}")
+            if not math.isfinite(si) or (kind == "angle" and not abs(si) <= MAX_ANGLE):
+                raise ParameterError(f"{key}.{name}", v, "must be finite" + (
+                    f" and within +-{MAX_ANGLE:g} rad" if kind == "angle" else ""))
+            out.append(si)
+        return out[0], out[1]
+
     def sketch_spec(self) -> str | tuple[str, str]:
         """The driver as :func:`linkwork.planar.sketch` names it."""
         return self.joint if self.link is None else (self.joint, self.link)
@@ -295,6 +314,13 @@ class DriverSection(FileModel):
     def speeds(self) -> tuple[float, float]:
         """(speed, acceleration) of the driver [rad/s, rad/s^2, or m/s, m/s^2]."""
         return (self.omega1, self.eps1) if self.type == "crank" else (self.v1, self.a1)
+
+
+def _driver_tables(value: Any) -> str:
+    """``[[driver]]`` (several drivers, a list) or ``[driver]`` (one): validated as that one
+    member of the union only, so that its errors are not doubled (the tags, with brackets,
+    are left out of the error's key)."""
+    return "[[driver]]" if isinstance(value, list) else "[driver]"
 
 
 class SliderSection(FileModel):
@@ -709,7 +735,9 @@ class PlanarFile(FileModel):
     body: list[BodySection] = Field(default_factory=list)
     joint: list[JointSection] = Field(default_factory=list)
     sketch: SketchSection | None = None
-    driver: DriverSection
+    driver: Annotated[Annotated[DriverSection, Tag("[driver]")]
+                      | Annotated[list[DriverSection], Tag("[[driver]]")],
+                      Discriminator(_driver_tables)]
     analysis: AnalysisSection = Field(default_factory=lambda: AnalysisSection())
     load: list[LoadSection] = Field(default_factory=list)
     balance: BalanceSection = Field(default_factory=lambda: BalanceSection())
@@ -787,8 +815,17 @@ class PlanarFile(FileModel):
         self.positions()
         self._check_loads()
         for i, ld in enumerate(self.load):
-            ld.driver_range(i, self.driver.type == "linear")
+            if ld.phi_range is not None and len(self.drivers) > 1:
+                raise ParameterError(f"load.{i}.phi_range", list(ld.phi_range),
+                                     "is a range of the one driver's positions; with several "
+                                     "drivers a load acts over the whole path")
+            ld.driver_range(i, self.drivers[0].type == "linear")
         return self
+
+    @property
+    def drivers(self) -> list[DriverSection]:
+        """The ``[driver]`` table, or each ``[[driver]]`` of several, in order."""
+        return list(self.driver) if isinstance(self.driver, list) else [self.driver]
 
     def mechanism(self) -> Mechanism:
         """The engine model described by the file (built once: an immutable Mechanism whose
@@ -798,7 +835,7 @@ class PlanarFile(FileModel):
                 a is b for a, b in zip(self._built[0], sources, strict=True)):
             return self._built[1]
         if self.sketch is not None:
-            mech = self.sketch.build([self.driver])
+            mech = self.sketch.build(self.drivers)
             if self.analysis.branches:  # explicit branches override the drawing's
                 mech = mech.with_branches(**self.analysis.branches)
             self._built = (sources, mech)
@@ -807,14 +844,30 @@ class PlanarFile(FileModel):
         frame = Body(self.frame.name, self.frame.points)
         bodies = tuple(b.build() for b in self.body)
         joints = tuple(j.build() for j in self.joint)
-        mech = Mechanism(frame, bodies, joints, self.driver.build(),
+        drivers = tuple(d.build() for d in self.drivers)
+        mech = Mechanism(frame, bodies, joints, drivers[0] if len(drivers) == 1 else drivers,
                          dict(self.analysis.branches))
         self._built = (sources, mech)
         return mech
 
     def positions(self) -> np.ndarray:
-        """Driver positions [rad, or m for a linear driver]."""
-        kind = "angle" if self.driver.type == "crank" else "length"
+        """Driver positions [rad, or m for a linear driver]: shape (n,) for one driver (from
+        ``[analysis] start`` to ``stop``); (n_drivers, n) for several, each driver from its
+        own ``start`` to ``stop``."""
+        drivers = self.drivers
+        if len(drivers) > 1:
+            given = [k for k in ("start", "stop") if k in self.analysis.model_fields_set]
+            if given:
+                raise ParameterError(f"analysis.{given[0]}", getattr(self.analysis, given[0]),
+                                     "is the one driver's; with several drivers each "
+                                     "[[driver]] gives its own start and stop")
+            spans = [d.span(f"driver.{i}") for i, d in enumerate(drivers)]
+            return np.array([np.linspace(a, b, self.analysis.n) for a, b in spans])
+        for key in ("start", "stop"):
+            if getattr(drivers[0], key) is not None:
+                raise ParameterError(f"driver.{key}", getattr(drivers[0], key),
+                                     "give the one driver's range as [analysis] start, stop")
+        kind = "angle" if drivers[0].type == "crank" else "length"
         lo = to_si(self.analysis.start, kind, "analysis.start")
         hi = to_si(self.analysis.stop, kind, "analysis.stop")
         for key, v, si in (("analysis.start", self.analysis.start, lo),
@@ -840,7 +893,7 @@ class PlanarFile(FileModel):
             (``load.<i>.point``).
         """
         self._check_loads()
-        linear = self.driver.type == "linear"
+        linear = self.drivers[0].type == "linear"
         return [ld.build(phi1, i, linear) for i, ld in enumerate(self.load)]
 
     def _check_loads(self) -> None:

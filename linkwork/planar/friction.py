@@ -82,13 +82,17 @@ def has_friction(plan: Plan) -> bool:
 
 
 def sign_widths(plan: Plan, omega1: Arr) -> tuple[float, float]:
-    """Widths of the smooth sign: rotation [rad/s] and sliding [m/s] (see the module doc)."""
-    top = float(np.max(np.abs(omega1), initial=0.0)) if np.size(omega1) else 0.0
+    """Widths of the smooth sign: rotation [rad/s] and sliding [m/s] (see the module doc); with
+    several drivers from the fastest (a slide speed counted as a rotation over the mechanism's
+    length scale)."""
+    L = plan.length_scale
+    w = np.atleast_2d(np.asarray(omega1, dtype=float))
+    top = 0.0
+    for k, kind in enumerate(plan.driver_kinds or (plan.driver_kind,)):
+        v = float(np.max(np.abs(w[k]), initial=0.0)) if w[k].size else 0.0
+        top = max(top, v / L if kind == "linear" else v)  # linear: omega1 a slide speed [m/s]
     if not np.isfinite(top):
         top = 0.0
-    L = plan.length_scale
-    if plan.driver_kind == "linear":  # omega1 is a slide speed [m/s]
-        return SIGN_WIDTH * top / L, SIGN_WIDTH * top
     return SIGN_WIDTH * top, SIGN_WIDTH * top * L
 
 

@@ -79,7 +79,8 @@ class Hung(Protocol):
 class ResolvedJoint:
     """A joint of a compiled plan: the joint, its index in ``Mechanism.joints``, the indices of
     its bodies, its local geometry (point on a, point on b [m], line angle in a [rad] and the
-    line's unit direction in a) and whether the driver acts on it."""
+    line's unit direction in a), whether a driver acts on it and which (``drive_index``: its
+    place in ``Mechanism.drivers``, -1 for none)."""
 
     joint: Joint
     index: int
@@ -90,6 +91,7 @@ class ResolvedJoint:
     ang: float
     u_loc: tuple[float, float]
     drive: bool
+    drive_index: int = -1
 
     def other(self, body: int) -> int:
         """The index of the joint's other body."""
@@ -368,7 +370,8 @@ class Revolute(Joint):
              "res": res[1]}]
         if r.drive:
             rows.append({"ja": (zero, zero, -one), "jb": (zero, zero, one), "gam": zero,
-                         "drive": True, "res": st.T[ib] - st.T[ia]})
+                         "drive": True, "drive_index": r.drive_index,
+                         "res": st.T[ib] - st.T[ia]})
         return rows
 
     def closure_rows(self, st: State, r: ResolvedJoint, pa_: Hung, pb_: Hung, n_unk: int,
@@ -515,6 +518,7 @@ class _LineJoint(Joint):
         if r.drive:
             drive = line_row(ux, uy)
             drive["drive"] = True
+            drive["drive_index"] = r.drive_index
         return line_row(nx, ny), drive
 
     def constraint_rows(self, st: State, r: ResolvedJoint, need_gamma: bool = True

@@ -86,9 +86,9 @@ def _intersect(st: State, l1: tuple[str, Any], l2: tuple[str, Any], branch: int)
 
 
 def solve_driver(st: State, g: PlanGroup, q: Arr) -> None:
-    """Pose of the driven body for the driver coordinates ``q``."""
+    """Pose of the driven body for the driver coordinates ``q`` (n_drivers, n)."""
     r = g.joints[0]
-    r.joint.place_driven(st, r, g.bodies[0], q)
+    r.joint.place_driven(st, r, g.bodies[0], q[r.drive_index])
 
 
 def _solve_two_lines(st: State, body: int, r1: ResolvedJoint, r2: ResolvedJoint) -> None:
@@ -209,7 +209,8 @@ def solve_slot_group(st: State, g: PlanGroup, branch: int) -> None:
 
 
 def solve_group(plan: Plan, st: State, g: PlanGroup, branch: int, q: Arr) -> None:
-    """Poses of the bodies of group ``g`` (the groups before it solved) on ``branch``."""
+    """Poses of the bodies of group ``g`` (the groups before it solved) on ``branch``; ``q``
+    the driver positions, shape (n_drivers, n)."""
     if g.kind == "driver":
         solve_driver(st, g, q)
     elif g.kind in ("RS", "PS"):
@@ -267,7 +268,8 @@ def _newton_iterate(sub: State, g: PlanGroup, members: list[int], q: Arr,
             sub.set_angle(bi, z[:, k, 2])
         rows = group_rows(sub, g, need_gamma=False)
         J, _ = assemble_jacobian(sub, g, rows)
-        res = np.stack([r["res"] - (q if r.get("drive") else 0.0) for _, _, r in rows], axis=1)
+        res = np.stack([r["res"] - (q[r["drive_index"]] if r.get("drive") else 0.0)
+                        for _, _, r in rows], axis=1)
         with np.errstate(invalid="ignore"):
             done = np.max(np.abs(res), axis=1) < tol
         todo = ~done & np.isfinite(res).all(axis=1)
@@ -308,7 +310,7 @@ def solve_newton(plan: Plan, st: State, g: PlanGroup, q: Arr, tol: float = 1e-12
         z = start
         for t, i in enumerate(pos):
             sub = _newton_state(nb, st, members, np.array([i]))
-            zi, conv = _newton_iterate(sub, g, members, q[i:i + 1], z[None], tol, max_iter)
+            zi, conv = _newton_iterate(sub, g, members, q[:, i:i + 1], z[None], tol, max_iter)
             if conv[0]:
                 out[t], okk[t] = zi[0], True
                 z = zi[0]

@@ -23,11 +23,13 @@ __all__ = ["RatePar", "acc_at", "batched_solve", "closure_rows", "cramer", "grou
 
 # velocities and accelerations
 def group_rates(plan: Plan, st: State, g: PlanGroup, w1: Arr, e1: Arr) -> None:
-    """Velocities and accelerations of the bodies of group ``g`` (the groups before it known)."""
+    """Velocities and accelerations of the bodies of group ``g`` (the groups before it known);
+    ``w1, e1`` the drivers' speeds and accelerations, shape (n_drivers, n)."""
     if g.kind == "driver":
         rd = g.joints[0]
-        if not rd.joint.driven_rates(st, rd, g.bodies[0], w1, e1):
-            _hung_driver_rates(st, g, w1, e1)
+        k = rd.drive_index
+        if not rd.joint.driven_rates(st, rd, g.bodies[0], w1[k], e1[k]):
+            _hung_driver_rates(st, g, w1[k], e1[k])
         return
     if g.kind != "newton":
         _closed_rates(plan, st, g)
@@ -38,7 +40,7 @@ def group_rates(plan: Plan, st: State, g: PlanGroup, w1: Arr, e1: Arr) -> None:
     rhs = -known_part(st, g, rows, "v")
     for r, (_, _, row) in enumerate(rows):
         if row.get("drive"):
-            rhs[:, r] += w1
+            rhs[:, r] += w1[row["drive_index"]]
     good = ~st.bad
     sol = batched_solve(J, rhs, good)
     for k, b in enumerate(members):
@@ -48,7 +50,7 @@ def group_rates(plan: Plan, st: State, g: PlanGroup, w1: Arr, e1: Arr) -> None:
     for r, (_, _, row) in enumerate(rows):
         rhs[:, r] += row["gam"]
         if row.get("drive"):
-            rhs[:, r] += e1
+            rhs[:, r] += e1[row["drive_index"]]
     sol = batched_solve(J, rhs, good)
     for k, b in enumerate(members):
         st.AX[b], st.AY[b], st.E[b] = sol[:, 3 * k], sol[:, 3 * k + 1], sol[:, 3 * k + 2]

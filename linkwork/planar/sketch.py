@@ -252,7 +252,7 @@ def _branches(mech: Mechanism, scale: float) -> dict[str, int]:
     """The branch of every closed-form group that reproduces the drawing."""
     assert mech.drawing is not None
     plan = mech.plan
-    q = np.array(mech.drawing.positions)[:1]
+    q = np.array(mech.drawing.positions)[:, None]
     out: dict[str, int] = {}
     for g in plan.groups:
         if g.kind in _UNIQUE:

@@ -5,7 +5,8 @@ Mobility by the Chebyshev-Gruebler formula for planar chains,
 .. math:: W = 3 n - 2 p_5 - p_4,
 
 with ``n`` moving bodies, ``p_5`` lower pairs (revolute, prismatic: 2 constraints each) and
-``p_4`` higher pairs (pin-in-slot: 1 constraint). One driver is supported, so ``W`` must be 1.
+``p_4`` higher pairs (pin-in-slot: 1 constraint). ``W`` must equal the number of drivers (one
+per degree of freedom: cranks and linear actuators).
 
 The decomposition repeatedly takes the smallest set of not-yet-solved bodies whose joints to
 each other and to solved bodies impose exactly ``3 k`` constraints (the driver adds one to its
@@ -83,6 +84,9 @@ class Mechanism(Protocol):
     def driver(self) -> Any: ...
 
     @property
+    def drivers(self) -> tuple[Any, ...]: ...
+
+    @property
     def body_names(self) -> tuple[str, ...]: ...
 
     @property
@@ -146,8 +150,12 @@ class Structure:
         return " -> ".join(parts)
 
 
+def _driven(mech: Mechanism) -> set[str]:
+    return {d.joint for d in mech.drivers}
+
+
 def _cons(mech: Mechanism, j: Joint) -> int:
-    return j.n_constraints + (1 if j.name == mech.driver.joint else 0)
+    return j.n_constraints + (1 if j.name in _driven(mech) else 0)
 
 
 def mobility(mech: Mechanism) -> int:
@@ -206,14 +214,23 @@ def analyse(mech: Mechanism) -> Structure:
             f"{'have' if len(jointless) > 1 else 'has'} no joints: connect "
             f"{'them' if len(jointless) > 1 else 'it'} to the frame or another body, or "
             f"leave {'them' if len(jointless) > 1 else 'it'} out")
+    nd = len(mech.drivers)
+    given = ", ".join(d.joint for d in mech.drivers)
+    drivers = f"one driver ({given}) is" if nd == 1 else f"{nd} drivers ({given}) are"
     if w < 1:
         raise StructureError(
             f"mechanism is locked: mobility W = 3*{n} - 2*{p5} - {p4} = {w} < 1 "
             f"({_describe(mech, everything)})")
-    if w > 1:
+    if w > nd:
         raise StructureError(
-            f"mechanism is under-driven: mobility W = 3*{n} - 2*{p5} - {p4} = {w} but one "
-            f"driver ({mech.driver.joint}) is given ({_describe(mech, everything)})")
+            f"mechanism is under-driven: mobility W = 3*{n} - 2*{p5} - {p4} = {w} but "
+            f"{drivers} given: give {w} drivers, one per degree of freedom "
+            f"({_describe(mech, everything)})")
+    if w < nd:
+        raise StructureError(
+            f"mechanism is over-driven: mobility W = 3*{n} - 2*{p5} - {p4} = {w} but "
+            f"{drivers} given: give {w} driver{'s' if w > 1 else ''} "
+            f"({_describe(mech, everything)})")
     known = {mech.frame.name}
     unknown = list(mech.body_names[1:])
     groups: list[Group] = []
@@ -263,12 +280,13 @@ def _make_group(mech: Mechanism, combo: tuple[str, ...], js: list[Joint],
     order = [b for b in mech.body_names if b in combo]
     ext = [j for j in js if not (j.a in combo and j.b in combo)]
     internal = [j for j in js if j.a in combo and j.b in combo]
-    if len(order) == 1 and any(j.name == mech.driver.joint for j in js) and len(js) == 1:
+    driven = _driven(mech)
+    if len(order) == 1 and any(j.name in driven for j in js) and len(js) == 1:
         return Group("driver", tuple(order), (js[0].name,), (js[0].name,), 1, 1, js[0].name)
     kind = "newton"
     key = order[0]
     joints = [j.name for j in js]
-    drv = any(j.name == mech.driver.joint for j in js)
+    drv = any(j.name in driven for j in js)
     if len(order) == 2 and len(js) == 3 and len(internal) == 1 and not drv:
         b1, b2 = order
         e1 = [j for j in ext if b1 in (j.a, j.b)]
@@ -322,9 +340,14 @@ class Plan:
     groups : tuple of PlanGroup
         The groups in solution order.
     driver : ResolvedJoint
-        The driver's joint.
+        The (first) driver's joint.
     driver_kind : str
-        ``"crank"`` (a torque about a pivot) or ``"linear"`` (a force along a guide).
+        ``"crank"`` (a torque about a pivot) or ``"linear"`` (a force along a guide): the first
+        driver's.
+    drivers : tuple of ResolvedJoint
+        Every driver's joint, in the order of ``Mechanism.drivers`` (``drive_index`` 0, 1, ...).
+    driver_kinds : tuple of str
+        Their kinds.
     length_scale : float
         The largest point coordinate [m] (at least 1 mm): the scale of Newton's tolerance and
         of the singularity tests.
@@ -339,6 +362,8 @@ class Plan:
     driver_kind: str
     length_scale: float
     newton: bool
+    drivers: tuple[ResolvedJoint, ...] = ()
+    driver_kinds: tuple[str, ...] = ()
 
     @property
     def nb(self) -> int:
@@ -356,17 +381,21 @@ def compile_plan(mech: Mechanism) -> Plan:
     """The plan of ``mech``: its structure with joints and bodies resolved to indices and local
     geometry (raises StructureError as :func:`analyse`)."""
     index = mech.index
+    drive_index = {d.joint: i for i, d in enumerate(mech.drivers)}
     resolved: dict[str, ResolvedJoint] = {}
     for k, j in enumerate(mech.joints):
         qa, pb, ang = j.local_geometry(mech.body(j.a), mech.body(j.b))
         resolved[j.name] = ResolvedJoint(j, k, index[j.a], index[j.b], qa, pb, ang,
                                          (float(np.cos(ang)), float(np.sin(ang))),
-                                         j.name == mech.driver.joint)
+                                         j.name in drive_index, drive_index.get(j.name, -1))
     groups = tuple(
         PlanGroup(g, g.kind, g.key, tuple(index[b] for b in g.bodies),
                   tuple(resolved[n] for n in g.joints),
                   tuple(mech.body(b).guess for b in g.bodies))
         for g in mech.structure.groups)
+    first = mech.drivers[0]
     return Plan(mech.body_names, tuple(resolved[j.name] for j in mech.joints), groups,
-                resolved[mech.driver.joint], mech.driver.kind, length_scale(mech),
-                any(g.kind == "newton" for g in groups))
+                resolved[first.joint], first.kind, length_scale(mech),
+                any(g.kind == "newton" for g in groups),
+                tuple(resolved[d.joint] for d in mech.drivers),
+                tuple(d.kind for d in mech.drivers))

@@ -127,7 +127,9 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
         a = "ground" if j.a == ground else j.a
         b = "ground" if j.b == ground else j.b
         out.append(SpatialJoint(j.name, a, b, **kw))
-    return SpatialModel(tuple(b.name for b in mech.bodies), tuple(out), mech.driver.joint)
+    drivers = tuple(d.joint for d in mech.drivers)
+    return SpatialModel(tuple(b.name for b in mech.bodies), tuple(out),
+                        drivers[0] if len(drivers) == 1 else drivers)
 
 
 def geometry(mech: Any, kin: Any) -> SpatialGeometry:
@@ -259,7 +261,7 @@ def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = 
                       out_of_plane=out_of_plane)
     dev = deviation_array(model, deviations, _ground(mech))
     res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
-    du = mech.driver.field_units  # a linear driver: positions are slides [m], Q a force [N]
+    du = mech.driver_units  # a linear driver: positions are slides [m], Q a force [N]
     units = {k: du[k] for k in ("phi1", "Q")}
     if any(res.units.get(k) != v for k, v in units.items()):
         res._relabel_units(**units)
