@@ -213,3 +213,19 @@ def _rates(f, p, h=2e-3):
     d1 = (v[0] - 8 * v[1] + 8 * v[3] - v[4]) / (12 * h)
     d2 = (-v[0] + 16 * v[1] - 30 * v[2] + 16 * v[3] - v[4]) / (12 * h * h)
     return v[2], d1, d2
+
+
+def sine_mechanism(alpha: float, f_slot: float, f_guide: float, L1: float = 0.1) -> Mechanism:
+    """Paper 000's working mechanism: crank AB about the frame's A, the crank pin B in a
+    straight slot at ``alpha`` to the guide, cut in the slider (ram), which moves along x on
+    the frame's guide; pin friction neglected (a sliding block, radius 0), guide a point
+    contact (length 0), as in the closed form's model."""
+    frame = Body("frame", {"A": (0.0, 0.0)})
+    crank = bar("crank", "A", "B", L1)
+    slider = Body("slider", {"G": (0.0, 0.0)})
+    joints = (Revolute("A", "frame", "crank"),
+              PinInSlot("S", "slider", "crank", angle=alpha, through=(0.0, 0.0), point="B",
+                        friction=f_slot),
+              Prismatic("G", "frame", "slider", angle=0.0, through="A", point="G",
+                        friction=f_guide))
+    return Mechanism(frame, (crank, slider), joints, Crank("A", 1.0))

@@ -92,6 +92,7 @@ from linkwork.planar.model import (
     fourbar,
     fourbar_mechanism,
 )
+from linkwork.planar.self_locking import WorkingRange, working_range
 from linkwork.planar.structure import Group, Structure, analyse, mobility
 
 __all__ = [
@@ -111,6 +112,7 @@ __all__ = [
     "Prismatic",
     "Revolute",
     "Structure",
+    "WorkingRange",
     "analyse",
     "bar",
     "crank_slider",
@@ -123,4 +125,5 @@ __all__ = [
     "kinetic_energy",
     "mobility",
     "transmission_angles",
+    "working_range",
 ]
