@@ -356,8 +356,35 @@ def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]
     k = int(free.sum())
     m = max(4, math.ceil(math.log2(max(n, 2))))
     U = qmc.Sobol(max(k, 1), scramble=True, seed=seed).random_base2(m)[:n]
-    X = np.tile(tk.lo, (len(U), 1))
-    X[:, free] = tk.lo[free] + U[:, :k] * (tk.hi - tk.lo)[free]
+    # half the sample in the bounds cut to the targets' scale (default_bounds), where wide
+    # bounds (the literature's 50 times the path) would leave few useful candidates; half in
+    # the whole box, link lengths log-uniform where the bounds span more than a decade
+    d = default_bounds(tk.points)
+    near_lo = np.maximum(tk.lo, [d[k][0] for k in PARAMS])
+    near_hi = np.minimum(tk.hi, [d[k][1] for k in PARAMS])
+    near = (near_hi >= near_lo).all()
+    lo = np.tile(tk.lo, (len(U), 1))
+    hi = np.tile(tk.hi, (len(U), 1))
+    if near:
+        lo[::2], hi[::2] = near_lo, near_hi
+    X = lo.copy()
+    X[:, free] = lo[:, free] + U[:, :k] * (hi - lo)[:, free]
+    logs = np.zeros(9, dtype=bool)
+    logs[:4] = free[:4] & (tk.hi[:4] > 10 * tk.lo[:4])
+    rows = np.arange(len(U)) % 2 == 1 if near else np.ones(len(U), dtype=bool)
+    for i in np.flatnonzero(logs):
+        u = U[rows, int(free[:i].sum())]
+        X[rows, i] = tk.lo[i] * (tk.hi[i] / tk.lo[i]) ** u
+    if (tk.grashof or tk.closed) and free[1]:
+        # crank-rockers by construction: the crank r2 drawn below the largest value that keeps
+        # it the shortest link and r2 + l < p + q (the others as drawn); where even its lower
+        # bound breaks that, the candidate stays as drawn and is rejected by the screening
+        others = X[:, [0, 2, 3]]
+        cap = np.minimum(others.min(axis=1), others.sum(axis=1) - 2 * others.max(axis=1))
+        ub = np.minimum(tk.hi[1], cap * (1 - 1e-9))
+        ok = ub > tk.lo[1]
+        u2 = U[:, int(free[:1].sum())]
+        X[ok, 1] = tk.lo[1] + u2[ok] * (ub[ok] - tk.lo[1])
     br = np.where(np.arange(len(U)) % 2 == 0, 1.0, -1.0)
     return {"X": X, "branch": br}
 
@@ -566,7 +593,7 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
          closed: bool = False, seed: int | None = None, client: Any = None,
          progress: Any = True, n_candidates: int = 2**16, n_samples: int = 120,
          n_refine: int = 24, n_designs: int = 5, chunk_size: int = 2048,
-         max_nfev: int = 400) -> SynthesisResult:
+         max_nfev: int = 1000) -> SynthesisResult:
     """Four-bars whose coupler point passes through ``points``, defect-free, best first.
 
     Parameters
@@ -643,10 +670,25 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
     nres = 0
     rejected_refined = dict.fromkeys(DEFECTS, 0)
     last_checks: list[tuple[str, dict[str, Any]]] = []
+    # successive halving: every start refined briefly, the better third then to convergence
+    first = []
     for i in starts:
         br = float(res["branch"][i])
-        X, th, nf = _refine(res["X"][i], br, res["theta2"][i], tk, int(max_nfev))
+        X, th, nf = _refine(res["X"][i], br, res["theta2"][i], tk, max(int(max_nfev) // 4, 10))
         nres += nf
+        r = _residuals(np.concatenate([X[tk.free], [th[0]], np.abs(np.diff(th))])[None, :]
+                       if tk.timing is None else X[tk.free][None, :], X, tk.free, tk,
+                       1.0 if np.diff(th).sum() >= 0 else -1.0, br, 1e4)
+        first.append((float(np.sum(r ** 2)), X, th, br))
+    first.sort(key=lambda f: f[0])
+    keep_n = max(3, len(first) // 3)
+    refined = []
+    for _, X, th, br in first[:keep_n]:
+        X, th, nf = _refine(X, br, th, tk, int(max_nfev))
+        nres += nf
+        refined.append((X, th, br))
+    refined += [(X, th, br) for _, X, th, br in first[keep_n:]]
+    for X, th, br in refined:
         params: dict[str, Any] = {k: float(v) for k, v in zip(PARAMS, X, strict=True)}
         params["theta2"] = [float(v) for v in th]
         defect, checks = check_design(params, int(br), tk)
