@@ -416,7 +416,7 @@ def _residuals(V: np.ndarray, x9: np.ndarray, free: np.ndarray, tk: PathTask, s:
     if tk.grashof or tk.closed:
         pen.append(weight * np.maximum(_crank_rocker_margin(X) + 1e-7 * L, 0.0)[:, None])
         if tk.mu_min is not None:
-            pen.append(wl * np.maximum(_cos_mu_extremes(X) - math.cos(tk.mu_min) + 1e-9,
+            pen.append(wl * np.maximum(_cos_mu_extremes(X) - math.cos(tk.mu_min) + 1e-7,
                                        0.0)[:, None])
     elif tk.mu_min is not None:
         pen.append(wl * np.maximum(np.abs(cos_mu) - math.cos(tk.mu_min) + 1e-9, 0.0))
@@ -549,10 +549,13 @@ def check_design(params: Mapping[str, Any], branch: int, tk: PathTask
     i3, i4 = mech.index["coupler"], mech.index["rocker"]
     mu = np.abs(np.mod(kin.theta[i3, n:] - kin.theta[i4, n:] + math.pi, TWO_PI) - math.pi)
     mu = np.minimum(mu, math.pi - mu)
-    checks["min_transmission_angle"] = float(mu.min())
-    if not mu.min() > 1e-6:
+    mu_min = float(mu.min())
+    if rotates:  # a crank-rocker's extremes are at theta2 = 0 and pi: exact, not sampled
+        mu_min = min(mu_min, float(np.arccos(min(float(_cos_mu_extremes(X)), 1.0))))
+    checks["min_transmission_angle"] = mu_min
+    if not mu_min > 1e-6:
         return "branch", checks
-    if tk.mu_min is not None and mu.min() < tk.mu_min - 1e-9:
+    if tk.mu_min is not None and mu_min < tk.mu_min:
         return "transmission", checks
     return None, checks
 
