@@ -24,6 +24,7 @@ References
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -41,7 +42,8 @@ from linkwork.results import Result
 if TYPE_CHECKING:
     from linkwork.plot import Figure
 
-__all__ = ["PARAMS", "FourbarDesign", "LinkMasses", "SynthesisResult", "coupler_point"]
+__all__ = ["PARAMS", "FourbarDesign", "LinkMasses", "SynthesisResult", "coupler_point",
+           "write_planar_toml"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -233,66 +235,22 @@ class FourbarDesign:
 
         Plain numbers are SI (m, rad, kg) at full precision; the ``[analysis]`` range is a full
         turn of the crank from the first point when it rotates fully, else the crank's range
-        from the first to the last point (``n`` positions).
+        from the first to the last point (``n`` positions). Comments give the literature
+        parameters, the crank angles at the points and the error.
         """
         p = self.params
-        o2, o4 = self.pivots()
-        m = self.masses
-        th = self.run_range(2)
-        t0 = float(p["theta0"])
-        start, stop = t0 + float(th[0]), t0 + float(th[-1])
-        w = self.omega1
-        if stop < start:  # the crank turns clockwise through the points
-            start, stop, w = stop, start, -w
-        title = name or "four-bar synthesised by linkwork"
-
-        def num(x: float) -> str:
-            return repr(float(x))
-
-        def body_mass(i: int) -> list[str]:
-            if m is None:
-                return []
-            return [f"mass = {num(m.mass[i])}",
-                    f"com = [{num(m.com[i][0])}, {num(m.com[i][1])}]",
-                    f"inertia = {num(m.inertia[i])}"]
-
-        t2 = ", ".join(num(v) for v in self.theta2)
-        lines = [
-            "# A four-bar synthesised by linkwork (linkwork.synthesis); plain numbers are SI.",
-            f"# literature parameters: r1 = {num(p['r1'])}, r2 = {num(p['r2'])}, "
-            f"r3 = {num(p['r3'])}, r4 = {num(p['r4'])}, rcx = {num(p['rcx'])}, "
-            f"rcy = {num(p['rcy'])}, x0 = {num(p['x0'])}, y0 = {num(p['y0'])}, "
-            f"theta0 = {num(t0)}, branch = {int(self.branch)}",
-            f"# theta2 (crank angles from the frame line at the points) = [{t2}]",
-            f"# error (sum of squared distances to the targets) = {num(self.error)} m^2",
-            'type = "planar"',
-            f"name = {_toml_str(title)}",
-            "",
-            "[frame]",
-            f"points = {{ O2 = [{num(o2[0])}, {num(o2[1])}], O4 = [{num(o4[0])}, {num(o4[1])}] }}",
-            "",
-            "[[body]]", 'name = "crank"', 'start = "O2"', 'end = "A"',
-            f"length = {num(p['r2'])}", *body_mass(0),
-            "",
-            "[[body]]", 'name = "coupler"',
-            f"points = {{ A = [0.0, 0.0], B = [{num(p['r3'])}, 0.0], "
-            f"P = [{num(p['rcx'])}, {num(p['rcy'])}] }}", *body_mass(1),
-            "",
-            "[[body]]", 'name = "rocker"', 'start = "O4"', 'end = "B"',
-            f"length = {num(p['r4'])}", *body_mass(2),
-            "",
-        ]
-        for jn, a, b in (("O2", "frame", "crank"), ("A", "crank", "coupler"),
-                         ("B", "coupler", "rocker"), ("O4", "frame", "rocker")):
-            lines += ["[[joint]]", f'name = "{jn}"', 'type = "revolute"', f'a = "{a}"',
-                      f'b = "{b}"', ""]
-        lines += ["[driver]", 'type = "crank"', 'joint = "O2"', f"omega1 = {num(w)}", "eps1 = 0",
-                  "", "[analysis]", f"start = {num(start)}", f"stop = {num(stop)}", f"n = {n}",
-                  f"branches = {{ B = {int(self.branch)} }}", ""]
-        out = Path(path)
-        with atomic_path(out) as tmp:
-            tmp.write_text("\n".join(lines), encoding="utf-8")
-        return out
+        th = self.run_range(2) + float(p["theta0"])
+        t2 = ", ".join(_num(v) for v in self.theta2)
+        comments = (
+            "A four-bar synthesised by linkwork (linkwork.synthesis); plain numbers are SI.",
+            "literature parameters: " + ", ".join(f"{k} = {_num(p[k])}" for k in PARAMS)
+            + f", branch = {int(self.branch)}",
+            f"theta2 (crank angles from the frame line at the points) = [{t2}]",
+            f"error (sum of squared distances to the targets) = {_num(self.error)} m^2")
+        return write_planar_toml(self.mechanism(), path,
+                                 name=name or "four-bar synthesised by linkwork",
+                                 start=float(th[0]), stop=float(th[-1]), n=n,
+                                 comments=comments)
 
     def summary(self) -> dict[str, Any]:
         """Parameters, branch, error, checks and forces as plain values (JSON-able)."""
@@ -307,7 +265,61 @@ class FourbarDesign:
 
 
 def _toml_str(s: str) -> str:
-    return '"' + s.replace("\\", "\\\\").replace('"', '\\"').replace("\n", " ") + '"'
+    return json.dumps(s)  # a TOML basic string is a JSON string (escapes included)
+
+
+def _num(x: float) -> str:
+    return repr(float(x))
+
+
+def _pts(points: Mapping[str, Any]) -> str:
+    return "{ " + ", ".join(f"{k} = [{_num(v[0])}, {_num(v[1])}]" for k, v in points.items()) \
+        + " }"
+
+
+def write_planar_toml(mech: Mechanism, path: str | Path, *, name: str, start: float,
+                      stop: float, n: int = 361, comments: tuple[str, ...] = ()) -> Path:
+    """Write an engine mechanism of revolute and prismatic joints with a crank driver as a
+    ``planar`` file (SI plain numbers, full precision) that ``linkwork analyze`` reads.
+
+    Every body is written as a general body with its named points, mass, centre of mass and
+    inertia; the ``[analysis]`` range runs from ``start`` to ``stop`` [rad] of the driver
+    (``stop < start``: written the other way round with the driver's speed negated, the same
+    positions)."""
+    w = mech.driver.omega1
+    if stop < start:
+        start, stop, w = stop, start, -w
+    lines = [f"# {c}" for c in comments]
+    lines += ['type = "planar"', f"name = {_toml_str(name)}", "", "[frame]",
+              f"points = {_pts(mech.frame.points)}", ""]
+    for b in mech.bodies:
+        lines += ["[[body]]", f"name = {_toml_str(b.name)}", f"points = {_pts(b.points)}",
+                  f"mass = {_num(b.mass)}", f"com = [{_num(b.com[0])}, {_num(b.com[1])}]",
+                  f"inertia = {_num(b.inertia)}", ""]
+    for j in mech.joints:
+        lines += ["[[joint]]", f"name = {_toml_str(j.name)}"]
+        if j.code == "R":
+            lines += ['type = "revolute"', f"a = {_toml_str(j.a)}", f"b = {_toml_str(j.b)}"]
+            pa, pb = getattr(j, "point_a", None), getattr(j, "point_b", None)
+            if pa:
+                lines.append(f"point_a = {_toml_str(pa)}")
+            if pb:
+                lines.append(f"point_b = {_toml_str(pb)}")
+        else:
+            qa, _, ang = mech.joint_geometry(j)
+            lines += ['type = "prismatic"', f"a = {_toml_str(j.a)}", f"b = {_toml_str(j.b)}",
+                      f"angle = {_num(ang)}", f"through = [{_num(qa[0])}, {_num(qa[1])}]",
+                      f"point = {_toml_str(getattr(j, 'point', None) or j.name)}",
+                      f"rel_angle = {_num(getattr(j, 'rel_angle', 0.0))}"]
+        lines.append("")
+    br = ", ".join(f"{k} = {int(v)}" for k, v in mech.branches.items())
+    lines += ["[driver]", 'type = "crank"', f"joint = {_toml_str(mech.driver.joint)}",
+              f"omega1 = {_num(w)}", "eps1 = 0", "", "[analysis]", f"start = {_num(start)}",
+              f"stop = {_num(stop)}", f"n = {int(n)}", f"branches = {{ {br} }}", ""]
+    out = Path(path)
+    with atomic_path(out) as tmp:
+        tmp.write_text("\n".join(lines), encoding="utf-8")
+    return out
 
 
 @dataclass(frozen=True)
