@@ -57,7 +57,7 @@ def test_a_file_that_fails_validation_writes_no_report(tmp_path, capsys):
 
 
 def test_partly_assembled_mechanism_is_reported_with_a_note(tmp_path, capsys):
-    path = ROOT / "tests" / "data" / "fourbar_partial.toml"
+    path = ROOT / "tests" / "data" / "partial" / "fourbar_partial.toml"
     assert main(["report", str(path), "-o", str(tmp_path)]) == 0
     out = capsys.readouterr().out
     assert "cannot be assembled at 157 of 361 positions: [102, 258 deg]" in " ".join(out.split())

@@ -21,7 +21,7 @@ from linkwork.studies import planar as study_planar
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))
-PARTIAL = ROOT / "tests" / "data" / "fourbar_partial.toml"
+PARTIAL = ROOT / "tests" / "data" / "partial" / "fourbar_partial.toml"
 
 #: The largest page of a bundled example (the six-bar at 721 positions is about 1.0 MB).
 MAX_BYTES = 2_500_000
