@@ -69,6 +69,14 @@ from linkwork.planar.dynamics import (
     inverse_dynamics,
     kinetic_energy,
 )
+from linkwork.planar.forces import (
+    AppliedLoad,
+    Damper,
+    Drag,
+    LoadDiagram,
+    SlideForce,
+    Spring,
+)
 from linkwork.planar.kinematics import (
     DeadCentre,
     Kinematics,
@@ -96,21 +104,27 @@ from linkwork.planar.self_locking import WorkingRange, working_range
 from linkwork.planar.structure import Group, Structure, analyse, mobility
 
 __all__ = [
+    "AppliedLoad",
     "Body",
     "BodyTorque",
     "Crank",
+    "Damper",
     "DeadCentre",
+    "Drag",
     "Dynamics",
     "Group",
     "Joint",
     "Kinematics",
     "Linear",
+    "LoadDiagram",
     "Mechanism",
     "PinInSlot",
     "PointForce",
     "PointMotion",
     "Prismatic",
     "Revolute",
+    "SlideForce",
+    "Spring",
     "Structure",
     "WorkingRange",
     "analyse",

@@ -21,7 +21,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from _mechanisms import BUILDERS, sine_mechanism
+from _mechanisms import BUILDERS, kinetic_energy_rate, sine_mechanism, with_friction
 
 from linkwork.errors import ParameterError
 from linkwork.models import sine
@@ -43,20 +43,6 @@ from linkwork.planar import (
 FIELDS = ("fx", "fy", "mz", "px", "py", "Q", "shaking_fx", "shaking_fy", "shaking_m", "T")
 
 
-def with_friction(mech: Mechanism, f_rev: float = 0.08, r: float = 0.004, f_line: float = 0.12,
-                  length: float = 0.3, pin: float = 0.003, torque: float = 0.0) -> Mechanism:
-    """``mech`` with friction in every joint."""
-    js = []
-    for j in mech.joints:
-        if isinstance(j, Revolute):
-            js.append(dataclasses.replace(j, friction=f_rev, radius=r, friction_torque=torque))
-        elif isinstance(j, Prismatic):
-            js.append(dataclasses.replace(j, friction=f_line, length=length))
-        else:
-            js.append(dataclasses.replace(j, friction=f_line, radius=pin))
-    return Mechanism(mech.frame, mech.bodies, tuple(js), mech.driver, mech.branches)
-
-
 def _loads(mech: Mechanism, kin) -> list[PointForce]:
     """A load on the last body against its motion, and a constant one on the first."""
     last = mech.bodies[-1].name
@@ -67,13 +53,7 @@ def _loads(mech: Mechanism, kin) -> list[PointForce]:
 
 def _power_balance(mech, kin, dyn, loads, g):
     """Residual of Q omega1 = dT/dt - P_loads - P_gravity + sum friction_power, and its scale."""
-    dT = np.zeros(kin.n)
-    pl = np.zeros(kin.n)
-    for b in mech.bodies:
-        i = mech.index[b.name]
-        c = kin.point(b.name, "com")
-        dT += b.mass * (c.ax * c.vx + c.ay * c.vy) + b.inertia * kin.omega[i] * kin.eps[i]
-        pl += b.mass * (g[0] * c.vx + g[1] * c.vy)
+    dT, pl = kinetic_energy_rate(mech, kin, g)
     for ld in loads:
         p = kin.point(ld.body, ld.point)
         pl += np.asarray(ld.fx) * p.vx + np.asarray(ld.fy) * p.vy
