@@ -106,7 +106,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import Annotated, Any, Literal, Self
+from typing import TYPE_CHECKING, Annotated, Any, Literal, Self
 
 import numpy as np
 import pydantic
@@ -314,6 +314,19 @@ class DriverSection(FileModel):
     def speeds(self) -> tuple[float, float]:
         """(speed, acceleration) of the driver [rad/s, rad/s^2, or m/s, m/s^2]."""
         return (self.omega1, self.eps1) if self.type == "crank" else (self.v1, self.a1)
+
+
+class DriverTables(list):
+    """Several ``[[driver]]`` tables (``PlanarFile.driver`` then holds them): a list whose
+    one-driver keys (``type``, ``joint``, ``omega1``, ...) raise a ParameterError naming the
+    drivers, so that code written for one driver refuses several clearly."""
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise ParameterError("driver", [d.joint for d in self],
+                             f"the file has {len(self)} [[driver]] tables; this needs one "
+                             f"driver (its '{name}')")
 
 
 def _driver_tables(value: Any) -> str:
@@ -735,9 +748,12 @@ class PlanarFile(FileModel):
     body: list[BodySection] = Field(default_factory=list)
     joint: list[JointSection] = Field(default_factory=list)
     sketch: SketchSection | None = None
-    driver: Annotated[Annotated[DriverSection, Tag("[driver]")]
-                      | Annotated[list[DriverSection], Tag("[[driver]]")],
-                      Discriminator(_driver_tables)]
+    if TYPE_CHECKING:  # the one [driver] for the code written for one (several: DriverTables)
+        driver: DriverSection
+    else:
+        driver: Annotated[Annotated[DriverSection, Tag("[driver]")]
+                          | Annotated[list[DriverSection], Tag("[[driver]]")],
+                          Discriminator(_driver_tables)]
     analysis: AnalysisSection = Field(default_factory=lambda: AnalysisSection())
     load: list[LoadSection] = Field(default_factory=list)
     balance: BalanceSection = Field(default_factory=lambda: BalanceSection())
@@ -780,6 +796,15 @@ class PlanarFile(FileModel):
             raise FileFormatError(str(path), "analysis.n", spatial_positions_limit(n)
                                   + f" (got {n}); set [spatial] positions to resample the "
                                   "range for the reactions")
+
+    @model_validator(mode="after")
+    def _as_driver_tables(self) -> PlanarFile:
+        """Several ``[[driver]]``: a :class:`DriverTables` list (one-driver keys refused by
+        name)."""
+        d: Any = self.driver
+        if isinstance(d, list):
+            self.__dict__["driver"] = DriverTables(d)
+        return self
 
     @model_validator(mode="after")
     def _one_description(self) -> PlanarFile:
@@ -825,7 +850,8 @@ class PlanarFile(FileModel):
     @property
     def drivers(self) -> list[DriverSection]:
         """The ``[driver]`` table, or each ``[[driver]]`` of several, in order."""
-        return list(self.driver) if isinstance(self.driver, list) else [self.driver]
+        d: Any = self.driver
+        return list(d) if isinstance(d, list) else [d]
 
     def mechanism(self) -> Mechanism:
         """The engine model described by the file (built once: an immutable Mechanism whose
@@ -844,7 +870,7 @@ class PlanarFile(FileModel):
         frame = Body(self.frame.name, self.frame.points)
         bodies = tuple(b.build() for b in self.body)
         joints = tuple(j.build() for j in self.joint)
-        drivers = tuple(d.build() for d in self.drivers)
+        drivers: Any = tuple(d.build() for d in self.drivers)
         mech = Mechanism(frame, bodies, joints, drivers[0] if len(drivers) == 1 else drivers,
                          dict(self.analysis.branches))
         self._built = (sources, mech)

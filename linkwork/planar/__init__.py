@@ -69,6 +69,14 @@ from linkwork.planar.dynamics import (
     inverse_dynamics,
     kinetic_energy,
 )
+from linkwork.planar.forces import (
+    AppliedLoad,
+    Damper,
+    Drag,
+    LoadDiagram,
+    SlideForce,
+    Spring,
+)
 from linkwork.planar.kinematics import (
     DeadCentre,
     Kinematics,
@@ -93,14 +101,18 @@ from linkwork.planar.model import (
     fourbar,
     fourbar_mechanism,
 )
+from linkwork.planar.self_locking import WorkingRange, working_range
 from linkwork.planar.sketch import LinkMass, Slider, Slot, sketch
 from linkwork.planar.structure import Group, Structure, analyse, mobility
 
 __all__ = [
+    "AppliedLoad",
     "Body",
     "BodyTorque",
     "Crank",
+    "Damper",
     "DeadCentre",
+    "Drag",
     "Drawing",
     "Dynamics",
     "Group",
@@ -108,15 +120,19 @@ __all__ = [
     "Kinematics",
     "Linear",
     "LinkMass",
+    "LoadDiagram",
     "Mechanism",
     "PinInSlot",
     "PointForce",
     "PointMotion",
     "Prismatic",
     "Revolute",
+    "SlideForce",
     "Slider",
     "Slot",
+    "Spring",
     "Structure",
+    "WorkingRange",
     "analyse",
     "bar",
     "crank_slider",
@@ -130,4 +146,5 @@ __all__ = [
     "mobility",
     "sketch",
     "transmission_angles",
+    "working_range",
 ]

@@ -403,7 +403,7 @@ def _assembly_error(mech: Mechanism, q2: Arr, mask: Arr, what: str) -> AssemblyE
     """The AssemblyError for the positions ``mask``: its ranges of the driver coordinate (one
     driver), or of the position index with each driver's values there (several drivers)."""
     if mech.n_drivers == 1:
-        coordinate, unit = mech.driver.coordinate  # type: ignore[union-attr]
+        coordinate, unit = mech.driver.coordinate
         return AssemblyError(what, angle_ranges(q2[0], mask), driver=coordinate, unit=unit)
     ranges = angle_ranges(np.arange(q2.shape[1]), mask)
     parts = []

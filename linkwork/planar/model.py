@@ -30,7 +30,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from types import MappingProxyType
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
@@ -222,6 +222,19 @@ class Linear:
         return self.a1
 
 
+class Drivers(tuple):
+    """The drivers of a mechanism with several (``Mechanism.driver`` then holds them): a tuple
+    whose one-driver attributes (``joint``, ``kind``, ``omega1``, ...) raise a ParameterError
+    naming the drivers, so that code written for one driver refuses several clearly."""
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise ParameterError("driver", [d.joint for d in self],
+                             f"has {len(self)} drivers; this needs one driver (its '{name}'): "
+                             "Mechanism.drivers lists them")
+
+
 @dataclass(frozen=True)
 class Drawing:
     """The drawn position a mechanism was described from (:func:`linkwork.planar.sketch`).
@@ -275,7 +288,10 @@ class Mechanism:
     frame: Body
     bodies: tuple[Body, ...]
     joints: tuple[Joint, ...]
-    driver: Crank | Linear | tuple[Crank | Linear, ...]
+    if TYPE_CHECKING:  # one driver for the code written for one (several: a Drivers tuple)
+        driver: Crank | Linear
+    else:
+        driver: Crank | Linear | tuple[Crank | Linear, ...]
     branches: Mapping[str, int] = field(default_factory=dict)
     drawing: Drawing | None = None
 
@@ -300,7 +316,8 @@ class Mechanism:
             drivers = tuple(self.driver)
             if not drivers:
                 raise ParameterError("driver", self.driver, "must name at least one driver")
-            object.__setattr__(self, "driver", drivers[0] if len(drivers) == 1 else drivers)
+            object.__setattr__(self, "driver",
+                               drivers[0] if len(drivers) == 1 else Drivers(drivers))
         for d in self.drivers:
             if not isinstance(d, Crank | Linear):
                 raise ParameterError("driver", d, "must be Crank or Linear (or a sequence of "
@@ -347,7 +364,8 @@ class Mechanism:
     @property
     def drivers(self) -> tuple[Crank | Linear, ...]:
         """The drivers, in order (one or more)."""
-        return self.driver if isinstance(self.driver, tuple) else (self.driver,)
+        d: Any = self.driver
+        return tuple(d) if isinstance(d, tuple) else (d,)
 
     @property
     def n_drivers(self) -> int:

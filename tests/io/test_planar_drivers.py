@@ -18,7 +18,7 @@ from linkwork.errors import FileFormatError
 from linkwork.planar import inverse_dynamics, kinematics
 from linkwork.studies import planar as study
 
-FILE = Path(__file__).resolve().parents[1] / "data" / "five_bar_two_cranks.toml"
+FILE = Path(__file__).resolve().parents[1] / "data" / "drivers" / "five_bar_two_cranks.toml"
 
 
 def test_two_crank_file_columns_are_the_engines():
