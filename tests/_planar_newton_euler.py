@@ -312,3 +312,16 @@ PHI7 = np.array([0.05, 0.9, 1.7, 2.6, 3.5, 4.6, 5.9])
 
 def _fb_full():
     return np.linspace(0, 2 * np.pi, 361)
+
+
+def energy_rate(mech, kin, g):
+    """dT/dt = sum m v_C.a_C + I w eps and the power of gravity sum m g.v_C, from the
+    kinematics alone."""
+    dT = np.zeros(kin.n)
+    p_g = np.zeros(kin.n)
+    for b in mech.bodies:
+        c = kin.point(b.name, "com")
+        i = mech.index[b.name]
+        dT += b.mass * (c.vx * c.ax + c.vy * c.ay) + b.inertia * kin.omega[i] * kin.eps[i]
+        p_g += b.mass * (g[0] * c.vx + g[1] * c.vy)
+    return dT, p_g

@@ -355,6 +355,15 @@ class SlotSection(FileModel):
     along: tuple[str, str] | None = None
 
 
+class CylinderSection(FileModel):
+    """``[sketch.cylinders.NAME]``: a linear actuator between two drawn pivots
+    (:class:`linkwork.planar.Cylinder`): bodies ``NAME_barrel``, ``NAME_rod``, its length the
+    slide of the prismatic pair ``NAME``."""
+
+    start: str
+    end: str
+
+
 class LinkMassSection(FileModel):
     """``[sketch.masses.LINK]``: mass, centre of mass (a drawn point's name or world [x, y] as
     drawn), centroidal inertia (:class:`linkwork.planar.LinkMass`)."""
@@ -375,19 +384,22 @@ class SketchSection(FileModel):
     links: dict[str, list[str]]
     sliders: dict[str, SliderSection] = Field(default_factory=dict)
     slots: dict[str, SlotSection] = Field(default_factory=dict)
+    cylinders: dict[str, CylinderSection] = Field(default_factory=dict)
     masses: dict[str, LinkMassSection | Mass] = Field(default_factory=dict)
 
     def build(self, drivers: list[DriverSection]) -> Mechanism:
         """The mechanism of the drawing (errors name the ``sketch.`` key)."""
+        linear = {*self.sliders, *self.cylinders}
         for i, d in enumerate(drivers):
             key = "driver" if len(drivers) == 1 else f"driver.{i}"
-            if (d.type == "linear") != (d.joint in self.sliders):
+            if (d.type == "linear") != (d.joint in linear):
                 raise ParameterError(f"{key}.type", d.type,
-                                     f"must be {'linear' if d.joint in self.sliders else 'crank'}"
+                                     f"must be {'linear' if d.joint in linear else 'crank'}"
                                      f" for joint {d.joint!r}, " + (
-                                         "a slider of the sketch" if d.joint in self.sliders
-                                         else "which is not a slider of the sketch (a linear "
-                                         "driver drives a [sketch.sliders] entry)"))
+                                         "a slider or cylinder of the sketch"
+                                         if d.joint in linear else "which is not a slider or "
+                                         "cylinder of the sketch (a linear driver drives a "
+                                         "[sketch.sliders] or [sketch.cylinders] entry)"))
         masses = {k: (v.model_dump() if isinstance(v, LinkMassSection) else v)
                   for k, v in self.masses.items()}
         try:
@@ -395,6 +407,7 @@ class SketchSection(FileModel):
                           drivers=[d.sketch_spec() for d in drivers],
                           sliders={k: v.model_dump() for k, v in self.sliders.items()},
                           slots={k: v.model_dump() for k, v in self.slots.items()},
+                          cylinders={k: v.model_dump() for k, v in self.cylinders.items()},
                           masses=masses, frame=self.frame,
                           speeds={d.joint: d.speeds() for d in drivers})
         except ParameterError as exc:

@@ -380,7 +380,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     plan = mech.plan
     for ji, rj in enumerate(plan.joints):
         pxr[ji], pyr[ji] = st.wpt(rj.ib, rj.pb)
-    if plan.newton:
+    if plan.global_reactions:
         fxr, fyr, mzr, Q = _global_reactions(plan, st, f, kin.valid)
     else:
         with np.errstate(all="ignore"):

@@ -18,10 +18,10 @@ import numpy as np
 from linkwork.errors import StructureError
 from linkwork.planar.joints import ResolvedJoint
 from linkwork.planar.state import Arr, State, Vec
-from linkwork.planar.structure import Plan, PlanGroup, length_scale
+from linkwork.planar.structure import CYLINDER, Plan, PlanGroup, length_scale
 
-__all__ = ["assemble_jacobian", "group_rows", "length_scale", "solve_driver", "solve_dyad",
-           "solve_group", "solve_newton", "solve_slot_group"]
+__all__ = ["assemble_jacobian", "group_rows", "length_scale", "solve_cylinder", "solve_driver",
+           "solve_dyad", "solve_group", "solve_newton", "solve_slot_group"]
 
 #: rows of a group with the indices of their joint's bodies a and b
 Rows = list[tuple[int, int, dict[str, Any]]]
@@ -217,8 +217,62 @@ def solve_group(plan: Plan, st: State, g: PlanGroup, branch: int, q: Arr) -> Non
         solve_slot_group(st, g, branch)
     elif g.kind == "newton":
         solve_newton(plan, st, g, q)
+    elif g.kind in CYLINDER:
+        solve_cylinder(st, g, branch, q, plan.body_names)
     else:
         solve_dyad(st, g, branch, plan.body_names)
+
+
+def solve_cylinder(st: State, g: PlanGroup, branch: int, q: Arr,
+                   body_names: tuple[str, ...]) -> None:
+    """A driven cylinder with the body X it moves (``cyl-RRR``, ``cyl-RRP``), in closed form.
+
+    For the given slide s of the cylinder's prismatic pair, its two bodies form one rigid
+    "virtual link" from the pivot A (hinged to a known body) to the pivot C (on X): the vector
+    from A to C in the frame of the pair's body a is ``qa + s u + R(rel) (p - pb)`` for a point
+    p of body b (or p itself on body a). C is the intersection of the circle about A with
+    radius |AC| and X's locus (a circle about its pivot, or a line along its guide), on the
+    branch of the dyad with the virtual link as first body (C on the left of A -> X's pivot;
+    further along the guide).
+    """
+    ra, rd, rc, rx = g.joints
+    c1, c2 = rd.ia, rd.ib
+    x = next(b for b in g.bodies if b not in (c1, c2))
+    s = q[rd.drive_index]
+    rel = rd.joint.rel_angle  # type: ignore[attr-defined]  # a prismatic pair's
+    cr, sr = np.cos(rel), np.sin(rel)
+    ux, uy = rd.u_loc
+    ox, oy = rd.qa[0] + s * ux, rd.qa[1] + s * uy  # body b's point pb, in body a's frame
+
+    def in_c1(body: int, p: tuple[float, float]) -> Vec:
+        if body == c1:
+            return np.full_like(s, p[0]), np.full_like(s, p[1])
+        dx, dy = p[0] - rd.pb[0], p[1] - rd.pb[1]
+        return ox + cr * dx - sr * dy, oy + sr * dx + cr * dy
+
+    ca = ra.ia if ra.ia in (c1, c2) else ra.ib  # the cylinder body hinged at A
+    a_loc = ra.qa if ca == ra.ia else ra.pb
+    A, _ = ra.joint.pivot(st, ra, ca)
+    cc = rc.ia if rc.ia in (c1, c2) else rc.ib  # the cylinder body hinged at C
+    c_loc = rc.qa if cc == rc.ia else rc.pb
+    x_loc = rc.pb if cc == rc.ia else rc.qa
+    A1 = in_c1(ca, a_loc)
+    C1 = in_c1(cc, c_loc)
+    vx, vy = C1[0] - A1[0], C1[1] - A1[1]
+    ell = np.hypot(vx, vy)
+    L2 = rx.joint.locus(st, rx, x, x_loc, body_names[x])
+    C = _intersect(st, ("circle", (A, ell, a_loc)), L2, branch)
+    _finish_side(st, x, L2[0], L2[1], x_loc, C)
+    th1 = np.arctan2(C[1] - A[1], C[0] - A[0]) - np.arctan2(vy, vx)
+    st.set_angle(c1, th1)
+    c, sn = st.C[c1], st.S[c1]
+    st.X[c1] = A[0] - (c * A1[0] - sn * A1[1])
+    st.Y[c1] = A[1] - (sn * A1[0] + c * A1[1])
+    st.set_angle(c2, th1 + rel)
+    st.X[c2] = st.X[c1] + c * (ox - (cr * rd.pb[0] - sr * rd.pb[1])) - sn * (
+        oy - (sr * rd.pb[0] + cr * rd.pb[1]))
+    st.Y[c2] = st.Y[c1] + sn * (ox - (cr * rd.pb[0] - sr * rd.pb[1])) + c * (
+        oy - (sr * rd.pb[0] + cr * rd.pb[1]))
 
 
 # ---------------------------------------------------------------------------------------------

@@ -15,7 +15,7 @@ import numpy as np
 from linkwork.planar.joints import ClosureRow, ResolvedJoint
 from linkwork.planar.positions import Rows, assemble_jacobian, group_rows
 from linkwork.planar.state import Arr, State, Vec
-from linkwork.planar.structure import Plan, PlanGroup
+from linkwork.planar.structure import HUNG, Plan, PlanGroup
 
 __all__ = ["RatePar", "acc_at", "batched_solve", "closure_rows", "cramer", "group_pars",
            "group_rates", "known_part", "vel_at"]
@@ -31,7 +31,7 @@ def group_rates(plan: Plan, st: State, g: PlanGroup, w1: Arr, e1: Arr) -> None:
         if not rd.joint.driven_rates(st, rd, g.bodies[0], w1[k], e1[k]):
             _hung_driver_rates(st, g, w1[k], e1[k])
         return
-    if g.kind != "newton":
+    if g.kind in HUNG:
         _closed_rates(plan, st, g)
         return
     members = list(g.bodies)

@@ -60,7 +60,7 @@ from linkwork.planar.model import Body, Crank, Drawing, Linear, Mechanism
 from linkwork.planar.positions import solve_group
 from linkwork.planar.state import State
 
-__all__ = ["BRANCH_TOLERANCE", "LinkMass", "Slider", "Slot", "drawn_state", "sketch"]
+__all__ = ["BRANCH_TOLERANCE", "Cylinder", "LinkMass", "Slider", "Slot", "drawn_state", "sketch"]
 
 Point = tuple[float, float]
 
@@ -116,6 +116,19 @@ class Slot:
     guide: str
     angle: float | None = None
     along: tuple[str, str] | None = None
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    """A linear actuator as drawn between two pivots: its barrel hinged at ``start``, its rod
+    at ``end`` (each a drawn point held by a link or the frame). It makes the bodies
+    ``<name>_barrel`` (origin at ``start``, x-axis towards ``end``) and ``<name>_rod`` and the
+    prismatic pair ``<name>`` between them, whose slide coordinate is the pin-to-pin length
+    |start end| [m]; named in ``drivers`` it is driven by that length (a closed-form
+    ``cyl-RRR``/``cyl-RRP`` group when it moves one hinged or sliding body)."""
+
+    start: str
+    end: str
 
 
 @dataclass(frozen=True)
@@ -318,8 +331,8 @@ def _driver_specs(drivers: Any) -> list[Any]:
 def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
            ground: Sequence[str], drivers: Any, sliders: Mapping[str, Any] | None = None,
            slots: Mapping[str, Any] | None = None, masses: Mapping[str, Any] | None = None,
-           frame: str = "frame", speeds: Mapping[str, tuple[float, float]] | None = None
-           ) -> Mechanism:
+           frame: str = "frame", speeds: Mapping[str, tuple[float, float]] | None = None,
+           cylinders: Mapping[str, Any] | None = None) -> Mechanism:
     """A mechanism from its drawing (see the module docstring for the conventions).
 
     Parameters
@@ -345,6 +358,9 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     speeds : mapping str -> (speed, acceleration), optional
         The default speed and acceleration of a driver, by its name as in ``drivers`` (a
         crank's [rad/s, rad/s^2], a slider's [m/s, m/s^2]); default (1, 0).
+    cylinders : mapping str -> Cylinder (or (start, end), or a mapping of its fields), optional
+        Linear actuators between two pivots, by name (a driver by that name drives its
+        length).
 
     Returns
     -------
@@ -399,6 +415,34 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     so: dict[str, Slot] = {}
     for key, spec in slots.items():
         so[str(key)] = spec if isinstance(spec, Slot) else Slot(**dict(spec))
+    cy: dict[str, Cylinder] = {}
+    for key, spec in dict(cylinders or {}).items():
+        if isinstance(spec, Cylinder):
+            cy[str(key)] = spec
+        elif isinstance(spec, Mapping):
+            cy[str(key)] = Cylinder(**dict(spec))
+        else:
+            try:
+                if isinstance(spec, str):
+                    raise TypeError(spec)
+                a, b = spec
+            except (TypeError, ValueError):
+                raise ParameterError(f"cylinders.{key}", spec, "must be (start, end): the "
+                                     "points of its two pivots") from None
+            cy[str(key)] = Cylinder(str(a), str(b))
+    for key, c in cy.items():
+        for end in ("start", "end"):
+            if getattr(c, end) not in pts:
+                raise ParameterError(f"cylinders.{key}.{end}", getattr(c, end),
+                                     f"no such point; known: {sorted(pts)}")
+        if pts[c.start] == pts[c.end]:
+            raise ParameterError(f"cylinders.{key}", [c.start, c.end], "its pivots coincide: "
+                                 "a cylinder has a length")
+        taken = {*link_pts, frame, *sl, *so}
+        for name in (key, f"{key}_barrel", f"{key}_rod"):
+            if name in taken:
+                raise ParameterError("cylinders", key, f"the name {name!r} is taken by a link, "
+                                     "a slider or a slot")
     bodies_known = {frame, *link_pts, *(k for k, v in sl.items() if v.body is None)}
     for kind, table in (("sliders", sl), ("slots", so)):
         for key, spec in table.items():
@@ -433,6 +477,13 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
             holders[p].append(name)
     for key in blocks:
         holders[sl[key].point].append(key)
+    for key, c in cy.items():
+        for end, part in ((c.start, "barrel"), (c.end, "rod")):
+            if not holders[end]:
+                raise ParameterError(f"cylinders.{key}", end, f"no link (nor the frame) holds "
+                                     f"this point, so the cylinder's {part} is hinged to "
+                                     "nothing")
+            holders[end].append(f"{key}_{part}")
     for key, t in so.items():
         if t.guide in holders[t.point]:
             raise ParameterError(f"slots.{key}.guide", t.guide,
@@ -456,12 +507,13 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
                                      "(point, link)")
             spec, link = str(spec[0]), str(spec[1])
         spec = str(spec)
-        if spec in sl:
+        if spec in sl or spec in cy:
             driver_joints.append((spec, "linear", spec))
             continue
         if spec not in pts:
-            raise ParameterError("drivers", spec, f"is neither a point nor a slider; points: "
-                                 f"{sorted(pts)}, sliders: {sorted(sl)}")
+            raise ParameterError("drivers", spec, f"is neither a point nor a slider or cylinder; "
+                                 f"points: {sorted(pts)}, sliders: {sorted(sl)}, cylinders: "
+                                 f"{sorted(cy)}")
         if spec not in gnd:
             raise ParameterError("drivers", spec, "is not a frame pivot (not in ground): a crank "
                                  "turns about a point of the frame")
@@ -487,6 +539,10 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     for key in blocks:
         s = sl[key]
         poses[key] = (*pts[s.point], _direction(f"sliders.{key}", s, pts, scale))
+    for key, c in cy.items():
+        axis = math.atan2(pts[c.end][1] - pts[c.start][1], pts[c.end][0] - pts[c.start][0])
+        poses[f"{key}_barrel"] = (*pts[c.start], axis)
+        poses[f"{key}_rod"] = (*pts[c.end], axis)
     frame_pose = (0.0, 0.0, 0.0)
 
     def pose_of(body: str) -> tuple[float, float, float]:
@@ -504,6 +560,9 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
         rel = pose_of(body)[2] - pose_of(s.guide)[2]
         joints.append(Prismatic(key, s.guide, body, angle=local_angle, through=through,
                                 point=s.point, rel_angle=rel))
+    for key, c in cy.items():  # s = u . (end - start) = the pin-to-pin length
+        joints.append(Prismatic(key, f"{key}_barrel", f"{key}_rod", angle=0.0,
+                                through=(0.0, 0.0), point=c.end, rel_angle=0.0))
     for key, t in so.items():
         ang = _direction(f"slots.{key}", t, pts, scale)
         through, local_angle = _line_geometry(pose_of(t.guide), pts[t.point], ang)
@@ -534,8 +593,11 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
         if name not in poses:
             raise ParameterError("masses", name, f"no such link; known: {sorted(poses)}")
     bodies = []
+    ends = {f"{k}_{part}": getattr(c, end) for k, c in cy.items()
+            for part, end in (("barrel", "start"), ("rod", "end"))}
     for name, pose in poses.items():
-        order = link_pts.get(name, [sl[name].point] if name in sl else [])
+        order = link_pts.get(name, [sl[name].point] if name in sl else [ends[name]]
+                             if name in ends else [])
         local = {p: _local(pose, pts[p]) for p in order}
         if name in link_pts and len(order) == 2:
             a, b = local[order[0]], local[order[1]]

@@ -20,6 +20,11 @@ once the bodies before it are known. Group kinds:
 * one body with a pin-in-slot pair (the pin-in-slot variants of the RPR/RRP/RPP dyads with
   the slider block removed): ``"RS"`` (revolute + slot), ``"PS"`` (prismatic + slot); closed
   form.
+* a driven cylinder (a linear driver on the prismatic pair between two moving bodies, each
+  hinged at one pivot) with the body it moves: ``"cyl-RRR"`` (that body hinged to a known body:
+  the cylinder triangle, circle about the cylinder's pivot with the cylinder's length as radius
+  intersected with the body's circle) or ``"cyl-RRP"`` (the body sliding on a known guide);
+  closed form, its branch keyed by the joint between the cylinder and the body.
 * anything else (class III and higher, groups with several slots): ``"newton"``, solved by
   Newton's method continued from the previous position. A driver placed on a joint between two
   moving bodies ends up inside such a group (it is then not an Assur group; its class is
@@ -47,10 +52,14 @@ import numpy as np
 from linkwork.errors import ParameterError, StructureError
 from linkwork.planar.joints import Joint, Point, ResolvedJoint
 
-__all__ = ["Group", "Plan", "PlanGroup", "Structure", "analyse", "compile_plan", "length_scale",
-           "mobility"]
+__all__ = ["CYLINDER", "HUNG", "Group", "Plan", "PlanGroup", "Structure", "analyse",
+           "compile_plan", "length_scale", "mobility"]
 
 _CLOSED = {"RRR", "RRP", "PRR", "RPR", "RPP", "PPR", "PRP"}
+#: the group kinds whose rates and reactions the hung-body closure (Cramer) solves
+HUNG = _CLOSED | {"RS", "PS"}
+#: the driven-cylinder groups (closed-form positions, rates and reactions by the Jacobian)
+CYLINDER = {"cyl-RRR", "cyl-RRP"}
 
 
 class _BodyLike(Protocol):
@@ -302,6 +311,10 @@ def _make_group(mech: Mechanism, combo: tuple[str, ...], js: list[Joint],
         if len(two) == 1 and len(one) == 1:
             kind, key = two[0].code + "S", one[0].name
             joints = [two[0].name, one[0].name]
+    if kind == "newton" and len(order) == 3 and len(js) == 4 and drv:
+        cyl = _cylinder(order, js, driven, mech.frame.name)
+        if cyl is not None:
+            kind, key, joints = cyl
     if kind == "newton":
         cyc = _largest_cycle(tuple(order), js)
         deg = max(sum(1 for j in js if b in (j.a, j.b)) for b in order)
@@ -310,6 +323,30 @@ def _make_group(mech: Mechanism, combo: tuple[str, ...], js: list[Joint],
         cls = 2
     return Group(kind, tuple(order), tuple(joints), tuple(j.name for j in ext), cls, len(ext),
                  key)
+
+
+def _cylinder(order: list[str], js: list[Joint], driven: set[str], frame: str
+              ) -> tuple[str, str, list[str]] | None:
+    """A driven cylinder and the body it moves: (kind, key, joints (A, cylinder, C, X's
+    external joint)), or None for another group of three bodies."""
+    cyl = [j for j in js if j.name in driven and j.code == "P" and j.a in order and j.b in order]
+    if len(cyl) != 1:
+        return None
+    d = cyl[0]
+    x = next(b for b in order if b not in (d.a, d.b))
+    rest = [j for j in js if j is not d]
+    to_x = [j for j in rest if x in (j.a, j.b) and ({j.a, j.b} & {d.a, d.b})]
+    ext_x = [j for j in rest if x in (j.a, j.b) and not ({j.a, j.b} & {d.a, d.b})]
+    ext_c = [j for j in rest if x not in (j.a, j.b)]
+    if (len(to_x), len(ext_x), len(ext_c)) != (1, 1, 1):
+        return None
+    jc, jx, ja = to_x[0], ext_x[0], ext_c[0]
+    if not (ja.is_pivot and jc.is_pivot and jx.n_constraints == 2):
+        return None
+    if ({ja.a, ja.b} & {d.a, d.b}) == ({jc.a, jc.b} & {d.a, d.b}):
+        return None  # both pivots on one cylinder body: the other one is not held
+    kind = "cyl-RRR" if jx.is_pivot else "cyl-RRP"
+    return kind, jc.name, [ja.name, d.name, jc.name, jx.name]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -353,6 +390,9 @@ class Plan:
         of the singularity tests.
     newton : bool
         Some group is solved by Newton iteration (positions are then solved as one sequence).
+    global_reactions : bool
+        Some group is not a hung-body group (Newton, driven cylinder): the reactions are solved
+        with the whole constraint Jacobian.
     """
 
     body_names: tuple[str, ...]
@@ -364,6 +404,10 @@ class Plan:
     newton: bool
     drivers: tuple[ResolvedJoint, ...] = ()
     driver_kinds: tuple[str, ...] = ()
+
+    @property
+    def global_reactions(self) -> bool:
+        return any(g.kind not in HUNG and g.kind != "driver" for g in self.groups)
 
     @property
     def nb(self) -> int:

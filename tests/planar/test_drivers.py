@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 import pytest
-from _planar_newton_euler import _check_engine
+from _planar_newton_euler import _check_engine, energy_rate
 
 from linkwork.errors import ParameterError, StructureError
 from linkwork.planar import (
@@ -52,19 +52,6 @@ def crank_and_ram():
                   ground=["O"], drivers=["O", "ram"],
                   sliders={"ram": {"point": "B", "guide": "frame", "angle": 0.0}},
                   masses={"crank": 1.0, "l1": 2.0, "l2": 1.5, "ram": 4.0})
-
-
-def energy_rate(mech, kin, g):
-    """dT/dt = sum m v_C.a_C + I w eps and the power of gravity sum m g.v_C, from the
-    kinematics alone."""
-    dT = np.zeros(kin.n)
-    p_g = np.zeros(kin.n)
-    for b in mech.bodies:
-        c = kin.point(b.name, "com")
-        i = mech.index[b.name]
-        dT += b.mass * (c.vx * c.ax + c.vy * c.ay) + b.inertia * kin.omega[i] * kin.eps[i]
-        p_g += b.mass * (g[0] * c.vx + g[1] * c.vy)
-    return dT, p_g
 
 
 def _path(mech, span, n):
