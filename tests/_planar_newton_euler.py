@@ -13,6 +13,7 @@ import numpy as np
 from linkwork.planar import (
     BodyTorque,
     Crank,
+    GearPair,
     PointForce,
     Prismatic,
     Revolute,
@@ -79,6 +80,29 @@ def _rot(th, p):
     return np.array([c * p[0] - s * p[1], s * p[0] + c * p[1]])
 
 
+def gear_geometry(mech, j):
+    """A gear pair as written: (carrier, centre of a on a, centre of b on b, r_a, r_b, s) with
+    the centres the pivots on the carrier and the radii from the teeth and the centres'
+    distance (or as given)."""
+    carrier = j.carrier or mech.frame.name
+    on_gear, on_carrier = [], []
+    for gear in (j.a, j.b):
+        piv = next(p for p in mech.joints if isinstance(p, Revolute) and {p.a, p.b} ==
+                   {gear, carrier})
+        pa, pb, _ = mech.joint_geometry(piv)
+        on_gear.append(pa if piv.a == gear else pb)
+        on_carrier.append(pb if piv.a == gear else pa)
+    d = math.dist(on_carrier[0], on_carrier[1])
+    s = -1.0 if j.internal else 1.0
+    if j.teeth is not None:
+        za, zb = j.teeth
+        ra = d * za / (zb - za if j.internal else za + zb)
+        rb = ra * zb / za
+    else:
+        ra, rb = j.radii
+    return carrier, on_gear[0], on_gear[1], ra, rb, s
+
+
 def _pose_reference(mech, kin, k, w1, e1, step=2e-3):
     """Poses and their rates of all moving bodies at position k, from the raw constraints.
 
@@ -107,7 +131,12 @@ def _pose_reference(mech, kin, k, w1, e1, step=2e-3):
         for j in mech.joints:
             ia, ib = idx[j.a], idx[j.b]
             qa, pb, ang = mech.joint_geometry(j)
-            if isinstance(j, Revolute):
+            if isinstance(j, GearPair):
+                carrier, _, _, ra, rb, s = gear_geometry(mech, j)
+                tc = pose(q, idx[carrier])[2]
+                out.append(pose(q, ib)[2] - tc + s * ra / rb * (pose(q, ia)[2] - tc)
+                           - j.offset)
+            elif isinstance(j, Revolute):
                 out.extend(world(q, ia, qa) - world(q, ib, pb))
             else:
                 tha = pose(q, ia)[2]
@@ -152,7 +181,16 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
         return np.array([x + r[0], y + r[1]])
 
     cols = []          # (joint index, kind, application point, direction or None)
+    separating = []    # gear pairs: (column, joint index, P, e, tan alpha)
     for ji, j in enumerate(mech.joints):
+        if isinstance(j, GearPair):  # the tangential tooth force at the pitch point
+            _, ca, cb, ra, _rb, s = gear_geometry(mech, j)
+            Oa, Ob = world(idx[j.a], ca), world(idx[j.b], cb)
+            e = s * (Ob - Oa) / np.hypot(*(Ob - Oa))
+            P = Oa + ra * e
+            separating.append((len(cols), ji, P, e, math.tan(j.pressure_angle)))
+            cols.append((ji, "n", P, np.array([-e[1], e[0]])))
+            continue
         _qa, pb, ang = mech.joint_geometry(j)
         P = world(idx[j.b], pb)
         if isinstance(j, Revolute):
@@ -223,6 +261,17 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
             rhs[3 * i - 1] -= ld.mz
     sol, *_ = np.linalg.lstsq(A, rhs, rcond=None)
     assert np.linalg.matrix_rank(A) == A.shape[1] == A.shape[0]
+    if separating:  # the separating force |F_t| tan(alpha) along e, on b (and -e on a) at P
+        for c, ji, P, e, tan_a in separating:
+            j = mech.joints[ji]
+            fr = abs(sol[c]) * tan_a * e
+            for body, f in ((idx[j.b], fr), (idx[j.a], -fr)):
+                if body:
+                    rhs[3 * body - 3:3 * body] -= [f[0], f[1], P[0] * f[1] - P[1] * f[0]]
+        tangential = {ji: sol[c] for c, ji, *_ in separating}
+        sol, *_ = np.linalg.lstsq(A, rhs, rcond=None)
+        for c, ji, *_ in separating:  # no work at the pitch point: F_t unchanged
+            assert abs(sol[c] - tangential[ji]) <= 1e-9 * (1 + abs(tangential[ji]))
     assert np.max(np.abs(A @ sol - rhs)) < 1e-9 * (1 + np.max(np.abs(rhs)))
     nj = len(mech.joints)
     fx, fy, mz = np.zeros(nj), np.zeros(nj), np.zeros(nj)
@@ -236,6 +285,9 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
             fy[ji] += sol[c] * dvec[1]
         elif kind == "mz":
             mz[ji] = sol[c]
+    for c, ji, _P, e, tan_a in separating:
+        fx[ji] += abs(sol[c]) * tan_a * e[0]
+        fy[ji] += abs(sol[c]) * tan_a * e[1]
     nd = len(mech.drivers)
     Qs = sol[len(cols) - nd:]
     Q = Qs[0] if nd == 1 else Qs
@@ -247,7 +299,8 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
         if fr not in (j.a, j.b):
             continue
         sgn = -1.0 if j.a == fr else 1.0
-        P = world(idx[j.b], mech.joint_geometry(j)[1])
+        P = (next(Pg for _c, jg, Pg, *_ in separating if jg == ji) if isinstance(j, GearPair)
+             else world(idx[j.b], mech.joint_geometry(j)[1]))
         f = sgn * np.array([fx[ji], fy[ji]])
         sf += f
         sm += (P[0] - about[0]) * f[1] - (P[1] - about[1]) * f[0] + sgn * mz[ji]

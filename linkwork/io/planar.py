@@ -24,9 +24,12 @@ Example (the four-bar of ``examples/fourbar_paper001.toml``)::
 
     [[joint]]
     name = "O"                     # revolute: point O of a on point O of b (point_a/point_b)
-    type = "revolute"              # "revolute" | "prismatic" | "slot"
+    type = "revolute"              # "revolute" | "prismatic" | "slot" | "gear"
     a = "frame"
     b = "crank"
+    # gear: a, b the gears (each hinged to the carrier at its centre), teeth = [30, 50] or
+    # radii = ["60 mm", "100 mm"], internal = false, carrier (default the frame),
+    # pressure_angle = "20 deg", efficiency = 0.98, offset (b's angle when a's is 0)
     # prismatic / slot: angle (of the line in a), through (point name or [x, y]), point (of b),
     # rel_angle (prismatic: theta_b - theta_a)
     # Coulomb friction (docs/friction.md), all optional, default none: friction = 0.1 (the
@@ -134,6 +137,7 @@ from linkwork.planar.dynamics import BodyTorque, PointForce
 from linkwork.planar.model import (
     Body,
     Crank,
+    GearPair,
     Joint,
     Linear,
     Mechanism,
@@ -203,13 +207,25 @@ class BodySection(FileModel):
                     inertia=0.0 if self.inertia is None else self.inertia, guess=self.guess)
 
 
-class JointSection(FileModel):
+class _GearKeys(FileModel):
+    """The keys of a gear pair (:class:`linkwork.planar.GearPair`)."""
+
+    teeth: tuple[int, int] | None = None
+    radii: tuple[Length, Length] | None = None
+    internal: bool = False
+    carrier: str | None = None
+    pressure_angle: Angle = math.radians(20.0)
+    efficiency: Dimensionless = 1.0
+
+
+class JointSection(_GearKeys):
     """A joint between bodies ``a`` and ``b`` (reactions: force of a on b)."""
 
     name: str
-    type: Literal["revolute", "prismatic", "slot"]
+    type: Literal["revolute", "prismatic", "slot", "gear"]
     a: str
     b: str
+    offset: Angle = 0.0
     point_a: str | None = None
     point_b: str | None = None
     angle: Angle = 0.0
@@ -225,21 +241,31 @@ class JointSection(FileModel):
     def _friction_keys_of_type(self) -> JointSection:
         """Friction keys of another joint type are refused (see :mod:`linkwork.planar.joints`)."""
         takes = {"revolute": "friction, radius, friction_torque",
-                 "prismatic": "friction, length", "slot": "friction, radius"}
+                 "prismatic": "friction, length", "slot": "friction, radius",
+                 "gear": "efficiency"}
         unused = {"revolute": ("length",), "prismatic": ("radius", "friction_torque"),
-                  "slot": ("length", "friction_torque")}
+                  "slot": ("length", "friction_torque"),
+                  "gear": ("friction", "radius", "friction_torque", "length")}
         _refuse_keys(self, unused[self.type], f"the friction keys {takes[self.type]}")
         return self
 
     def _friction(self) -> dict[str, float]:
         """The friction keyword arguments of the joint (only those given)."""
         keys = {"revolute": ("friction", "radius", "friction_torque"),
-                "prismatic": ("friction", "length"), "slot": ("friction", "radius")}
+                "prismatic": ("friction", "length"), "slot": ("friction", "radius"),
+                "gear": ("efficiency",)}
         return {k: getattr(self, k) for k in keys[self.type] if k in self.model_fields_set}
 
     @model_validator(mode="after")
     def _keys_of_type(self) -> JointSection:
         line = ("angle", "through", "point")
+        gear = ("teeth", "radii", "internal", "carrier", "pressure_angle", "offset")
+        if self.type == "gear":
+            _refuse_keys(self, (*line, "rel_angle", "point_a", "point_b"),
+                         "teeth or radii, internal, carrier, pressure_angle, efficiency, offset")
+            return self
+        _refuse_keys(self, (*gear, "efficiency"), f"the keys of a {self.type} joint (the gear "
+                     "keys belong to type = 'gear')")
         if self.type == "revolute":
             _refuse_keys(self, (*line, "rel_angle"), "point_a and point_b")
         else:
@@ -256,6 +282,10 @@ class JointSection(FileModel):
         if self.type == "prismatic":
             return Prismatic(self.name, self.a, self.b, self.angle, self.through, self.point,
                              self.rel_angle, **fr)
+        if self.type == "gear":
+            return GearPair(self.name, self.a, self.b, teeth=self.teeth, radii=self.radii,
+                            internal=self.internal, carrier=self.carrier,
+                            pressure_angle=self.pressure_angle, offset=self.offset, **fr)
         return PinInSlot(self.name, self.a, self.b, self.angle, self.through, self.point, **fr)
 
 
@@ -364,6 +394,15 @@ class CylinderSection(FileModel):
     end: str
 
 
+class GearSection(_GearKeys):
+    """``[sketch.gears.NAME]``: a gear pair between two drawn links (their centres: their
+    pivots on the carrier), ratio by ``teeth`` or ``radii``, phase from the drawing
+    (:class:`linkwork.planar.GearPair`)."""
+
+    a: str
+    b: str
+
+
 class LinkMassSection(FileModel):
     """``[sketch.masses.LINK]``: mass, centre of mass (a drawn point's name or world [x, y] as
     drawn), centroidal inertia (:class:`linkwork.planar.LinkMass`)."""
@@ -385,6 +424,7 @@ class SketchSection(FileModel):
     sliders: dict[str, SliderSection] = Field(default_factory=dict)
     slots: dict[str, SlotSection] = Field(default_factory=dict)
     cylinders: dict[str, CylinderSection] = Field(default_factory=dict)
+    gears: dict[str, GearSection] = Field(default_factory=dict)
     masses: dict[str, LinkMassSection | Mass] = Field(default_factory=dict)
 
     def build(self, drivers: list[DriverSection]) -> Mechanism:
@@ -408,6 +448,8 @@ class SketchSection(FileModel):
                           sliders={k: v.model_dump() for k, v in self.sliders.items()},
                           slots={k: v.model_dump() for k, v in self.slots.items()},
                           cylinders={k: v.model_dump() for k, v in self.cylinders.items()},
+                          gears={k: v.model_dump(exclude_defaults=True)
+                                 for k, v in self.gears.items()},
                           masses=masses, frame=self.frame,
                           speeds={d.joint: d.speeds() for d in drivers})
         except ParameterError as exc:

@@ -44,7 +44,7 @@ from linkwork.errors import ParameterError
 from linkwork.planar import forces, friction
 from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
 from linkwork.planar.inertia import inertia_wrenches
-from linkwork.planar.joints import ResolvedJoint
+from linkwork.planar.joints import ResolvedJoint, row_entries
 from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
 from linkwork.planar.model import Mechanism
 from linkwork.planar.rates import RatePar, batched_solve, closure_rows, cramer, group_pars
@@ -379,8 +379,10 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     pyr = np.zeros((nj, n))
     plan = mech.plan
     for ji, rj in enumerate(plan.joints):
-        pxr[ji], pyr[ji] = st.wpt(rj.ib, rj.pb)
-    if plan.global_reactions:
+        pxr[ji], pyr[ji] = rj.joint.reaction_point(st, rj)
+    if friction.has_separation(plan) and not friction.has_friction(plan):
+        fxr, fyr, mzr, Q = _separated_reactions(plan, st, f, kin.valid)
+    elif plan.global_reactions:
         fxr, fyr, mzr, Q = _global_reactions(plan, st, f, kin.valid)
     else:
         with np.errstate(all="ignore"):
@@ -455,7 +457,8 @@ def _with_friction(plan: Plan, st: State, f: Arr, kin: Kinematics, Q0: Arr) -> _
     static = width == (0.0, 0.0)
     sol = friction.solve(plan, st, JT, f, lam0, good, meta, width)
     fxr, fyr, mzr, Q = _split(plan, st, sol.lam, meta)
-    fxr, fyr, mzr = fxr + sol.ffx, fyr + sol.ffy, mzr + sol.fmz
+    sx, sy = friction.separating_forces(plan, st, sol.lam, meta)
+    fxr, fyr, mzr = fxr + sol.ffx + sx, fyr + sol.ffy + sy, mzr + sol.fmz
     locked = good & ~(sol.converged & (sol.kappa > 0))
     for arr in (fxr, fyr, mzr):
         arr[:, locked] = np.nan
@@ -479,13 +482,13 @@ def _constraint_jacobian(plan: Plan, st: State) -> tuple[Arr, list[tuple[Resolve
     meta: list[tuple[ResolvedJoint, str]] = []  # (joint, row kind)
     r = 0
     for rj in plan.joints:
-        rows = rj.joint.constraint_rows(st, rj, need_gamma=False)
+        rows = rj.joint.equilibrium_rows(st, rj)
         ia, ib = rj.ia, rj.ib
         for k, row in enumerate(rows):
-            for body, key in ((ia, "ja"), (ib, "jb")):
+            for body, coef in row_entries(ia, ib, row):
                 if body > 0:
                     for comp in range(3):
-                        J[:, r, 3 * body - 3 + comp] += row[key][comp]
+                        J[:, r, 3 * body - 3 + comp] += coef[comp]
             meta.append((rj, "drive" if row.get("drive") else rj.joint.row_kinds[k]))
             r += 1
     return J, meta
@@ -497,6 +500,19 @@ def _global_reactions(plan: Plan, st: State, f: Arr, good: Arr
     J, meta = _constraint_jacobian(plan, st)
     lam = batched_solve(np.swapaxes(J, 1, 2), f, good)
     return _split(plan, st, lam, meta)
+
+
+def _separated_reactions(plan: Plan, st: State, f: Arr, good: Arr
+                         ) -> tuple[Arr, Arr, Arr, Arr]:
+    """The reactions with the separating forces of gear pairs (no friction): the tooth force
+    along the line of action."""
+    J, meta = _constraint_jacobian(plan, st)
+    JT = np.swapaxes(J, 1, 2)
+    lam0 = batched_solve(JT, f, good)
+    lam = friction.separated(plan, st, JT, f, lam0, good, meta)
+    fxr, fyr, mzr, Q = _split(plan, st, lam, meta)
+    sx, sy = friction.separating_forces(plan, st, lam, meta)
+    return fxr + sx, fyr + sy, mzr, Q
 
 
 def _split(plan: Plan, st: State, lam: Arr, meta: list[tuple[ResolvedJoint, str]]

@@ -43,13 +43,14 @@ from linkwork.checks import (
 )
 from linkwork.deprecation import renamed_function
 from linkwork.errors import ParameterError, StructureError
-from linkwork.planar.joints import Joint, PinInSlot, Point, Prismatic, Revolute
+from linkwork.planar.joints import GearPair, Joint, PinInSlot, Point, Prismatic, Revolute
 from linkwork.planar.structure import Plan, Structure, analyse, compile_plan
 
 __all__ = [
     "Body",
     "Crank",
     "Drawing",
+    "GearPair",
     "Joint",
     "Linear",
     "Mechanism",
@@ -328,7 +329,8 @@ class Mechanism:
             raise ParameterError("bodies", sorted(dup)[0], "body names must be unique")
         for j in self.joints:  # a concrete joint type (the base class has no behaviour)
             if not isinstance(j, Joint) or j.code == Joint.code:
-                raise ParameterError("joints", j, "must be Revolute, Prismatic or PinInSlot")
+                raise ParameterError("joints", j, "must be Revolute, Prismatic, PinInSlot or "
+                                     "GearPair")
         jn = [j.name for j in self.joints]
         dupj = {n for n in jn if jn.count(n) > 1}
         if dupj:
@@ -357,6 +359,9 @@ class Mechanism:
                 raise ParameterError("driver.joint", d.joint, "is driven twice")
 
     def _check_joint_points(self, j: Joint) -> None:
+        if j.carrier_of(self.frame.name) is not None:
+            j.resolve(self)  # a gear pair: its pivots on the carrier, its radii
+            return
         j.check_points(self.body(j.a), self.body(j.b))
         j.check_fit([self.body(s) for s in (j.a, j.b) if s != self.frame.name])
 
@@ -417,7 +422,7 @@ class Mechanism:
         Revolute: the two coincident points and 0. Prismatic/PinInSlot: the line's point on
         ``a``, the slider/pin point on ``b`` and the line's angle in ``a``.
         """
-        return j.local_geometry(self.body(j.a), self.body(j.b))
+        return j.resolve(self)[:3]
 
     def branch(self, key: str) -> int:
         """Assembly branch of the group with this key (+1 unless set in ``branches``)."""

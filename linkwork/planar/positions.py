@@ -16,12 +16,12 @@ from typing import Any
 import numpy as np
 
 from linkwork.errors import StructureError
-from linkwork.planar.joints import ResolvedJoint
+from linkwork.planar.joints import ResolvedJoint, row_entries
 from linkwork.planar.state import Arr, State, Vec
 from linkwork.planar.structure import CYLINDER, Plan, PlanGroup, length_scale
 
 __all__ = ["assemble_jacobian", "group_rows", "length_scale", "solve_cylinder", "solve_driver",
-           "solve_dyad", "solve_group", "solve_newton", "solve_slot_group"]
+           "solve_dyad", "solve_gear", "solve_group", "solve_newton", "solve_slot_group"]
 
 #: rows of a group with the indices of their joint's bodies a and b
 Rows = list[tuple[int, int, dict[str, Any]]]
@@ -219,8 +219,27 @@ def solve_group(plan: Plan, st: State, g: PlanGroup, branch: int, q: Arr) -> Non
         solve_newton(plan, st, g, q)
     elif g.kind in CYLINDER:
         solve_cylinder(st, g, branch, q, plan.body_names)
+    elif g.kind == "RG":
+        solve_gear(st, g)
     else:
         solve_dyad(st, g, branch, plan.body_names)
+
+
+def solve_gear(st: State, g: PlanGroup) -> None:
+    """A gear turning on its carrier (revolute ``rt``) against a known gear (pair ``rg``): its
+    angle relative to the carrier from ``theta_b' + s k theta_a' = offset``, its centre on the
+    pivot."""
+    rt, rg = g.joints
+    body = g.bodies[0]
+    ra, rb, s, off = rg.params
+    k = s * ra / rb
+    tc = st.T[rg.ic]
+    if body == rg.ib:
+        st.set_angle(body, tc + off - k * (st.T[rg.ia] - tc))
+    else:
+        st.set_angle(body, tc + (off - (st.T[rg.ib] - tc)) / k)
+    A, a_loc = rt.joint.pivot(st, rt, body)
+    st.place(body, a_loc, A)
 
 
 def solve_cylinder(st: State, g: PlanGroup, branch: int, q: Arr,
@@ -292,11 +311,11 @@ def assemble_jacobian(st: State, g: PlanGroup, rows: Rows) -> tuple[Arr, Rows]:
     m = 3 * len(g.bodies)
     J = np.zeros((st.n, m, m))
     for r, (ia, ib, row) in enumerate(rows):
-        for body, key in ((ia, "ja"), (ib, "jb")):
+        for body, coef in row_entries(ia, ib, row):
             if body in cols:
                 c = cols[body]
                 for k in range(3):
-                    J[:, r, c + k] += row[key][k]
+                    J[:, r, c + k] += coef[k]
     return J, rows
 
 

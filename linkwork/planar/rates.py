@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkwork.planar.joints import ClosureRow, ResolvedJoint
+from linkwork.planar.joints import ClosureRow, ResolvedJoint, row_entries
 from linkwork.planar.positions import Rows, assemble_jacobian, group_rows
 from linkwork.planar.state import Arr, State, Vec
 from linkwork.planar.structure import HUNG, Plan, PlanGroup
@@ -61,13 +61,12 @@ def known_part(st: State, g: PlanGroup, rows: Rows, level: str) -> Arr:
     members = set(g.bodies)
     out = np.zeros((st.n, len(rows)))
     for r, (ia, ib, row) in enumerate(rows):
-        for body, key in ((ia, "ja"), (ib, "jb")):
+        for body, ja in row_entries(ia, ib, row):
             if body not in members:
                 if level == "v":
                     q = (st.VX[body], st.VY[body], st.W[body])
                 else:
                     q = (st.AX[body], st.AY[body], st.E[body])
-                ja = row[key]
                 out[:, r] += ja[0] * q[0] + ja[1] * q[1] + ja[2] * q[2]
     return out
 

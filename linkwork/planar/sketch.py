@@ -45,6 +45,7 @@ points and no inertia unless given; a slider block its centre of mass at its poi
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -54,7 +55,7 @@ import numpy as np
 
 from linkwork.checks import require_number, require_point
 from linkwork.errors import AssemblyError, ParameterError, StructureError
-from linkwork.planar.joints import Joint, PinInSlot, Prismatic, Revolute
+from linkwork.planar.joints import GearPair, Joint, PinInSlot, Prismatic, Revolute
 from linkwork.planar.kinematics import kinematics
 from linkwork.planar.model import Body, Crank, Drawing, Linear, Mechanism
 from linkwork.planar.positions import solve_group
@@ -75,7 +76,7 @@ ROUND_TRIP_TOLERANCE = 1e-9
 ON_LINE_TOLERANCE = 1e-6
 
 #: Groups whose solution is unique (no branch to choose).
-_UNIQUE = {"driver", "newton", "PRP", "RPP", "PPR", "PS"}
+_UNIQUE = {"driver", "newton", "PRP", "RPP", "PPR", "PS", "RG"}
 
 
 @dataclass(frozen=True)
@@ -202,8 +203,10 @@ def _line_geometry(pose: tuple[float, float, float], P: Point, angle: float
 def _frame_pose(name: str, order: list[str], pts: Mapping[str, Point], origin: str
                 ) -> tuple[float, float, float]:
     """Pose of a link's frame: origin at ``origin``, x-axis towards the next listed point at
-    another place."""
+    another place (a gear of one point: along the world x-axis)."""
     ox, oy = pts[origin]
+    if len(order) == 1:
+        return ox, oy, 0.0
     rest = order[order.index(origin) + 1:] + order[:order.index(origin)]
     for p in rest:
         dx, dy = pts[p][0] - ox, pts[p][1] - oy
@@ -332,7 +335,8 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
            ground: Sequence[str], drivers: Any, sliders: Mapping[str, Any] | None = None,
            slots: Mapping[str, Any] | None = None, masses: Mapping[str, Any] | None = None,
            frame: str = "frame", speeds: Mapping[str, tuple[float, float]] | None = None,
-           cylinders: Mapping[str, Any] | None = None) -> Mechanism:
+           cylinders: Mapping[str, Any] | None = None, gears: Mapping[str, Any] | None = None
+           ) -> Mechanism:
     """A mechanism from its drawing (see the module docstring for the conventions).
 
     Parameters
@@ -361,6 +365,13 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     cylinders : mapping str -> Cylinder (or (start, end), or a mapping of its fields), optional
         Linear actuators between two pivots, by name (a driver by that name drives its
         length).
+    gears : mapping str -> mapping, optional
+        Gear pairs by name: ``a``, ``b`` (two links, each hinged to the carrier at its
+        centre; a gear link may hold that one point), ``teeth=(z_a, z_b)`` or ``radii=(r_a,
+        r_b)``, ``internal``, ``carrier`` (a link; default the frame), ``pressure_angle``,
+        ``efficiency`` (:class:`~linkwork.planar.GearPair`); the relative phase of the gears
+        is taken from the drawing, and drawn centres that do not fit given radii are
+        refused.
 
     Returns
     -------
@@ -398,9 +409,12 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
         dup = sorted({p for p in order if order.count(p) > 1})
         if dup:
             raise ParameterError(f"links.{name}", dup[0], "listed twice on the link")
-        if len(order) < 2:
+        if len(order) < 2 and not any(name in (g.get("a"), g.get("b"))
+                                       for g in dict(gears or {}).values()
+                                       if isinstance(g, Mapping)):
             raise ParameterError(f"links.{name}", order, "a link needs at least two points (its "
-                                 "direction is taken from the drawing)")
+                                 "direction is taken from the drawing); only a gear may hold "
+                                 "just its centre")
         link_pts[name] = order
     gnd = _names("ground", ground)
     for p in gnd:
@@ -569,6 +583,7 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
         pin = next(h for h in holders[t.point] if h != t.guide)
         joints.append(PinInSlot(key, t.guide, pin, angle=local_angle, through=through,
                                 point=t.point))
+    joints += _gear_pairs(dict(gears or {}), frame, pose_of, set(link_pts))
     names = [j.name for j in joints]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
@@ -622,6 +637,35 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     mech = mech.with_branches(**_branches(mech, scale))
     _round_trip(mech, scale)
     return mech
+
+
+def _gear_pairs(gears: dict[str, Any], frame: str, pose_of: Any, links: set[str]
+                ) -> list[Joint]:
+    """The gear pairs, their phase taken from the drawn angles of the gears and carrier."""
+    out: list[Joint] = []
+    for key, spec in gears.items():
+        if not isinstance(spec, Mapping):
+            raise ParameterError(f"gears.{key}", spec, "must be a mapping (a, b, teeth or "
+                                 "radii, ...)")
+        spec = dict(spec)
+        for side in ("a", "b"):
+            if spec.get(side) not in links:
+                raise ParameterError(f"gears.{key}.{side}", spec.get(side),
+                                     f"must be a link; known: {sorted(links)}")
+        carrier = spec.get("carrier") or frame
+        if carrier != frame and carrier not in links:
+            raise ParameterError(f"gears.{key}.carrier", carrier,
+                                 f"must be a link or the frame; links: {sorted(links)}")
+        try:
+            pair = GearPair(str(key), **{**spec, "carrier": carrier})
+        except TypeError as exc:
+            raise ParameterError(f"gears.{key}", sorted(spec), f"unknown key ({exc})") from None
+        va, vb = pair.teeth if pair.teeth is not None else pair.radii  # type: ignore[misc]
+        s = -1.0 if pair.internal else 1.0
+        tc = pose_of(carrier)[2]
+        offset = (pose_of(pair.b)[2] - tc) + s * va / vb * (pose_of(pair.a)[2] - tc)
+        out.append(dataclasses.replace(pair, offset=offset))
+    return out
 
 
 def _drawn_position(mech: Mechanism, d: Crank | Linear, pose_of: Any) -> float:

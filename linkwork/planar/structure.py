@@ -20,6 +20,8 @@ once the bodies before it are known. Group kinds:
 * one body with a pin-in-slot pair (the pin-in-slot variants of the RPR/RRP/RPP dyads with
   the slider block removed): ``"RS"`` (revolute + slot), ``"PS"`` (prismatic + slot); closed
   form.
+* a gear turning on its carrier and meshing with a known gear: ``"RG"``; closed form (its
+  angle from the gear ratio).
 * a driven cylinder (a linear driver on the prismatic pair between two moving bodies, each
   hinged at one pivot) with the body it moves: ``"cyl-RRR"`` (that body hinged to a known body:
   the cylinder triangle, circle about the cylinder's pivot with the cylinder's length as radius
@@ -249,7 +251,8 @@ def analyse(mech: Mechanism) -> Structure:
             for combo in itertools.combinations(unknown, k):
                 s = set(combo)
                 js = [j for j in mech.joints
-                      if (j.a in s or j.b in s) and j.a in s | known and j.b in s | known]
+                      if (j.a in s or j.b in s) and j.a in s | known and j.b in s | known
+                      and _carrier(mech, j) in s | known]
                 c = sum(_cons(mech, j) for j in js)
                 if c > 3 * k:
                     raise StructureError(
@@ -270,6 +273,12 @@ def analyse(mech: Mechanism) -> Structure:
         known |= set(combo)
         unknown = [u for u in unknown if u not in combo]
     return Structure(n, p5, p4, w, tuple(groups))
+
+
+def _carrier(mech: Mechanism, j: Joint) -> str:
+    """The third body a joint involves (a gear pair's carrier), else its body a."""
+    c = j.carrier_of(mech.frame.name)
+    return j.a if c is None else c
 
 
 def _connected(bodies: tuple[str, ...], joints: list[Joint]) -> bool:
@@ -308,7 +317,11 @@ def _make_group(mech: Mechanism, combo: tuple[str, ...], js: list[Joint],
     elif len(order) == 1 and len(js) == 2 and not drv:
         two = [j for j in js if j.n_constraints == 2]
         one = [j for j in js if j.n_constraints == 1]
-        if len(two) == 1 and len(one) == 1:
+        if len(two) == 1 and len(one) == 1 and one[0].code == "G":
+            if two[0].is_pivot and _carrier(mech, one[0]) in (two[0].a, two[0].b):
+                kind, key = "RG", one[0].name  # a gear turning on its carrier
+                joints = [two[0].name, one[0].name]
+        elif len(two) == 1 and len(one) == 1:
             kind, key = two[0].code + "S", one[0].name
             joints = [two[0].name, one[0].name]
     if kind == "newton" and len(order) == 3 and len(js) == 4 and drv:
@@ -428,10 +441,11 @@ def compile_plan(mech: Mechanism) -> Plan:
     drive_index = {d.joint: i for i, d in enumerate(mech.drivers)}
     resolved: dict[str, ResolvedJoint] = {}
     for k, j in enumerate(mech.joints):
-        qa, pb, ang = j.local_geometry(mech.body(j.a), mech.body(j.b))
+        qa, pb, ang, ic, params = j.resolve(mech)
         resolved[j.name] = ResolvedJoint(j, k, index[j.a], index[j.b], qa, pb, ang,
                                          (float(np.cos(ang)), float(np.sin(ang))),
-                                         j.name in drive_index, drive_index.get(j.name, -1))
+                                         j.name in drive_index, drive_index.get(j.name, -1),
+                                         ic, params)
     groups = tuple(
         PlanGroup(g, g.kind, g.key, tuple(index[b] for b in g.bodies),
                   tuple(resolved[n] for n in g.joints),
