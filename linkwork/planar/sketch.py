@@ -566,7 +566,8 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     joints: list[Joint] = []
     for p, hs in holders.items():
         for k, h in enumerate(hs[1:], start=1):
-            joints.append(Revolute(p if k == 1 else f"{p}:{h}", hs[0], h))
+            joints.append(Revolute(p if k == 1 else f"{p}:{h}", hs[0], h, point_a=p,
+                                   point_b=p))
     for key, s in sl.items():
         ang = _direction(f"sliders.{key}", s, pts, scale)
         through, local_angle = _line_geometry(pose_of(s.guide), pts[s.point], ang)
