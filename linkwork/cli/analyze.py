@@ -19,6 +19,7 @@ import typer
 
 from linkwork import io
 from linkwork.cli._args import (
+    load_errors,
     output_dir,
     output_run,
     parse_angles,
@@ -82,5 +83,5 @@ def register(app: typer.Typer) -> None:
             table = None if angles is None else table_positions(doc, angles)
         else:
             table = parse_angles(DEFAULT_ANGLES if angles is None else angles)
-        with output_run(out, command="analyze", file=file):
+        with output_run(out, command="analyze", file=file), load_errors(file, doc):
             analyzers[type(doc)](doc, out=out, angles=table, console=make_console())
