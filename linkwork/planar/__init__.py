@@ -88,6 +88,7 @@ from linkwork.planar.kinematics import (
 from linkwork.planar.model import (
     Body,
     Crank,
+    Drawing,
     Joint,
     Linear,
     Mechanism,
@@ -101,6 +102,7 @@ from linkwork.planar.model import (
     fourbar_mechanism,
 )
 from linkwork.planar.self_locking import WorkingRange, working_range
+from linkwork.planar.sketch import LinkMass, Slider, Slot, sketch
 from linkwork.planar.structure import Group, Structure, analyse, mobility
 
 __all__ = [
@@ -111,11 +113,13 @@ __all__ = [
     "Damper",
     "DeadCentre",
     "Drag",
+    "Drawing",
     "Dynamics",
     "Group",
     "Joint",
     "Kinematics",
     "Linear",
+    "LinkMass",
     "LoadDiagram",
     "Mechanism",
     "PinInSlot",
@@ -124,6 +128,8 @@ __all__ = [
     "Prismatic",
     "Revolute",
     "SlideForce",
+    "Slider",
+    "Slot",
     "Spring",
     "Structure",
     "WorkingRange",
@@ -138,6 +144,7 @@ __all__ = [
     "kinematics",
     "kinetic_energy",
     "mobility",
+    "sketch",
     "transmission_angles",
     "working_range",
 ]
