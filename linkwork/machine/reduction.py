@@ -33,7 +33,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -51,6 +51,9 @@ from linkwork.planar import (
 from linkwork.planar.forces import apply as apply_loads
 from linkwork.planar.state import Arr
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = ["Loads", "Reduction", "check_crank", "friction_moment", "load_list", "reduce"]
 
@@ -120,6 +123,13 @@ class Reduction(Result):
     def M(self) -> Arr:
         """``M_loads + M_gravity`` [N m]: the reduced moment of the position-dependent loads."""
         return self.M_loads + self.M_gravity
+
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """J and dJ/dphi1, and the reduced moments, over the crank angle: a
+        :class:`linkwork.plot.Figure` with 2 axes (:mod:`linkwork.plot.machine`)."""
+        from linkwork.plot.machine import reduction_figure
+
+        return reduction_figure(self, axes=axes, **kw)
 
 
 def _gravity(gravity: ArrayLike | None) -> tuple[float, float]:
