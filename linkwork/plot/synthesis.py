@@ -17,8 +17,10 @@ from linkwork.plot._base import Figure, axes_or_new, finish, titled
 
 if TYPE_CHECKING:
     from linkwork.synthesis.design import SynthesisResult
+    from linkwork.synthesis.function import FunctionResult
 
-__all__ = ["pareto_figure", "path_figure", "plot_pareto", "plot_path"]
+__all__ = ["function_figure", "pareto_figure", "path_figure", "plot_function_error",
+           "plot_pareto", "plot_path"]
 
 
 def plot_path(res: SynthesisResult, ax: Any = None, n_designs: int = 1, *,
@@ -89,4 +91,30 @@ def plot_pareto(res: SynthesisResult, ax: Any = None, x: str = "error",
 def pareto_figure(res: SynthesisResult, ax: Any = None, **kw: Any) -> Figure:
     """:func:`plot_pareto` as a :class:`Figure` (1 axes)."""
     a = plot_pareto(res, ax=ax, **kw)
+    return Figure(a.figure, np.array([a]))
+
+
+def plot_function_error(res: FunctionResult, ax: Any = None, *, name: str | None = None) -> Any:
+    """Structural error (output minus wanted output) over the input range of each design, the
+    precision points marked: returns the axes."""
+    ax = axes_or_new(ax, figsize=(8, 4.5))
+    deg = res.kind == "fourbar"
+    for i, d in enumerate(res.designs):
+        x = np.degrees(d.input)
+        err = np.degrees(d.structural_error) if deg else d.structural_error * 1e3
+        ax.plot(x, err, label=f"{d.method}: max {np.nanmax(np.abs(err)):.3g} "
+                f"{'deg' if deg else 'mm'}", lw=1.3 if i == 0 else 0.9)
+        if d.precision_inputs is not None:
+            ax.plot(np.degrees(d.precision_inputs), np.zeros(len(d.precision_inputs)), "k.")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xlabel("input crank angle [deg]")
+    ax.set_ylabel("structural error [deg]" if deg else "structural error [mm]")
+    finish(ax, title=titled(name, "function generation", "structural error"),
+           angle=np.degrees(res.designs[0].input))
+    return ax
+
+
+def function_figure(res: FunctionResult, ax: Any = None, **kw: Any) -> Figure:
+    """:func:`plot_function_error` as a :class:`Figure` (1 axes)."""
+    a = plot_function_error(res, ax=ax, **kw)
     return Figure(a.figure, np.array([a]))
