@@ -35,7 +35,7 @@ Contenders:
 Usage::
 
     .venv/bin/python benchmarks/synthesis.py [--repeat 3] [--problems six-line,closed-18]
-                                             [--no-pylinkage] [--no-dask]
+                                             [--no-pylinkage] [--no-dask] [--no-throughput]
 """
 
 from __future__ import annotations
@@ -183,6 +183,50 @@ def run_dask(name: str, n: int) -> dict[int, float]:
     return out
 
 
+def throughput(n_closed: int = 8192, n_engine: int = 200) -> dict[str, float]:
+    """Candidate-points per second: the four-bar closed form screening (designs x 120 crank
+    angles, broadcast), the planar engine on one four-bar design at a time, and on one six-bar
+    (examples/loom_sixbar.toml, its crank length varied) at a time, 120 positions each. The
+    engine's batch over designs (a later change) would replace the per-design loop."""
+    import dataclasses
+    from pathlib import Path
+
+    from linkwork import io
+    from linkwork.planar.kinematics import kinematics
+    from linkwork.synthesis import path as pa
+    from linkwork.synthesis.design import FourbarDesign
+
+    pb = PROBLEMS["closed-18"]
+    tk = pa.task(pb["points"], bounds=pb["bounds"], closed=True)
+    cands = pa._candidates(tk, n_closed, 0)
+    t = time.perf_counter()
+    pa._screen(cands, tk=tk, n_samples=120, keep=64)
+    closed = n_closed * 120 / (time.perf_counter() - t)
+    phi = np.linspace(0, 2 * PI, 120, endpoint=False)
+    X = cands["X"][:n_engine]
+    t = time.perf_counter()
+    for x, br in zip(X, cands["branch"][:n_engine], strict=True):
+        p = dict(zip(pa.PARAMS, map(float, x), strict=True))
+        d = FourbarDesign(params=dict(p, theta2=[0.0]), branch=int(br), error=0.0,
+                          points=pb["points"])
+        kinematics(d.mechanism(), phi + p["theta0"], on_failure="nan")
+    engine4 = n_engine * 120 / (time.perf_counter() - t)
+    doc = io.load(Path(__file__).resolve().parents[1] / "examples" / "loom_sixbar.toml")
+    mech = doc.mechanism()
+    crank = mech.body("crank")
+    t = time.perf_counter()
+    for k in range(n_engine // 2):
+        L = 0.055 + 0.01 * k / n_engine
+        body = dataclasses.replace(crank, points={**crank.points, "A": (L, 0.0)})
+        m = dataclasses.replace(mech, bodies=tuple(body if b.name == "crank" else b
+                                                   for b in mech.bodies))
+        kinematics(m, phi, on_failure="nan")
+    engine6 = (n_engine // 2) * 120 / (time.perf_counter() - t)
+    return {"closed form (four-bar, broadcast)": closed,
+            "engine, one four-bar at a time": engine4,
+            "engine, one six-bar at a time": engine6}
+
+
 def _fmt_t(v: list[float]) -> str:
     return f"{min(v):.2f} / {statistics.median(v):.2f} / {max(v):.2f}"
 
@@ -194,6 +238,7 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
     ap.add_argument("--candidates", type=int, default=2**16)
     ap.add_argument("--no-pylinkage", action="store_true")
     ap.add_argument("--no-dask", action="store_true")
+    ap.add_argument("--no-throughput", action="store_true")
     ap.add_argument("--dask-candidates", type=int, default=2**18)
     args = ap.parse_args(argv)
     rows = []
@@ -218,6 +263,11 @@ def main(argv: list[str] | None = None) -> list[dict[str, Any]]:
             rows.append({"problem": name, "contender": "pylinkage", **b})
             print(f"| {name} | pylinkage path_generation | {b['error']:.4g} | "
                   f"{_fmt_t([r['time'] for r in pr])} | - | - | - | - | ({b.get('note', '')}) |")
+    if not args.no_throughput:
+        tp = throughput()
+        print("\ncandidate-points per second: "
+              + "; ".join(f"{k} {v:.3g}" for k, v in tp.items()))
+        rows.append({"throughput": tp})
     if not args.no_dask:
         t = run_dask("closed-18", args.dask_candidates)
         print(f"\nglobal search of closed-18, {args.dask_candidates} candidates: in-process "

@@ -98,5 +98,5 @@ def test_synthesis_benchmark_runs_tiny():
     sys.modules[spec.name] = mod
     spec.loader.exec_module(mod)
     rows = mod.main(["--repeat", "1", "--problems", "planted", "--candidates", "2048",
-                     "--no-pylinkage", "--no-dask"])
+                     "--no-pylinkage", "--no-dask", "--no-throughput"])
     assert rows[0]["contender"] == "linkwork" and rows[0]["error"] < 1e-20
