@@ -192,7 +192,7 @@ def _period(scene: Scene) -> float:
     """Seconds the cycle takes in reality (0: not known)."""
     if scene.speed <= 0 or scene.n < 2:
         return 0.0
-    span = float(np.ptp(scene.positions))
+    span = 2 * math.pi if scene.periodic else float(np.ptp(scene.positions))
     return span / scene.speed if span > 0 else 0.0
 
 

@@ -402,6 +402,15 @@ def _centre_name(i: int, j: int) -> str:
 PointSpec = tuple[str, str | tuple[float, float]]
 
 
+def _whole_turn(phi: np.ndarray) -> bool:
+    """The angles cover a whole turn: from start to start + 360 deg, or to one step short of it
+    (0, 1, ..., 359 deg)."""
+    if phi.size < 3:
+        return False
+    step = float(np.median(np.abs(np.diff(phi))))
+    return bool(phi[-1] - phi[0] >= 2 * math.pi - 1.01 * step - 1e-9)
+
+
 def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
                  centres: bool = False, title: str | None = None,
                  weights: Sequence[tuple[str, tuple[float, float], float, str]] = ()
@@ -493,7 +502,7 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
                                     "translation)" if infinite else ""))
     crank = mech.driver.kind == "crank"
     phi = np.asarray(kin.phi1, dtype=float)
-    periodic = bool(crank and phi.size > 1 and phi[-1] - phi[0] >= 2 * math.pi - 1e-9)
+    periodic = crank and _whole_turn(phi)
     speed = float(np.nanmedian(np.abs(np.asarray(kin.omega1, dtype=float)))) if phi.size else 0.0
     return Scene(title=title or "mechanism", positions=phi,
                  coordinate="φ1" if crank else "s1", unit="rad" if crank else "m",
@@ -582,8 +591,7 @@ def sine_press_scene(idle: Any, working: Any, *, title: str = "press drive",
     return Scene(title=title, positions=phi, coordinate="φ1", unit="rad",
                  valid=np.asarray(getattr(idle, "valid", np.ones(phi.shape, bool)), bool),
                  shapes=tuple(shapes),
-                 periodic=bool(phi.size > 1 and phi[-1] - phi[0] >= 2 * math.pi - 1e-9),
-                 speed=float(speed),
+                 periodic=_whole_turn(phi), speed=float(speed),
                  notes=(f"left: idle mode (offset crank-slider); right: working mode (sine "
                         f"mechanism, slot at α = {math.degrees(alpha):.4g} deg); both at the "
                         "same crank angle φ1",))
@@ -653,8 +661,7 @@ def swashplate_scene(cycle: Any, A: np.ndarray, B: np.ndarray, *,
     ]
     return Scene(title=title, positions=phi, coordinate="φ", unit="rad",
                  valid=np.ones(phi.shape, dtype=bool), shapes=tuple(side + top),
-                 periodic=bool(phi.size > 1 and phi[-1] - phi[0] >= 2 * math.pi - 1e-9),
-                 speed=float(cycle.omega),
+                 periodic=_whole_turn(phi), speed=float(cycle.omega),
                  notes=("left: side view along x0 (y0 to the right, the rotor axis z0 up; the "
                         "disk is seen edge on and the rod foreshortened); right: view along "
                         "the rotor axis (x0 right, y0 up); one slide shown",))
