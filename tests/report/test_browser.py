@@ -243,3 +243,34 @@ def test_unassembled_positions_are_skipped_and_said(opened):
     warn = o.page.text_content(".lw-warning")
     assert "[102, 258 deg]" in warn and "skips" in warn
     assert [m for m in o.messages if m[0] in ("error", "pageerror")] == []
+
+
+def test_notebook_views_run_side_by_side(browser, tmp_path):
+    """Two results' ``_repr_html_`` on one page (as in a notebook): each view animates on its
+    own, with no error and no request."""
+    fourbar = study_planar.analyze(io.load(ROOT / "examples" / "fourbar_paper001.toml"))
+    press = sine_press.analyze(io.load(ROOT / "examples" / "sine_press.toml"))
+    html = ("<!DOCTYPE html><html><head><meta charset='utf-8'></head><body>"
+            + fourbar._repr_html_() + press.working_cycle._repr_html_() + "</body></html>")
+    path = tmp_path / "notebook.html"
+    path.write_text(html, encoding="utf-8")
+    o = Opened.__new__(Opened)
+    o.context = browser.new_context(offline=True)
+    o.page = o.context.new_page()
+    o.messages, o.requests = [], []
+    o.page.on("console", lambda m: o.messages.append((m.type, m.text)))
+    o.page.on("pageerror", lambda e: o.messages.append(("pageerror", str(e))))
+    o.page.on("request", lambda r: o.requests.append(r.url))
+    try:
+        o.page.goto(path.resolve().as_uri())
+        ids = o.page.eval_on_selector_all(".lw-view", "els => els.map(e => e.id)")
+        assert len(ids) == 2 and ids[0] != ids[1]
+        first = [o.page.evaluate(f"document.getElementById('{i}').linkwork.frame()")
+                 for i in ids]
+        for i, f in zip(ids, first, strict=True):
+            o.page.wait_for_function(
+                f"document.getElementById('{i}').linkwork.frame() != {f}", timeout=5000)
+        assert [m for m in o.messages if m[0] in ("error", "warning", "pageerror")] == []
+        assert o.requests == [path.resolve().as_uri()]
+    finally:
+        o.context.close()
