@@ -20,6 +20,7 @@ from numpy.typing import ArrayLike
 __all__ = [
     "AssemblyError",
     "ConvergenceError",
+    "DriveError",
     "FileFormatError",
     "InfeasibleError",
     "LinkworkError",
@@ -97,6 +98,12 @@ class FileFormatError(LinkworkError, ValueError):
 
 class ConvergenceError(LinkworkError, RuntimeError):
     """An iterative solve did not converge."""
+
+
+class DriveError(LinkworkError, ValueError):
+    """A motor cannot drive a machine as asked: it cannot carry the mean load at any stable
+    speed, the crank stops within a cycle or during start-up, or no flywheel reaches the
+    speed fluctuation asked. The message names the value and the limit it exceeds."""
 
 
 class InfeasibleError(LinkworkError, ValueError):

@@ -30,6 +30,7 @@ KINDS: dict[str, str] = {
     "inertia": "kg*m**2",
     "force": "N",
     "torque": "N*m",
+    "power": "W",
     "time": "s",
     "frequency": "1/s",
     "stiffness": "N/m",

@@ -34,6 +34,7 @@ __all__ = [
     "Inertia",
     "Length",
     "Mass",
+    "Power",
     "Stiffness",
     "Time",
     "Torque",
@@ -50,7 +51,7 @@ __all__ = [
 #: where they are read (the float spacing of large angles), dimensionless values none.
 MAGNITUDE_LIMITS: dict[str, float] = {
     "length": 1e4, "angular_velocity": 1e6, "angular_acceleration": 1e9, "velocity": 1e4,
-    "acceleration": 1e8, "mass": 1e9, "inertia": 1e12, "force": 1e12, "torque": 1e12,
+    "acceleration": 1e8, "mass": 1e9, "inertia": 1e12, "force": 1e12, "torque": 1e12, "power": 1e12,
     "time": 1e9, "frequency": 1e6, "stiffness": 1e15, "rotational_stiffness": 1e15,
 }
 
@@ -95,6 +96,7 @@ Mass = Annotated[float, BeforeValidator(_quantity("mass"))]
 Inertia = Annotated[float, BeforeValidator(_quantity("inertia"))]
 Force = Annotated[float, BeforeValidator(_quantity("force"))]
 Torque = Annotated[float, BeforeValidator(_quantity("torque"))]
+Power = Annotated[float, BeforeValidator(_quantity("power"))]
 Time = Annotated[float, BeforeValidator(_quantity("time"))]
 Stiffness = Annotated[float, BeforeValidator(_quantity("stiffness"))]
 Dimensionless = Annotated[float, BeforeValidator(_quantity("dimensionless"))]
