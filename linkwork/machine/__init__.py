@@ -6,9 +6,12 @@
   constant-torque drives, the gear stage;
 * :mod:`linkwork.machine.solver` -- the reduced equation over a cycle: collocation, the
   periodic solve, the march;
-* :mod:`linkwork.machine.steady` -- the periodic steady state.
+* :mod:`linkwork.machine.steady` -- the periodic steady state;
+* :mod:`linkwork.machine.flywheel` -- the flywheel for a coefficient of speed fluctuation,
+  exact and by the energy method and Wittenbauer's energy-mass diagram.
 """
 
+from linkwork.machine.flywheel import FlywheelSizing, energy_method, flywheel_for, wittenbauer
 from linkwork.machine.motors import (
     ConstantSpeed,
     ConstantTorque,
@@ -24,14 +27,18 @@ __all__ = [
     "ConstantSpeed",
     "ConstantTorque",
     "DCMotor",
+    "FlywheelSizing",
     "Gear",
     "InductionMotor",
     "Machine",
     "Motor",
     "Reduction",
     "SteadyState",
+    "energy_method",
+    "flywheel_for",
     "friction_moment",
     "machine",
     "reduce",
     "steady_state",
+    "wittenbauer",
 ]

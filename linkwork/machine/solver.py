@@ -41,6 +41,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -48,8 +49,8 @@ from linkwork.errors import ConvergenceError, ParameterError
 from linkwork.machine.motors import ConstantSpeed, ConstantTorque, Motor
 from linkwork.planar.state import Arr
 
-__all__ = ["ONE_SIDED", "Coefficients", "Drive", "Grid", "Stall", "extremes", "make_grid",
-           "march", "periodic_solution", "solve_periodic"]
+__all__ = ["ONE_SIDED", "Coefficients", "Drive", "FixedTorque", "Grid", "Stall", "extremes",
+           "hermite_extremes", "make_grid", "march", "periodic_solution", "solve_periodic"]
 
 #: Distance [rad] inside an interval at which the coefficients are evaluated at a node where the
 #: loads jump (so each interval sees the loads of its own side).
@@ -72,6 +73,22 @@ class Drive:
     def rotors(self) -> float:
         """The rotors' inertia reduced to the crank, ``J_in i^2 + J_out`` [kg m^2]."""
         return self.J_in * self.ratio**2 + self.J_out
+
+
+@dataclass(frozen=True)
+class FixedTorque(Motor):
+    """A motor of one torque ``value`` [N m] at every speed: a ConstantTorque drive marched
+    with its torque set (the march needs a characteristic)."""
+
+    value: float
+    inertia: float = 0.0
+    name: str = "constant torque"
+
+    def torque(self, omega_m: Any) -> Any:
+        return self.value + 0.0 * omega_m
+
+    def slope(self, omega_m: Any) -> Any:
+        return 0.0 * omega_m
 
 
 @dataclass(frozen=True)
@@ -297,10 +314,14 @@ def solve_periodic(grid_nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarr
     kp = (k + 1) % N
 
     def system(u: Arr, torque: float | None) -> tuple[Arr, tuple[Arr, ...]]:
-        ev = _evaluate(h, iL, iM, iR, co, d, u, torque)
-        r = ev[0]
-        if ct:
-            r = np.append(r, (np.sum(_dt(h, ev[3], ev[4], ev[5])) - t_target) * scale / t_target)
+        with np.errstate(all="ignore"):  # a negative u in the middle of an interval: NaN,
+            ev = _evaluate(h, iL, iM, iR, co, d, u, torque)  # refused by the line search
+            r = ev[0]
+            if ct:
+                r = np.append(r, (np.sum(_dt(h, ev[3], ev[4], ev[5])) - t_target) * scale
+                              / t_target)
+        if np.any(ev[4] < 0):
+            r = np.full(r.shape, np.nan)
         return r, ev
 
     r, ev = system(u, torque)
@@ -311,12 +332,16 @@ def solve_periodic(grid_nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarr
         size = N
         if ct:
             size = N + 1
-            more = _border(h, iL, iM, iR, co, d, torque, ev, scale / t_target)  # type: ignore[arg-type]
+            with np.errstate(all="ignore"):
+                more = _border(h, iL, iM, iR, co, d, torque, ev,  # type: ignore[arg-type]
+                               scale / t_target)
             rows += more[0]
             cols += more[1]
             vals += more[2]
         jac = csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                          shape=(size, size))
+        if not np.all(np.isfinite(jac.data)):
+            raise ConvergenceError("periodic solve: the Jacobian is not finite")
         try:
             step = splu(jac).solve(-r)
         except RuntimeError:  # an exactly singular Jacobian
@@ -518,16 +543,17 @@ def _bisect(f: Callable[[float], tuple[float, ...]], uk: float, hk: float, FL: f
 
 
 # ---------------------------------------------------------------------------------------------
-def extremes(nodes: Arr, sol: Solution) -> tuple[float, float, float, float]:
-    """Largest and smallest ``u`` over the cycle and their positions [rad], from the cubic
-    Hermite interpolant of each interval (the collocation's own: values and slopes ``F`` at
-    both ends): (u_max, phi_max, u_min, phi_min)."""
-    h = np.diff(nodes)[: sol.uL.size]
-    u0, u1, f0, f1 = sol.uL, sol.uR, sol.FL * h, sol.FR * h
-    # u(s) = (2s^3-3s^2+1)u0 + (s^3-2s^2+s)f0 + (-2s^3+3s^2)u1 + (s^3-s^2)f1, s in [0, 1]
-    A = 3 * (2 * u0 + f0 - 2 * u1 + f1)
-    B = 2 * (-3 * u0 - 2 * f0 + 3 * u1 - f1)
-    C = f0
+def hermite_extremes(nodes: Arr, f0: Arr, f1: Arr, d0: Arr, d1: Arr
+                     ) -> tuple[float, float, float, float]:
+    """Largest and smallest value of the piecewise cubic Hermite interpolant with values
+    ``f0, f1`` and slopes ``d0, d1`` at the start and end of each interval of ``nodes``:
+    (max, where [rad], min, where [rad])."""
+    h = np.diff(nodes)[: f0.size]
+    u0, u1, s0, s1 = f0, f1, d0 * h, d1 * h
+    # f(s) = (2s^3-3s^2+1)u0 + (s^3-2s^2+s)s0 + (-2s^3+3s^2)u1 + (s^3-s^2)s1, s in [0, 1]
+    A = 3 * (2 * u0 + s0 - 2 * u1 + s1)
+    B = 2 * (-3 * u0 - 2 * s0 + 3 * u1 - s1)
+    C = s0
     cand_s = [np.zeros_like(u0), np.ones_like(u0)]
     with np.errstate(divide="ignore", invalid="ignore"):
         disc = B * B - 4 * A * C
@@ -537,9 +563,16 @@ def extremes(nodes: Arr, sol: Solution) -> tuple[float, float, float, float]:
                          np.where(np.abs(B) > 1e-300, -C / B, 0.0))
             cand_s.append(np.where((disc >= 0) & (s > 0) & (s < 1), s, 0.0))
     S = np.stack(cand_s)
-    U = ((2 * S**3 - 3 * S**2 + 1) * u0 + (S**3 - 2 * S**2 + S) * f0
-         + (-2 * S**3 + 3 * S**2) * u1 + (S**3 - S**2) * f1)
+    U = ((2 * S**3 - 3 * S**2 + 1) * u0 + (S**3 - 2 * S**2 + S) * s0
+         + (-2 * S**3 + 3 * S**2) * u1 + (S**3 - S**2) * s1)
     P = nodes[: u0.size] + S * h
     imax = np.unravel_index(np.argmax(U), U.shape)
     imin = np.unravel_index(np.argmin(U), U.shape)
     return float(U[imax]), float(P[imax]), float(U[imin]), float(P[imin])
+
+
+def extremes(nodes: Arr, sol: Solution) -> tuple[float, float, float, float]:
+    """Largest and smallest ``u`` over the cycle and their positions [rad], from the cubic
+    Hermite interpolant of each interval (the collocation's own: values and slopes ``F`` at
+    both ends): (u_max, phi_max, u_min, phi_min)."""
+    return hermite_extremes(nodes, sol.uL, sol.uR, sol.FL, sol.FR)

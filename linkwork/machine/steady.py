@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.checks import require_finite, require_number, require_pair
-from linkwork.errors import ConvergenceError, DriveError, ParameterError
+from linkwork.errors import ConvergenceError, DriveError, ParameterError, StallError
 from linkwork.machine.motors import (
     ConstantSpeed,
     ConstantTorque,
@@ -46,6 +46,7 @@ from linkwork.machine.reduction import (
 from linkwork.machine.solver import (
     Coefficients,
     Drive,
+    FixedTorque,
     Grid,
     Solution,
     Stall,
@@ -311,16 +312,37 @@ def _at_points(m: Machine, sol: Solution) -> tuple[Arr, Arr, Arr]:
     return u, eps, a
 
 
+def at_motor(d: Drive, crank_torque: float) -> float:
+    """The motor torque that gives ``crank_torque`` [N m] at the crank through the gear
+    (efficiency against the power's direction), rotors at rest."""
+    if crank_torque >= 0:
+        return crank_torque / (d.ratio * d.eta)
+    return crank_torque * d.eta / d.ratio
+
+
+def check_inertia(m: Machine) -> None:
+    """The machine must have inertia at every position (links, rotors, flywheel): without it
+    the equation of motion has no solution where a load acts (ParameterError naming where)."""
+    total = m.J + m.drive.J_out + m.drive.J_in * m.drive.ratio**2 * m.drive.eta
+    k = int(np.argmin(total))
+    if not total[k] > 1e-300:
+        raise ParameterError("inertia", f"{total[k]:.3g} kg·m² at phi1 = "
+                             f"{math.degrees(m.grid.pts[k]) % 360:.1f} deg",
+                             "must be > 0: the links, the motor's rotor, the gear and the "
+                             "flywheel have no moment of inertia about the crank there; give "
+                             "the rotor's inertia or a flywheel")
+
+
 def check_feasible(m: Machine, M_friction: Arr | float = 0.0) -> float:
     """The mean load torque at the crank [N m], after checking that the motor can give it at a
     stable speed through the gear (else :class:`~linkwork.errors.DriveError`)."""
     need = m.mean_load_torque(M_friction)
     d = m.drive
-    at_motor = need / (d.ratio * d.eta) if need >= 0 else need * d.eta / d.ratio
+    motor_side = at_motor(d, need)
     lim = torque_limit(m.motor)
-    if lim is not None and at_motor >= lim[0]:
+    if lim is not None and motor_side >= lim[0]:
         via = ("" if d.ratio == 1.0 and d.eta == 1.0 else
-               f" ({at_motor:.4g} N·m at the motor through the gear i = {d.ratio:.4g}, "
+               f" ({motor_side:.4g} N·m at the motor through the gear i = {d.ratio:.4g}, "
                f"efficiency {d.eta:.4g})")
         raise DriveError(f"mean load torque {need:.4g} N·m{via} exceeds the motor's "
                          f"{lim[1]} {lim[0]:.4g} N·m: {m.motor.name} cannot drive the machine at "
@@ -332,17 +354,16 @@ def _guess(m: Machine, need: float) -> tuple[float, float | None]:
     """Initial crank speed [rad/s] (from the motor's stable speed at the mean load torque) and,
     for a ConstantTorque drive, its torque."""
     d = m.drive
-    at_motor = need / (d.ratio * d.eta) if need >= 0 else need * d.eta / d.ratio
     if isinstance(m.motor, ConstantTorque):
-        return m.motor.mean_speed / d.ratio, at_motor
-    return m.motor.speed_at(at_motor) / d.ratio, None
+        return m.motor.mean_speed / d.ratio, at_motor(d, need)
+    return m.motor.speed_at(at_motor(d, need)) / d.ratio, None
 
 
-def _stall_error(m: Machine, exc: Stall, what: str) -> DriveError:
+def _stall_error(m: Machine, exc: Stall, what: str) -> StallError:
     lim = torque_limit(m.motor)
     peak = float(-np.min(m.M_loads + m.M_gravity))
     lim_s = "" if lim is None else f" ({lim[1]} {lim[0]:.4g} N·m at the motor)"
-    return DriveError(f"the crank stops at phi1 = {math.degrees(exc.phi) % 360:.1f} deg ({what}): "
+    return StallError(f"the crank stops at phi1 = {math.degrees(exc.phi) % 360:.1f} deg ({what}): "
                       f"{m.motor.name}{lim_s} cannot carry the machine over its peak load torque "
                       f"{peak:.4g} N·m at the crank with the rotors' inertia "
                       f"{m.drive.rotors:.4g} kg·m² reduced to the crank; a flywheel or a "
@@ -363,14 +384,17 @@ def solve_cycle(m: Machine, M_friction: Arr | float, u0: Arr | None, torque0: fl
     try:
         return periodic_solution(m.grid, co, m.drive, u0, torque0)
     except ConvergenceError:
-        if isinstance(m.motor, ConstantTorque):
-            raise
+        pass
     g = m.grid
     u = float(np.mean(u0))
     last = None
+    drive = m.drive
+    if isinstance(m.motor, ConstantTorque):  # marched with its torque at the mean load's
+        d = m.drive
+        drive = Drive(FixedTorque(at_motor(d, need)), d.ratio, d.eta, d.J_in, d.J_out)
     for cycle in range(200):
         try:
-            sol = march(g.nodes, g.iL, g.iM, g.iR, co, m.drive, u)
+            sol = march(g.nodes, g.iL, g.iM, g.iR, co, drive, u)
         except Stall as exc:
             raise _stall_error(m, exc, f"revolution {cycle + 1} from the mean speed"
                                ) from None
@@ -441,6 +465,8 @@ def solve_steady(m: Machine, *, dynamics: bool = True, u0: Arr | None = None,
     ``M_friction0`` at the grid's positions, from a previous solve)."""
     g = m.grid
     Mf: Arr | float = 0.0
+    if not isinstance(m.motor, ConstantSpeed):
+        check_inertia(m)
     need = check_feasible(m)
     torque0 = None
     if m.has_friction:
