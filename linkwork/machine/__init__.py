@@ -8,7 +8,10 @@
   periodic solve, the march;
 * :mod:`linkwork.machine.steady` -- the periodic steady state;
 * :mod:`linkwork.machine.flywheel` -- the flywheel for a coefficient of speed fluctuation,
-  exact and by the energy method and Wittenbauer's energy-mass diagram.
+  exact and by the energy method and Wittenbauer's energy-mass diagram;
+* :mod:`linkwork.machine.transient` -- start-up from rest, loads changing over time, duty
+  schedules of several structures (modes) with the switches;
+* :mod:`linkwork.machine.press` -- paper 000's variable-structure press as machine modes.
 """
 
 from linkwork.machine.flywheel import FlywheelSizing, energy_method, flywheel_for, wittenbauer
@@ -20,8 +23,10 @@ from linkwork.machine.motors import (
     InductionMotor,
     Motor,
 )
+from linkwork.machine.press import press_modes, press_schedule
 from linkwork.machine.reduction import Reduction, friction_moment, reduce
 from linkwork.machine.steady import Machine, SteadyState, machine, steady_state
+from linkwork.machine.transient import Mode, Run, StartUp, run_schedule, start_up
 
 __all__ = [
     "ConstantSpeed",
@@ -31,14 +36,21 @@ __all__ = [
     "Gear",
     "InductionMotor",
     "Machine",
+    "Mode",
     "Motor",
     "Reduction",
+    "Run",
+    "StartUp",
     "SteadyState",
     "energy_method",
     "flywheel_for",
     "friction_moment",
     "machine",
+    "press_modes",
+    "press_schedule",
     "reduce",
+    "run_schedule",
+    "start_up",
     "steady_state",
     "wittenbauer",
 ]

@@ -179,11 +179,13 @@ class Coefficients:
 
 
 class Stall(Exception):
-    """The crank stops (the speed reaches zero) at ``phi`` [rad] while marching."""
+    """The crank stops (the speed reaches zero) at ``phi`` [rad], time ``t`` [s], while
+    marching."""
 
-    def __init__(self, phi: float, index: int) -> None:
+    def __init__(self, phi: float, index: int, t: float = 0.0) -> None:
         self.phi = phi
         self.index = index
+        self.t = t
         super().__init__(f"stall at phi = {phi}")
 
 
@@ -447,15 +449,22 @@ def _eps_scalar(J: float, dJ: float, M: float, u: float, d: Drive, i: float, eta
 
 
 def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coefficients,
-          d: Drive, u_start: float) -> Solution:
+          d: Drive, u_start: float, *, loads_part: Arr | None = None,
+          factor: Callable[[float], float] | None = None, t0: float = 0.0) -> Solution:
     """Step the collocation interval by interval over ``nodes`` from ``u = u_start`` at
     ``nodes[0]`` (not periodic): one scalar Newton solve per interval.
+
+    ``factor(t)`` scales the part ``loads_part`` of ``co.M`` (the external loads' reduced
+    moment at the grid's positions) over time (``t0`` at ``nodes[0]``): at the start of each
+    interval at its time, at its middle and end at the times the trapezoid rule gives from the
+    speeds of the iterate (second order in the step; a factor that jumps in time is resolved
+    to the step).
 
     Raises
     ------
     Stall
         The speed reaches zero within an interval (the crank stops: the motor cannot move the
-        machine there).
+        machine there); its ``t`` is the time at the start of that interval.
     """
     h = np.diff(nodes)
     N = h.size
@@ -463,37 +472,49 @@ def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coeffi
     b = d.J_in * i
     J = (co.J + d.J_out).tolist()
     dJ = co.dJ.tolist()
-    M = co.M.tolist()
+    M0 = co.M.tolist()
+    ML = None if loads_part is None or factor is None else loads_part.tolist()
     out = np.empty((10, N))
     uk = float(u_start)
+    t = float(t0)
     L, Mi, R, hh = iL.tolist(), iM.tolist(), iR.tolist(), h.tolist()
+    timed = ML is not None and factor is not None
     for k in range(N):
         hk = hh[k]
         l, m, r = L[k], Mi[k], R[k]
-        eL, _, aL = _eps_scalar(J[l], dJ[l], M[l], uk, d, i, eta, b)
+        Ml, Mm, Mr = M0[l], M0[m], M0[r]
+        if timed:
+            Ml += (float(factor(t)) - 1.0) * ML[l]  # type: ignore[index, misc]
+        eL, _, aL = _eps_scalar(J[l], dJ[l], Ml, uk, d, i, eta, b)
         FL = 2.0 * eL
         if uk <= 0.0 and FL <= 0.0:
-            raise Stall(float(nodes[k]), k)
+            raise Stall(float(nodes[k]), k, t)
 
         def res(x: float, hk: float = hk, uk: float = uk, FL: float = FL, m: int = m,
-                r: int = r) -> tuple[float, float, float, float, float]:
-            eR, dR, _aR = _eps_scalar(J[r], dJ[r], M[r], x, d, i, eta, b)
+                r: int = r, Mm: float = Mm, Mr: float = Mr, t: float = t
+                ) -> tuple[float, float, float, float, float, float, float]:
+            if timed:  # the loads' factor at the times of the end and the middle (trapezoid
+                wl, wr = math.sqrt(uk), math.sqrt(max(x, 0.0))  # estimates from this x)
+                tr = t + 2.0 * hk / (wl + wr) if wl + wr > 0 else t
+                tm = t + hk / (wl + math.sqrt(max(0.5 * (uk + x), 0.0)) + 1e-300)
+                Mr = M0[r] + (float(factor(tr)) - 1.0) * ML[r]  # type: ignore[index, misc]
+                Mm = M0[m] + (float(factor(tm)) - 1.0) * ML[m]  # type: ignore[index, misc]
+            eR, dR, _aR = _eps_scalar(J[r], dJ[r], Mr, x, d, i, eta, b)
             FR, dFR = 2.0 * eR, 2.0 * dR
             um = 0.5 * (uk + x) + hk / 8.0 * (FL - FR)
-            eM, dM, _aM = _eps_scalar(J[m], dJ[m], M[m], max(um, 0.0), d, i, eta, b)
+            eM, dM, _aM = _eps_scalar(J[m], dJ[m], Mm, max(um, 0.0), d, i, eta, b)
             FM, dFM = 2.0 * eM, 2.0 * dM
             rr = x - uk - hk / 6.0 * (FL + 4.0 * FM + FR)
             drr = 1.0 - hk / 6.0 * (dFR + 4.0 * dFM * (0.5 - hk / 8.0 * dFR))
-            return rr, drr, um, FM, FR
+            return rr, drr, um, FM, FR, Mm, Mr
 
         x = max(uk + hk * FL, 0.0)
         ok = False
         for _ in range(50):
-            rr, drr, um, FM, FR = res(x)
+            rr, drr, um, FM, FR, _, _ = res(x)
             if drr <= 0.0 or not math.isfinite(drr):
                 break
-            dx = -rr / drr
-            xn = x + dx
+            xn = x - rr / drr
             if xn < 0.0:
                 xn = 0.5 * x
             if abs(xn - x) <= 1e-14 * max(abs(xn), abs(uk), 1e-300):
@@ -502,15 +523,19 @@ def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coeffi
                 break
             x = xn
         if not ok:  # bracket the root in [0, big] and bisect (Brent would need scipy here)
-            x = _bisect(res, uk, hk, FL)
-            if x is None:
-                raise Stall(float(nodes[k]), k)
-        rr, drr, um, FM, FR = res(x)
+            xb = _bisect(res, uk, hk, FL)
+            if xb is None:
+                raise Stall(float(nodes[k]), k, t)
+            x = xb
+        rr, drr, um, FM, FR, Mm, Mr = res(x)
         if x <= 0.0 or um < 0.0:
-            raise Stall(float(nodes[k]), k)
-        _eR, _, aR = _eps_scalar(J[r], dJ[r], M[r], x, d, i, eta, b)
-        _eM, _, aM = _eps_scalar(J[m], dJ[m], M[m], um, d, i, eta, b)
+            raise Stall(float(nodes[k]), k, t)
+        _eR, _, aR = _eps_scalar(J[r], dJ[r], Mr, x, d, i, eta, b)
+        _eM, _, aM = _eps_scalar(J[m], dJ[m], Mm, um, d, i, eta, b)
         out[:, k] = (uk, um, x, FL, FM, FR, aL, aM, aR, hk)
+        wl, wm, wr = math.sqrt(uk), math.sqrt(um), math.sqrt(x)
+        t += (2.0 * hk / (wl + wr) if min(wl, wm, wr) < 1e-3 * max(wl, wm, wr)
+              else hk / 6.0 * (1.0 / wl + 4.0 / wm + 1.0 / wr))
         uk = x
     uL, uM, uR, FL_, FM_, FR_, aL_, aM_, aR_, hs = out
     return Solution(np.append(uL, uR[-1]), uL, uM, uR, FL_, FM_, FR_, aL_, aM_, aR_,

@@ -297,7 +297,7 @@ class SteadyState(Result):
 
 
 # ---------------------------------------------------------------------------------------------
-def _at_points(m: Machine, sol: Solution) -> tuple[Arr, Arr, Arr]:
+def at_points(m: Machine, sol: Solution) -> tuple[Arr, Arr, Arr]:
     """u, eps and the motor torque at every evaluation position of the grid."""
     g = m.grid
     npts = g.pts.size
@@ -482,7 +482,7 @@ def solve_steady(m: Machine, *, dynamics: bool = True, u0: Arr | None = None,
         scale = float(np.max(np.abs(m.M_loads + m.M_gravity)) + np.max(np.abs(m.dJ)) * np.max(
             sol.u) + np.max(np.abs(Mf)) + 1e-300)
         for fits in range(1, 201):  # noqa: B007 (the count is reported)
-            u, eps, _ = _at_points(m, sol)
+            u, eps, _ = at_points(m, sol)
             Mf_new = friction_moment(m.mechanism, g.pts, np.sqrt(u), eps, loads=m.loads,
                                      gravity=m.gravity)
             change = float(np.max(np.abs(Mf_new - Mf)))
@@ -510,13 +510,15 @@ def _result(m: Machine, sol: Solution, Mf: Arr, fits: int, dynamics: bool) -> St
     if isinstance(m.motor, ConstantSpeed):
         u_max = u_min = float(u[0])
         p_max = p_min = float(nodes[0])
+    if not u_min > 0:  # the collocation's cubic through the nodes dips to zero: a stall
+        raise _stall_error(m, Stall(p_min, 0), "within the steady cycle")
     w_max, w_min = math.sqrt(u_max), math.sqrt(u_min)
     torque = sol.aL
     i, eta = d.ratio, d.eta
     m_in = torque - d.J_in * i * eps
     crank = np.where(m_in >= 0, i * eta * m_in, i * m_in / eta) - d.J_out * eps
     # work per revolution by Simpson's rule over the intervals (a at the three points)
-    _u_p, eps_p, a_p = _at_points(m, sol)
+    _u_p, eps_p, a_p = at_points(m, sol)
     w_motor = i * m.integral(a_p)
     min_p = a_p - d.J_in * i * eps_p
     w_in = i * m.integral(min_p)
