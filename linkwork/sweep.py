@@ -36,12 +36,43 @@ A progress bar::
 
     with rich_progress("designs") as progress:
         y = evaluate(my_model, candidates, progress=progress)
+
+Inputs every chunk needs (a model's matrices, a request) go in ``shared``: ``func`` is called
+as ``func(chunk, **shared)``; on a cluster they are sent to every worker once
+(``Client.scatter(..., broadcast=True)``), not inside every task::
+
+    y = evaluate(peaks_of, draws, shared={"zmat": zmat}, client=client)
+
+On a cluster the chunks are submitted at once and their results gathered in batches as they
+complete (``as_completed(...).batches()``), each released on the workers as soon as it is
+here; ``combine`` folds them in candidate order as soon as the next one in order is in.
+
+Worker malloc settings
+----------------------
+dask's worker launcher (the nanny) sets ``MALLOC_TRIM_THRESHOLD_=65536`` in every worker
+process it starts (dask config ``distributed.nanny.pre-spawn-environ``), so that the workers
+give freed memory back to the system. That setting also fixes glibc's ``mmap`` threshold at
+128 kB: every NumPy temporary of more than 128 kB becomes a fresh ``mmap`` and every page of it
+a page fault, and the freed top of the heap is returned at once. A NumPy kernel that makes
+multi-megabyte temporaries then runs 1.5-3x slower on such a worker than in the user's own
+process. Two remedies, both here: the library's hottest kernel (the tolerance study's) works in
+preallocated buffers, and every chunk that runs on a cluster runs inside :func:`roomy_heap`,
+which raises the two glibc thresholds while the chunk runs and restores the environment's
+values (and trims the heap) afterwards, so that the worker gives its memory back between
+chunks as its operator asked. Nothing is needed from whoever starts the cluster; unsetting the
+variable (``distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_``) changes nothing for
+linkwork (``docs/performance.md``, section Dask).
 """
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import functools
+import os
 import re
+import sys
+import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from typing import Any
@@ -51,7 +82,7 @@ import numpy as np
 from linkwork.errors import MissingExtraError, ParameterError
 
 __all__ = ["DASK_INSTALL", "Generated", "check_client", "chunk_slices", "evaluate",
-           "rich_progress"]
+           "rich_progress", "roomy_heap"]
 
 #: How to install the optional dask extra (named by every "needs dask" message).
 DASK_INSTALL = "pip install 'linkwork[dask]'"
@@ -95,9 +126,96 @@ class Generated:
         return self.n
 
 
-def _make_and_call(func: Callable[[Any], Any], make: Callable[[int, int], Any], start: int,
-                   stop: int) -> Any:
-    return func(make(start, stop))
+# ---------------------------------------------------------------------------------------------
+# glibc's heap thresholds while a chunk runs on a worker
+
+#: mallopt(3) parameters of glibc
+_M_TRIM_THRESHOLD = -1
+_M_MMAP_THRESHOLD = -3
+#: While a chunk runs: temporaries up to this size come from the heap, not from fresh mmaps
+#: (the largest value glibc accepts on 64-bit systems) ...
+ROOMY_MMAP_THRESHOLD = 32 * 2**20
+#: ... and up to this much freed memory stays in the heap until the chunk is done.
+ROOMY_TRIM_THRESHOLD = 512 * 2**20
+#: glibc's default mmap and trim thresholds (what it starts from when the environment does
+#: not set them)
+_GLIBC_DEFAULT = 128 * 1024
+
+
+def _libc() -> Any:
+    """glibc's ``mallopt`` and ``malloc_trim``, or None (another C library or system)."""
+    if not sys.platform.startswith("linux"):
+        return None
+    try:
+        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
+        libc.mallopt.argtypes = [ctypes.c_int, ctypes.c_int]
+        libc.malloc_trim.argtypes = [ctypes.c_size_t]
+        return libc
+    except (OSError, AttributeError):  # musl has no malloc_trim
+        return None
+
+
+def _env_threshold(name: str) -> int | None:
+    """The byte count a ``MALLOC_*_`` environment variable sets, or None."""
+    raw = os.environ.get(name)
+    try:
+        return int(raw) if raw is not None else None
+    except ValueError:
+        return None
+
+
+_heap_lock = threading.Lock()
+_heap_users = 0
+
+
+@contextmanager
+def roomy_heap() -> Iterator[None]:
+    """Let NumPy temporaries reuse heap memory while the block runs, whatever the process's
+    ``MALLOC_TRIM_THRESHOLD_`` / ``MALLOC_MMAP_THRESHOLD_``.
+
+    Where the environment sets one of the two (dask's worker launcher sets
+    ``MALLOC_TRIM_THRESHOLD_=65536``), glibc's thresholds are fixed: each temporary above
+    128 kB is a fresh ``mmap`` with a page fault per page. Inside this block they are raised to
+    :data:`ROOMY_MMAP_THRESHOLD` / :data:`ROOMY_TRIM_THRESHOLD`; when the last of the threads
+    inside leaves, they are set back to what the environment asked (or glibc's defaults) and
+    ``malloc_trim(0)`` returns the freed memory to the system, as that setting intends.
+    Without either variable (glibc's adaptive thresholds, the usual interactive process),
+    and where glibc is absent, it does nothing.
+    """
+    global _heap_users
+    trim = _env_threshold("MALLOC_TRIM_THRESHOLD_")
+    mmap = _env_threshold("MALLOC_MMAP_THRESHOLD_")
+    libc = _libc() if (trim is not None or mmap is not None) else None
+    if libc is None:
+        yield
+        return
+    with _heap_lock:
+        _heap_users += 1
+        if _heap_users == 1:
+            libc.mallopt(_M_MMAP_THRESHOLD, ROOMY_MMAP_THRESHOLD)
+            libc.mallopt(_M_TRIM_THRESHOLD, ROOMY_TRIM_THRESHOLD)
+    try:
+        yield
+    finally:
+        with _heap_lock:
+            _heap_users -= 1
+            if _heap_users == 0:
+                libc.mallopt(_M_MMAP_THRESHOLD, _GLIBC_DEFAULT if mmap is None else mmap)
+                libc.mallopt(_M_TRIM_THRESHOLD, _GLIBC_DEFAULT if trim is None else trim)
+                libc.malloc_trim(0)
+
+
+def _on_worker(func: Callable[..., Any], chunk: Any, shared: Mapping[str, Any]) -> Any:
+    """One chunk on a cluster worker: ``func(chunk, **shared)`` inside :func:`roomy_heap`."""
+    with roomy_heap():
+        return func(chunk, **shared)
+
+
+def _make_on_worker(func: Callable[..., Any], make: Callable[[int, int], Any], start: int,
+                    stop: int, shared: Mapping[str, Any]) -> Any:
+    """One generated chunk on a cluster worker: made there, then evaluated."""
+    with roomy_heap():
+        return func(make(start, stop), **shared)
 
 
 def _length(candidates: Any) -> int:
@@ -161,17 +279,18 @@ def check_client(client: Any, *, option: str = "client") -> None:
         raise MissingExtraError(option, "dask", DASK_INSTALL) from None
 
 
-def evaluate(func: Callable[[Any], Any], candidates: Any, *, chunk_size: int = 10_000,
+def evaluate(func: Callable[..., Any], candidates: Any, *, chunk_size: int = 10_000,
              client: Any = None, progress: Progress | None = None,
-             combine: Callable[[Any, Any], Any] | None = None) -> Any:
+             combine: Callable[[Any, Any], Any] | None = None,
+             shared: Mapping[str, Any] | None = None) -> Any:
     """Evaluate a vectorised ``func`` over candidates, chunk by chunk.
 
     Parameters
     ----------
     func : callable
         Takes one chunk of ``candidates`` (same type: an array slice, or a dict of array
-        slices) and returns an array, a tuple of arrays or a dict of arrays whose first axis
-        runs over the chunk's candidates.
+        slices) and the ``shared`` inputs as keyword arguments, and returns an array, a tuple
+        of arrays or a dict of arrays whose first axis runs over the chunk's candidates.
     candidates : ndarray, mapping of str to ndarray, or Generated
         ``N`` candidates along the first axis (e.g. an ``(N, k)`` parameter matrix, or
         ``{"r": (N,), "l": (N,)}``), or a :class:`Generated` that makes each chunk on demand.
@@ -187,6 +306,9 @@ def evaluate(func: Callable[[Any], Any], candidates: Any, *, chunk_size: int = 1
         ``combine(accumulated, chunk_result) -> accumulated``, applied to the chunk results in
         order (the first result starts the accumulation); use it to keep only a summary
         (best-k, histograms, running sums) so that results need not fit in memory either.
+    shared : mapping of str to object, optional
+        Inputs every chunk needs, passed to ``func`` as keyword arguments; on a cluster they
+        travel to each worker once (scattered before the chunks), not with every task.
 
     Returns
     -------
@@ -197,11 +319,12 @@ def evaluate(func: Callable[[Any], Any], candidates: Any, *, chunk_size: int = 1
     check_client(client)
     n = _length(candidates)
     slices = chunk_slices(n, chunk_size) or [slice(0, 0)]
+    kw = dict(shared or {})
     if client is None:
         parts: list[Any] = []
         acc: Any = None
         for i, sl in enumerate(slices):
-            res = func(_take(candidates, sl))
+            res = func(_take(candidates, sl), **kw)
             if combine is None:
                 parts.append(res)
             else:
@@ -209,40 +332,53 @@ def evaluate(func: Callable[[Any], Any], candidates: Any, *, chunk_size: int = 1
             if progress is not None:
                 progress(sl.stop, n)
         return _join(parts) if combine is None else acc
-    return _evaluate_dask(func, candidates, slices, n, client, progress, combine)
+    return _evaluate_dask(func, candidates, slices, n, client, progress, combine, kw)
 
 
-def _evaluate_dask(func: Callable[[Any], Any], candidates: Any, slices: list[slice], n: int,
+def _evaluate_dask(func: Callable[..., Any], candidates: Any, slices: list[slice], n: int,
                    client: Any, progress: Progress | None,
-                   combine: Callable[[Any, Any], Any] | None) -> Any:
+                   combine: Callable[[Any, Any], Any] | None, shared: dict[str, Any]) -> Any:
     from dask.distributed import Client, as_completed
 
     own = isinstance(client, str)
     cl = Client(client) if own else client
+    futures: list[Any] = []  # Future or None (gathered)
     try:
+        # the shared inputs go to every worker once; the tasks refer to them
+        scattered = cl.scatter(shared, broadcast=True, hash=False) if shared else {}
         if isinstance(candidates, Generated):  # make each chunk on its worker
-            futures = cl.map(functools.partial(_make_and_call, func, candidates.make),
-                             [sl.start for sl in slices], [sl.stop for sl in slices],
-                             pure=False)
+            futures = list(cl.map(functools.partial(_make_on_worker, func, candidates.make),
+                                  [sl.start for sl in slices], [sl.stop for sl in slices],
+                                  shared=scattered, pure=False))
         else:
-            chunks = [_take(candidates, sl) for sl in slices]
-            futures = cl.map(func, chunks, pure=False)
+            futures = list(cl.map(functools.partial(_on_worker, func),
+                                  [_take(candidates, sl) for sl in slices], shared=scattered,
+                                  pure=False))
         index = {f.key: i for i, f in enumerate(futures)}
-        results: list[Any] = [None] * len(futures)
+        results: dict[int, Any] = {}
+        acc: Any = None
+        folded = 0   # chunks folded by combine, in order
         done = 0
-        for fut in as_completed(futures):
-            i = index[fut.key]
-            results[i] = fut.result()
-            done += slices[i].stop - slices[i].start
-            if progress is not None:
-                progress(done, n)
-        if combine is None:
-            return _join(results)
-        acc = results[0]
-        for res in results[1:]:
-            acc = combine(acc, res)
-        return acc
+        for batch in as_completed(futures, with_results=True).batches():
+            for fut, res in batch:
+                i = index[fut.key]
+                futures[i] = None  # released on the workers once nothing refers to it
+                results[i] = res
+                done += slices[i].stop - slices[i].start
+                if progress is not None:
+                    progress(done, n)
+            if combine is not None:  # fold the chunks that are next in order
+                while folded in results:
+                    res = results.pop(folded)
+                    acc = res if folded == 0 else combine(acc, res)
+                    folded += 1
+        if combine is not None:
+            return acc
+        return _join([results[i] for i in range(len(slices))])
     finally:
+        for fut in futures:  # an error or an interrupt: cancel what is still running
+            if fut is not None:
+                fut.cancel()
         if own:
             cl.close()
 

@@ -243,7 +243,7 @@ def register(app: typer.Typer) -> None:
         doc = _load(file)
         doc.check_spatial_positions(file)  # the cycle's size, before any work
         if tolerance_study and doc.spatial.tolerance:  # its memory bound, before any work
-            check_samples(tolerance_study, len(doc.joint), doc.spatial.n_deviations(),
+            check_samples(tolerance_study, len(doc.mechanism().joints), doc.spatial.n_deviations(),
                           parameter="--tolerance-study")
         table = None if angles is None else table_positions(doc, angles)
         with output_run(out, command="reactions", file=file):

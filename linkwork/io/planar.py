@@ -142,6 +142,7 @@ from linkwork.planar.model import (
     Revolute,
     bar,
 )
+from linkwork.planar.sketch import sketch
 from linkwork.redundancy.core import DEFAULT_BEARING_STIFFNESS, check_tilt
 from linkwork.units import to_si
 
@@ -259,10 +260,13 @@ class JointSection(FileModel):
 
 
 class DriverSection(FileModel):
-    """The driver: a crank (revolute joint) or a linear actuator (prismatic joint)."""
+    """The driver: a crank (revolute joint) or a linear actuator (prismatic joint). In a file
+    with a ``[sketch]``, ``joint`` names a frame pivot's point (a crank; ``link``: which link,
+    if several are hinged there) or a slider (a linear driver)."""
 
     type: Literal["crank", "linear"] = "crank"
     joint: str
+    link: str | None = None
     omega1: AngularVelocity = 1.0
     eps1: AngularAcceleration = 0.0
     v1: Velocity = 1.0
@@ -277,9 +281,87 @@ class DriverSection(FileModel):
         return self
 
     def build(self) -> Crank | Linear:
+        if self.link is not None:
+            raise ParameterError("driver.link", self.link, "names the driven link of a frame "
+                                 "pivot in a [sketch]; with [[joint]] the joint says it")
         if self.type == "crank":
             return Crank(self.joint, self.omega1, self.eps1)
         return Linear(self.joint, self.v1, self.a1)
+
+    def sketch_spec(self) -> str | tuple[str, str]:
+        """The driver as :func:`linkwork.planar.sketch` names it."""
+        return self.joint if self.link is None else (self.joint, self.link)
+
+    def speeds(self) -> tuple[float, float]:
+        """(speed, acceleration) of the driver [rad/s, rad/s^2, or m/s, m/s^2]."""
+        return (self.omega1, self.eps1) if self.type == "crank" else (self.v1, self.a1)
+
+
+class SliderSection(FileModel):
+    """``[sketch.sliders.NAME]``: a prismatic pair as drawn (:class:`linkwork.planar.Slider`)."""
+
+    point: str
+    guide: str
+    angle: Angle | None = None
+    along: tuple[str, str] | None = None
+    body: str | None = None
+
+
+class SlotSection(FileModel):
+    """``[sketch.slots.NAME]``: a pin-in-slot pair as drawn (:class:`linkwork.planar.Slot`)."""
+
+    point: str
+    guide: str
+    angle: Angle | None = None
+    along: tuple[str, str] | None = None
+
+
+class LinkMassSection(FileModel):
+    """``[sketch.masses.LINK]``: mass, centre of mass (a drawn point's name or world [x, y] as
+    drawn), centroidal inertia (:class:`linkwork.planar.LinkMass`)."""
+
+    mass: Mass = 0.0
+    com: str | XY | None = None
+    inertia: Inertia | None = None
+
+
+class SketchSection(FileModel):
+    """``[sketch]``: the mechanism as drawn (:func:`linkwork.planar.sketch`): world coordinates
+    of its points in the drawn position, links as lists of points, ground points; the drivers
+    are the ``[driver]`` table's ``joint`` (a frame pivot's point or a slider's name)."""
+
+    frame: str = "frame"
+    points: dict[str, XY]
+    ground: list[str]
+    links: dict[str, list[str]]
+    sliders: dict[str, SliderSection] = Field(default_factory=dict)
+    slots: dict[str, SlotSection] = Field(default_factory=dict)
+    masses: dict[str, LinkMassSection | Mass] = Field(default_factory=dict)
+
+    def build(self, drivers: list[DriverSection]) -> Mechanism:
+        """The mechanism of the drawing (errors name the ``sketch.`` key)."""
+        for i, d in enumerate(drivers):
+            key = "driver" if len(drivers) == 1 else f"driver.{i}"
+            if (d.type == "linear") != (d.joint in self.sliders):
+                raise ParameterError(f"{key}.type", d.type,
+                                     f"must be {'linear' if d.joint in self.sliders else 'crank'}"
+                                     f" for joint {d.joint!r}, " + (
+                                         "a slider of the sketch" if d.joint in self.sliders
+                                         else "which is not a slider of the sketch (a linear "
+                                         "driver drives a [sketch.sliders] entry)"))
+        masses = {k: (v.model_dump() if isinstance(v, LinkMassSection) else v)
+                  for k, v in self.masses.items()}
+        try:
+            return sketch(dict(self.points), self.links, ground=self.ground,
+                          drivers=[d.sketch_spec() for d in drivers],
+                          sliders={k: v.model_dump() for k, v in self.sliders.items()},
+                          slots={k: v.model_dump() for k, v in self.slots.items()},
+                          masses=masses, frame=self.frame,
+                          speeds={d.joint: d.speeds() for d in drivers})
+        except ParameterError as exc:
+            raise ParameterError(f"sketch.{exc.parameter}", exc.value, exc.limit) from None
+        except LinkworkError as exc:
+            raise ParameterError("sketch", "the drawing", str(exc)) from None
 
 
 #: The most driver positions of ``[analysis] n``: ``linkwork analyze`` keeps about
@@ -623,9 +705,10 @@ class PlanarFile(FileModel):
     name: str = ""
     description: str = ""
     source: str = ""
-    frame: FrameSection
-    body: list[BodySection]
-    joint: list[JointSection]
+    frame: FrameSection | None = None
+    body: list[BodySection] = Field(default_factory=list)
+    joint: list[JointSection] = Field(default_factory=list)
+    sketch: SketchSection | None = None
     driver: DriverSection
     analysis: AnalysisSection = Field(default_factory=lambda: AnalysisSection())
     load: list[LoadSection] = Field(default_factory=list)
@@ -642,6 +725,11 @@ class PlanarFile(FileModel):
         for table in ("spatial", "balance"):
             if table in data and not isinstance(data[table], dict):
                 raise FileFormatError(str(path), table, "must be a table")
+        if "sketch" not in data:
+            for key in ("frame", "body", "joint"):
+                if key not in data:  # as pydantic words it, and the way out
+                    raise FileFormatError(str(path), key, "missing required key (or describe "
+                                          "the mechanism by its drawing in a [sketch])")
         try:
             doc = cls.model_validate(data)
         except pydantic.ValidationError as exc:
@@ -666,6 +754,24 @@ class PlanarFile(FileModel):
                                   "range for the reactions")
 
     @model_validator(mode="after")
+    def _one_description(self) -> PlanarFile:
+        """The mechanism is described either by ``[frame]``, ``[[body]]``, ``[[joint]]`` or by
+        a ``[sketch]`` (its drawing), not both."""
+        if self.sketch is not None:
+            given = [k for k in ("frame", "body", "joint") if k in self.model_fields_set]
+            if given:
+                raise ParameterError(given[0], f"[{given[0]}]", "a [sketch] describes the "
+                                     f"mechanism by its drawing: leave out [{given[0]}] (or "
+                                     "describe it by [frame], [[body]], [[joint]] without "
+                                     "[sketch])")
+        else:
+            missing = [k for k in ("frame", "body", "joint") if k not in self.model_fields_set]
+            if missing:
+                raise ParameterError(missing[0], "missing", "a required key (or describe the "
+                                     "mechanism by its drawing in a [sketch])")
+        return self
+
+    @model_validator(mode="after")
     def _check(self) -> PlanarFile:
         mech = self.mechanism()
         try:
@@ -687,10 +793,17 @@ class PlanarFile(FileModel):
     def mechanism(self) -> Mechanism:
         """The engine model described by the file (built once: an immutable Mechanism whose
         structure analysis is cached with it)."""
-        sources = (self.frame, self.body, self.joint, self.driver, self.analysis)
+        sources = (self.frame, self.body, self.joint, self.sketch, self.driver, self.analysis)
         if self._built is not None and all(
                 a is b for a, b in zip(self._built[0], sources, strict=True)):
             return self._built[1]
+        if self.sketch is not None:
+            mech = self.sketch.build([self.driver])
+            if self.analysis.branches:  # explicit branches override the drawing's
+                mech = mech.with_branches(**self.analysis.branches)
+            self._built = (sources, mech)
+            return mech
+        assert self.frame is not None  # _one_description
         frame = Body(self.frame.name, self.frame.points)
         bodies = tuple(b.build() for b in self.body)
         joints = tuple(j.build() for j in self.joint)
@@ -733,14 +846,15 @@ class PlanarFile(FileModel):
     def _check_loads(self) -> None:
         """Every load names a moving body and a point of it (checked when the file loads, so
         that the error carries the file's name)."""
-        moving = {b.name: b for b in self.body}
+        mech = self.mechanism()
+        moving = {b.name: b for b in mech.bodies}
         for i, ld in enumerate(self.load):
             if ld.body not in moving:
                 why = ("loads act on moving bodies, not on the frame"
-                       if ld.body == self.frame.name else "no such moving body")
+                       if ld.body == mech.frame.name else "no such moving body")
                 raise ParameterError(f"load.{i}.body", ld.body, f"{why}; known: {list(moving)}")
             if isinstance(ld.point, str) and ld.point != "com":
-                known = list(moving[ld.body].build().points)
+                known = list(moving[ld.body].points)
                 if ld.point not in known:
                     raise ParameterError(f"load.{i}.point", ld.point,
                                          f"no such point of body {ld.body!r}; known: "

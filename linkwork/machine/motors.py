@@ -272,9 +272,10 @@ class InductionMotor(Motor):
         sk = self.breakdown_slip
         if torque == 0.0:
             return self.synchronous_speed
-        # torque (s^2 + sk^2) = 2 mk sk s: the stable root s < sk (same sign as the torque)
+        # torque (s^2 + sk^2) = 2 mk sk s: the stable root s < sk (same sign as the torque),
+        # sk (r - sqrt(r^2 - 1)) written without its cancellation at small torques (r >> 1)
         r = mk / torque
-        s = sk * (r - math.copysign(math.sqrt(max(r * r - 1.0, 0.0)), r))
+        s = sk / (r + math.copysign(math.sqrt(max(r * r - 1.0, 0.0)), r))
         return self.synchronous_speed * (1.0 - s)
 
     def describe(self) -> str:

@@ -33,12 +33,12 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.checks import per_position, require_finite
+from linkwork.checks import require_finite
 from linkwork.errors import ParameterError
 from linkwork.planar import (
     BodyTorque,
@@ -48,8 +48,12 @@ from linkwork.planar import (
     inverse_dynamics,
     kinematics,
 )
+from linkwork.planar.forces import apply as apply_loads
 from linkwork.planar.state import Arr
 from linkwork.results import Result
+
+if TYPE_CHECKING:
+    from linkwork.plot import Figure
 
 __all__ = ["Loads", "Reduction", "check_crank", "friction_moment", "load_list", "reduce"]
 
@@ -120,6 +124,13 @@ class Reduction(Result):
         """``M_loads + M_gravity`` [N m]: the reduced moment of the position-dependent loads."""
         return self.M_loads + self.M_gravity
 
+    def plot(self, axes: Any = None, **kw: Any) -> Figure:
+        """J and dJ/dphi1, and the reduced moments, over the crank angle: a
+        :class:`linkwork.plot.Figure` with 2 axes (:mod:`linkwork.plot.machine`)."""
+        from linkwork.plot.machine import reduction_figure
+
+        return reduction_figure(self, axes=axes, **kw)
+
 
 def _gravity(gravity: ArrayLike | None) -> tuple[float, float]:
     if gravity is None:
@@ -162,20 +173,11 @@ def reduce(mech: Mechanism, phi1: ArrayLike, *, loads: Loads = (),
     dJ = 2.0 * np.sum(m * (c.vx * c.ax + c.vy * c.ay) + jc * w * e, axis=0)
     Mg = np.sum(m * (g[0] * c.vx + g[1] * c.vy), axis=0)
     ML = np.zeros(phi.shape)
-    for k, ld in enumerate(load_list(loads, phi)):
-        if isinstance(ld, PointForce):
-            p = kin.point(ld.body, ld.point)
-            fx = per_position(f"loads[{k}].fx", ld.fx, phi.size)
-            fy = per_position(f"loads[{k}].fy", ld.fy, phi.size)
-            ML += fx * p.vx + fy * p.vy
-        elif isinstance(ld, BodyTorque):
-            if ld.body not in mech.index or ld.body == mech.frame.name:
-                raise ParameterError(f"loads[{k}].body", ld.body, "must name a moving body; "
-                                     f"known: {[b.name for b in mech.bodies]}")
-            mz = per_position(f"loads[{k}].mz", ld.mz, phi.size)
-            ML += mz * kin.omega[mech.index[ld.body]]
-        else:
-            raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
+    for al in apply_loads(kin, list(load_list(loads, phi))):
+        if al.kind in ("damper", "drag"):  # their moment depends on the speed
+            raise ParameterError(f"loads ({al.name})", al.kind, "a speed-dependent load "
+                                 "(damper, drag) is not reduced by linkwork.machine yet")
+        ML += al.power  # at omega1 = 1: the reduced moment
     return Reduction(phi, J, dJ, ML, Mg)
 
 

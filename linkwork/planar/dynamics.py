@@ -38,10 +38,11 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.checks import per_position, require_finite
+from linkwork.checks import require_finite
 from linkwork.cycles import mean_over_range
 from linkwork.errors import ParameterError
-from linkwork.planar import friction
+from linkwork.planar import forces, friction
+from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.joints import ResolvedJoint
 from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
@@ -55,36 +56,6 @@ if TYPE_CHECKING:
     from linkwork.plot import Figure
 
 __all__ = ["BodyTorque", "Dynamics", "PointForce", "inverse_dynamics", "kinetic_energy"]
-
-
-
-@dataclass(frozen=True)
-class PointForce:
-    """External force on ``body`` at ``point`` (name, ``"com"`` or local (x, y) [m]).
-
-    ``fx, fy`` [N] in the fixed frame's axes, scalars or arrays over the positions.
-    ``from_frame``: the force comes from something held by the frame (the workpiece on a
-    press's bed, a spring or cylinder anchored to it), so its reaction acts on the frame at the
-    same point and it cancels in the shaking force and moment (default False: the load comes
-    from outside the machine, and the frame's bearings carry all of it).
-    """
-
-    body: str
-    point: str | tuple[float, float] = "com"
-    fx: ArrayLike = 0.0
-    fy: ArrayLike = 0.0
-    from_frame: bool = False
-
-
-@dataclass(frozen=True)
-class BodyTorque:
-    """External couple ``mz`` [N m] on ``body`` (counter-clockwise positive), scalar or array.
-
-    ``from_frame``: the couple reacts on the frame (see :class:`PointForce`)."""
-
-    body: str
-    mz: ArrayLike = 0.0
-    from_frame: bool = False
 
 
 @dataclass(frozen=True)
@@ -135,6 +106,15 @@ class Dynamics(Result):
         Newton steps of the friction solve (0 without friction).
     friction_static : bool
         The driver is at rest at every position: friction is not determined and set to zero.
+    loads : tuple of AppliedLoad
+        Every load as evaluated on the motion, in the order given
+        (:class:`~linkwork.planar.forces.AppliedLoad`: name, kind, value, power, energy, the
+        forces it exerts); :meth:`load` finds one by name.
+    load_power : ndarray (n_loads, n)
+        Power of each load on the moving bodies [W] (rows in ``loads`` order; a spring's is
+        ``-dV/dt``, a damper's <= 0).
+    V : ndarray (n,)
+        Energy stored in the springs [J] (zero without springs).
     """
 
     kinematics: Kinematics
@@ -161,11 +141,14 @@ class Dynamics(Result):
     kappa: Arr
     friction_iterations: int
     friction_static: bool
+    loads: tuple[AppliedLoad, ...]
+    load_power: Arr
+    V: Arr
     units: ClassVar[dict[str, str]] = {
         "phi1": "rad", "fx": "N", "fy": "N", "mz": "N*m", "px": "m", "py": "m", "Q": "N*m",
         "shaking_fx": "N", "shaking_fy": "N", "shaking_m": "N*m", "T": "J",
         "Q_frictionless": "N*m", "friction_fx": "N", "friction_fy": "N", "friction_mz": "N*m",
-        "friction_power": "W", "locked": "1", "kappa": ""}
+        "friction_power": "W", "locked": "1", "kappa": "", "load_power": "W", "V": "J"}
 
     def __post_init__(self) -> None:
         du = self.kinematics.mechanism.driver.field_units  # a linear driver: slide, force
@@ -182,6 +165,13 @@ class Dynamics(Result):
             raise ParameterError("joint", joint, f"no such joint; known: {list(self.joints)}"
                                  ) from None
         return self.fx[i], self.fy[i]
+
+    def load(self, name: str) -> AppliedLoad:
+        """The load called ``name`` as evaluated (value, power, energy, forces)."""
+        for ld in self.loads:
+            if ld.name == name:
+                return ld
+        raise ParameterError("load", name, f"no such load; known: {[x.name for x in self.loads]}")
 
     def reaction_magnitude(self, joint: str) -> Arr:
         """|R| of joint ``joint`` [N]."""
@@ -305,7 +295,7 @@ def kinetic_energy(kin: Kinematics) -> Arr:
 
 
 def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
-                     loads: Sequence[PointForce | BodyTorque] = (),
+                     loads: Sequence[Load] = (),
                      about: ArrayLike = (0.0, 0.0)) -> Dynamics:
     """Joint reactions, driving torque, shaking force/moment and kinetic energy.
 
@@ -315,8 +305,10 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         Result of :func:`~linkwork.planar.kinematics.kinematics`.
     gravity : (gx, gy), optional
         Gravity acceleration [m/s^2] in frame axes, e.g. ``(0, -9.81)``; default none.
-    loads : sequence of PointForce and BodyTorque
-        External loads on moving bodies (constant or per position).
+    loads : sequence of loads
+        External loads and force elements (:mod:`linkwork.planar.forces`): PointForce,
+        BodyTorque, SlideForce (numbers, arrays over the positions or LoadDiagram), Spring,
+        Damper, Drag.
     about : (x, y)
         Point about which the shaking moment is taken [m] (default the frame origin).
 
@@ -326,9 +318,6 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         See the module docstring for the sign conventions.
     """
     require_kinematics(kin)
-    if isinstance(loads, PointForce | BodyTorque) or not isinstance(loads, Sequence):
-        raise ParameterError("loads", loads, "must be a sequence (list or tuple) of PointForce "
-                             "and BodyTorque")
     mech: Mechanism = kin.mechanism
     n = kin.n
     g = (0.0, 0.0) if gravity is None else tuple(float(v) for v in require_finite(
@@ -338,11 +327,11 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     ab = tuple(float(v) for v in require_finite("about", about).ravel())
     if len(ab) != 2:
         raise ParameterError("about", about, "must be a point (x, y) [m]")
+    applied = forces.apply(kin, loads)
     st = _state_from(kin)
     nb = len(mech.body_names)
     # generalised applied-minus-inertia forces on each moving body (about its origin)
     f = np.zeros((n, 3 * (nb - 1)))
-    on_frame: list[tuple[Arr | float, ...]] = []  # reactions of from_frame loads on the frame
     iw = inertia_wrenches(kin, g)  # weight + inertia force at C, inertia couple
     for k, b in enumerate(mech.bodies):
         i = mech.index[b.name]
@@ -350,34 +339,16 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         f[:, 3 * i - 3] += iw.fx[k]
         f[:, 3 * i - 2] += iw.fy[k]
         f[:, 3 * i - 1] += rx * iw.fy[k] - ry * iw.fx[k] + iw.mz[k]
-    for k, ld in enumerate(loads):
-        if not isinstance(ld, PointForce | BodyTorque):
-            raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
-        if ld.body == mech.frame.name:
-            raise ParameterError("loads.body", ld.body, "loads must act on moving bodies")
-        if ld.body not in mech.index:
-            raise ParameterError("loads.body", ld.body,
-                                 f"no such body; known: {list(mech.body_names[1:])}")
-        i = mech.index[ld.body]
-        if not isinstance(ld.from_frame, bool | np.bool_):
-            raise ParameterError("loads.from_frame", ld.from_frame, "must be True or False")
-        if isinstance(ld, PointForce):
-            pm = kin.point(ld.body, ld.point)
-            fx = per_position(f"loads[{k}].fx", ld.fx, n)
-            fy = per_position(f"loads[{k}].fy", ld.fy, n)
-            rx, ry = pm.x - kin.x[i], pm.y - kin.y[i]
-            f[:, 3 * i - 3] += fx
-            f[:, 3 * i - 2] += fy
-            f[:, 3 * i - 1] += rx * fy - ry * fx
-            if ld.from_frame:  # its reaction on the frame: -F at the same point
-                on_frame.append((-fx, -fy, pm.x, pm.y, 0.0))
-        elif isinstance(ld, BodyTorque):
-            mz = per_position(f"loads[{k}].mz", ld.mz, n)
-            f[:, 3 * i - 1] += mz
-            if ld.from_frame:
-                on_frame.append((0.0, 0.0, 0.0, 0.0, -mz))
-        else:
-            raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
+    on_frame: list[forces.Wrench] = []  # the loads' reactions on the frame
+    for ap in applied:
+        for w in ap.wrenches:
+            i = mech.index[w.body]
+            if i == 0:
+                on_frame.append(w)
+                continue
+            f[:, 3 * i - 3] += w.fx
+            f[:, 3 * i - 2] += w.fy
+            f[:, 3 * i - 1] += (w.px - kin.x[i]) * w.fy - (w.py - kin.y[i]) * w.fx + w.mz
     nj = len(mech.joints)
     pxr = np.zeros((nj, n))
     pyr = np.zeros((nj, n))
@@ -412,10 +383,10 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         sm += (pxr[ji] - ab[0]) * fy - (pyr[ji] - ab[1]) * fx + mz
         if rj.drive and plan.driver_kind != "linear":  # the motor's reaction torque
             sm += sgn * Q
-    for rfx, rfy, rpx, rpy, rmz in on_frame:
-        sfx += rfx
-        sfy += rfy
-        sm += (rpx - ab[0]) * rfy - (rpy - ab[1]) * rfx + rmz
+    for w in on_frame:
+        sfx += w.fx
+        sfy += w.fy
+        sm += (w.px - ab[0]) * w.fy - (w.py - ab[1]) * w.fx + w.mz
     T = kinetic_energy(kin)
     if fric is None:  # no joint dissipates
         zeros = np.zeros((nj, n))
@@ -428,7 +399,9 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
                     friction_fy=fric.sol.ffy, friction_mz=fric.sol.fmz,
                     friction_power=fric.power, locked=fric.locked, kappa=fric.sol.kappa,
                     friction_iterations=fric.sol.iterations,
-                    friction_static=fric.static)
+                    friction_static=fric.static, loads=applied,
+                    load_power=np.array([ap.power for ap in applied]).reshape(-1, n),
+                    V=sum((ap.energy for ap in applied), np.zeros(n)))
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ if TYPE_CHECKING:
     from linkwork.machine.transient import Run
 
 __all__ = ["plot_energy_mass", "plot_speed", "plot_torque", "plot_transient",
-           "steady_figure", "transient_figure"]
+           "reduction_figure", "steady_figure", "transient_figure"]
 
 RPM = 30.0 / math.pi
 
@@ -141,3 +141,23 @@ def plot_transient(run: Run, axes: Any = None, *, name: str | None = None) -> di
 def transient_figure(run: Run, axes: Any = None, *, name: str | None = None) -> Figure:
     """:func:`plot_transient` as a :class:`Figure` (2 axes)."""
     return Figure.of(plot_transient(run, axes, name=name))
+
+
+def reduction_figure(red: Any, axes: Any = None, *, name: str | None = None) -> Figure:
+    """The mechanism reduced to its crank (:class:`linkwork.machine.reduction.Reduction`): the
+    reduced moment of inertia J and its derivative dJ/dphi1 (top), the reduced moments of the
+    loads and of gravity (bottom), over the crank angle (2 axes)."""
+    ax = axes_or_new(axes, 2, 1, figsize=(8, 7), sharex=True)
+    x = np.degrees(red.phi1)
+    (j,) = ax[0].plot(x, red.J, label="J [kg·m²]")
+    (dj,) = ax[0].plot(x, red.dJ, ls="--", label="dJ/dφ1 [kg·m²/rad]")
+    ax[0].set_ylabel("reduced inertia")
+    finish(ax[0], title=titled(name, "Reduction", "reduced moment of inertia"), angle=x)
+    (ml,) = ax[1].plot(x, red.M_loads, label="loads")
+    (mg,) = ax[1].plot(x, red.M_gravity, ls="--", label="gravity")
+    ax[1].set_xlabel("crank angle φ1 [deg]")
+    ax[1].set_ylabel("reduced moment [N·m]")
+    finish(ax[1], title=titled(name, "Reduction", "reduced moments (positive: driving)"),
+           angle=x)
+    return Figure.of(ax, inertia={"ax": ax[0], "lines": [j, dj]},
+                     moments={"ax": ax[1], "lines": [ml, mg]})

@@ -196,40 +196,76 @@ def _peaks(comp: np.ndarray) -> np.ndarray:
     return np.concatenate([p, bend[..., None]], axis=-1)
 
 
-#: Samples per block of the peak kernel: the block's reactions (positions x 6 n_joints x block)
-#: stay in the cache (7 MB for 360 positions and 4 joints), whatever the chunk size.
-KERNEL_BLOCK = 100
+#: Samples per block of the peak kernel: a block's reactions (positions x 6 n_joints x block,
+#: 4.4 MB for 360 positions and 4 joints) live in one buffer reused by every block of a chunk.
+KERNEL_BLOCK = 64
+#: Rows of the affine map (positions x components) per matrix product: products of at most
+#: 240 x (n_tol + 1) x KERNEL_BLOCK stay under OpenBLAS's threshold for threads (a threaded
+#: product on 2 shared cores ran 4-15x slower), and NumPy loops over them in C.
+KERNEL_ROWS = 240
 
 
-def _chunk(draws: np.ndarray, *, c0: np.ndarray, z: np.ndarray, n_joints: int) -> np.ndarray:
-    """Peaks for a chunk of samples (module level so that Dask can pickle it).
+def affine_blocks(c0: np.ndarray, z: np.ndarray) -> np.ndarray:
+    """The affine map ``c = c0 + Z d`` as one matrix ``[Z | c0]``, rows (position, component)
+    in order, split into blocks of :data:`KERNEL_ROWS` rows (the last one padded with zeros):
+    shape ``(n_blocks, KERNEL_ROWS, n_tol + 1)``, the input the peak kernel shares among all
+    chunks (scattered once to the workers of a cluster)."""
+    n, m, k = z.shape
+    rows = n * m
+    nblk = -(-rows // KERNEL_ROWS)
+    out = np.zeros((nblk * KERNEL_ROWS, k + 1))
+    out[:rows, :k] = z.reshape(rows, k)
+    out[:rows, k] = c0.reshape(rows)
+    return out.reshape(nblk, KERNEL_ROWS, k + 1)
 
-    ``c0`` (n, 6 n_joints): global components without deviations; ``z`` (n, 6 n_joints, n_tol):
-    their derivatives with respect to the sampled deviations; ``draws`` (S, n_tol).  The chunk
-    is the unit of work of Dask and of the progress bar; the kernel runs over it in blocks of
-    :data:`KERNEL_BLOCK` samples.
+
+def _chunk(draws: np.ndarray, *, zb: np.ndarray, n: int, n_joints: int) -> np.ndarray:
+    """Peaks (S, n_joints, 7) for a chunk of samples ``draws`` (S, n_tol) (module level so that
+    Dask can pickle it).
+
+    ``zb``: :func:`affine_blocks` of the global components without deviations ``c0``
+    (n, 6 n_joints) and of their derivatives ``Z`` with respect to the sampled deviations
+    (n, 6 n_joints, n_tol), over ``n`` positions. The chunk is the unit of work of Dask and of
+    the progress bar; the kernel runs over it in blocks of :data:`KERNEL_BLOCK` samples, in
+    buffers allocated once per chunk and reused by every block (``out=``): no temporary grows
+    with the block, so the malloc settings of the process (a Dask worker's
+    ``MALLOC_TRIM_THRESHOLD_``) do not slow it down.
     """
-    out = np.empty((draws.shape[0], n_joints, 7))
-    for lo in range(0, draws.shape[0], KERNEL_BLOCK):
-        out[lo:lo + KERNEL_BLOCK] = _block(draws[lo:lo + KERNEL_BLOCK], c0, z, n_joints)
+    S = draws.shape[0]
+    k = zb.shape[2] - 1
+    m = 6 * n_joints
+    blk = KERNEL_BLOCK
+    out = np.empty((S, n_joints, 7))
+    comp = np.empty((zb.shape[0], zb.shape[1], blk))      # the block's components
+    rhs = np.zeros((k + 1, blk))                          # [draws^T; 1]
+    rhs[k] = 1.0
+    peak = np.empty((m, blk))
+    low = np.empty((m, blk))
+    bend = np.empty((n_joints, blk))
+    # (positions, joints, 6, block): a view of the rows that are not padding
+    c = comp.reshape(-1, blk)[:n * m].reshape(n, n_joints, 6, blk)
+    c2 = c.reshape(n, m, blk)
+    mx, my = c[:, :, 3], c[:, :, 4]
+    for lo in range(0, S, blk):
+        s = min(blk, S - lo)
+        rhs[:k, :s] = draws[lo:lo + s].T
+        rhs[:k, s:] = 0.0                                 # a partial last block
+        np.matmul(zb, rhs, out=comp)                      # c0 + Z d, batched over row blocks
+        # peak |x| = max(max x, -min x): no |x| over every position
+        np.max(c2, axis=0, out=peak)
+        np.min(c2, axis=0, out=low)
+        np.negative(low, out=low)
+        np.maximum(peak, low, out=peak)
+        # bending peak = sqrt of the peak of mx^2 + my^2 (one root per sample), in place
+        np.multiply(mx, mx, out=mx)
+        np.multiply(my, my, out=my)
+        np.add(mx, my, out=mx)
+        np.max(mx, axis=0, out=bend)
+        np.sqrt(bend, out=bend)
+        o = out[lo:lo + s]
+        o[:, :, :6] = peak[:, :s].reshape(n_joints, 6, s).transpose(2, 0, 1)
+        o[:, :, 6] = bend[:, :s].T
     return out
-
-
-def _block(draws: np.ndarray, c0: np.ndarray, z: np.ndarray, n_joints: int) -> np.ndarray:
-    # No full-size temporaries beyond the product itself: peaks of |x| as max(max, -min), the
-    # bending peak as the root of the peak of mx^2 + my^2 (one sqrt per sample, not per
-    # position); with 100-sample blocks the product stays in the cache.  4.7x faster than
-    # abs/hypot over every position at 500-sample chunks (9.4 s -> 2.0 s for 100 000 samples
-    # of a 360-position, 4-joint, 9-deviation study), equal to 2e-16.
-    comp = z @ draws.T                                            # (n, 6 nj, S), batched BLAS
-    comp += c0[:, :, None]
-    comp = comp.reshape(comp.shape[0], n_joints, 6, -1)
-    peak = np.maximum(comp.max(axis=0), -comp.min(axis=0))        # (nj, 6, S)
-    mx, my = comp[:, :, 3], comp[:, :, 4]
-    b2 = mx * mx
-    b2 += my * my
-    bend = np.sqrt(b2.max(axis=0))                                # (nj, S)
-    return np.moveaxis(np.concatenate([peak, bend[:, None, :]], axis=1), -1, 0)
 
 
 #: Memory budget of a tolerance study [bytes]: the draws (N x n_tolerances) and the peaks
@@ -341,7 +377,8 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     p = p.reshape(m1, nj * 6, geom.n).transpose(2, 1, 0)                # (n, 6 nj, m+1)
     c0 = np.einsum("nck,nk->nc", p, inf.r0)
     zmat = p @ dr                                                        # (n, 6 nj, n_tol)
-    func = functools.partial(_chunk, c0=c0, z=zmat, n_joints=nj)
-    peaks = evaluate(func, draws, chunk_size=chunk_size, client=client, progress=progress)
+    func = functools.partial(_chunk, n=geom.n, n_joints=nj)
+    peaks = evaluate(func, draws, chunk_size=chunk_size, client=client, progress=progress,
+                     shared={"zb": affine_blocks(c0, zmat)})
     return ToleranceStudy(joints=tuple(names), quantities=PEAK_QUANTITIES, peaks=peaks,
                           nominal=nominal, draws=draws, tolerances=tuple(tolerances), seed=seed)

@@ -9,13 +9,13 @@ prints, writes and plots. Nothing is printed.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.balancing.loads import mean_over_range
-from linkwork.errors import AssemblyError, ParameterError
+from linkwork.errors import AssemblyError, ParameterError, angle_ranges, format_angle_ranges
 from linkwork.io.planar import PlanarFile
 from linkwork.planar import (
     Crank,
@@ -46,6 +46,7 @@ DYNAMICS_COLUMNS = ("Q", "shaking_fx", "shaking_fy", "shaking_m", "T", "Q_fricti
 DYNAMICS_PREFIXES = ("R_", "Pf_")
 
 Transmission = dict[str, tuple[np.ndarray, np.ndarray]]
+OnFailure = Literal["raise", "nan"]
 
 
 def table_positions_error(exc: AssemblyError, positions: np.ndarray, linear: bool
@@ -258,6 +259,12 @@ class PlanarStudy:
         return isinstance(self.mechanism.driver, Crank)
 
     @property
+    def unassembled(self) -> list[tuple[float, float]]:
+        """Ranges ``[(first, last), ...]`` of the analysed driver positions [rad, or m] where the
+        mechanism does not assemble (empty unless analysed with ``on_failure="nan"``)."""
+        return angle_ranges(self.kinematics.phi1, ~np.asarray(self.kinematics.valid, bool))
+
+    @property
     def structure(self) -> Structure:
         """Mobility and Assur groups of the mechanism."""
         return self.mechanism.structure
@@ -321,11 +328,16 @@ class PlanarStudy:
         }
 
 
-def _solve(doc: PlanarFile, mech: Mechanism, phi: np.ndarray) -> tuple[Kinematics, Dynamics]:
-    kin = kinematics(mech, phi)
+def _solve(doc: PlanarFile, mech: Mechanism, phi: np.ndarray, on_failure: OnFailure = "raise"
+           ) -> tuple[Kinematics, Dynamics]:
+    kin = kinematics(mech, phi, on_failure=on_failure)
     a = doc.analysis
     dyn = inverse_dynamics(kin, gravity=a.gravity, loads=doc.loads(phi), about=a.about)
     return kin, dyn
+
+
+def _range_text(phi: np.ndarray, crank: bool) -> str:
+    return format_angle_ranges([(float(phi[0]), float(phi[-1]))], "rad" if crank else "m")
 
 
 #: Spacing of the default table positions of a crank [rad]: every 30 deg.
@@ -357,7 +369,8 @@ def default_table_positions(doc: PlanarFile) -> np.ndarray:
     return np.linspace(lo, hi, TABLE_COUNT)
 
 
-def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
+def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None,
+            on_failure: OnFailure = "raise") -> PlanarStudy:
     """Analyse a planar mechanism file over its [analysis] positions and at table positions.
 
     Parameters
@@ -367,6 +380,10 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
     angles : array_like, optional
         The table's driver positions [rad, or m for a linear driver]; default
         :func:`default_table_positions`.
+    on_failure : {"raise", "nan"}
+        Where the mechanism does not assemble over part of the range: raise (default), or
+        solve the rest and leave NaN there (``study.kinematics.valid`` says where; the table
+        positions likewise; :attr:`PlanarStudy.unassembled` lists the ranges).
 
     Returns
     -------
@@ -375,18 +392,22 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
     Raises
     ------
     AssemblyError
-        The mechanism does not assemble over the file's range.
+        The mechanism does not assemble over the file's range (with ``on_failure="nan"``:
+        at no position of it).
     ParameterError
         The table positions leave the range where the mechanism assembles (``--angles``).
     """
     mech = doc.mechanism()
     crank = isinstance(mech.driver, Crank)
     phi = doc.positions()
-    kin, dyn = _solve(doc, mech, phi)
+    kin, dyn = _solve(doc, mech, phi, on_failure)
+    if not np.any(kin.valid):
+        raise AssemblyError(f"the mechanism assembles at no position of the [analysis] range "
+                            f"({_range_text(phi, crank)})")
     dcs = dead_centres(kin)
     tphi = default_table_positions(doc) if angles is None else np.asarray(angles, float)
     try:
-        tk, td = _solve(doc, mech, tphi)
+        tk, td = _solve(doc, mech, tphi, on_failure)
     except AssemblyError as exc:
         raise table_positions_error(exc, tphi, not crank) from None
     trans = transmission_angles(kin)
