@@ -170,12 +170,14 @@ def make_grid(start: float, period: float, n: int, breaks: Arr | None = None) ->
 @dataclass(frozen=True)
 class Coefficients:
     """Reduced coefficients at the grid's evaluation positions: the links' ``J``, ``dJ``
-    [kg m^2, kg m^2/rad] and every reduced moment but the drive's, ``M`` [N m] (loads, gravity,
-    friction)."""
+    [kg m^2, kg m^2/rad], every reduced moment but the drive's and the dampers', ``M`` [N m]
+    (loads, gravity, friction), and the reduced damping ``D`` [N m s/rad] of the
+    speed-dependent loads (their moment ``-D omega``; None: none)."""
 
     J: Arr
     dJ: Arr
     M: Arr
+    D: Arr | None = None
 
 
 class Stall(Exception):
@@ -211,10 +213,16 @@ def eps_of(co: Coefficients, idx: np.ndarray, u: Arr, d: Drive, torque: Arr | fl
         da = np.zeros(w.shape)
     b = d.J_in * i
     c = 0.5 * dJ * u - co.M[idx]
+    dc = 0.5 * dJ
+    if co.D is not None:
+        D = co.D[idx]
+        c = c + D * w
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dc = dc + np.where(w > 0, D / (2.0 * np.where(w > 0, w, 1.0)), 0.0)
     k = np.where(a * J + b * c >= 0.0, i * eta, i / eta)
     den = k * b + J
     eps = (k * a - c) / den
-    deps = (k * da - 0.5 * dJ) / den
+    deps = (k * da - dc) / den
     m_in = a - b * eps
     return eps, deps, a, m_in
 
@@ -225,6 +233,8 @@ def _gain(d: Drive, co: Coefficients, idx: np.ndarray, a: Arr, u: Arr) -> tuple[
     J = co.J[idx] + d.J_out
     b = d.J_in * i
     c = 0.5 * co.dJ[idx] * u - co.M[idx]
+    if co.D is not None:
+        c = c + co.D[idx] * np.sqrt(np.maximum(u, 0.0))
     k = np.where(a * J + b * c >= 0.0, i * eta, i / eta)
     return k, k / (k * b + J)
 
@@ -427,6 +437,8 @@ def constant_speed(grid: Grid, co: Coefficients, d: Drive) -> Solution:
 
     def torque(idx: np.ndarray) -> Arr:
         c = 0.5 * co.dJ[idx] * w * w - co.M[idx]  # the crank side's demand at eps = 0
+        if co.D is not None:
+            c = c + co.D[idx] * w
         return np.where(c >= 0, c / (d.ratio * d.eta), c * d.eta / d.ratio)
 
     zeros = np.zeros(N)
@@ -437,15 +449,16 @@ def constant_speed(grid: Grid, co: Coefficients, d: Drive) -> Solution:
 
 # ---------------------------------------------------------------------------------------------
 def _eps_scalar(J: float, dJ: float, M: float, u: float, d: Drive, i: float, eta: float,
-                b: float) -> tuple[float, float, float]:
+                b: float, D: float = 0.0) -> tuple[float, float, float]:
     """:func:`eps_of` at one position (plain floats): eps, d eps/du, motor torque."""
     w = math.sqrt(u) if u > 0.0 else 0.0
     a = float(d.motor.torque(i * w))
     da = float(d.motor.slope(i * w)) * i / (2.0 * w) if w > 0.0 else 0.0
-    c = 0.5 * dJ * u - M
+    c = 0.5 * dJ * u - M + D * w
+    dc = 0.5 * dJ + (D / (2.0 * w) if w > 0.0 else 0.0)
     k = i * eta if a * J + b * c >= 0.0 else i / eta
     den = k * b + J
-    return (k * a - c) / den, (k * da - 0.5 * dJ) / den, a
+    return (k * a - c) / den, (k * da - dc) / den, a
 
 
 def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coefficients,
@@ -473,6 +486,7 @@ def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coeffi
     J = (co.J + d.J_out).tolist()
     dJ = co.dJ.tolist()
     M0 = co.M.tolist()
+    Dl = co.D.tolist() if co.D is not None else [0.0] * len(M0)
     ML = None if loads_part is None or factor is None else loads_part.tolist()
     out = np.empty((10, N))
     uk = float(u_start)
@@ -485,7 +499,7 @@ def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coeffi
         Ml, Mm, Mr = M0[l], M0[m], M0[r]
         if timed:
             Ml += (float(factor(t)) - 1.0) * ML[l]  # type: ignore[index, misc]
-        eL, _, aL = _eps_scalar(J[l], dJ[l], Ml, uk, d, i, eta, b)
+        eL, _, aL = _eps_scalar(J[l], dJ[l], Ml, uk, d, i, eta, b, Dl[l])
         FL = 2.0 * eL
         if uk <= 0.0 and FL <= 0.0:
             raise Stall(float(nodes[k]), k, t)
@@ -499,10 +513,10 @@ def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coeffi
                 tm = t + hk / (wl + math.sqrt(max(0.5 * (uk + x), 0.0)) + 1e-300)
                 Mr = M0[r] + (float(factor(tr)) - 1.0) * ML[r]  # type: ignore[index, misc]
                 Mm = M0[m] + (float(factor(tm)) - 1.0) * ML[m]  # type: ignore[index, misc]
-            eR, dR, _aR = _eps_scalar(J[r], dJ[r], Mr, x, d, i, eta, b)
+            eR, dR, _aR = _eps_scalar(J[r], dJ[r], Mr, x, d, i, eta, b, Dl[r])
             FR, dFR = 2.0 * eR, 2.0 * dR
             um = 0.5 * (uk + x) + hk / 8.0 * (FL - FR)
-            eM, dM, _aM = _eps_scalar(J[m], dJ[m], Mm, max(um, 0.0), d, i, eta, b)
+            eM, dM, _aM = _eps_scalar(J[m], dJ[m], Mm, max(um, 0.0), d, i, eta, b, Dl[m])
             FM, dFM = 2.0 * eM, 2.0 * dM
             rr = x - uk - hk / 6.0 * (FL + 4.0 * FM + FR)
             drr = 1.0 - hk / 6.0 * (dFR + 4.0 * dFM * (0.5 - hk / 8.0 * dFR))
@@ -530,8 +544,8 @@ def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coeffi
         rr, drr, um, FM, FR, Mm, Mr = res(x)
         if x <= 0.0 or um < 0.0:
             raise Stall(float(nodes[k]), k, t)
-        _eR, _, aR = _eps_scalar(J[r], dJ[r], Mr, x, d, i, eta, b)
-        _eM, _, aM = _eps_scalar(J[m], dJ[m], Mm, um, d, i, eta, b)
+        _eR, _, aR = _eps_scalar(J[r], dJ[r], Mr, x, d, i, eta, b, Dl[r])
+        _eM, _, aM = _eps_scalar(J[m], dJ[m], Mm, um, d, i, eta, b, Dl[m])
         out[:, k] = (uk, um, x, FL, FM, FR, aL, aM, aR, hk)
         wl, wm, wr = math.sqrt(uk), math.sqrt(um), math.sqrt(x)
         t += (2.0 * hk / (wl + wr) if min(wl, wm, wr) < 1e-3 * max(wl, wm, wr)

@@ -101,6 +101,7 @@ class Machine:
     about: tuple[float, float]
     drive: Drive
     has_friction: bool
+    damping: Arr | None = None
 
     def with_flywheel(self, flywheel: float) -> Machine:
         """The same machine with another flywheel [kg m^2] (no new engine evaluation)."""
@@ -108,7 +109,8 @@ class Machine:
         d = self.drive
         return Machine(self.mechanism, self.motor, self.gear, fw, self.grid, self.J, self.dJ,
                        self.M_loads, self.M_gravity, self.loads, self.gravity, self.about,
-                       Drive(d.motor, d.ratio, d.eta, d.J_in, fw), self.has_friction)
+                       Drive(d.motor, d.ratio, d.eta, d.J_in, fw), self.has_friction,
+                       self.damping)
 
     def with_motor(self, motor: Motor) -> Machine:
         """The same machine with another motor (no new engine evaluation)."""
@@ -117,10 +119,11 @@ class Machine:
         return Machine(self.mechanism, motor, self.gear, self.flywheel, self.grid, self.J,
                        self.dJ, self.M_loads, self.M_gravity, self.loads, self.gravity,
                        self.about, Drive(motor, d.ratio, d.eta, motor.inertia + self.gear.inertia,
-                                         d.J_out), self.has_friction)
+                                         d.J_out), self.has_friction, self.damping)
 
     def coefficients(self, M_friction: Arr | float = 0.0) -> Coefficients:
-        return Coefficients(self.J, self.dJ, self.M_loads + self.M_gravity + M_friction)
+        return Coefficients(self.J, self.dJ, self.M_loads + self.M_gravity + M_friction,
+                            self.damping)
 
     def integral(self, values: Arr) -> float:
         """Simpson's integral over the cycle of a quantity given at ``grid.pts`` [its unit x
@@ -169,7 +172,8 @@ def machine(mech: Mechanism, motor: Motor, *, loads: Loads = (), gravity: ArrayL
     drive = Drive(motor, g.ratio, g.efficiency, motor.inertia + g.inertia, fw)
     return Machine(mech, motor, g, fw, grid, red.J, red.dJ, red.M_loads, red.M_gravity, loads,
                    (float(grav[0]), float(grav[1])) if grav is not None else None,
-                   (float(ab[0]), float(ab[1])), drive, any(j.has_friction for j in mech.joints))
+                   (float(ab[0]), float(ab[1])), drive, any(j.has_friction for j in mech.joints),
+                   red.damping if np.any(red.damping) else None)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -193,8 +197,9 @@ class SteadyState(Result):
     power : motor power ``torque * omega_motor`` [W]
     J : reduced moment of inertia of the links [kg m^2] (``J_rotors`` adds the drive's)
     dJ : dJ/dphi1 [kg m^2/rad]
-    M_loads, M_gravity, M_friction : reduced moments of the external loads, gravity and joint
-        friction [N m] (positive driving)
+    M_loads, M_gravity, M_friction, M_damping : reduced moments of the external loads
+        (position-dependent), gravity, joint friction and the speed-dependent loads (dampers,
+        drags: ``-damping omega``) [N m] (positive driving)
     delta : coefficient of speed fluctuation ``(omega_max - omega_min) / omega_mean``
     omega_mean : the time-mean crank speed ``2 pi / period`` [rad/s]
     omega_max, omega_min, phi_max, phi_min : extreme speeds [rad/s] and where [rad] (from the
@@ -205,7 +210,8 @@ class SteadyState(Result):
     torque_rms : the RMS of the motor torque over time [N m] (the thermal equivalent torque)
     torque_peak, phi_torque_peak : the largest motor torque and where [N m, rad]
     power_mean : mean motor power over time [W]
-    energy : work per revolution [J]: ``motor``, ``loads`` (done on the external loads),
+    energy : work per revolution [J]: ``motor``, ``loads`` (done on the external loads,
+        dampers and drags included),
         ``gravity``, ``friction`` (dissipated in the joints), ``gear`` (lost in the gear), and
         ``residual`` = motor - the others (the solve's energy error)
     error_estimate : the largest difference of omega between this grid and every other node of
@@ -226,6 +232,7 @@ class SteadyState(Result):
     M_loads: Arr
     M_gravity: Arr
     M_friction: Arr
+    M_damping: Arr
     delta: float
     omega_mean: float
     omega_max: float
@@ -253,7 +260,8 @@ class SteadyState(Result):
     units: ClassVar[dict[str, str]] = {
         "phi1": "rad", "t": "s", "omega": "rad/s", "eps": "rad/s^2", "omega_motor": "rad/s",
         "torque": "N*m", "Q": "N*m", "power": "W", "J": "kg*m^2", "dJ": "kg*m^2/rad",
-        "M_loads": "N*m", "M_gravity": "N*m", "M_friction": "N*m", "delta": "",
+        "M_loads": "N*m", "M_gravity": "N*m", "M_friction": "N*m", "M_damping": "N*m",
+        "delta": "",
         "omega_mean": "rad/s", "omega_max": "rad/s", "omega_min": "rad/s", "phi_max": "rad",
         "phi_min": "rad", "period": "s", "torque_mean": "N*m", "torque_rms": "N*m",
         "torque_peak": "N*m", "phi_torque_peak": "rad", "power_mean": "W",
@@ -518,12 +526,13 @@ def _result(m: Machine, sol: Solution, Mf: Arr, fits: int, dynamics: bool) -> St
     m_in = torque - d.J_in * i * eps
     crank = np.where(m_in >= 0, i * eta * m_in, i * m_in / eta) - d.J_out * eps
     # work per revolution by Simpson's rule over the intervals (a at the three points)
-    _u_p, eps_p, a_p = at_points(m, sol)
+    u_p, eps_p, a_p = at_points(m, sol)
     w_motor = i * m.integral(a_p)
     min_p = a_p - d.J_in * i * eps_p
     w_in = i * m.integral(min_p)
     w_out = m.integral(np.where(min_p >= 0, i * eta * min_p, i * min_p / eta))
-    energy = {"motor": w_motor, "loads": -m.integral(m.M_loads),
+    w_damp = m.integral(m.damping * np.sqrt(u_p)) if m.damping is not None else 0.0
+    energy = {"motor": w_motor, "loads": -m.integral(m.M_loads) + w_damp,
               "gravity": -m.integral(m.M_gravity), "friction": -m.integral(Mf),
               "gear": w_in - w_out}
     energy["residual"] = w_motor - (energy["loads"] + energy["gravity"] + energy["friction"]
@@ -548,6 +557,7 @@ def _result(m: Machine, sol: Solution, Mf: Arr, fits: int, dynamics: bool) -> St
         phi1=nodes, t=t, omega=omega, eps=eps, omega_motor=i * omega, torque=torque, Q=crank,
         power=torque * i * omega, J=m.J[g.iL], dJ=m.dJ[g.iL], M_loads=m.M_loads[g.iL],
         M_gravity=m.M_gravity[g.iL], M_friction=Mf[g.iL],
+        M_damping=(np.zeros(g.n) if m.damping is None else -m.damping[g.iL] * omega),
         delta=(w_max - w_min) / omega_mean, omega_mean=omega_mean, omega_max=w_max,
         omega_min=w_min, phi_max=p_max, phi_min=p_min, period=period,
         torque_mean=w_motor / (i * g.period), torque_rms=rms, torque_peak=float(peaks[kpk]),

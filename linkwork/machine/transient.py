@@ -525,7 +525,9 @@ def _run(machines: list[Machine], names: list[str], segs: list[tuple[int, int]],
                              ("drop", (w0 - math.sqrt(umin)) / w0 if w0 > 0 else math.nan),
                              ("torque_peak", float(max(np.max(sol.aL), np.max(sol.aM)))),
                              ("work_motor", m_rev.drive.ratio * m_rev.integral(a_p)),
-                             ("work_loads", -f_rev * m_rev.integral(m_rev.M_loads)),
+                             ("work_loads", -f_rev * m_rev.integral(m_rev.M_loads) + (
+                                 0.0 if m_rev.damping is None else m_rev.integral(
+                                     m_rev.damping * np.sqrt(at_points(m_rev, sol)[0])))),
                              ("work_friction", -m_rev.integral(Mf))):
                 revs[key].append(val)
             t += period
