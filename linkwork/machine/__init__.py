@@ -11,7 +11,8 @@
   exact and by the energy method and Wittenbauer's energy-mass diagram;
 * :mod:`linkwork.machine.transient` -- start-up from rest, loads changing over time, duty
   schedules of several structures (modes) with the switches;
-* :mod:`linkwork.machine.press` -- paper 000's variable-structure press as machine modes.
+* :mod:`linkwork.machine.press` -- paper 000's variable-structure press as machine modes;
+* :mod:`linkwork.machine.selection` -- motor selection: figures and a verdict line per motor.
 """
 
 from linkwork.machine.flywheel import FlywheelSizing, energy_method, flywheel_for, wittenbauer
@@ -25,6 +26,7 @@ from linkwork.machine.motors import (
 )
 from linkwork.machine.press import press_modes, press_schedule
 from linkwork.machine.reduction import Reduction, friction_moment, reduce
+from linkwork.machine.selection import MotorChoice, select_motors
 from linkwork.machine.steady import Machine, SteadyState, machine, steady_state
 from linkwork.machine.transient import Mode, Run, StartUp, run_schedule, start_up
 
@@ -38,6 +40,7 @@ __all__ = [
     "Machine",
     "Mode",
     "Motor",
+    "MotorChoice",
     "Reduction",
     "Run",
     "StartUp",
@@ -50,6 +53,7 @@ __all__ = [
     "press_schedule",
     "reduce",
     "run_schedule",
+    "select_motors",
     "start_up",
     "steady_state",
     "wittenbauer",
