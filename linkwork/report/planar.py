@@ -17,7 +17,7 @@ from linkwork.errors import format_angle_ranges
 from linkwork.io.planar import PlanarFile
 from linkwork.plot.html import Diagram, Section, Table
 from linkwork.plot.numbers import fmt, scale_of, unit_label
-from linkwork.plot.scene import Scene, planar_scene
+from linkwork.plot.scene import Scene
 from linkwork.report.base import (
     Options,
     Renderer,
@@ -39,8 +39,7 @@ def run(doc: PlanarFile, options: Options) -> PlanarStudy:
 
 def scene(study: PlanarStudy, options: Options) -> Scene:
     """The mechanism over the cycle, with the requested point paths and instant centres."""
-    return planar_scene(study.kinematics, paths=options.paths, centres=options.centres,
-                        title=study.doc.name or "planar mechanism")
+    return study.scene(paths=options.paths, centres=options.centres)
 
 
 def _coord(study: PlanarStudy) -> tuple[str, str]:

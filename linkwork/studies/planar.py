@@ -365,6 +365,38 @@ class PlanarStudy:
         energy, friction, loads (after ``phi1``; :func:`dynamics_columns_of`)."""
         return dynamics_columns_of(self.kinematics, self.dynamics)
 
+    def scene(self, *, paths: Any = None, centres: bool = False) -> Any:
+        """The mechanism drawn over the cycle (:func:`linkwork.plot.scene.planar_scene`):
+        ``paths`` of further points (coupler curves), ``centres`` the instant centres."""
+        from linkwork.plot.scene import planar_scene
+
+        return planar_scene(self.kinematics, paths=paths, centres=centres,
+                            title=self.doc.name or "planar mechanism")
+
+    def _repr_html_(self) -> str:
+        """A notebook's display: the animated mechanism and the extremes over the cycle (a row
+        shows its position)."""
+        from linkwork.plot.html import peaks_table, view_html
+
+        unit = self.mechanism.driver.field_units["phi1"]
+        title = self.doc.name or "planar mechanism"
+        return view_html(self.scene(), peaks_table(
+            f"{title}: extremes over {self.kinematics.n} positions", self.peaks, unit))
+
+    def plot(self, axes: Any = None, **kw: Any) -> Any:
+        """The mechanism at its first assembled position with its point paths, and the driving
+        torque (force) over the cycle: a :class:`linkwork.plot.Figure` with 2 axes (``kw``:
+        ``paths``, ``centres`` of :meth:`scene`)."""
+        from linkwork.plot import Figure, axes_or_new
+        from linkwork.plot.planar import plot_driving_torque
+        from linkwork.plot.scene import mechanism_figure
+
+        ax = axes_or_new(axes, 1, 2, figsize=(13, 5))
+        name = self.doc.name or None
+        mechanism_figure(self.scene(**kw), ax=ax[0])
+        plot_driving_torque(self.dynamics, ax=ax[1], name=name)
+        return Figure.of(ax)
+
     def to_dict(self) -> dict[str, Any]:
         """Everything of the study as JSON-able values (``planar.json``)."""
         mech, s, kin, dyn = self.mechanism, self.structure, self.kinematics, self.dynamics

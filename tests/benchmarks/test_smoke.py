@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from _benchmarks import load_benchmark
+from _benchmarks import BENCHMARKS, load_benchmark
 
 
 @pytest.fixture(scope="module")
@@ -71,3 +71,21 @@ def test_tolerance_study_benchmark_runs_tiny_and_its_checks_bite():
     results[key] = (peaks * (1 + 1e-6), draws)
     with pytest.raises(AssertionError, match=r"tolerance_study \(N=20\) disagrees"):
         tol.check_study(results, cons, 3, resolve)
+
+
+def test_synthesis_benchmark_runs_tiny():
+    """benchmarks/synthesis.py on the planted problem, tiny, without pylinkage and Dask: the
+    exact answer (f = 0) is found; no timing assertions."""
+    mod = load_benchmark("synthesis")
+    rows = mod.main(["--repeat", "1", "--problems", "planted", "--candidates", "2048",
+                     "--no-pylinkage", "--no-dask", "--no-throughput"])
+    assert rows[0]["contender"] == "linkwork" and rows[0]["error"] < 1e-20
+
+
+def test_report_benchmark_runs_tiny():
+    """benchmarks/report.py on one example, once, without the GIF; no timing assertions."""
+    mod = load_benchmark("report")
+    rows = mod.run([BENCHMARKS.parent / "examples" / "swashplate_4a.toml"], repeat=1,
+                   gif_frames=0)
+    assert len(rows) == 1 and rows[0]["bytes"] > 10_000 and rows[0]["positions"] == 361
+    assert "report [s]" in mod.table(rows)
