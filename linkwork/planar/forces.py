@@ -60,7 +60,6 @@ from linkwork.planar.model import Crank, Mechanism
 from linkwork.planar.state import Arr
 
 __all__ = [
-    "KINDS",
     "AppliedLoad",
     "BodyTorque",
     "Damper",
@@ -73,9 +72,6 @@ __all__ = [
     "Wrench",
     "apply",
 ]
-
-#: What each load is called in tables and default names (``"spring.2"``).
-KINDS = ("force", "torque", "slide", "spring", "damper", "drag")
 
 PointRef = str | tuple[float, float]
 Value = ArrayLike  # a number, an array over the positions, or a LoadDiagram
@@ -100,10 +96,11 @@ class LoadDiagram:
     over : str
         ``"driver"`` or the name of a prismatic or pin-in-slot joint.
     when : {"always", "increasing", "decreasing"}
-        Acts at every position, or only where the coordinate does not decrease (increase):
-        ``"decreasing"`` for a press's force while the ram moves down (its slide coordinate
-        decreasing). The positions where it is at rest (a dead centre, to 1e-9 of the driver's
-        speed) count as both, so the force acts at the end of the stroke.
+        Acts at every position, or only where the coordinate does not decrease
+        (``"increasing"``) or does not increase (``"decreasing"``: a press's force while the
+        ram moves down, its slide coordinate decreasing). The positions where it is at rest
+        (a dead centre, to 1e-9 of the driver's speed) count as both, so the force acts at the
+        end of the stroke.
     outside : {"zero", "error"}
         Outside the diagram's range (its first to its last position): no load, or a
         :class:`~linkwork.errors.ParameterError` naming the positions where the analysis
