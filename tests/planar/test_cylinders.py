@@ -5,8 +5,8 @@ References: (1) the same mechanism with its cylinder groups handed to the engine
 the drawing), to 1e-9 of the size; (2) the independent loop equations, complex-step rates and
 Newton-Euler equations with Lagrange multipliers of ``tests/_planar_newton_euler.py``
 (tolerance 1e-6 relative with a floor of 1e-9 of the scale); (3) the power of the three
-cylinders equal to the rate of the kinetic energy minus the power of gravity and the digging
-load, to 1e-9 of the largest term. Example: ``examples/excavator_boom.toml``.
+cylinders equal to the rate of the kinetic energy minus the power of gravity, the digging load
+and a gas spring, to 1e-9 of the largest term. Example: ``examples/excavator_boom.toml``.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from _planar_newton_euler import _check_engine, energy_rate
 
 from linkwork import io
 from linkwork.errors import ParameterError
-from linkwork.planar import Cylinder, PointForce, kinematics, sketch
+from linkwork.planar import Cylinder, PointForce, Spring, inverse_dynamics, kinematics, sketch
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -101,17 +101,29 @@ def test_cylinder_table_against_newton_euler():
                   label="lifting table ")
 
 
-def test_power_of_three_cylinders():
-    """sum of Q v over the three cylinders = dT/dt - P_gravity - P_load at every position of
-    the file's path, from the file's own analysis."""
-    from linkwork.studies import planar as study
-
+def test_power_of_three_cylinders_with_a_gas_spring():
+    """The three cylinders' power = dT/dt - P_gravity - P_load - P_spring at every position of
+    the file's path with a gas spring (push 6 kN, rate 20 kN/m) from the frame point A1 to the
+    boom's point A2 added: the spring's power -F dL/dt from its tension F and the rate of its
+    length, both from the kinematics (to 1e-9 of the largest term)."""
     doc, mech = excavator()
-    s = study.analyze(doc)
-    kin, dyn = s.kinematics, s.dynamics
+    phi = doc.positions()
+    w = np.array([0.045, -0.0625, 0.05])
+    e = np.array([0.004, 0.003, -0.002])
+    kin = kinematics(mech, phi, w, e)
+    spring = Spring("frame", "A1", "boom", "A2", stiffness=2e4, free_length=2.0, preload=-6e3,
+                    name="gas")
+    loads = [*doc.loads(phi), spring]
+    dyn = inverse_dynamics(kin, gravity=(0.0, -9.81), loads=loads)
     dT, p = energy_rate(mech, kin, (0.0, -9.81))
     tooth = kin.point("bucket", "K")
     p += -12e3 * tooth.vx + 4e3 * tooth.vy
+    A1 = np.array(mech.frame.points["A1"])
+    A2 = kin.point("boom", "A2")
+    dx, dy = A2.x - A1[0], A2.y - A1[1]
+    L = np.hypot(dx, dy)
+    tension = -6e3 + 2e4 * (L - 2.0)
+    p += -tension * (dx * A2.vx + dy * A2.vy) / L
     scale = float(np.max(np.abs(dyn.power)))
     assert np.max(np.abs(dyn.total_power - (dT - p))) <= 1e-9 * scale
 
