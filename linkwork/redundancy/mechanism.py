@@ -116,9 +116,9 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
     for j in mech.joints:
         family = j.spatial_family  # "R" revolute-like, "P" prismatic-like, None unsupported
         if family is None:
-            raise StructureError(f"joint {j.name}: {type(j).__name__} joints (pin-in-slot, gear "
-                                 "pairs) are not supported by the spatial (redundancy) "
-                                 "analysis; use revolute or prismatic joints")
+            what = "gear pairs" if j.code == "G" else "pin-in-slot joints"
+            raise StructureError(f"joint {j.name}: {what} are not supported by the spatial "
+                                 "(redundancy) analysis; use revolute or prismatic joints")
         kw = {**dict(default or {}), **dict(joints.get(j.name, {}))}
         kw.setdefault("kind", "prismatic" if family == "P" else "revolute")
         if kw["kind"] in JOINT_KINDS and JOINT_KINDS[kw["kind"]][0] != family:
