@@ -272,7 +272,7 @@ def sixbar_path(points: ArrayLike, *, kind: Literal["stephenson", "watt"] = "ste
         x0 = X[i].copy()
         br = (int(brs[i][0]), int(brs[i][1]))
         th0 = np.asarray(ths[i], dtype=float)
-        k = int(free.sum())
+        nf = int(free.sum())
         if tk.timing is None:
             d = np.diff(th0)
             s = 1.0 if d.sum() >= 0 else -1.0
@@ -283,12 +283,12 @@ def sixbar_path(points: ArrayLike, *, kind: Literal["stephenson", "watt"] = "ste
             s = 1.0
             v0, vlo, vhi = x0[free], lo[free], hi[free]
 
-        def unpack(v: np.ndarray, x0: np.ndarray = x0, s: float = s, k: int = k
+        def unpack(v: np.ndarray, x0: np.ndarray = x0, s: float = s, nf: int = nf
                    ) -> tuple[np.ndarray, np.ndarray]:
             x = x0.copy()
-            x[free] = v[:k]
-            th = tk.timing if tk.timing is not None else v[k] + s * np.concatenate(
-                [[0.0], np.cumsum(v[k + 1:])])
+            x[free] = v[:nf]
+            th = tk.timing if tk.timing is not None else v[nf] + s * np.concatenate(
+                [[0.0], np.cumsum(v[nf + 1:])])
             return x, np.asarray(th, dtype=float)
 
         def res(v: np.ndarray, br: tuple[int, int] = br) -> np.ndarray:
