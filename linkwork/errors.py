@@ -26,6 +26,7 @@ __all__ = [
     "LinkworkError",
     "MissingExtraError",
     "ParameterError",
+    "StallError",
     "StructureError",
     "angle_ranges",
     "format_angle_ranges",
@@ -104,6 +105,11 @@ class DriveError(LinkworkError, ValueError):
     """A motor cannot drive a machine as asked: it cannot carry the mean load at any stable
     speed, the crank stops within a cycle or during start-up, or no flywheel reaches the
     speed fluctuation asked. The message names the value and the limit it exceeds."""
+
+
+class StallError(DriveError):
+    """The crank stops: the motor cannot carry the machine over its peak load with the inertia
+    it has (within a cycle, or during start-up). The message names where and the torques."""
 
 
 class InfeasibleError(LinkworkError, ValueError):

@@ -207,8 +207,8 @@ class Multibody:
         q = self.solve_positions(phi)
         _, J, _ = self.constraints(q)
         row = self._drive_row()
-        qd = np.linalg.solve(np.vstack((J, row)), np.append(np.zeros(J.shape[0]), omega))
-        self.dq = qd / omega
+        self.dq = np.linalg.solve(np.vstack((J, row)), np.append(np.zeros(J.shape[0]), 1.0))
+        qd = self.dq * omega
         _, J, gam = self.constraints(q, qd)
         Qe = np.zeros(3 * self.nb)
         for k, n in enumerate(self.names):
@@ -263,3 +263,25 @@ class Multibody:
             if abs(f1) < tol * abs(w1):
                 break
         return w1, run[0], run[1]
+
+
+def run_in_time(mb: Multibody, phi0: float, t_end: float, *, omega0: float = 0.0,
+                factor=None, rtol: float = 1e-11):
+    """The motion in time from (phi0, omega0), y = (phi, omega), DOP853; ``factor(t)`` scales
+    the loads (the Multibody's ``loads`` and gravity untouched). Returns the dense solution."""
+    mb.start(phi0)
+    base = mb.loads
+
+    def rhs(t, y):
+        if factor is not None and base is not None:
+            f = factor(t)
+            mb.loads = lambda p: [(*ld[:-2], ld[-2] * f, ld[-1] * f) if ld[0] == "force"
+                                  else (ld[0], ld[1], ld[2] * f) for ld in base(p)]
+        eps = mb.accel(y[0], y[1])
+        return [y[1], eps]
+
+    sol = solve_ivp(rhs, (0.0, t_end), [phi0, omega0], method="DOP853", rtol=rtol,
+                    atol=1e-13, dense_output=True)
+    mb.loads = base
+    assert sol.success
+    return sol.sol

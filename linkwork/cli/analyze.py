@@ -19,6 +19,7 @@ import typer
 
 from linkwork import io
 from linkwork.cli._args import (
+    load_errors,
     output_dir,
     output_run,
     parse_angles,
@@ -93,5 +94,5 @@ def register(app: typer.Typer) -> None:
             table = parse_angles(DEFAULT_ANGLES if angles is None else angles)
         if isinstance(doc, io.SynthesisFile):  # before the output folder is touched
             synthesis_task(doc)
-        with output_run(out, command="analyze", file=file):
+        with output_run(out, command="analyze", file=file), load_errors(file, doc):
             analyzers[type(doc)](doc, out=out, angles=table, console=make_console())

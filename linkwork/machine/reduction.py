@@ -17,7 +17,11 @@ accelerations at :math:`\omega = 1, \varepsilon = 0`):
 The **reduced moment** of a force is its power over :math:`\omega`: of gravity
 :math:`M_g = \sum m_i\,\mathbf g\cdot\mathbf r_{Si}'`, of the external loads
 :math:`M_L = \sum \mathbf F\cdot\mathbf r_P' + \sum M_z\,\theta_i'` (positive where it drives
-the crank). Lagrange's equation of the crank (the equation of motion of the machine unit) is then
+the crank; every load of :mod:`linkwork.planar.forces`: point forces and torques with their
+load diagrams, slide forces, springs). Dampers and drags depend on the speed: their reduced
+moment is :math:`a(\varphi) - c(\varphi)\,\omega` (``damping`` :math:`c`, from their power at
+:math:`\omega = 1` and :math:`2`; exact for viscous dampers and for drags). Lagrange's equation
+of the crank (the equation of motion of the machine unit) is then
 
 .. math:: J\,\varepsilon + \tfrac12 \frac{dJ}{d\varphi}\,\omega^2 = M_d + M_L + M_g + M_f,
 
@@ -109,6 +113,10 @@ class Reduction(Result):
         Reduced moment of the external loads [N m] (their power over omega1; positive driving).
     M_gravity : ndarray (n,)
         Reduced moment of gravity [N m].
+    damping : ndarray (n,)
+        Reduced damping of the speed-dependent loads (dampers, drags) [N m s/rad], >= 0: their
+        reduced moment is ``-damping * omega1`` (a drag's Coulomb-like part, independent of the
+        speed, is in ``M_loads``).
     """
 
     phi1: Arr
@@ -116,8 +124,14 @@ class Reduction(Result):
     dJ: Arr
     M_loads: Arr
     M_gravity: Arr
+    damping: Arr | None = None
     units: ClassVar[dict[str, str]] = {"phi1": "rad", "J": "kg*m^2", "dJ": "kg*m^2/rad",
-                                       "M_loads": "N*m", "M_gravity": "N*m"}
+                                       "M_loads": "N*m", "M_gravity": "N*m",
+                                       "damping": "N*m*s/rad"}
+
+    def __post_init__(self) -> None:
+        if self.damping is None:
+            object.__setattr__(self, "damping", np.zeros(np.shape(self.phi1)))
 
     @property
     def M(self) -> Arr:
@@ -173,12 +187,21 @@ def reduce(mech: Mechanism, phi1: ArrayLike, *, loads: Loads = (),
     dJ = 2.0 * np.sum(m * (c.vx * c.ax + c.vy * c.ay) + jc * w * e, axis=0)
     Mg = np.sum(m * (g[0] * c.vx + g[1] * c.vy), axis=0)
     ML = np.zeros(phi.shape)
-    for al in apply_loads(kin, list(load_list(loads, phi))):
+    damping = np.zeros(phi.shape)
+    given = list(load_list(loads, phi))
+    speed = []
+    for al, ld in zip(apply_loads(kin, given), given, strict=True):
         if al.kind in ("damper", "drag"):  # their moment depends on the speed
-            raise ParameterError(f"loads ({al.name})", al.kind, "a speed-dependent load "
-                                 "(damper, drag) is not reduced by linkwork.machine yet")
+            speed.append(ld)
+            continue
         ML += al.power  # at omega1 = 1: the reduced moment
-    return Reduction(phi, J, dJ, ML, Mg)
+    if speed:  # M(omega) = P(omega) / omega = a + b omega: from omega1 = 1 and 2
+        m1 = sum(al.power for al in apply_loads(kin, speed))
+        kin2 = kinematics(mech, phi, 2.0, 0.0)
+        m2 = 0.5 * sum(al.power for al in apply_loads(kin2, speed))
+        damping = np.asarray(m1 - m2, dtype=float)
+        ML += 2.0 * m1 - m2
+    return Reduction(phi, J, dJ, ML, Mg, damping)
 
 
 def friction_moment(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike, eps1: ArrayLike, *,

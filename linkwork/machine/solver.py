@@ -41,6 +41,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -48,8 +49,8 @@ from linkwork.errors import ConvergenceError, ParameterError
 from linkwork.machine.motors import ConstantSpeed, ConstantTorque, Motor
 from linkwork.planar.state import Arr
 
-__all__ = ["ONE_SIDED", "Coefficients", "Drive", "Grid", "Stall", "extremes", "make_grid",
-           "march", "periodic_solution", "solve_periodic"]
+__all__ = ["ONE_SIDED", "Coefficients", "Drive", "FixedTorque", "Grid", "Stall", "extremes",
+           "hermite_extremes", "make_grid", "march", "periodic_solution", "solve_periodic"]
 
 #: Distance [rad] inside an interval at which the coefficients are evaluated at a node where the
 #: loads jump (so each interval sees the loads of its own side).
@@ -72,6 +73,22 @@ class Drive:
     def rotors(self) -> float:
         """The rotors' inertia reduced to the crank, ``J_in i^2 + J_out`` [kg m^2]."""
         return self.J_in * self.ratio**2 + self.J_out
+
+
+@dataclass(frozen=True)
+class FixedTorque(Motor):
+    """A motor of one torque ``value`` [N m] at every speed: a ConstantTorque drive marched
+    with its torque set (the march needs a characteristic)."""
+
+    value: float
+    inertia: float = 0.0
+    name: str = "constant torque"
+
+    def torque(self, omega_m: Any) -> Any:
+        return self.value + 0.0 * omega_m
+
+    def slope(self, omega_m: Any) -> Any:
+        return 0.0 * omega_m
 
 
 @dataclass(frozen=True)
@@ -153,20 +170,24 @@ def make_grid(start: float, period: float, n: int, breaks: Arr | None = None) ->
 @dataclass(frozen=True)
 class Coefficients:
     """Reduced coefficients at the grid's evaluation positions: the links' ``J``, ``dJ``
-    [kg m^2, kg m^2/rad] and every reduced moment but the drive's, ``M`` [N m] (loads, gravity,
-    friction)."""
+    [kg m^2, kg m^2/rad], every reduced moment but the drive's and the dampers', ``M`` [N m]
+    (loads, gravity, friction), and the reduced damping ``D`` [N m s/rad] of the
+    speed-dependent loads (their moment ``-D omega``; None: none)."""
 
     J: Arr
     dJ: Arr
     M: Arr
+    D: Arr | None = None
 
 
 class Stall(Exception):
-    """The crank stops (the speed reaches zero) at ``phi`` [rad] while marching."""
+    """The crank stops (the speed reaches zero) at ``phi`` [rad], time ``t`` [s], while
+    marching."""
 
-    def __init__(self, phi: float, index: int) -> None:
+    def __init__(self, phi: float, index: int, t: float = 0.0) -> None:
         self.phi = phi
         self.index = index
+        self.t = t
         super().__init__(f"stall at phi = {phi}")
 
 
@@ -192,10 +213,16 @@ def eps_of(co: Coefficients, idx: np.ndarray, u: Arr, d: Drive, torque: Arr | fl
         da = np.zeros(w.shape)
     b = d.J_in * i
     c = 0.5 * dJ * u - co.M[idx]
+    dc = 0.5 * dJ
+    if co.D is not None:
+        D = co.D[idx]
+        c = c + D * w
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dc = dc + np.where(w > 0, D / (2.0 * np.where(w > 0, w, 1.0)), 0.0)
     k = np.where(a * J + b * c >= 0.0, i * eta, i / eta)
     den = k * b + J
     eps = (k * a - c) / den
-    deps = (k * da - 0.5 * dJ) / den
+    deps = (k * da - dc) / den
     m_in = a - b * eps
     return eps, deps, a, m_in
 
@@ -206,6 +233,8 @@ def _gain(d: Drive, co: Coefficients, idx: np.ndarray, a: Arr, u: Arr) -> tuple[
     J = co.J[idx] + d.J_out
     b = d.J_in * i
     c = 0.5 * co.dJ[idx] * u - co.M[idx]
+    if co.D is not None:
+        c = c + co.D[idx] * np.sqrt(np.maximum(u, 0.0))
     k = np.where(a * J + b * c >= 0.0, i * eta, i / eta)
     return k, k / (k * b + J)
 
@@ -297,10 +326,14 @@ def solve_periodic(grid_nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarr
     kp = (k + 1) % N
 
     def system(u: Arr, torque: float | None) -> tuple[Arr, tuple[Arr, ...]]:
-        ev = _evaluate(h, iL, iM, iR, co, d, u, torque)
-        r = ev[0]
-        if ct:
-            r = np.append(r, (np.sum(_dt(h, ev[3], ev[4], ev[5])) - t_target) * scale / t_target)
+        with np.errstate(all="ignore"):  # a negative u in the middle of an interval: NaN,
+            ev = _evaluate(h, iL, iM, iR, co, d, u, torque)  # refused by the line search
+            r = ev[0]
+            if ct:
+                r = np.append(r, (np.sum(_dt(h, ev[3], ev[4], ev[5])) - t_target) * scale
+                              / t_target)
+        if np.any(ev[4] < 0):
+            r = np.full(r.shape, np.nan)
         return r, ev
 
     r, ev = system(u, torque)
@@ -311,12 +344,16 @@ def solve_periodic(grid_nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarr
         size = N
         if ct:
             size = N + 1
-            more = _border(h, iL, iM, iR, co, d, torque, ev, scale / t_target)  # type: ignore[arg-type]
+            with np.errstate(all="ignore"):
+                more = _border(h, iL, iM, iR, co, d, torque, ev,  # type: ignore[arg-type]
+                               scale / t_target)
             rows += more[0]
             cols += more[1]
             vals += more[2]
         jac = csc_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
                          shape=(size, size))
+        if not np.all(np.isfinite(jac.data)):
+            raise ConvergenceError("periodic solve: the Jacobian is not finite")
         try:
             step = splu(jac).solve(-r)
         except RuntimeError:  # an exactly singular Jacobian
@@ -400,6 +437,8 @@ def constant_speed(grid: Grid, co: Coefficients, d: Drive) -> Solution:
 
     def torque(idx: np.ndarray) -> Arr:
         c = 0.5 * co.dJ[idx] * w * w - co.M[idx]  # the crank side's demand at eps = 0
+        if co.D is not None:
+            c = c + co.D[idx] * w
         return np.where(c >= 0, c / (d.ratio * d.eta), c * d.eta / d.ratio)
 
     zeros = np.zeros(N)
@@ -410,27 +449,35 @@ def constant_speed(grid: Grid, co: Coefficients, d: Drive) -> Solution:
 
 # ---------------------------------------------------------------------------------------------
 def _eps_scalar(J: float, dJ: float, M: float, u: float, d: Drive, i: float, eta: float,
-                b: float) -> tuple[float, float, float]:
+                b: float, D: float = 0.0) -> tuple[float, float, float]:
     """:func:`eps_of` at one position (plain floats): eps, d eps/du, motor torque."""
     w = math.sqrt(u) if u > 0.0 else 0.0
     a = float(d.motor.torque(i * w))
     da = float(d.motor.slope(i * w)) * i / (2.0 * w) if w > 0.0 else 0.0
-    c = 0.5 * dJ * u - M
+    c = 0.5 * dJ * u - M + D * w
+    dc = 0.5 * dJ + (D / (2.0 * w) if w > 0.0 else 0.0)
     k = i * eta if a * J + b * c >= 0.0 else i / eta
     den = k * b + J
-    return (k * a - c) / den, (k * da - 0.5 * dJ) / den, a
+    return (k * a - c) / den, (k * da - dc) / den, a
 
 
 def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coefficients,
-          d: Drive, u_start: float) -> Solution:
+          d: Drive, u_start: float, *, loads_part: Arr | None = None,
+          factor: Callable[[float], float] | None = None, t0: float = 0.0) -> Solution:
     """Step the collocation interval by interval over ``nodes`` from ``u = u_start`` at
     ``nodes[0]`` (not periodic): one scalar Newton solve per interval.
+
+    ``factor(t)`` scales the part ``loads_part`` of ``co.M`` (the external loads' reduced
+    moment at the grid's positions) over time (``t0`` at ``nodes[0]``): at the start of each
+    interval at its time, at its middle and end at the times the trapezoid rule gives from the
+    speeds of the iterate (second order in the step; a factor that jumps in time is resolved
+    to the step).
 
     Raises
     ------
     Stall
         The speed reaches zero within an interval (the crank stops: the motor cannot move the
-        machine there).
+        machine there); its ``t`` is the time at the start of that interval.
     """
     h = np.diff(nodes)
     N = h.size
@@ -438,37 +485,50 @@ def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coeffi
     b = d.J_in * i
     J = (co.J + d.J_out).tolist()
     dJ = co.dJ.tolist()
-    M = co.M.tolist()
+    M0 = co.M.tolist()
+    Dl = co.D.tolist() if co.D is not None else [0.0] * len(M0)
+    ML = None if loads_part is None or factor is None else loads_part.tolist()
     out = np.empty((10, N))
     uk = float(u_start)
+    t = float(t0)
     L, Mi, R, hh = iL.tolist(), iM.tolist(), iR.tolist(), h.tolist()
+    timed = ML is not None and factor is not None
     for k in range(N):
         hk = hh[k]
         l, m, r = L[k], Mi[k], R[k]
-        eL, _, aL = _eps_scalar(J[l], dJ[l], M[l], uk, d, i, eta, b)
+        Ml, Mm, Mr = M0[l], M0[m], M0[r]
+        if timed:
+            Ml += (float(factor(t)) - 1.0) * ML[l]  # type: ignore[index, misc]
+        eL, _, aL = _eps_scalar(J[l], dJ[l], Ml, uk, d, i, eta, b, Dl[l])
         FL = 2.0 * eL
         if uk <= 0.0 and FL <= 0.0:
-            raise Stall(float(nodes[k]), k)
+            raise Stall(float(nodes[k]), k, t)
 
         def res(x: float, hk: float = hk, uk: float = uk, FL: float = FL, m: int = m,
-                r: int = r) -> tuple[float, float, float, float, float]:
-            eR, dR, _aR = _eps_scalar(J[r], dJ[r], M[r], x, d, i, eta, b)
+                r: int = r, Mm: float = Mm, Mr: float = Mr, t: float = t
+                ) -> tuple[float, float, float, float, float, float, float]:
+            if timed:  # the loads' factor at the times of the end and the middle (trapezoid
+                wl, wr = math.sqrt(uk), math.sqrt(max(x, 0.0))  # estimates from this x)
+                tr = t + 2.0 * hk / (wl + wr) if wl + wr > 0 else t
+                tm = t + hk / (wl + math.sqrt(max(0.5 * (uk + x), 0.0)) + 1e-300)
+                Mr = M0[r] + (float(factor(tr)) - 1.0) * ML[r]  # type: ignore[index, misc]
+                Mm = M0[m] + (float(factor(tm)) - 1.0) * ML[m]  # type: ignore[index, misc]
+            eR, dR, _aR = _eps_scalar(J[r], dJ[r], Mr, x, d, i, eta, b, Dl[r])
             FR, dFR = 2.0 * eR, 2.0 * dR
             um = 0.5 * (uk + x) + hk / 8.0 * (FL - FR)
-            eM, dM, _aM = _eps_scalar(J[m], dJ[m], M[m], max(um, 0.0), d, i, eta, b)
+            eM, dM, _aM = _eps_scalar(J[m], dJ[m], Mm, max(um, 0.0), d, i, eta, b, Dl[m])
             FM, dFM = 2.0 * eM, 2.0 * dM
             rr = x - uk - hk / 6.0 * (FL + 4.0 * FM + FR)
             drr = 1.0 - hk / 6.0 * (dFR + 4.0 * dFM * (0.5 - hk / 8.0 * dFR))
-            return rr, drr, um, FM, FR
+            return rr, drr, um, FM, FR, Mm, Mr
 
         x = max(uk + hk * FL, 0.0)
         ok = False
         for _ in range(50):
-            rr, drr, um, FM, FR = res(x)
+            rr, drr, um, FM, FR, _, _ = res(x)
             if drr <= 0.0 or not math.isfinite(drr):
                 break
-            dx = -rr / drr
-            xn = x + dx
+            xn = x - rr / drr
             if xn < 0.0:
                 xn = 0.5 * x
             if abs(xn - x) <= 1e-14 * max(abs(xn), abs(uk), 1e-300):
@@ -477,15 +537,19 @@ def march(nodes: Arr, iL: np.ndarray, iM: np.ndarray, iR: np.ndarray, co: Coeffi
                 break
             x = xn
         if not ok:  # bracket the root in [0, big] and bisect (Brent would need scipy here)
-            x = _bisect(res, uk, hk, FL)
-            if x is None:
-                raise Stall(float(nodes[k]), k)
-        rr, drr, um, FM, FR = res(x)
+            xb = _bisect(res, uk, hk, FL)
+            if xb is None:
+                raise Stall(float(nodes[k]), k, t)
+            x = xb
+        rr, drr, um, FM, FR, Mm, Mr = res(x)
         if x <= 0.0 or um < 0.0:
-            raise Stall(float(nodes[k]), k)
-        _eR, _, aR = _eps_scalar(J[r], dJ[r], M[r], x, d, i, eta, b)
-        _eM, _, aM = _eps_scalar(J[m], dJ[m], M[m], um, d, i, eta, b)
+            raise Stall(float(nodes[k]), k, t)
+        _eR, _, aR = _eps_scalar(J[r], dJ[r], Mr, x, d, i, eta, b, Dl[r])
+        _eM, _, aM = _eps_scalar(J[m], dJ[m], Mm, um, d, i, eta, b, Dl[m])
         out[:, k] = (uk, um, x, FL, FM, FR, aL, aM, aR, hk)
+        wl, wm, wr = math.sqrt(uk), math.sqrt(um), math.sqrt(x)
+        t += (2.0 * hk / (wl + wr) if min(wl, wm, wr) < 1e-3 * max(wl, wm, wr)
+              else hk / 6.0 * (1.0 / wl + 4.0 / wm + 1.0 / wr))
         uk = x
     uL, uM, uR, FL_, FM_, FR_, aL_, aM_, aR_, hs = out
     return Solution(np.append(uL, uR[-1]), uL, uM, uR, FL_, FM_, FR_, aL_, aM_, aR_,
@@ -518,16 +582,17 @@ def _bisect(f: Callable[[float], tuple[float, ...]], uk: float, hk: float, FL: f
 
 
 # ---------------------------------------------------------------------------------------------
-def extremes(nodes: Arr, sol: Solution) -> tuple[float, float, float, float]:
-    """Largest and smallest ``u`` over the cycle and their positions [rad], from the cubic
-    Hermite interpolant of each interval (the collocation's own: values and slopes ``F`` at
-    both ends): (u_max, phi_max, u_min, phi_min)."""
-    h = np.diff(nodes)[: sol.uL.size]
-    u0, u1, f0, f1 = sol.uL, sol.uR, sol.FL * h, sol.FR * h
-    # u(s) = (2s^3-3s^2+1)u0 + (s^3-2s^2+s)f0 + (-2s^3+3s^2)u1 + (s^3-s^2)f1, s in [0, 1]
-    A = 3 * (2 * u0 + f0 - 2 * u1 + f1)
-    B = 2 * (-3 * u0 - 2 * f0 + 3 * u1 - f1)
-    C = f0
+def hermite_extremes(nodes: Arr, f0: Arr, f1: Arr, d0: Arr, d1: Arr
+                     ) -> tuple[float, float, float, float]:
+    """Largest and smallest value of the piecewise cubic Hermite interpolant with values
+    ``f0, f1`` and slopes ``d0, d1`` at the start and end of each interval of ``nodes``:
+    (max, where [rad], min, where [rad])."""
+    h = np.diff(nodes)[: f0.size]
+    u0, u1, s0, s1 = f0, f1, d0 * h, d1 * h
+    # f(s) = (2s^3-3s^2+1)u0 + (s^3-2s^2+s)s0 + (-2s^3+3s^2)u1 + (s^3-s^2)s1, s in [0, 1]
+    A = 3 * (2 * u0 + s0 - 2 * u1 + s1)
+    B = 2 * (-3 * u0 - 2 * s0 + 3 * u1 - s1)
+    C = s0
     cand_s = [np.zeros_like(u0), np.ones_like(u0)]
     with np.errstate(divide="ignore", invalid="ignore"):
         disc = B * B - 4 * A * C
@@ -537,9 +602,16 @@ def extremes(nodes: Arr, sol: Solution) -> tuple[float, float, float, float]:
                          np.where(np.abs(B) > 1e-300, -C / B, 0.0))
             cand_s.append(np.where((disc >= 0) & (s > 0) & (s < 1), s, 0.0))
     S = np.stack(cand_s)
-    U = ((2 * S**3 - 3 * S**2 + 1) * u0 + (S**3 - 2 * S**2 + S) * f0
-         + (-2 * S**3 + 3 * S**2) * u1 + (S**3 - S**2) * f1)
+    U = ((2 * S**3 - 3 * S**2 + 1) * u0 + (S**3 - 2 * S**2 + S) * s0
+         + (-2 * S**3 + 3 * S**2) * u1 + (S**3 - S**2) * s1)
     P = nodes[: u0.size] + S * h
     imax = np.unravel_index(np.argmax(U), U.shape)
     imin = np.unravel_index(np.argmin(U), U.shape)
     return float(U[imax]), float(P[imax]), float(U[imin]), float(P[imin])
+
+
+def extremes(nodes: Arr, sol: Solution) -> tuple[float, float, float, float]:
+    """Largest and smallest ``u`` over the cycle and their positions [rad], from the cubic
+    Hermite interpolant of each interval (the collocation's own: values and slopes ``F`` at
+    both ends): (u_max, phi_max, u_min, phi_min)."""
+    return hermite_extremes(nodes, sol.uL, sol.uR, sol.FL, sol.FR)

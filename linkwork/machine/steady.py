@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.checks import require_finite, require_number, require_pair
-from linkwork.errors import ConvergenceError, DriveError, ParameterError
+from linkwork.errors import ConvergenceError, DriveError, ParameterError, StallError
 from linkwork.machine.motors import (
     ConstantSpeed,
     ConstantTorque,
@@ -46,6 +46,7 @@ from linkwork.machine.reduction import (
 from linkwork.machine.solver import (
     Coefficients,
     Drive,
+    FixedTorque,
     Grid,
     Solution,
     Stall,
@@ -100,6 +101,7 @@ class Machine:
     about: tuple[float, float]
     drive: Drive
     has_friction: bool
+    damping: Arr | None = None
 
     def with_flywheel(self, flywheel: float) -> Machine:
         """The same machine with another flywheel [kg m^2] (no new engine evaluation)."""
@@ -107,7 +109,8 @@ class Machine:
         d = self.drive
         return Machine(self.mechanism, self.motor, self.gear, fw, self.grid, self.J, self.dJ,
                        self.M_loads, self.M_gravity, self.loads, self.gravity, self.about,
-                       Drive(d.motor, d.ratio, d.eta, d.J_in, fw), self.has_friction)
+                       Drive(d.motor, d.ratio, d.eta, d.J_in, fw), self.has_friction,
+                       self.damping)
 
     def with_motor(self, motor: Motor) -> Machine:
         """The same machine with another motor (no new engine evaluation)."""
@@ -116,10 +119,11 @@ class Machine:
         return Machine(self.mechanism, motor, self.gear, self.flywheel, self.grid, self.J,
                        self.dJ, self.M_loads, self.M_gravity, self.loads, self.gravity,
                        self.about, Drive(motor, d.ratio, d.eta, motor.inertia + self.gear.inertia,
-                                         d.J_out), self.has_friction)
+                                         d.J_out), self.has_friction, self.damping)
 
     def coefficients(self, M_friction: Arr | float = 0.0) -> Coefficients:
-        return Coefficients(self.J, self.dJ, self.M_loads + self.M_gravity + M_friction)
+        return Coefficients(self.J, self.dJ, self.M_loads + self.M_gravity + M_friction,
+                            self.damping)
 
     def integral(self, values: Arr) -> float:
         """Simpson's integral over the cycle of a quantity given at ``grid.pts`` [its unit x
@@ -168,7 +172,8 @@ def machine(mech: Mechanism, motor: Motor, *, loads: Loads = (), gravity: ArrayL
     drive = Drive(motor, g.ratio, g.efficiency, motor.inertia + g.inertia, fw)
     return Machine(mech, motor, g, fw, grid, red.J, red.dJ, red.M_loads, red.M_gravity, loads,
                    (float(grav[0]), float(grav[1])) if grav is not None else None,
-                   (float(ab[0]), float(ab[1])), drive, any(j.has_friction for j in mech.joints))
+                   (float(ab[0]), float(ab[1])), drive, any(j.has_friction for j in mech.joints),
+                   red.damping if np.any(red.damping) else None)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -192,8 +197,9 @@ class SteadyState(Result):
     power : motor power ``torque * omega_motor`` [W]
     J : reduced moment of inertia of the links [kg m^2] (``J_rotors`` adds the drive's)
     dJ : dJ/dphi1 [kg m^2/rad]
-    M_loads, M_gravity, M_friction : reduced moments of the external loads, gravity and joint
-        friction [N m] (positive driving)
+    M_loads, M_gravity, M_friction, M_damping : reduced moments of the external loads
+        (position-dependent), gravity, joint friction and the speed-dependent loads (dampers,
+        drags: ``-damping omega``) [N m] (positive driving)
     delta : coefficient of speed fluctuation ``(omega_max - omega_min) / omega_mean``
     omega_mean : the time-mean crank speed ``2 pi / period`` [rad/s]
     omega_max, omega_min, phi_max, phi_min : extreme speeds [rad/s] and where [rad] (from the
@@ -204,7 +210,8 @@ class SteadyState(Result):
     torque_rms : the RMS of the motor torque over time [N m] (the thermal equivalent torque)
     torque_peak, phi_torque_peak : the largest motor torque and where [N m, rad]
     power_mean : mean motor power over time [W]
-    energy : work per revolution [J]: ``motor``, ``loads`` (done on the external loads),
+    energy : work per revolution [J]: ``motor``, ``loads`` (done on the external loads,
+        dampers and drags included),
         ``gravity``, ``friction`` (dissipated in the joints), ``gear`` (lost in the gear), and
         ``residual`` = motor - the others (the solve's energy error)
     error_estimate : the largest difference of omega between this grid and every other node of
@@ -225,6 +232,7 @@ class SteadyState(Result):
     M_loads: Arr
     M_gravity: Arr
     M_friction: Arr
+    M_damping: Arr
     delta: float
     omega_mean: float
     omega_max: float
@@ -252,7 +260,8 @@ class SteadyState(Result):
     units: ClassVar[dict[str, str]] = {
         "phi1": "rad", "t": "s", "omega": "rad/s", "eps": "rad/s^2", "omega_motor": "rad/s",
         "torque": "N*m", "Q": "N*m", "power": "W", "J": "kg*m^2", "dJ": "kg*m^2/rad",
-        "M_loads": "N*m", "M_gravity": "N*m", "M_friction": "N*m", "delta": "",
+        "M_loads": "N*m", "M_gravity": "N*m", "M_friction": "N*m", "M_damping": "N*m",
+        "delta": "",
         "omega_mean": "rad/s", "omega_max": "rad/s", "omega_min": "rad/s", "phi_max": "rad",
         "phi_min": "rad", "period": "s", "torque_mean": "N*m", "torque_rms": "N*m",
         "torque_peak": "N*m", "phi_torque_peak": "rad", "power_mean": "W",
@@ -296,7 +305,7 @@ class SteadyState(Result):
 
 
 # ---------------------------------------------------------------------------------------------
-def _at_points(m: Machine, sol: Solution) -> tuple[Arr, Arr, Arr]:
+def at_points(m: Machine, sol: Solution) -> tuple[Arr, Arr, Arr]:
     """u, eps and the motor torque at every evaluation position of the grid."""
     g = m.grid
     npts = g.pts.size
@@ -311,16 +320,37 @@ def _at_points(m: Machine, sol: Solution) -> tuple[Arr, Arr, Arr]:
     return u, eps, a
 
 
+def at_motor(d: Drive, crank_torque: float) -> float:
+    """The motor torque that gives ``crank_torque`` [N m] at the crank through the gear
+    (efficiency against the power's direction), rotors at rest."""
+    if crank_torque >= 0:
+        return crank_torque / (d.ratio * d.eta)
+    return crank_torque * d.eta / d.ratio
+
+
+def check_inertia(m: Machine) -> None:
+    """The machine must have inertia at every position (links, rotors, flywheel): without it
+    the equation of motion has no solution where a load acts (ParameterError naming where)."""
+    total = m.J + m.drive.J_out + m.drive.J_in * m.drive.ratio**2 * m.drive.eta
+    k = int(np.argmin(total))
+    if not total[k] > 1e-300:
+        raise ParameterError("inertia", f"{total[k]:.3g} kg·m² at phi1 = "
+                             f"{math.degrees(m.grid.pts[k]) % 360:.1f} deg",
+                             "must be > 0: the links, the motor's rotor, the gear and the "
+                             "flywheel have no moment of inertia about the crank there; give "
+                             "the rotor's inertia or a flywheel")
+
+
 def check_feasible(m: Machine, M_friction: Arr | float = 0.0) -> float:
     """The mean load torque at the crank [N m], after checking that the motor can give it at a
     stable speed through the gear (else :class:`~linkwork.errors.DriveError`)."""
     need = m.mean_load_torque(M_friction)
     d = m.drive
-    at_motor = need / (d.ratio * d.eta) if need >= 0 else need * d.eta / d.ratio
+    motor_side = at_motor(d, need)
     lim = torque_limit(m.motor)
-    if lim is not None and at_motor >= lim[0]:
+    if lim is not None and motor_side >= lim[0]:
         via = ("" if d.ratio == 1.0 and d.eta == 1.0 else
-               f" ({at_motor:.4g} N·m at the motor through the gear i = {d.ratio:.4g}, "
+               f" ({motor_side:.4g} N·m at the motor through the gear i = {d.ratio:.4g}, "
                f"efficiency {d.eta:.4g})")
         raise DriveError(f"mean load torque {need:.4g} N·m{via} exceeds the motor's "
                          f"{lim[1]} {lim[0]:.4g} N·m: {m.motor.name} cannot drive the machine at "
@@ -332,17 +362,16 @@ def _guess(m: Machine, need: float) -> tuple[float, float | None]:
     """Initial crank speed [rad/s] (from the motor's stable speed at the mean load torque) and,
     for a ConstantTorque drive, its torque."""
     d = m.drive
-    at_motor = need / (d.ratio * d.eta) if need >= 0 else need * d.eta / d.ratio
     if isinstance(m.motor, ConstantTorque):
-        return m.motor.mean_speed / d.ratio, at_motor
-    return m.motor.speed_at(at_motor) / d.ratio, None
+        return m.motor.mean_speed / d.ratio, at_motor(d, need)
+    return m.motor.speed_at(at_motor(d, need)) / d.ratio, None
 
 
-def _stall_error(m: Machine, exc: Stall, what: str) -> DriveError:
+def _stall_error(m: Machine, exc: Stall, what: str) -> StallError:
     lim = torque_limit(m.motor)
     peak = float(-np.min(m.M_loads + m.M_gravity))
     lim_s = "" if lim is None else f" ({lim[1]} {lim[0]:.4g} N·m at the motor)"
-    return DriveError(f"the crank stops at phi1 = {math.degrees(exc.phi) % 360:.1f} deg ({what}): "
+    return StallError(f"the crank stops at phi1 = {math.degrees(exc.phi) % 360:.1f} deg ({what}): "
                       f"{m.motor.name}{lim_s} cannot carry the machine over its peak load torque "
                       f"{peak:.4g} N·m at the crank with the rotors' inertia "
                       f"{m.drive.rotors:.4g} kg·m² reduced to the crank; a flywheel or a "
@@ -363,14 +392,17 @@ def solve_cycle(m: Machine, M_friction: Arr | float, u0: Arr | None, torque0: fl
     try:
         return periodic_solution(m.grid, co, m.drive, u0, torque0)
     except ConvergenceError:
-        if isinstance(m.motor, ConstantTorque):
-            raise
+        pass
     g = m.grid
     u = float(np.mean(u0))
     last = None
+    drive = m.drive
+    if isinstance(m.motor, ConstantTorque):  # marched with its torque at the mean load's
+        d = m.drive
+        drive = Drive(FixedTorque(at_motor(d, need)), d.ratio, d.eta, d.J_in, d.J_out)
     for cycle in range(200):
         try:
-            sol = march(g.nodes, g.iL, g.iM, g.iR, co, m.drive, u)
+            sol = march(g.nodes, g.iL, g.iM, g.iR, co, drive, u)
         except Stall as exc:
             raise _stall_error(m, exc, f"revolution {cycle + 1} from the mean speed"
                                ) from None
@@ -441,6 +473,8 @@ def solve_steady(m: Machine, *, dynamics: bool = True, u0: Arr | None = None,
     ``M_friction0`` at the grid's positions, from a previous solve)."""
     g = m.grid
     Mf: Arr | float = 0.0
+    if not isinstance(m.motor, ConstantSpeed):
+        check_inertia(m)
     need = check_feasible(m)
     torque0 = None
     if m.has_friction:
@@ -456,7 +490,7 @@ def solve_steady(m: Machine, *, dynamics: bool = True, u0: Arr | None = None,
         scale = float(np.max(np.abs(m.M_loads + m.M_gravity)) + np.max(np.abs(m.dJ)) * np.max(
             sol.u) + np.max(np.abs(Mf)) + 1e-300)
         for fits in range(1, 201):  # noqa: B007 (the count is reported)
-            u, eps, _ = _at_points(m, sol)
+            u, eps, _ = at_points(m, sol)
             Mf_new = friction_moment(m.mechanism, g.pts, np.sqrt(u), eps, loads=m.loads,
                                      gravity=m.gravity)
             change = float(np.max(np.abs(Mf_new - Mf)))
@@ -484,18 +518,21 @@ def _result(m: Machine, sol: Solution, Mf: Arr, fits: int, dynamics: bool) -> St
     if isinstance(m.motor, ConstantSpeed):
         u_max = u_min = float(u[0])
         p_max = p_min = float(nodes[0])
+    if not u_min > 0:  # the collocation's cubic through the nodes dips to zero: a stall
+        raise _stall_error(m, Stall(p_min, 0), "within the steady cycle")
     w_max, w_min = math.sqrt(u_max), math.sqrt(u_min)
     torque = sol.aL
     i, eta = d.ratio, d.eta
     m_in = torque - d.J_in * i * eps
     crank = np.where(m_in >= 0, i * eta * m_in, i * m_in / eta) - d.J_out * eps
     # work per revolution by Simpson's rule over the intervals (a at the three points)
-    _u_p, eps_p, a_p = _at_points(m, sol)
+    u_p, eps_p, a_p = at_points(m, sol)
     w_motor = i * m.integral(a_p)
     min_p = a_p - d.J_in * i * eps_p
     w_in = i * m.integral(min_p)
     w_out = m.integral(np.where(min_p >= 0, i * eta * min_p, i * min_p / eta))
-    energy = {"motor": w_motor, "loads": -m.integral(m.M_loads),
+    w_damp = m.integral(m.damping * np.sqrt(u_p)) if m.damping is not None else 0.0
+    energy = {"motor": w_motor, "loads": -m.integral(m.M_loads) + w_damp,
               "gravity": -m.integral(m.M_gravity), "friction": -m.integral(Mf),
               "gear": w_in - w_out}
     energy["residual"] = w_motor - (energy["loads"] + energy["gravity"] + energy["friction"]
@@ -520,6 +557,7 @@ def _result(m: Machine, sol: Solution, Mf: Arr, fits: int, dynamics: bool) -> St
         phi1=nodes, t=t, omega=omega, eps=eps, omega_motor=i * omega, torque=torque, Q=crank,
         power=torque * i * omega, J=m.J[g.iL], dJ=m.dJ[g.iL], M_loads=m.M_loads[g.iL],
         M_gravity=m.M_gravity[g.iL], M_friction=Mf[g.iL],
+        M_damping=(np.zeros(g.n) if m.damping is None else -m.damping[g.iL] * omega),
         delta=(w_max - w_min) / omega_mean, omega_mean=omega_mean, omega_max=w_max,
         omega_min=w_min, phi_max=p_max, phi_min=p_min, period=period,
         torque_mean=w_motor / (i * g.period), torque_rms=rms, torque_peak=float(peaks[kpk]),

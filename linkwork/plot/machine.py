@@ -127,7 +127,7 @@ def plot_transient(run: Run, axes: Any = None, *, name: str | None = None) -> di
     for k, (ts, to) in enumerate(zip(run.switch_t, run.switch_to, strict=True)):
         for a in axes:
             a.axvline(ts, color="tab:red", lw=0.7, ls="--", label="switch" if k == 0 else None)
-        axes[0].annotate(str(to), (ts, 1.0), xycoords=("data", "axes fraction"),
+        axes[0].annotate(str(run.modes[int(to)]), (ts, 1.0), xycoords=("data", "axes fraction"),
                          textcoords="offset points", xytext=(2, -10), fontsize="x-small")
     axes[0].set_ylabel("crank speed ω [rpm]")
     axes[1].set_ylabel("motor torque [N·m]")

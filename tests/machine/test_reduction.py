@@ -19,10 +19,13 @@ from linkwork.errors import ParameterError
 from linkwork.machine import friction_moment, reduce
 from linkwork.planar import (
     BodyTorque,
+    Damper,
+    Drag,
     Linear,
     Mechanism,
     PointForce,
     Revolute,
+    Spring,
     inverse_dynamics,
     kinematics,
 )
@@ -119,3 +122,21 @@ def test_only_a_crank_on_a_frame_joint_is_reduced():
         reduce(four, [0.0, 1.0], loads=PointForce("coupler", "P", 1.0, 0.0))
     with pytest.raises(ParameterError, match=r"loads\[0\].body"):
         reduce(four, [0.0, 1.0], loads=[BodyTorque("frame", 1.0)])
+
+
+def test_dampers_and_drags_reduce_to_a_moment_linear_in_the_speed():
+    """A damper between frame and rocker and a drag on the coupler point: the engine's driving
+    torque at any omega, eps is J eps + dJ omega^2 / 2 - M_loads + damping omega (1e-10)."""
+    doc = _doc("examples/fourbar_paper001.toml")
+    mech = doc.mechanism()
+    loads = [Damper("frame", (0.45, 0.2), "rocker", "B", damping=40.0),
+             Drag("coupler", "P", force=3.0, damping=2.0),
+             Spring("frame", (0.0, 0.3), "coupler", "P", stiffness=500.0, free_length=0.1)]
+    phi = np.linspace(0, 2 * np.pi, 181, endpoint=False)
+    red = reduce(mech, phi, loads=loads)
+    assert np.all(red.damping >= 0) and np.max(red.damping) > 0
+    omega = 6.0 + 2.0 * np.sin(phi)
+    eps = 9.0 * np.cos(phi)
+    dyn = inverse_dynamics(kinematics(mech, phi, omega, eps), loads=loads)
+    expected = red.J * eps + 0.5 * red.dJ * omega**2 - red.M_loads + red.damping * omega
+    assert np.max(np.abs(dyn.Q - expected)) <= 1e-10 * np.max(np.abs(dyn.Q))

@@ -28,7 +28,7 @@ from linkwork.machine import (
     machine,
     steady_state,
 )
-from linkwork.planar import BodyTorque, Mechanism, PointForce, Revolute, kinematics
+from linkwork.planar import BodyTorque, Damper, Mechanism, PointForce, Revolute, kinematics
 
 RPM = math.pi / 30
 G = (0.0, -9.81)
@@ -207,3 +207,20 @@ def test_stall_within_the_cycle_is_an_error_not_a_silent_non_convergence():
     with pytest.raises(DriveError, match=r"the crank stops at phi1 = [\d.]+ deg.*peak load "
                        r"torque [\d.]+ N·m at the crank"):
         steady_state(mech, weak, loads=[PointForce("coupler", "P", 0, -400.0)], gear=Gear(15.0))
+
+
+def test_dampers_in_the_steady_state_energy_and_driving_torque():
+    """A viscous damper on the rocker: its work (-damping omega over the cycle) is in the
+    energy balance, and the engine's driving torque of the real motion (dampers included) is
+    the reduced equation's to 1e-8."""
+    mech, loads, _, motor, gear, _ = CASES["fourbar-dc"]()
+
+    def lds(p):
+        return [*loads(p), Damper("frame", (0.45, 0.2), "rocker", "B", damping=30.0)]
+
+    ss = steady_state(mech, motor, loads=lds, gravity=G, gear=gear, flywheel=0.05)
+    free = steady_state(mech, motor, loads=loads, gravity=G, gear=gear, flywheel=0.05)
+    assert ss.energy["loads"] > free.energy["loads"]          # the damper takes work
+    assert np.all(ss.M_damping <= 0)
+    assert abs(ss.energy["residual"]) <= 1e-8 * ss.energy["motor"]
+    assert np.max(np.abs(ss.dynamics.Q - ss.Q)) <= 1e-8 * np.max(np.abs(ss.Q))
