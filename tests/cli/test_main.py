@@ -382,12 +382,14 @@ def test_command_modules_are_still_importable_from_linkwork_cli():
         COMMAND_MODULES,
         analyze,
         balance,
+        dynamics,
         examples,
         reactions,
         report,
         swashplate,
     )
-    assert COMMAND_MODULES == (analyze, balance, reactions, report, swashplate, examples)
+    assert COMMAND_MODULES == (analyze, balance, dynamics, reactions, report, swashplate,
+                               examples)
 
 
 def _complete(words: str, cword: int) -> list[str]:
