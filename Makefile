@@ -33,6 +33,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/swashplate_synthesis.py
 	$(BIN)/python benchmarks/tolerance_study.py
 	$(BIN)/python benchmarks/machine.py
+	$(BIN)/python benchmarks/synthesis.py
 
 clean:
 	rm -rf $(VENV) demo-output linkwork-output dist .pytest_cache .mypy_cache .ruff_cache

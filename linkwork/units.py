@@ -35,6 +35,7 @@ KINDS: dict[str, str] = {
     "frequency": "1/s",
     "stiffness": "N/m",
     "rotational_stiffness": "N*m/rad",
+    "damping": "N*s/m",
     "dimensionless": "",
 }
 

@@ -270,6 +270,10 @@ class Dynamics(Result):
                 i += 1
         return out
 
+    def _scene(self) -> Any:
+        """The mechanism drawn over the positions of its kinematics."""
+        return self.kinematics._scene()
+
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
         """Driving torque (or force) with its mean and the joint reaction magnitudes: a
         :class:`linkwork.plot.Figure` with 2 axes (:mod:`linkwork.plot.planar` also draws the

@@ -206,6 +206,12 @@ class Kinematics(Result):
         ray = P.ay - aay - 2 * wa * rvx
         return s, sd, ux * rax + uy * ray
 
+    def _scene(self) -> Any:
+        """The mechanism drawn over these positions (:func:`linkwork.plot.scene.planar_scene`)."""
+        from linkwork.plot.scene import planar_scene
+
+        return planar_scene(self)
+
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
         """Angles, angular velocities and accelerations of the moving bodies over the driver
         positions: a :class:`linkwork.plot.Figure` with 3 axes

@@ -31,10 +31,12 @@ from typing import Any
 
 import numpy as np
 
+from linkwork.plot.numbers import fmt, unit_label
 from linkwork.plot.scene import PALETTE, Scene, Shape
 
 __all__ = ["MAX_DIAGRAM_SAMPLES", "MAX_FRAMES", "Diagram", "Page", "Section", "Table",
-           "diagram_svg", "page_html", "scene_data", "scene_svg", "view_html"]
+           "diagram_svg", "page_html", "peaks_table", "result_table", "scene_data", "scene_svg",
+           "summary_table", "view_html"]
 
 #: Most frames the animation of a page holds (more positions are sampled evenly).
 MAX_FRAMES = 720
@@ -192,7 +194,7 @@ def _period(scene: Scene) -> float:
     """Seconds the cycle takes in reality (0: not known)."""
     if scene.speed <= 0 or scene.n < 2:
         return 0.0
-    span = float(np.ptp(scene.positions))
+    span = 2 * math.pi if scene.periodic else float(np.ptp(scene.positions))
     return span / scene.speed if span > 0 else 0.0
 
 
@@ -597,3 +599,76 @@ def view_html(scene: Scene | None, summary: Table | None = None,
     parts.append("</div>")
     parts.append(_viewer(prefix, _view_data(scene, prefix, charts)))
     return "".join(parts)
+
+
+# ---------------------------------------------------------------------------------------------
+# compact tables of results (notebooks)
+
+#: Most rows of a notebook's summary table.
+SUMMARY_ROWS = 40
+
+
+def _flat(prefix: str, value: Any, out: list[tuple[str, Any]]) -> None:
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _flat(f"{prefix}.{k}" if prefix else str(k), v, out)
+    elif isinstance(value, list | tuple) and len(value) <= 6 and all(
+            isinstance(v, int | float | str | bool) or v is None for v in value):
+        out.append((prefix, ", ".join("-" if v is None else str(v) if isinstance(v, str | bool)
+                                      else fmt(v) for v in value)))
+    elif isinstance(value, bool | str) or value is None:
+        out.append((prefix, "-" if value is None else str(value)))
+    elif isinstance(value, int | float | np.floating | np.integer):
+        out.append((prefix, fmt(value)))
+
+
+def summary_table(caption: str, values: dict[str, Any]) -> Table:
+    """A two-column table of the scalars of a (nested) dict of JSON-able values, keys dotted;
+    long lists and arrays left out; at most :data:`SUMMARY_ROWS` rows."""
+    rows: list[tuple[str, Any]] = []
+    _flat("", values, rows)
+    more = len(rows) - SUMMARY_ROWS
+    shown = [list(r) for r in rows[:SUMMARY_ROWS]]
+    return Table(caption, ["quantity", "value"], shown,
+                 note=f"{more} more in the result's to_dict()" if more > 0 else "")
+
+
+def peaks_table(caption: str, peaks: Sequence[dict[str, Any]], position_unit: str) -> Table:
+    """Extremes ``{"name", "value", "unit", "phi1"}`` with their driver positions (rows linked
+    to the animation); angles in degrees, positions in deg or mm."""
+    f = 180.0 / math.pi if position_unit == "rad" else 1e3
+    shown = "deg" if position_unit == "rad" else "mm"
+    rows = []
+    for pk in peaks:
+        value, unit = pk["value"], pk["unit"]
+        if unit == "rad":
+            value, unit = math.degrees(value), "deg"
+        rows.append([pk["name"], fmt(value), unit_label(unit), fmt(pk["phi1"] * f, decimals=1)])
+    return Table(caption, ["quantity", "value", "unit", f"at [{shown}]"], rows,
+                 positions=[pk["phi1"] for pk in peaks])
+
+
+def result_table(result: Any) -> Table:
+    """A result's fields: scalars with their unit, per-position arrays as their range over the
+    positions (min .. max, NaN left out), with the number of positions."""
+    units = dict(getattr(result, "units", {}))
+    rows: list[list[str]] = []
+    for name, value in result.scalars().items():
+        if isinstance(value, int | float | str | bool) or value is None:
+            shown = value if isinstance(value, str) else (
+                "-" if value is None else fmt(value) if not isinstance(value, bool)
+                else str(value))
+            rows.append([name, shown, unit_label(units.get(name, ""))])
+    cols = result.columns()
+    n = 0
+    for name, arr in cols.items():
+        a = np.asarray(arr, dtype=float)
+        n = a.shape[-1]
+        ok = a[np.isfinite(a)]
+        rng = f"{fmt(ok.min())} .. {fmt(ok.max())}" if ok.size else "-"
+        rows.append([name, rng, unit_label(result._unit_of(name) if hasattr(result, "_unit_of")
+                                           else units.get(name, ""))])
+    more = len(rows) - SUMMARY_ROWS
+    return Table(f"{type(result).__name__}" + (f" over {n} positions" if n else ""),
+                 ["field", "value (range)", "unit"], rows[:SUMMARY_ROWS],
+                 note=f"{more} more fields: see to_dict(), to_csv()" if more > 0 else "")

@@ -36,15 +36,16 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from linkwork.outputs import atomic_path
-from linkwork.plot._base import pyplot, text
+from linkwork.plot._base import Figure, axes_or_new, pyplot, text
 from linkwork.plot.planar import named_point_paths
 
 if TYPE_CHECKING:
     from linkwork.planar.kinematics import Kinematics
 
 __all__ = ["JOINT_SHAPES", "MAX_ANIMATION_FRAMES", "MAX_ANIMATION_PIXELS", "DrawContext",
-           "Scene", "Shape", "animate", "draw", "instant_centres", "planar_scene",
-           "sine_press_scene", "swashplate_scene"]
+           "Scene", "Shape", "animate", "crank_slider_scene", "draw", "inclined_slot_scene",
+           "instant_centres", "mechanism_figure", "planar_scene", "sine_press_scene",
+           "swashplate_scene"]
 
 #: Roles of shapes (the CSS class in the report; the matplotlib style in :func:`draw`).
 ROLES = ("axis", "path", "guide", "slot", "link", "ground", "block", "weight", "pin",
@@ -402,6 +403,15 @@ def _centre_name(i: int, j: int) -> str:
 PointSpec = tuple[str, str | tuple[float, float]]
 
 
+def _whole_turn(phi: np.ndarray) -> bool:
+    """The angles cover a whole turn: from start to start + 360 deg, or to one step short of it
+    (0, 1, ..., 359 deg)."""
+    if phi.size < 3:
+        return False
+    step = float(np.median(np.abs(np.diff(phi))))
+    return bool(phi[-1] - phi[0] >= 2 * math.pi - 1.01 * step - 1e-9)
+
+
 def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
                  centres: bool = False, title: str | None = None,
                  weights: Sequence[tuple[str, tuple[float, float], float, str]] = ()
@@ -493,7 +503,7 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
                                     "translation)" if infinite else ""))
     crank = mech.driver.kind == "crank"
     phi = np.asarray(kin.phi1, dtype=float)
-    periodic = bool(crank and phi.size > 1 and phi[-1] - phi[0] >= 2 * math.pi - 1e-9)
+    periodic = crank and _whole_turn(phi)
     speed = float(np.nanmedian(np.abs(np.asarray(kin.omega1, dtype=float)))) if phi.size else 0.0
     return Scene(title=title or "mechanism", positions=phi,
                  coordinate="φ1" if crank else "s1", unit="rad" if crank else "m",
@@ -513,47 +523,46 @@ def _rect(centre: np.ndarray, u: np.ndarray, half_l: float, half_w: float) -> np
                      for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
 
 
-def sine_press_scene(idle: Any, working: Any, *, title: str = "press drive",
-                     speed: float = 0.0) -> Scene:
-    """Paper 000's press drive in both modes at the same crank angle, side by side.
-
-    ``idle``: a :class:`~linkwork.models.crank_slider.CrankSliderResult` (crank AB, rod BC,
-    slider C on the guide X = e parallel to +Y; crank axis A at the origin); ``working``: an
-    :class:`~linkwork.models.sine.InclinedSlotResult` over the same crank angles (crank AB, the
-    block at B in the ram's slot inclined at alpha, the ram sliding along x: its slot crosses
-    the x axis at ``L1 - X3``). The working mode is drawn to the right of the idle one.
-    """
+def _crank_slider_shapes(idle: Any, prefix: str = "") -> tuple[list[Shape], float]:
+    """Shapes of the offset crank-slider (crank AB, rod BC, slider C on the guide X = e
+    parallel to +Y; crank axis A at the origin) and the drawing's characteristic size [m]."""
     phi = np.asarray(idle.phi1, dtype=float)
     L1 = float(np.asarray(idle.L1).ravel()[0])
     e = float(np.asarray(idle.X_C).ravel()[0])
     lam2 = float(np.asarray(idle.lambda2).ravel()[0])
     size = (lam2 + 2.0) * L1
-    pin = 0.012 * size * 1.5
-    shapes: list[Shape] = []
-    # idle mode: offset crank-slider
+    pin = 0.018 * size
     B = np.stack([idle.X_B, idle.Y_B])
     C = np.stack(np.broadcast_arrays(np.asarray(idle.X_C, float), np.asarray(idle.Y_C, float)))
     ymin, ymax = float(np.nanmin(idle.Y_C)), float(np.nanmax(idle.Y_C))
     bl = 0.09 * size
-    shapes += [
-        Shape("polyline", "guide", "idle guide", np.array([[e, ymin - bl], [e, ymax + bl]]),
+    up = np.stack([np.zeros_like(phi), np.ones_like(phi)])
+    return [
+        Shape("polyline", "guide", f"{prefix}guide", np.array([[e, ymin - bl], [e, ymax + bl]]),
               size=0.05 * size),
-        Shape("polygon", "ground", "idle ground A", _tri(0.0, 0.0, 2.5 * pin)),
-        Shape("polyline", "link", "idle crank", np.stack([np.zeros_like(B), B]), colour=0),
-        Shape("polyline", "link", "idle rod", np.stack([B, C]), colour=1),
-        Shape("polygon", "block", "idle slider C",
-              _rect(C, np.stack([np.zeros_like(phi), np.ones_like(phi)]), bl / 2,
-                    0.035 * size), colour=2),
-        Shape("circle", "pin", "idle joint A", np.zeros((1, 2)), size=pin, label="A"),
-        Shape("circle", "pin", "idle joint B", B[None], size=pin, label="B"),
-        Shape("circle", "pin", "idle joint C", C[None], size=pin, label="C"),
-        Shape("polyline", "path", "path idle.C", C.T, colour=2),
-    ]
-    # working mode: crank, block in the inclined slot of the ram
+        Shape("polygon", "ground", f"{prefix}ground A", _tri(0.0, 0.0, 2.5 * pin)),
+        Shape("polyline", "link", f"{prefix}crank", np.stack([np.zeros_like(B), B]), colour=0),
+        Shape("polyline", "link", f"{prefix}rod", np.stack([B, C]), colour=1),
+        Shape("polygon", "block", f"{prefix}slider C", _rect(C, up, bl / 2, 0.035 * size),
+              colour=2),
+        Shape("circle", "pin", f"{prefix}joint A", np.zeros((1, 2)), size=pin, label="A"),
+        Shape("circle", "pin", f"{prefix}joint B", B[None], size=pin, label="B"),
+        Shape("circle", "pin", f"{prefix}joint C", C[None], size=pin, label="C"),
+        Shape("polyline", "path", f"path {prefix}C", C.T, colour=2),
+    ], size
+
+
+def _inclined_slot_shapes(working: Any, dx: float, size: float, prefix: str = ""
+                          ) -> list[Shape]:
+    """Shapes of the sine mechanism with an inclined slot, crank axis at (dx, 0): crank AB,
+    the block at B in the ram's slot inclined at alpha, the ram sliding along x (its slot
+    crosses the x axis at ``L1 - X3``)."""
+    phi = np.asarray(working.phi1, dtype=float)
+    L1 = float(np.asarray(working.L1).ravel()[0])
     alpha = float(np.asarray(working.alpha).ravel()[0])
+    pin = 0.018 * size
     u = np.array([math.cos(alpha), math.sin(alpha)])
     reach = L1 / max(math.sin(alpha), 1e-3) + 0.08 * size
-    dx = max(L1, e) + 0.15 * size + 2.0 * L1 + reach * abs(u[0])
     Bw = np.stack([np.asarray(working.X_B) + dx, np.asarray(working.Y_B)])
     S = np.stack([L1 - np.asarray(working.X3) + dx, np.zeros_like(phi)])  # slot on the x axis
     slot = np.stack([S - reach * u[:, None], S + reach * u[:, None]])
@@ -561,32 +570,71 @@ def sine_press_scene(idle: Any, working: Any, *, title: str = "press drive",
     ram_len = max(stroke + 2.0 * L1, 0.5 * size)
     ram = np.stack([S, S + np.array([[ram_len], [0.0]])])
     x_lo = float(np.nanmin(S[0])) - 0.05 * size
-    shapes += [
-        Shape("polyline", "axis", "working line of the ram",
+    return [
+        Shape("polyline", "axis", f"{prefix}line of the ram",
               np.array([[x_lo - L1, 0.0], [x_lo + stroke + ram_len + L1, 0.0]])),
-        Shape("polyline", "guide", "working guide",
+        Shape("polyline", "guide", f"{prefix}guide",
               np.array([[float(np.nanmax(S[0])) + 0.5 * L1 + reach * abs(u[0]), 0.0],
                         [float(np.nanmin(S[0])) + ram_len - 0.2 * L1, 0.0]]),
               size=0.05 * size),
-        Shape("polygon", "ground", "working ground A", _tri(dx, 0.0, 2.5 * pin)),
-        Shape("polyline", "link", "working ram", ram, colour=3),
-        Shape("polyline", "slot", "working slot", slot, size=2.6 * pin, colour=3),
-        Shape("polyline", "link", "working crank", np.stack([np.stack(
+        Shape("polygon", "ground", f"{prefix}ground A", _tri(dx, 0.0, 2.5 * pin)),
+        Shape("polyline", "link", f"{prefix}ram", ram, colour=3),
+        Shape("polyline", "slot", f"{prefix}slot", slot, size=2.6 * pin, colour=3),
+        Shape("polyline", "link", f"{prefix}crank", np.stack([np.stack(
             [np.full_like(phi, dx), np.zeros_like(phi)]), Bw]), colour=0),
-        Shape("polygon", "block", "working block B",
+        Shape("polygon", "block", f"{prefix}block B",
               _rect(Bw, np.broadcast_to(u[:, None], Bw.shape), 0.045 * size, 0.025 * size),
               colour=1),
-        Shape("circle", "pin", "working joint A", np.array([[dx, 0.0]]), size=pin, label="A"),
-        Shape("circle", "pin", "working joint B", Bw[None], size=pin, label="B"),
+        Shape("circle", "pin", f"{prefix}joint A", np.array([[dx, 0.0]]), size=pin, label="A"),
+        Shape("circle", "pin", f"{prefix}joint B", Bw[None], size=pin, label="B"),
     ]
+
+
+def _closed_form_scene(title: str, phi: np.ndarray, shapes: list[Shape], valid: Any,
+                       speed: float, notes: tuple[str, ...] = ()) -> Scene:
+    ok = np.ones(phi.shape, dtype=bool) if valid is None else np.asarray(valid, dtype=bool)
     return Scene(title=title, positions=phi, coordinate="φ1", unit="rad",
-                 valid=np.asarray(getattr(idle, "valid", np.ones(phi.shape, bool)), bool),
-                 shapes=tuple(shapes),
-                 periodic=bool(phi.size > 1 and phi[-1] - phi[0] >= 2 * math.pi - 1e-9),
-                 speed=float(speed),
-                 notes=(f"left: idle mode (offset crank-slider); right: working mode (sine "
-                        f"mechanism, slot at α = {math.degrees(alpha):.4g} deg); both at the "
-                        "same crank angle φ1",))
+                 valid=np.broadcast_to(ok, phi.shape).copy(), shapes=tuple(shapes),
+                 periodic=_whole_turn(phi), speed=float(speed), notes=notes)
+
+
+def crank_slider_scene(idle: Any, *, title: str = "offset crank-slider") -> Scene:
+    """An offset crank-slider (:class:`~linkwork.models.crank_slider.CrankSliderResult` of one
+    design over crank angles): crank AB, rod BC, slider C on its guide."""
+    shapes, _ = _crank_slider_shapes(idle)
+    phi = np.asarray(idle.phi1, dtype=float)
+    return _closed_form_scene(title, phi, shapes, getattr(idle, "valid", None),
+                              float(np.asarray(idle.omega1).ravel()[0]))
+
+
+def inclined_slot_scene(working: Any, *, title: str = "sine mechanism") -> Scene:
+    """A sine mechanism with an inclined slot (:class:`~linkwork.models.sine.InclinedSlotResult`
+    of one design over crank angles): crank, block, slotted ram."""
+    L1 = float(np.asarray(working.L1).ravel()[0])
+    phi = np.asarray(working.phi1, dtype=float)
+    return _closed_form_scene(title, phi, _inclined_slot_shapes(working, 0.0, 4.0 * L1), None,
+                              float(np.asarray(working.omega1).ravel()[0]))
+
+
+def sine_press_scene(idle: Any, working: Any, *, title: str = "press drive",
+                     speed: float = 0.0) -> Scene:
+    """Paper 000's press drive in both modes at the same crank angle, side by side.
+
+    ``idle``: a :class:`~linkwork.models.crank_slider.CrankSliderResult` (left);
+    ``working``: an :class:`~linkwork.models.sine.InclinedSlotResult` over the same crank
+    angles (right).
+    """
+    shapes, size = _crank_slider_shapes(idle, "idle ")
+    L1 = float(np.asarray(idle.L1).ravel()[0])
+    e = float(np.asarray(idle.X_C).ravel()[0])
+    alpha = float(np.asarray(working.alpha).ravel()[0])
+    reach = L1 / max(math.sin(alpha), 1e-3) + 0.08 * size
+    dx = max(L1, e) + 0.15 * size + 2.0 * L1 + reach * abs(math.cos(alpha))
+    shapes += _inclined_slot_shapes(working, dx, size, "working ")
+    return _closed_form_scene(
+        title, np.asarray(idle.phi1, dtype=float), shapes, getattr(idle, "valid", None), speed,
+        (f"left: idle mode (offset crank-slider); right: working mode (sine mechanism, slot at "
+         f"α = {math.degrees(alpha):.4g} deg); both at the same crank angle φ1",))
 
 
 def _tri(x: float, y: float, h: float) -> np.ndarray:
@@ -653,8 +701,7 @@ def swashplate_scene(cycle: Any, A: np.ndarray, B: np.ndarray, *,
     ]
     return Scene(title=title, positions=phi, coordinate="φ", unit="rad",
                  valid=np.ones(phi.shape, dtype=bool), shapes=tuple(side + top),
-                 periodic=bool(phi.size > 1 and phi[-1] - phi[0] >= 2 * math.pi - 1e-9),
-                 speed=float(cycle.omega),
+                 periodic=_whole_turn(phi), speed=float(cycle.omega),
                  notes=("left: side view along x0 (y0 to the right, the rotor axis z0 up; the "
                         "disk is seen edge on and the rod foreshortened); right: view along "
                         "the rotor axis (x0 right, y0 up); one slide shown",))
@@ -731,6 +778,18 @@ def _limits(ax: Any, scene: Scene) -> None:
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm]")
     ax.set_ylabel("y [mm]")
+
+
+def mechanism_figure(scene: Scene, frame: int | None = None, ax: Any = None) -> Any:
+    """The scene drawn at ``frame`` (default: the first assembled) into ``ax`` (None: a new
+    figure), with its title and position: a :class:`linkwork.plot.Figure`."""
+    ax = axes_or_new(ax, figsize=(7, 6))
+    good = np.flatnonzero(scene.valid)
+    k = int(good[0]) if frame is None and good.size else int(frame or 0)
+    artists = draw(ax, scene, k)
+    _limits(ax, scene)
+    ax.set_title(text(f"{scene.title}: {_caption(scene, k)}"), fontsize=10)
+    return Figure.of(ax, artists=artists)
 
 
 def _caption(scene: Scene, k: int) -> str:

@@ -17,7 +17,7 @@ from linkwork.errors import format_angle_ranges
 from linkwork.io.planar import PlanarFile
 from linkwork.plot.html import Diagram, Section, Table
 from linkwork.plot.numbers import fmt, scale_of, unit_label
-from linkwork.plot.scene import Scene, planar_scene
+from linkwork.plot.scene import Scene
 from linkwork.report.base import (
     Options,
     Renderer,
@@ -39,8 +39,7 @@ def run(doc: PlanarFile, options: Options) -> PlanarStudy:
 
 def scene(study: PlanarStudy, options: Options) -> Scene:
     """The mechanism over the cycle, with the requested point paths and instant centres."""
-    return planar_scene(study.kinematics, paths=options.paths, centres=options.centres,
-                        title=study.doc.name or "planar mechanism")
+    return study.scene(paths=options.paths, centres=options.centres)
 
 
 def _coord(study: PlanarStudy) -> tuple[str, str]:
@@ -98,6 +97,16 @@ def diagrams(study: PlanarStudy) -> list[Diagram]:
                            [(k, mu) for k, (mu, _) in study.transmission.items()], "μ", "deg",
                            factor=180.0 / math.pi))
     out.append(diagram("kinetic energy T", phi, unit, name, [("T", dyn.T)], "T", "J"))
+    shown = {e["name"] for e in study.loads}
+    for u, what in (("N", "forces"), ("N*m", "couples")):
+        series = [(f"{ap.name} ({ap.kind})", ap.value) for ap in dyn.loads
+                  if ap.name in shown and ap.unit == u]
+        if series:
+            out.append(diagram(f"loads and force elements: {what} (springs, dampers: tension +)",
+                               phi, unit, name, series, "F" if u == "N" else "M", u))
+    if any(ap.kind == "spring" for ap in dyn.loads):
+        out.append(diagram("energy stored in the springs V", phi, unit, name, [("V", dyn.V)],
+                           "V", "J"))
     div, lab = prefixed("N", dyn.shaking_fx, dyn.shaking_fy)
     out.append(Diagram(title="shaking force hodograph (the tip of F over the cycle)",
                        x=np.asarray(dyn.shaking_fx) / div,
@@ -165,6 +174,19 @@ def tables(study: PlanarStudy) -> list[Table]:
         trows.append(r)
     out.append(Table("driving torque, joint reactions, shaking force and moment at the table "
                      "positions", head, trows, positions=list(study.table_positions)))
+    if study.loads:
+        top = max((abs(e["work"]) for e in study.loads if e["work"] is not None), default=0.0)
+        out.append(Table(
+            "loads and force elements over the cycle (springs, dampers: tension +)",
+            ["load", "kind", "min", "max", "unit", "length [mm]", "work [J]"],
+            [[e["name"], e["kind"], fmt(np.nan if e["min"] is None else e["min"],
+                                        max(abs(e["min"] or 0), abs(e["max"] or 0))),
+              fmt(np.nan if e["max"] is None else e["max"],
+                  max(abs(e["min"] or 0), abs(e["max"] or 0))), unit_label(e["unit"]),
+              "" if "length" not in e else "..".join(fmt(v * 1e3, decimals=1)
+                                                      for v in e["length"]),
+              fmt(np.nan if e["work"] is None else e["work"], top)] for e in study.loads],
+            note="work: done on the mechanism over the range (negative: taken from it)"))
     fr = study.friction
     if fr is not None:
         top = max((abs(v) for v in fr["losses"].values() if v is not None), default=0.0)
@@ -251,15 +273,60 @@ def inputs(doc: PlanarFile) -> list[Table]:
              "({}, {}) m/s²".format(*(fmt(g) for g in a.gravity))],
             ["shaking moment about", f"{_mm(a.about)} mm"]]
     out.append(Table("driver and analysis", ["", "value"], rows))
-    if doc.load:
+    plain = [ld for ld in doc.load if ld.type in ("force", "torque") and ld.diagram is None]
+    if plain:
         out.append(Table("external loads", ["type", "body", "point", "fx [N]", "fy [N]",
                                             "mz [N·m]", "range", "from frame"],
-                         [[ld.type, ld.body, ld.point if isinstance(ld.point, str) else
-                           _mm(ld.point) + " mm", fmt(ld.fx), fmt(ld.fy), fmt(ld.mz),
-                           "all" if ld.phi_range is None else " .. ".join(
+                         [[ld.type, str(ld.body), _point(ld.point), fmt(ld.fx), fmt(ld.fy),
+                           fmt(ld.mz), "all" if ld.phi_range is None else " .. ".join(
                                str(v) for v in ld.phi_range), "yes" if ld.from_frame else "no"]
-                          for ld in doc.load]))
+                          for ld in plain]))
+    other = [(i, ld) for i, ld in enumerate(doc.load) if ld not in plain]
+    elements = [[sp.name or f"spring.{i}", "spring", _between(sp),
+                 f"k {fmt(sp.stiffness * 1e-3)} N/mm, free length {fmt(sp.free_length * 1e3)} "
+                 f"mm, preload {fmt(sp.preload)} N"] for i, sp in enumerate(doc.spring)]
+    elements += [[dp.name or f"damper.{i}", "damper", _between(dp),
+                  f"c {fmt(dp.damping)} N·s/m"] for i, dp in enumerate(doc.damper)]
+    elements += [[ld.name or f"load.{i}", ld.type, _on(ld), _value(ld, crank)]
+                 for i, ld in other]
+    if elements:
+        out.append(Table("force elements and load diagrams (springs, dampers: tension +)",
+                         ["name", "kind", "on", "value"], elements))
     return out
+
+
+def _point(p: Any) -> str:
+    return p if isinstance(p, str) else _mm(p) + " mm"
+
+
+def _between(el: Any) -> str:
+    return f"{el.a} {_point(el.point_a)} to {el.b} {_point(el.point_b)}"
+
+
+def _on(ld: Any) -> str:
+    if ld.type == "slide":
+        return f"the line of {ld.joint} (reaction on its body a)"
+    return str(ld.body) + ("" if ld.type == "torque" else f" {_point(ld.point)}")
+
+
+def _value(ld: Any, crank: bool) -> str:
+    """A load of the file in words: a drag's parts, a constant, or its diagram."""
+    if ld.type == "drag":
+        return (f"{fmt(ld.force)} N + {fmt(ld.damping)} N·s/m × v against the point's velocity"
+                + (", from the frame" if ld.from_frame else ""))
+    d = ld.diagram
+    if d is None:  # a constant slide force
+        rng = "" if ld.phi_range is None else " over " + " .. ".join(map(str, ld.phi_range))
+        return f"{fmt(ld.force)} N along the line{rng}"
+    over = ("the driver" if d.over == "driver" else f"the slide of {d.over}")
+    unit = "N·m" if ld.type == "torque" else "N"
+    along = f" at {fmt(math.degrees(ld.angle))} deg" if ld.type == "force" else ""
+    rows = "; ".join(f"{x}: {y}" for x, y in d.table)
+    when = {"always": "always", "increasing": "while it increases",
+            "decreasing": "while it decreases"}[d.when]
+    return (f"diagram [{unit}]{along} over {over} ({rows}), {when}, outside its range "
+            f"{'zero' if d.outside == 'zero' else 'refused'}" + (
+                "" if crank or d.over != "driver" else " (slide of the linear driver)"))
 
 
 def notes(study: PlanarStudy) -> list[tuple[str, str]]:

@@ -11,7 +11,7 @@ import numpy as np
 from linkwork.io.sine_press import SinePressFile
 from linkwork.plot.html import Diagram, Section, Table
 from linkwork.plot.numbers import fmt
-from linkwork.plot.scene import Scene, sine_press_scene
+from linkwork.plot.scene import Scene
 from linkwork.report.base import Options, Renderer, diagram
 from linkwork.studies import sine_press as study_sine_press
 from linkwork.studies.sine_press import SinePressStudy
@@ -24,9 +24,7 @@ def run(doc: SinePressFile, options: Options) -> SinePressStudy:
 
 
 def scene(study: SinePressStudy, options: Options) -> Scene:
-    return sine_press_scene(study.idle_cycle, study.working_cycle,
-                            title=study.doc.name or "press drive",
-                            speed=float(study.doc.crank.speed))
+    return study.scene()
 
 
 def section(study: SinePressStudy, options: Options) -> Section:

@@ -8,10 +8,9 @@ import math
 import numpy as np
 
 from linkwork.io.swashplate import SwashplateFile
-from linkwork.models import swashplate as sw
 from linkwork.plot.html import Section, Table
 from linkwork.plot.numbers import fmt
-from linkwork.plot.scene import Scene, swashplate_scene
+from linkwork.plot.scene import Scene
 from linkwork.report.base import Options, Renderer, diagram
 from linkwork.studies import swashplate as study_swashplate
 from linkwork.studies.swashplate import SwashplateStudy
@@ -26,8 +25,7 @@ def run(doc: SwashplateFile, options: Options) -> SwashplateStudy:
 def scene(study: SwashplateStudy, options: Options) -> Scene:
     """The drawing: the slide and disk points of the model at the cycle's angles (the same
     function the plots and checks use; the slide's height is the cycle's ``s``)."""
-    A, B = sw.points(study.cycle.phi, *study.design.params)
-    return swashplate_scene(study.cycle, A, B, title=study.doc.name or "swash-plate drive")
+    return study.scene()
 
 
 def section(study: SwashplateStudy, options: Options) -> Section:

@@ -8,7 +8,7 @@ prints, writes and plots. Nothing is printed.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Literal
 
 import numpy as np
@@ -18,10 +18,12 @@ from linkwork.balancing.loads import mean_over_range
 from linkwork.errors import AssemblyError, ParameterError, angle_ranges, format_angle_ranges
 from linkwork.io.planar import PlanarFile
 from linkwork.planar import (
+    AppliedLoad,
     Crank,
     DeadCentre,
     Dynamics,
     Kinematics,
+    LoadDiagram,
     Mechanism,
     PinInSlot,
     Prismatic,
@@ -35,15 +37,9 @@ from linkwork.planar.structure import Structure
 from linkwork.results import json_array
 
 __all__ = ["PlanarStudy", "analyze", "cycle_peaks", "dead_centre_label",
-           "default_table_positions", "distinct_paths", "friction_summary", "named_columns",
-           "table_positions_error"]
-
-#: Columns of ``planar_dynamics.csv`` besides the reactions ``R_*`` and the friction powers
-#: ``Pf_*`` (the rest is kinematics); the last three only with friction.
-DYNAMICS_COLUMNS = ("Q", "shaking_fx", "shaking_fy", "shaking_m", "T", "Q_frictionless",
-                    "efficiency", "locked")
-#: Prefixes of the per-joint columns of ``planar_dynamics.csv``.
-DYNAMICS_PREFIXES = ("R_", "Pf_")
+           "default_table_positions", "distinct_paths", "dynamics_columns_of",
+           "friction_summary", "kinematics_columns_of", "load_summary", "named_columns",
+           "reported_loads", "table_positions_error"]
 
 Transmission = dict[str, tuple[np.ndarray, np.ndarray]]
 OnFailure = Literal["raise", "nan"]
@@ -68,7 +64,18 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
     Per moving body: ``<body>.theta/omega/eps`` and its centre of mass ``<body>.xS/yS/vxS/vyS/
     axS/ayS``, then every named point of the body (frame axes, :meth:`Kinematics.point`):
     ``<body>.<point>.x/y`` [m], ``.vx/.vy`` [m/s], ``.ax/.ay`` [m/s^2]; a joint's point named
-    on both of its bodies appears under each."""
+    on both of its bodies appears under each. Then the dynamics (:func:`dynamics_columns_of`)
+    and the transmission angles ``mu_<group>``."""
+    cols = kinematics_columns_of(kin)
+    cols.update({k: v for k, v in dynamics_columns_of(kin, dyn).items() if k != "phi1"})
+    trans = transmission_angles(kin) if transmission is None else transmission
+    for key, (mu, _) in trans.items():
+        cols[f"mu_{key}"] = (mu, "rad")
+    return cols
+
+
+def kinematics_columns_of(kin: Kinematics) -> dict[str, tuple[np.ndarray, str]]:
+    """The driver's and every body's and named point's motion (see :func:`named_columns`)."""
     mech = kin.mechanism
     units = mech.driver.field_units  # rad, rad/s, rad/s^2, N*m of a crank; m, m/s, m/s^2, N
     cols: dict[str, tuple[np.ndarray, str]] = {
@@ -90,6 +97,27 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
                                     ("vy", p.vy, "m/s"), ("ax", p.ax, "m/s^2"),
                                     ("ay", p.ay, "m/s^2")):
                 cols[f"{b.name}.{pt}.{name}"] = (arr, unit)
+    return cols
+
+
+def reported_loads(dyn: Dynamics) -> list[AppliedLoad]:
+    """The loads whose value and power the study reports: force elements (springs, dampers,
+    drags), slide forces and loads given by a diagram. Constant point forces and couples (all
+    the loads of files before them) are not: their effect is in ``Q`` and the reactions, and
+    their files keep their columns."""
+    return [ap for ap in dyn.loads if ap.kind not in ("force", "torque") or any(
+        isinstance(getattr(ap.load, f, None), LoadDiagram) for f in ("fx", "fy", "mz"))]
+
+
+def dynamics_columns_of(kin: Kinematics, dyn: Dynamics) -> dict[str, tuple[np.ndarray, str]]:
+    """``phi1``, every joint's reaction ``R_<joint>.x/.y`` [N] (``.mz`` [N m] where not zero),
+    ``Q``, the shaking force and moment, ``T``; with friction ``Q_frictionless``, the friction
+    powers ``Pf_<joint>`` [W], ``efficiency`` and ``locked``; with force elements or load
+    diagrams (:func:`reported_loads`) each one's value ``F_<name>`` [N] (a couple ``M_<name>``
+    [N m]), a spring's or damper's length ``L_<name>`` [m] and power ``P_<name>`` [W], and the
+    energy in the springs ``V`` [J]."""
+    units = kin.mechanism.driver.field_units
+    cols: dict[str, tuple[np.ndarray, str]] = {"phi1": (kin.phi1, units["phi1"])}
     for k, j in enumerate(dyn.joints):
         cols[f"R_{j}.x"] = (dyn.fx[k], "N")
         cols[f"R_{j}.y"] = (dyn.fy[k], "N")
@@ -107,10 +135,53 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
                 cols[f"Pf_{j}"] = (dyn.friction_power[k], "W")
         cols["efficiency"] = (dyn.efficiency, "")
         cols["locked"] = (dyn.locked.astype(float), "1")  # a flag, as "valid [1]"
-    trans = transmission_angles(kin) if transmission is None else transmission
-    for key, (mu, _) in trans.items():
-        cols[f"mu_{key}"] = (mu, "rad")
+    shown = reported_loads(dyn)
+    for ap in shown:
+        cols[f"{'M' if ap.unit == 'N*m' else 'F'}_{ap.name}"] = (ap.value, ap.unit)
+        if ap.length is not None:
+            cols[f"L_{ap.name}"] = (ap.length, "m")
+        cols[f"P_{ap.name}"] = (ap.power, "W")
+    if any(ap.kind == "spring" for ap in dyn.loads):
+        cols["V"] = (dyn.V, "J")
     return cols
+
+
+def load_summary(dyn: Dynamics) -> list[dict[str, Any]]:
+    """What each reported load (:func:`reported_loads`) does over the analysed range: its
+    ``name``, ``kind``, the smallest and largest ``value`` (``min``, ``max``, ``unit``, with
+    the driver positions ``min_at``, ``max_at``), a spring's or damper's shortest and longest
+    ``length`` [m], the ``work`` it does on the mechanism over the range [J] (the time integral
+    of its power in the order the driver passes the positions; negative: taken from the
+    mechanism; None if the driver stops or reverses), and a diagram's ``diagram``: ``over``,
+    ``range`` (first and last position of its table, [rad] or [m]), ``when``, ``outside``."""
+    out = []
+    order = dyn._time_order()
+    w1 = np.broadcast_to(np.asarray(dyn.kinematics.omega1, dtype=float), dyn.phi1.shape)
+
+    def at(v: np.ndarray, pick: Any) -> tuple[float | None, float | None]:
+        if not np.any(np.isfinite(v)):
+            return None, None
+        i = int(pick(v))
+        return float(v[i]), float(dyn.phi1[i])
+
+    for ap in reported_loads(dyn):
+        lo, lo_at = at(ap.value, np.nanargmin)
+        hi, hi_at = at(ap.value, np.nanargmax)
+        with np.errstate(all="ignore"):
+            work = order * float(np.trapezoid(ap.power / w1, dyn.phi1)) if order else None
+        entry: dict[str, Any] = {"name": ap.name, "kind": ap.kind, "unit": ap.unit, "min": lo,
+                                 "min_at": lo_at, "max": hi, "max_at": hi_at,
+                                 "work": work if work is None or np.isfinite(work) else None}
+        if ap.length is not None:
+            entry["length"] = [float(np.nanmin(ap.length)), float(np.nanmax(ap.length))]
+        diagrams = [d for d in (getattr(ap.load, f, None) for f in ("fx", "fy", "mz", "force"))
+                    if isinstance(d, LoadDiagram)]
+        if diagrams:
+            d = diagrams[0]
+            entry["diagram"] = {"over": d.over, "range": list(d.table_range), "when": d.when,
+                                "outside": d.outside}
+        out.append(entry)
+    return out
 
 
 def dead_centre_label(mech: Mechanism, d: DeadCentre) -> tuple[str, str]:
@@ -236,6 +307,9 @@ class PlanarStudy:
         ``Q_mean`` (work / range) [N m or N] and ``power_mean`` [W] over the cycle.
     friction : dict or None
         :func:`friction_summary` of the cycle (None: no joint has friction).
+    loads : list of dict
+        :func:`load_summary` of the cycle: the force elements and load diagrams (empty
+        without them).
     """
 
     doc: PlanarFile
@@ -252,6 +326,7 @@ class PlanarStudy:
     peaks: list[dict[str, Any]]
     means: dict[str, float]
     friction: dict[str, Any] | None = None
+    loads: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def crank(self) -> bool:
@@ -281,17 +356,46 @@ class PlanarStudy:
     def kinematics_columns(self) -> dict[str, tuple[np.ndarray, str]]:
         """The columns of ``planar_kinematics.csv``: poses, velocities, accelerations (of every
         body, its centre of mass and its named points), transmission angles."""
-        return {k: v for k, v in self.columns().items()
-                if not (k.startswith(DYNAMICS_PREFIXES) or k in DYNAMICS_COLUMNS)}
+        cols = kinematics_columns_of(self.kinematics)
+        cols.update({f"mu_{key}": (mu, "rad") for key, (mu, _) in self.transmission.items()})
+        return cols
 
     def dynamics_columns(self) -> dict[str, tuple[np.ndarray, str]]:
         """The columns of ``planar_dynamics.csv``: reactions, driving torque, shaking, kinetic
-        energy (after ``phi1``)."""
-        cols = self.columns()
-        out = {"phi1": cols["phi1"]}
-        out.update({k: v for k, v in cols.items()
-                    if k.startswith(DYNAMICS_PREFIXES) or k in DYNAMICS_COLUMNS})
-        return out
+        energy, friction, loads (after ``phi1``; :func:`dynamics_columns_of`)."""
+        return dynamics_columns_of(self.kinematics, self.dynamics)
+
+    def scene(self, *, paths: Any = None, centres: bool = False) -> Any:
+        """The mechanism drawn over the cycle (:func:`linkwork.plot.scene.planar_scene`):
+        ``paths`` of further points (coupler curves), ``centres`` the instant centres."""
+        from linkwork.plot.scene import planar_scene
+
+        return planar_scene(self.kinematics, paths=paths, centres=centres,
+                            title=self.doc.name or "planar mechanism")
+
+    def _repr_html_(self) -> str:
+        """A notebook's display: the animated mechanism and the extremes over the cycle (a row
+        shows its position)."""
+        from linkwork.plot.html import peaks_table, view_html
+
+        unit = self.mechanism.driver.field_units["phi1"]
+        title = self.doc.name or "planar mechanism"
+        return view_html(self.scene(), peaks_table(
+            f"{title}: extremes over {self.kinematics.n} positions", self.peaks, unit))
+
+    def plot(self, axes: Any = None, **kw: Any) -> Any:
+        """The mechanism at its first assembled position with its point paths, and the driving
+        torque (force) over the cycle: a :class:`linkwork.plot.Figure` with 2 axes (``kw``:
+        ``paths``, ``centres`` of :meth:`scene`)."""
+        from linkwork.plot import Figure, axes_or_new
+        from linkwork.plot.planar import plot_driving_torque
+        from linkwork.plot.scene import mechanism_figure
+
+        ax = axes_or_new(axes, 1, 2, figsize=(13, 5))
+        name = self.doc.name or None
+        mechanism_figure(self.scene(**kw), ax=ax[0])
+        plot_driving_torque(self.dynamics, ax=ax[1], name=name)
+        return Figure.of(ax)
 
     def to_dict(self) -> dict[str, Any]:
         """Everything of the study as JSON-able values (``planar.json``)."""
@@ -300,7 +404,9 @@ class PlanarStudy:
         cols = self.columns()
         a_x, a_y = (float(v) for v in dyn.about)
         drv = mech.joint(mech.driver.joint)
-        extra = {} if self.friction is None else {"friction": self.friction}
+        extra: dict[str, Any] = {} if self.friction is None else {"friction": self.friction}
+        if self.loads:
+            extra["loads"] = self.loads
         return {
             "name": self.doc.name, "mobility": s.mobility, "structure": s.formula(),
             "groups": [{"kind": g.kind, "bodies": list(g.bodies), "joints": list(g.joints),
@@ -332,7 +438,10 @@ def _solve(doc: PlanarFile, mech: Mechanism, phi: np.ndarray, on_failure: OnFail
            ) -> tuple[Kinematics, Dynamics]:
     kin = kinematics(mech, phi, on_failure=on_failure)
     a = doc.analysis
-    dyn = inverse_dynamics(kin, gravity=a.gravity, loads=doc.loads(phi), about=a.about)
+    try:
+        dyn = inverse_dynamics(kin, gravity=a.gravity, loads=doc.loads(phi), about=a.about)
+    except ParameterError as exc:  # a load at these positions (a diagram left, a spring...)
+        raise doc.file_error(exc) from None
     return kin, dyn
 
 
@@ -419,4 +528,4 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None,
         peaks=cycle_peaks(kin, dyn, trans),
         means={"Q_mean": dyn.Q_mean,
                "power_mean": mean_over_range(kin.phi1, dyn.power)},
-        friction=friction_summary(dyn))
+        friction=friction_summary(dyn), loads=load_summary(dyn))

@@ -131,7 +131,8 @@ def evaluate_forces(design: FourbarDesign, model: ForceModel) -> dict[str, float
     full = bool(design.checks.get("crank_rotates", False)) or design.closed
     bearing = max(float(np.max(dyn.reaction_magnitude(j))) for j in dyn.joints)
     shaking = np.hypot(dyn.shaking_fx, dyn.shaking_fy)
-    rms_sh = float(rms(th[:-1], shaking[:-1])) if full else float(np.sqrt(np.mean(shaking ** 2)))
+    turn = np.linspace(0.0, 2 * math.pi, len(th))[:-1]  # the run's spacing, increasing
+    rms_sh = float(rms(turn, shaking[:-1])) if full else float(np.sqrt(np.mean(shaking ** 2)))
     return {"peak_torque": float(np.max(np.abs(dyn.Q))), "peak_bearing": bearing,
             "rms_shaking": rms_sh}
 

@@ -657,10 +657,10 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
     check_client(client)
     cands = _candidates(tk, int(n_candidates), seed)
     keep = max(4 * n_refine, 64)
-    screen = functools.partial(_screen, tk=tk, n_samples=int(n_samples), keep=keep)
+    screen = functools.partial(_screen, n_samples=int(n_samples), keep=keep)
     with _progress_bar(progress, "screening candidates") as bar:
         res = evaluate(screen, cands, chunk_size=int(chunk_size), client=client, progress=bar,
-                       combine=_keep_best(keep))
+                       combine=_keep_best(keep), shared={"tk": tk})
     t_global = time.perf_counter() - t_start
     counts = {k: int(v) for k, v in zip(DEFECTS, res["counts"].sum(axis=0), strict=True)}
     closest = dict(zip(DEFECTS, res["closest"].min(axis=0), strict=True))

@@ -86,3 +86,30 @@ def test_tolerance_study_benchmark_runs_tiny_and_its_checks_bite():
     results[key] = (peaks * (1 + 1e-6), draws)
     with pytest.raises(AssertionError, match=r"tolerance_study \(N=20\) disagrees"):
         tol.check_study(results, cons, 3, resolve)
+
+
+def test_synthesis_benchmark_runs_tiny():
+    """benchmarks/synthesis.py on the planted problem, tiny, without pylinkage and Dask: the
+    exact answer (f = 0) is found; no timing assertions."""
+    spec = importlib.util.spec_from_file_location(
+        "linkwork_bench_synthesis", PATH.parent / "synthesis.py")
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    rows = mod.main(["--repeat", "1", "--problems", "planted", "--candidates", "2048",
+                     "--no-pylinkage", "--no-dask", "--no-throughput"])
+    assert rows[0]["contender"] == "linkwork" and rows[0]["error"] < 1e-20
+
+
+def test_report_benchmark_runs_tiny():
+    """benchmarks/report.py on one example, once, without the GIF; no timing assertions."""
+    spec = importlib.util.spec_from_file_location("linkwork_bench_report",
+                                                  PATH.parent / "report.py")
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    rows = mod.run([PATH.parents[1] / "examples" / "swashplate_4a.toml"], repeat=1,
+                   gif_frames=0)
+    assert len(rows) == 1 and rows[0]["bytes"] > 10_000 and rows[0]["positions"] == 361
+    assert "report [s]" in mod.table(rows)

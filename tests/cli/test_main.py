@@ -387,9 +387,10 @@ def test_command_modules_are_still_importable_from_linkwork_cli():
         reactions,
         report,
         swashplate,
+        synthesize,
     )
     assert COMMAND_MODULES == (analyze, balance, dynamics, reactions, report, swashplate,
-                               examples)
+                               synthesize, examples)
 
 
 def _complete(words: str, cword: int) -> list[str]:
