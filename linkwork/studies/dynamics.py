@@ -42,10 +42,11 @@ from linkwork.machine import (
     press_schedule,
     run_schedule,
 )
+from linkwork.machine.reduction import scale_loads
 from linkwork.machine.selection import motor_choice
 from linkwork.machine.steady import check_feasible
 from linkwork.models.variable_structure import VariableStructureMechanism
-from linkwork.planar import BodyTorque, Crank, PointForce
+from linkwork.planar import Crank
 from linkwork.results import json_array
 
 __all__ = ["DynamicsStudy", "breaks_of", "run", "steady_columns"]
@@ -143,17 +144,10 @@ def breaks_of(doc: PlanarFile) -> list[float]:
 
 
 def _scaled_loads(doc: PlanarFile, f: float) -> Callable[[np.ndarray], list[Any]]:
+    """The file's loads times ``f`` (the applied loads; springs and other force elements are
+    part of the machine, not of its duty)."""
     def loads(phi: np.ndarray) -> list[Any]:
-        out: list[Any] = []
-        for ld in doc.loads(phi):
-            if isinstance(ld, PointForce):
-                out.append(PointForce(ld.body, ld.point, np.asarray(ld.fx) * f,
-                                      np.asarray(ld.fy) * f, ld.from_frame))
-            elif isinstance(ld, BodyTorque):
-                out.append(BodyTorque(ld.body, np.asarray(ld.mz) * f, ld.from_frame))
-            else:  # springs and other elements are part of the machine, not of the duty
-                out.append(ld)
-        return out
+        return scale_loads(doc.loads(phi), f)
     return loads
 
 
