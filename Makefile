@@ -34,6 +34,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/tolerance_study.py
 	$(BIN)/python benchmarks/machine.py
 	$(BIN)/python benchmarks/synthesis.py
+	$(BIN)/python benchmarks/forces.py
 
 clean:
 	rm -rf $(VENV) demo-output linkwork-output dist .pytest_cache .mypy_cache .ruff_cache

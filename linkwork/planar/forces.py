@@ -60,7 +60,6 @@ from linkwork.planar.model import Crank, Mechanism
 from linkwork.planar.state import Arr
 
 __all__ = [
-    "KINDS",
     "AppliedLoad",
     "BodyTorque",
     "Damper",
@@ -73,9 +72,6 @@ __all__ = [
     "Wrench",
     "apply",
 ]
-
-#: What each load is called in tables and default names (``"spring.2"``).
-KINDS = ("force", "torque", "slide", "spring", "damper", "drag")
 
 PointRef = str | tuple[float, float]
 Value = ArrayLike  # a number, an array over the positions, or a LoadDiagram
@@ -100,10 +96,11 @@ class LoadDiagram:
     over : str
         ``"driver"`` or the name of a prismatic or pin-in-slot joint.
     when : {"always", "increasing", "decreasing"}
-        Acts at every position, or only where the coordinate does not decrease (increase):
-        ``"decreasing"`` for a press's force while the ram moves down (its slide coordinate
-        decreasing). The positions where it is at rest (a dead centre, to 1e-9 of the driver's
-        speed) count as both, so the force acts at the end of the stroke.
+        Acts at every position, or only where the coordinate does not decrease
+        (``"increasing"``) or does not increase (``"decreasing"``: a press's force while the
+        ram moves down, its slide coordinate decreasing). The positions where it is at rest
+        (a dead centre, to 1e-9 of the driver's speed) count as both, so the force acts at the
+        end of the stroke.
     outside : {"zero", "error"}
         Outside the diagram's range (its first to its last position): no load, or a
         :class:`~linkwork.errors.ParameterError` naming the positions where the analysis
@@ -271,7 +268,7 @@ class PointForce:
     def evaluate(self, kin: Kinematics, key: str) -> _Evaluated:
         fx = _values("fx", self.fx, kin, key)
         fy = _values("fy", self.fy, kin, key)
-        pm = kin.point(self.body, self.point)
+        pm = _moving_point(kin, self.body, self.point)
         return _Evaluated(np.hypot(fx, fy), "N", _at_point(self, kin, pm, fx, fy))
 
 
@@ -342,7 +339,7 @@ class SlideForce:
         _, pb, ang = mech.joint_geometry(j)
         ta = kin.angle(j.a)
         ux, uy = np.cos(ta + ang), np.sin(ta + ang)
-        P = kin.point(j.b, pb)
+        P = _moving_point(kin, j.b, pb)
         return _Evaluated(F, "N", [Wrench(j.b, F * ux, F * uy, P.x, P.y),
                                    Wrench(j.a, -F * ux, -F * uy, P.x, P.y)])
 
@@ -370,8 +367,8 @@ class _TwoPoint:
 
     def _geometry(self, kin: Kinematics) -> tuple[Any, Any, Arr, Arr, Arr, Arr]:
         """Both ends' motions, the vector d from a's point to b's, its length L and dL/dt."""
-        pa = kin.point(self.a, self.point_a)
-        pb = kin.point(self.b, self.point_b)
+        pa = _moving_point(kin, self.a, self.point_a)
+        pb = _moving_point(kin, self.b, self.point_b)
         dx, dy = pb.x - pa.x, pb.y - pa.y
         L = np.hypot(dx, dy)
         with np.errstate(invalid="ignore", divide="ignore"):
@@ -511,7 +508,7 @@ class Drag:
         _check_at_point(self, mech, key)
 
     def evaluate(self, kin: Kinematics, key: str) -> _Evaluated:
-        pm = kin.point(self.body, self.point)
+        pm = _moving_point(kin, self.body, self.point)
         _, w = sign_widths(kin.mechanism.plan, kin.omega1)
         speed = np.hypot(pm.vx, pm.vy)
         # w = 0 only if the driver is at rest at every position: then so is every point
@@ -638,6 +635,27 @@ def apply(kin: Kinematics, loads: Sequence[Load]) -> tuple[AppliedLoad, ...]:
                                zero if ev.energy is None else ev.energy, ev.length,
                                tuple(ev.wrenches)))
     return tuple(out)
+
+
+@dataclass(frozen=True)
+class _PointRates:
+    """Position [m] and velocity [m/s] of a body point, frame axes."""
+
+    x: Arr
+    y: Arr
+    vx: Arr
+    vy: Arr
+
+
+def _moving_point(kin: Kinematics, body: str, point: PointRef) -> _PointRates:
+    """Where a body point is and how fast it moves (:meth:`Kinematics.point` without the
+    accelerations, which no load needs: half the work)."""
+    i = kin.mechanism.index[body]
+    p = kin.mechanism.body(body).point(point) if isinstance(point, str) else point
+    c, s = kin._cos_sin[0][i], kin._cos_sin[1][i]
+    rx, ry = c * p[0] - s * p[1], s * p[0] + c * p[1]
+    w = kin.omega[i]
+    return _PointRates(kin.x[i] + rx, kin.y[i] + ry, kin.vx[i] - w * ry, kin.vy[i] + w * rx)
 
 
 def _at_point(load: PointForce | Drag, kin: Kinematics, pm: Any, fx: Arr, fy: Arr

@@ -2,24 +2,14 @@
 
 from __future__ import annotations
 
-import importlib.util
-import sys
-from pathlib import Path
-
 import numpy as np
 import pytest
-
-PATH = Path(__file__).resolve().parents[2] / "benchmarks" / "kinematics.py"
+from _benchmarks import BENCHMARKS, load_benchmark
 
 
 @pytest.fixture(scope="module")
 def bench():
-    spec = importlib.util.spec_from_file_location("linkwork_bench_kinematics", PATH)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
+    return load_benchmark("kinematics")
 
 
 def test_benchmark_runs_and_all_contenders_agree(bench):
@@ -57,12 +47,7 @@ def test_benchmark_plain_numpy_fourbar_is_the_open_branch(bench):
 def test_tolerance_study_benchmark_runs_tiny_and_its_checks_bite():
     """benchmarks/tolerance_study.py (issue 6): tiny sizes, no dask, no timing assertions; every
     contender agrees with the plain NumPy re-solve, and the checks catch a 1e-6 change."""
-    path = PATH.parent / "tolerance_study.py"
-    spec = importlib.util.spec_from_file_location("linkwork_bench_tolerance_study", path)
-    assert spec is not None and spec.loader is not None
-    tol = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = tol
-    spec.loader.exec_module(tol)
+    tol = load_benchmark("tolerance_study")
     result = tol.run(sizes=(20, 60), positions=24, repeat=1, resolve_n=3, dask_n=0)
     names = {(r["contender"], r["samples"]) for r in result["rows"]}
     assert {("force method", 0), ("displacement method", 0), ("plain NumPy re-solve", 3),
@@ -91,12 +76,7 @@ def test_tolerance_study_benchmark_runs_tiny_and_its_checks_bite():
 def test_synthesis_benchmark_runs_tiny():
     """benchmarks/synthesis.py on the planted problem, tiny, without pylinkage and Dask: the
     exact answer (f = 0) is found; no timing assertions."""
-    spec = importlib.util.spec_from_file_location(
-        "linkwork_bench_synthesis", PATH.parent / "synthesis.py")
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
+    mod = load_benchmark("synthesis")
     rows = mod.main(["--repeat", "1", "--problems", "planted", "--candidates", "2048",
                      "--no-pylinkage", "--no-dask", "--no-throughput"])
     assert rows[0]["contender"] == "linkwork" and rows[0]["error"] < 1e-20
@@ -104,12 +84,8 @@ def test_synthesis_benchmark_runs_tiny():
 
 def test_report_benchmark_runs_tiny():
     """benchmarks/report.py on one example, once, without the GIF; no timing assertions."""
-    spec = importlib.util.spec_from_file_location("linkwork_bench_report",
-                                                  PATH.parent / "report.py")
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    rows = mod.run([PATH.parents[1] / "examples" / "swashplate_4a.toml"], repeat=1,
+    mod = load_benchmark("report")
+    rows = mod.run([BENCHMARKS.parent / "examples" / "swashplate_4a.toml"], repeat=1,
                    gif_frames=0)
     assert len(rows) == 1 and rows[0]["bytes"] > 10_000 and rows[0]["positions"] == 361
     assert "report [s]" in mod.table(rows)

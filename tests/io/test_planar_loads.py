@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _sketches import paper001_drawing
 
 from linkwork import io
 from linkwork.cli import main
@@ -251,3 +252,38 @@ def test_files_without_the_new_tables_read_as_before(tmp_path):
                 assert isinstance(ld, PointForce | BodyTorque) and ld.name == f"load.{i}"
     with pytest.raises(FileFormatError, match=r"load\.0\.type"):
         io.load(_press(tmp_path, 'type = "slide"', 'type = "spring"'))
+
+
+SPRING_AND_DIAGRAM = """
+[[spring]]
+a = "frame"
+point_a = "C"
+b = "coupler"
+point_b = "P"
+stiffness = "1 N/mm"
+free_length = "100 mm"
+preload = "5 N"
+
+[[load]]
+type = "torque"
+body = "rocker"
+[load.diagram]
+table = [["0 deg", "1 N*m"], ["180 deg", "3 N*m"]]
+"""
+
+
+def test_drawn_file_takes_the_same_elements(tmp_path):
+    """A spring to the coupler point P and a couple diagram on the rocker, in paper 001's
+    four-bar written in body frames and as its drawing (tests/io/test_planar_sketch.py):
+    the same loads, driving torque and springs' energy, to 1e-9 of their scale."""
+    from linkwork.studies import planar as study_planar
+
+    body = _file(tmp_path, (ROOT / "examples" / "fourbar_paper001.toml").read_text()
+                 + SPRING_AND_DIAGRAM, "body.toml")
+    drawn = _file(tmp_path, paper001_drawing() + SPRING_AND_DIAGRAM, "drawn.toml")
+    a, b = (study_planar.analyze(io.load(f)) for f in (body, drawn))
+    ca, cb = a.dynamics_columns(), b.dynamics_columns()
+    for key in ("F_spring.0", "L_spring.0", "M_load.0", "V", "Q"):
+        scale = np.max(np.abs(ca[key][0]))
+        assert scale > 0
+        np.testing.assert_allclose(cb[key][0], ca[key][0], rtol=0, atol=1e-9 * scale)

@@ -9,11 +9,11 @@ exit 2.
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import numpy as np
 import pytest
+from _sketches import paper001_drawing
 
 from linkwork import io
 from linkwork.cli import main
@@ -23,50 +23,11 @@ from linkwork.studies import planar as study
 ROOT = Path(__file__).resolve().parents[2]
 
 
-def _paper001_drawing() -> str:
-    a, b, c, d = 0.1, 0.3, 0.2, 0.3
-    A = np.array([a, 0.0])
-    C = np.array([d, 0.0])
-    dd = np.hypot(*(C - A))
-    x = (b * b - c * c + dd * dd) / (2 * dd)
-    h = math.sqrt(b * b - x * x)
-    e = (C - A) / dd
-    B = A + x * e + h * np.array([-e[1], e[0]])  # branch +1: left of A -> C
-    u = (B - A) / b
-    P = A + 0.15 * u + 0.1 * np.array([-u[1], u[0]])
-    mid = (A + B) / 2
-
-    def xy(p):
-        return f"[{float(p[0])!r}, {float(p[1])!r}]"
-
-    return f"""type = "planar"
-name = "Four-bar of paper 001, drawn"
-
-[sketch]
-points = {{ O = [0, 0], C = [0.3, 0], A = {xy(A)}, B = {xy(B)}, P = {xy(P)} }}
-ground = ["O", "C"]
-links = {{ crank = ["O", "A"], coupler = ["A", "B", "P"], rocker = ["C", "B"] }}
-
-[sketch.masses]
-crank = {{ mass = "1 kg", inertia = "0.000833 kg*m^2" }}
-coupler = {{ mass = "3 kg", com = {xy(mid)}, inertia = "0.0225 kg*m^2" }}
-rocker = {{ mass = "2 kg", inertia = "0.00567 kg*m^2" }}
-
-[driver]
-joint = "O"
-omega1 = "10 rad/s"
-
-[analysis]
-n = 361
-about = [0, 0]
-"""
-
-
 def test_drawn_paper001_fourbar_analyses_as_the_example(tmp_path):
     """Every column of the analysis (kinematics of every named point, reactions, Q, shaking)
     of the drawn four-bar equals the example's."""
     f = tmp_path / "drawn.toml"
-    f.write_text(_paper001_drawing())
+    f.write_text(paper001_drawing())
     drawn = study.analyze(io.load(f))
     ref = study.analyze(io.load(ROOT / "examples" / "fourbar_paper001.toml"))
     c1, c2 = drawn.columns(), ref.columns()
@@ -94,7 +55,7 @@ def test_drawn_paper001_fourbar_analyses_as_the_example(tmp_path):
 def test_bad_drawings_in_files(tmp_path, change, key, words):
     """Errors of a drawing name the file's key (``sketch.links.stub``)."""
     f = tmp_path / "bad.toml"
-    f.write_text(_paper001_drawing().replace(*change))
+    f.write_text(paper001_drawing().replace(*change))
     with pytest.raises(FileFormatError, match=words) as err:
         io.load(f)
     assert err.value.key.startswith(key)

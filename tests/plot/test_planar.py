@@ -128,3 +128,35 @@ def test_cli_figures_titled_legend_outside_any_script(tmp_path, monkeypatch):
     r = made[2].canvas.get_renderer()
     assert not leg.get_window_extent(r).overlaps(reactions.get_window_extent(r))
     plt.close("all")
+
+
+def test_loads_plot_draws_each_load_in_its_unit():
+    """plot_loads: the forces (a spring's tension, a slide force) on one axes in kN when large,
+    a couple on a second; every curve is the load's value; no load to draw is refused."""
+    from linkwork.errors import ParameterError
+    from linkwork.planar import (
+        BodyTorque,
+        LoadDiagram,
+        SlideForce,
+        Spring,
+        crank_slider_mechanism,
+        inverse_dynamics,
+    )
+    from linkwork.plot.planar import plot_loads
+
+    mech = crank_slider_mechanism(0.05, 0.2, masses=(1.0, 1.0, 1.0))
+    kin = kinematics(mech, np.radians(np.arange(0.0, 360.0, 5.0)))
+    dyn = inverse_dynamics(kin, loads=[
+        Spring("frame", (0.0, 0.2), "slider", "B", stiffness=1e5, free_length=0.2),
+        SlideForce("G", 2e4, name="press"),
+        BodyTorque("crank", LoadDiagram([0.0, math.pi], [1.0, 2.0]))])
+    out = plot_loads(dyn, name="test")
+    top, bottom = out["axes"]
+    assert top.get_ylabel() == "force [kN]" and bottom.get_ylabel() == "couple [N·m]"
+    spring, press, couple = out["lines"]
+    np.testing.assert_allclose(spring.get_ydata(), dyn.loads[0].value / 1e3)
+    np.testing.assert_allclose(press.get_ydata(), 20.0)
+    np.testing.assert_allclose(couple.get_ydata(), dyn.loads[2].value)
+    assert press.get_label() == "press (slide)"
+    with pytest.raises(ParameterError, match=r"^names = \['x'\] .*no load to draw"):
+        plot_loads(dyn, ["x"])

@@ -164,15 +164,9 @@ def test_torque_objective_equals_peak_drive_torque_of_the_kinetostatics():
 
 
 def test_benchmark_script_runs_tiny(capsys):
-    import importlib.util
-    import sys
-    from pathlib import Path
+    from _benchmarks import load_benchmark
 
-    path = Path(__file__).resolve().parents[2] / "benchmarks" / "swashplate_synthesis.py"
-    spec = importlib.util.spec_from_file_location("linkwork_bench_swashplate", path)
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
+    mod = load_benchmark("swashplate_synthesis")
     mod.main(["--n", "64", "--loop-n", "5", "--no-dask"])
     assert "candidates/s" in capsys.readouterr().out
 
