@@ -39,6 +39,8 @@ __all__ = ["COMMAND_HELP", "COMMAND_MODULES", "app", "main"]
 COMMAND_HELP: dict[str, str] = {
     "analyze": "Analyse a mechanism over a cycle: table, CSV/JSON and plots in an output folder.",
     "balance": "Balance a planar mechanism: paper 001's table, torque and bearing loads, plots.",
+    "dynamics": "Machine dynamics: the crank's real motion under its motor, flywheel, start-up, "
+                "motor verdicts.",
     "reactions": "Spatial joint reactions (axial forces, bending moments) with redundant "
                  "constraints.",
     "report": "Write a self-contained HTML report: animated mechanism, diagrams, tables.",
@@ -52,9 +54,17 @@ COMMAND_HELP: dict[str, str] = {
 def _command_modules() -> tuple[ModuleType, ...]:
     # Lazy on purpose (issue 19, item 7): `linkwork --help` and `--version` must not import
     # the studies; tests/docs/test_architecture.py allows this one import in a function.
-    from linkwork.cli import analyze, balance, reactions, report, swashplate, synthesize
+    from linkwork.cli import (
+        analyze,
+        balance,
+        dynamics,
+        reactions,
+        report,
+        swashplate,
+        synthesize,
+    )
 
-    return (analyze, balance, reactions, report, swashplate, synthesize, examples)
+    return (analyze, balance, dynamics, reactions, report, swashplate, synthesize, examples)
 
 
 @functools.cache

@@ -403,14 +403,15 @@ def test_command_modules_are_still_importable_from_linkwork_cli():
         COMMAND_MODULES,
         analyze,
         balance,
+        dynamics,
         examples,
         reactions,
         report,
         swashplate,
         synthesize,
     )
-    assert COMMAND_MODULES == (analyze, balance, reactions, report, swashplate, synthesize,
-                               examples)
+    assert COMMAND_MODULES == (analyze, balance, dynamics, reactions, report, swashplate,
+                               synthesize, examples)
 
 
 def _complete(words: str, cword: int) -> list[str]:
