@@ -354,6 +354,17 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     Returns
     -------
     Kinematics
+
+    Notes
+    -----
+    A batch of m designs (``mech.n_designs``, :mod:`~linkwork.planar.designs`) is evaluated
+    in one call: ``phi1`` of shape ``(n,)`` (the same positions for every design) or ``(m, n)``
+    (``(n_drivers, n)`` or ``(n_drivers, m, n)`` with several drivers), ``omega1``, ``eps1``
+    anything that broadcasts to ``(m, n)`` (per design: ``(m, 1)``), ``branches`` values +1/-1
+    or arrays of them over the designs. The result's arrays are ``(nb, m, n)`` and ``valid``
+    ``(m, n)``: each design's own assembly mask; with ``on_failure="raise"`` the error names
+    the designs that do not assemble (``AssemblyError.designs``). Design i of the result is
+    that design's own analysis (``kin.design(i)``).
     """
     if not isinstance(mech, Mechanism):
         raise ParameterError("mech", mech, "must be a Mechanism")

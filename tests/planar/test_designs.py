@@ -264,3 +264,68 @@ def test_any_batch_of_four_bars_is_its_designs(designs, n):
         for name in FIELDS:
             np.testing.assert_array_equal(getattr(res, name)[:, i], getattr(one, name))
         np.testing.assert_array_equal(res.valid[i], one.valid)
+
+
+DYN = ("fx", "fy", "mz", "px", "py", "Q", "shaking_fx", "shaking_fy", "shaking_m", "T",
+       "Q_frictionless", "friction_power", "kappa")
+
+
+def assert_same_dynamics(batch, one, i: int, rtol: float) -> None:
+    """Design i of a batch's inverse dynamics against the design's own, to rtol of each
+    field's scale (0: bit for bit); moments and the driving load also to rtol of the largest
+    force times the largest length (a couple that is zero but for rounding)."""
+
+    def top(a):
+        return float(np.max(np.abs(a[np.isfinite(a)]), initial=0.0))
+
+    moment = top(np.array([one.fx, one.fy])) * max(top(np.array([one.px, one.py])), 1.0)
+    for name in DYN:
+        b, o = getattr(batch, name)[..., i, :], getattr(one, name)
+        finite = np.isfinite(o)
+        np.testing.assert_array_equal(np.isfinite(b), finite, err_msg=name)
+        scale = max(top(o), moment if name in ("mz", "shaking_m", "Q", "Q_frictionless")
+                    else 0.0, 1e-300)
+        np.testing.assert_allclose(b[finite], o[finite], rtol=0, atol=rtol * scale,
+                                   err_msg=name)
+    np.testing.assert_array_equal(batch.locked[i], one.locked)
+
+
+@pytest.mark.parametrize("builder", BUILDERS, ids=lambda b: b.__name__)
+def test_batch_inverse_dynamics_equals_designs_one_by_one(builder):
+    """Reactions, driving load, shaking loads and kinetic energy of three designs with gravity
+    in one call, against each design alone: to 1e-13 of each quantity's scale (the block path
+    forms the bodies' moments about their origins from the state's rotated centres of mass,
+    the one-design path from the centres' world positions: the same to rounding)."""
+    mech, q, _ = builder()
+    factors = (1.0, 1.07, 0.93)
+    ms = [scaled(mech, f) for f in factors]
+    qs = np.array([driver_positions(mech, q, f) for f in factors])
+    res = kinematics(stack(ms), qs if mech.driver.kind == "linear" else q, 3.0, 1.5)
+    dyn = pl.inverse_dynamics(res, gravity=(0.0, -9.81), about=(0.1, 0.05))
+    assert dyn.fx.shape == (len(mech.joints), 3, q.size)
+    for i, (m, f) in enumerate(zip(ms, factors, strict=True)):
+        one = pl.inverse_dynamics(kinematics(m, driver_positions(mech, q, f), 3.0, 1.5),
+                                  gravity=(0.0, -9.81), about=(0.1, 0.05))
+        assert_same_dynamics(dyn, one, i, 1e-13)
+
+
+@pytest.mark.parametrize("builder", BUILDERS[:4], ids=lambda b: b.__name__)
+def test_batch_with_friction_and_loads_equals_designs_one_by_one(builder):
+    """Friction in every joint and a load (a spring from the frame to the last body): design
+    by design inside the call, bit for bit the designs alone."""
+    from _mechanisms import with_friction
+
+    mech, q, _ = builder()
+    ms = [with_friction(scaled(mech, f)) for f in (1.0, 1.05)]
+    body = mech.bodies[-1]
+    pt = next(iter(body.points))
+    spring = pl.Spring("frame", (0.0, -0.2), body.name, pt, stiffness=300.0, free_length=0.1)
+    res = kinematics(stack(ms), q if mech.driver.kind != "linear"
+                     else np.array([q, q * 1.05]), 4.0)
+    dyn = pl.inverse_dynamics(res, gravity=(0.0, -9.81), loads=[spring])
+    for i, m in enumerate(ms):
+        one = pl.inverse_dynamics(kinematics(m, res.design(i).phi1, 4.0), gravity=(0.0, -9.81),
+                                  loads=[spring])
+        assert_same_dynamics(dyn, one, i, 0.0)
+        np.testing.assert_array_equal(dyn.load_power[:, i], one.load_power)
+        np.testing.assert_array_equal(dyn.loads[0].value[i], one.loads[0].value)
