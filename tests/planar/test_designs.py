@@ -329,3 +329,103 @@ def test_batch_with_friction_and_loads_equals_designs_one_by_one(builder):
         assert_same_dynamics(dyn, one, i, 0.0)
         np.testing.assert_array_equal(dyn.load_power[:, i], one.load_power)
         np.testing.assert_array_equal(dyn.loads[0].value[i], one.loads[0].value)
+
+
+def _drawing(mech, phi):
+    """World coordinates of every named point of ``mech`` at driver position ``phi``."""
+    kin = kinematics(mech, [phi])
+    pts = {p: tuple(map(float, v)) for p, v in mech.frame.points.items()}
+    for b in mech.bodies:
+        for p in b.points:
+            pm = kin.point(b.name, p)
+            pts[p] = (float(pm.x[0]), float(pm.y[0]))
+    return pts
+
+
+def _batch_of(drawings):
+    """Per-design drawings as one mapping of point -> (xs, ys) arrays over the designs."""
+    return {p: (np.array([d[p][0] for d in drawings]), np.array([d[p][1] for d in drawings]))
+            for p in drawings[0]}
+
+
+def test_sketch_takes_drawings_of_many_designs():
+    """sketch() with every drawn coordinate an array over the designs: one batch whose design
+    i is sketch() of drawing i, with each design's branch taken from its own drawing (the
+    Stephenson III six-bar drawn at five crank angles on branches (B, D) = (+1, -1), two more
+    drawn crossed (-1, +1)). The batch takes the drawing's angles by NumPy's trigonometric
+    functions, one design by Python's math module: the local coordinates agree to 1e-15 m and
+    the motion to 1e-12 of each quantity's scale (both are rounding)."""
+    from _mechanisms import stephenson_sixbar
+
+    ref = stephenson_sixbar()[0]
+    crossed = ref.with_branches(B=-1, D=1)
+    drawings = [_drawing(ref, a) for a in (0.3, 1.1, 2.0, 3.5, 5.2)]
+    drawings += [_drawing(crossed, a) for a in (0.7, 4.0)]
+    links = {b.name: list(b.points) for b in ref.bodies}
+    batch = pl.sketch(_batch_of(drawings), links, ground=list(ref.frame.points),
+                      drivers="O2", masses={"crank": 1.0, "link5": 1.5})
+    assert batch.n_designs == 7
+    np.testing.assert_array_equal(batch.branches["B"], [1, 1, 1, 1, 1, -1, -1])
+    np.testing.assert_array_equal(batch.branches["D"], [-1, -1, -1, -1, -1, 1, 1])
+    phi = np.linspace(0.0, 2 * np.pi, 49)
+    res = kinematics(batch, phi, 3.0)
+    for i, d in enumerate(drawings):
+        one = pl.sketch(d, links, ground=list(ref.frame.points), drivers="O2",
+                        masses={"crank": 1.0, "link5": 1.5})
+        mine = batch.design(i)
+        assert mine.branches == one.branches
+        for b1, b2 in zip(mine.bodies, one.bodies, strict=True):
+            assert (b1.mass, b1.inertia) == (b2.mass, b2.inertia)
+            for p in b1.points:
+                np.testing.assert_allclose(b1.points[p], b2.points[p], rtol=0, atol=1e-15)
+            np.testing.assert_allclose(b1.guess, b2.guess, rtol=0, atol=1e-15)
+        assert_same(res, kinematics(one, phi, 3.0), i, 1e-12)
+    # every design is the same mechanism (or its crossed assembly): the same coupler point C
+    for i in range(5):
+        c, c0 = res.design(i).point("coupler", "C"), kinematics(ref, phi, 3.0).point(
+            "coupler", "C")
+        np.testing.assert_allclose(c.x, c0.x, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(c.ay, c0.ay, rtol=0, atol=1e-9)
+
+
+def test_sketch_batch_with_sliders_and_newton_groups():
+    """A crank-slider drawn with its guide (per-design angles and offsets) and the class-III
+    triad (Newton, continued from each design's drawing): each design as sketched alone, to
+    1e-12 of each quantity's scale (see the test above)."""
+    from _mechanisms import m_triad
+
+    ref, phi, _ = m_triad()
+    drawings = [_drawing(scaled(ref, f), phi[3]) for f in (1.0, 1.02, 0.99)]
+    links = {b.name: list(b.points) for b in ref.bodies}
+    batch = pl.sketch(_batch_of(drawings), links, ground=list(ref.frame.points), drivers="O")
+    res = kinematics(batch, phi)
+    for i, d in enumerate(drawings):
+        one = pl.sketch(d, links, ground=list(ref.frame.points), drivers="O")
+        assert_same(res, kinematics(one, phi), i, 1e-12)
+    cs = [crank_slider_mechanism(0.05, 0.2, e, guide_angle=g) for e, g in
+          ((0.01, 0.0), (-0.02, 0.3), (0.0, -0.2))]
+    drawings = [{p: v for p, v in _drawing(m, 0.9).items() if p in "OAB"} for m in cs]
+    ang = np.array([0.0, 0.3, -0.2])
+    batch = pl.sketch(_batch_of(drawings), {"crank": ["O", "A"], "rod": ["A", "B"]},
+                      ground=["O"], drivers="O", sliders={"s": pl.Slider("B", "frame", ang)})
+    phi = np.linspace(0, 2 * np.pi, 31)
+    res = kinematics(batch, phi)
+    for i, d in enumerate(drawings):
+        one = pl.sketch(d, {"crank": ["O", "A"], "rod": ["A", "B"]}, ground=["O"],
+                        drivers="O", sliders={"s": pl.Slider("B", "frame", float(ang[i]))})
+        assert_same(res, kinematics(one, phi), i, 1e-12)
+
+
+def test_sketch_batch_names_the_design_that_is_not_drawn_assembled():
+    """A slider point drawn off its guide line (through two ground points) in one design of
+    three: the error names that design."""
+    ms = [crank_slider_mechanism(0.05, 0.2, 0.0, guide_angle=0.0) for _ in range(3)]
+    drawings = [{p: v for p, v in _drawing(m, a).items() if p in "OAB"}
+                for m, a in zip(ms, (0.5, 1.5, 2.5), strict=True)]
+    drawings[2]["B"] = (drawings[2]["B"][0], 0.003)
+    for d in drawings:
+        d.update(G1=(-1.0, 0.0), G2=(1.0, 0.0))
+    with pytest.raises(AssemblyError, match=r"'B' of sliders\.s is 3 mm off .*\(design 2\)"):
+        pl.sketch(_batch_of(drawings), {"crank": ["O", "A"], "rod": ["A", "B"]},
+                  ground=["O", "G1", "G2"], drivers="O",
+                  sliders={"s": pl.Slider("B", "frame", along=("G1", "G2"))})
