@@ -16,6 +16,7 @@ import importlib
 import numpy as np
 import pytest
 from _mechanisms import BUILDERS
+from _sketches import drawing_of
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -331,17 +332,6 @@ def test_batch_with_friction_and_loads_equals_designs_one_by_one(builder):
         np.testing.assert_array_equal(dyn.loads[0].value[i], one.loads[0].value)
 
 
-def _drawing(mech, phi):
-    """World coordinates of every named point of ``mech`` at driver position ``phi``."""
-    kin = kinematics(mech, [phi])
-    pts = {p: tuple(map(float, v)) for p, v in mech.frame.points.items()}
-    for b in mech.bodies:
-        for p in b.points:
-            pm = kin.point(b.name, p)
-            pts[p] = (float(pm.x[0]), float(pm.y[0]))
-    return pts
-
-
 def _batch_of(drawings):
     """Per-design drawings as one mapping of point -> (xs, ys) arrays over the designs."""
     return {p: (np.array([d[p][0] for d in drawings]), np.array([d[p][1] for d in drawings]))
@@ -359,8 +349,8 @@ def test_sketch_takes_drawings_of_many_designs():
 
     ref = stephenson_sixbar()[0]
     crossed = ref.with_branches(B=-1, D=1)
-    drawings = [_drawing(ref, a) for a in (0.3, 1.1, 2.0, 3.5, 5.2)]
-    drawings += [_drawing(crossed, a) for a in (0.7, 4.0)]
+    drawings = [drawing_of(ref, a) for a in (0.3, 1.1, 2.0, 3.5, 5.2)]
+    drawings += [drawing_of(crossed, a) for a in (0.7, 4.0)]
     links = {b.name: list(b.points) for b in ref.bodies}
     batch = pl.sketch(_batch_of(drawings), links, ground=list(ref.frame.points),
                       drivers="O2", masses={"crank": 1.0, "link5": 1.5})
@@ -395,7 +385,7 @@ def test_sketch_batch_with_sliders_and_newton_groups():
     from _mechanisms import m_triad
 
     ref, phi, _ = m_triad()
-    drawings = [_drawing(scaled(ref, f), phi[3]) for f in (1.0, 1.02, 0.99)]
+    drawings = [drawing_of(scaled(ref, f), phi[3]) for f in (1.0, 1.02, 0.99)]
     links = {b.name: list(b.points) for b in ref.bodies}
     batch = pl.sketch(_batch_of(drawings), links, ground=list(ref.frame.points), drivers="O")
     res = kinematics(batch, phi)
@@ -404,7 +394,7 @@ def test_sketch_batch_with_sliders_and_newton_groups():
         assert_same(res, kinematics(one, phi), i, 1e-12)
     cs = [crank_slider_mechanism(0.05, 0.2, e, guide_angle=g) for e, g in
           ((0.01, 0.0), (-0.02, 0.3), (0.0, -0.2))]
-    drawings = [{p: v for p, v in _drawing(m, 0.9).items() if p in "OAB"} for m in cs]
+    drawings = [{p: v for p, v in drawing_of(m, 0.9).items() if p in "OAB"} for m in cs]
     ang = np.array([0.0, 0.3, -0.2])
     batch = pl.sketch(_batch_of(drawings), {"crank": ["O", "A"], "rod": ["A", "B"]},
                       ground=["O"], drivers="O", sliders={"s": pl.Slider("B", "frame", ang)})
@@ -420,7 +410,7 @@ def test_sketch_batch_names_the_design_that_is_not_drawn_assembled():
     """A slider point drawn off its guide line (through two ground points) in one design of
     three: the error names that design."""
     ms = [crank_slider_mechanism(0.05, 0.2, 0.0, guide_angle=0.0) for _ in range(3)]
-    drawings = [{p: v for p, v in _drawing(m, a).items() if p in "OAB"}
+    drawings = [{p: v for p, v in drawing_of(m, a).items() if p in "OAB"}
                 for m, a in zip(ms, (0.5, 1.5, 2.5), strict=True)]
     drawings[2]["B"] = (drawings[2]["B"][0], 0.003)
     for d in drawings:
