@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 
 from linkwork.plot.numbers import fmt, unit_label
-from linkwork.plot.scene import PALETTE, Scene, Shape
+from linkwork.plot.scene import FORCE_ROLES, PALETTE, Scene, Shape
 
 __all__ = ["MAX_DIAGRAM_SAMPLES", "MAX_FRAMES", "Diagram", "Page", "Section", "Table",
            "diagram_svg", "page_html", "peaks_table", "result_table", "scene_data", "scene_svg",
@@ -482,6 +482,8 @@ def _player(scene: Scene, prefix: str) -> str:
         toggles.append(("paths", "point paths", True))
     if "centre" in roles:
         toggles.append(("centres", "instant centres", True))
+    if roles & set(FORCE_ROLES):
+        toggles.append(("forces", "force elements and loads", True))
     toggles.append(("labels", "labels", True))
     boxes = "".join(f'<label><input type="checkbox" id="{prefix}-show-{k}" '
                     f'data-show="{k}"{" checked" if on else ""}> {_e(t)}</label>'

@@ -42,14 +42,18 @@ from linkwork.plot.planar import named_point_paths
 if TYPE_CHECKING:
     from linkwork.planar.kinematics import Kinematics
 
-__all__ = ["JOINT_SHAPES", "MAX_ANIMATION_FRAMES", "MAX_ANIMATION_PIXELS", "DrawContext",
-           "Scene", "Shape", "animate", "crank_slider_scene", "draw", "inclined_slot_scene",
-           "instant_centres", "mechanism_figure", "planar_scene", "sine_press_scene",
-           "swashplate_scene"]
+__all__ = ["FORCE_ROLES", "JOINT_SHAPES", "MAX_ANIMATION_FRAMES", "MAX_ANIMATION_PIXELS",
+           "DrawContext", "Scene", "Shape", "animate", "crank_slider_scene", "damper_parts",
+           "draw", "force_arrow", "inclined_slot_scene", "instant_centres", "load_shapes",
+           "mechanism_figure", "planar_scene", "sine_press_scene", "spring_zigzag",
+           "swashplate_scene", "torque_arrow"]
 
 #: Roles of shapes (the CSS class in the report; the matplotlib style in :func:`draw`).
-ROLES = ("axis", "path", "guide", "slot", "link", "ground", "block", "weight", "pin",
-         "tracer", "centre")
+ROLES = ("axis", "path", "range", "guide", "slot", "spring", "damper", "link", "ground",
+         "block", "weight", "pin", "tracer", "load", "centre")
+
+#: Roles of the force elements and loads (one switch in the report's player shows or hides them).
+FORCE_ROLES = ("range", "spring", "damper", "load")
 
 #: Most frames an animation file (GIF, MP4) holds, and the largest picture it has [pixels].
 MAX_ANIMATION_FRAMES = 180
@@ -66,7 +70,8 @@ class Shape:
         An open line, a closed outline (filled), or circles (one per vertex).
     role : str
         What it shows (:data:`ROLES`): link, pin, ground, guide, slot, block, path, tracer,
-        centre, weight, axis.
+        centre, weight, axis; the force elements and loads (:data:`FORCE_ROLES`): spring,
+        damper, load (an arrow), range (where a load acts).
     name : str
         What it is, for people and tests (``"crank"``, ``"joint A"``, ``"path coupler.P"``,
         ``"I13"``).
@@ -326,6 +331,201 @@ JOINT_SHAPES: dict[str, Callable[[Any, DrawContext], list[Shape]]] = {
 }
 
 
+# ---------------------------------------------------------------------------------------------
+# force elements and loads (planar.forces), drawn from their evaluation on the motion
+
+#: Drawn size of the force elements, in fractions of the mechanism's extent: a spring's coil
+#: half-width and number of zigzags, a damper's half-width, the longest load arrow, its head.
+SPRING_WIDTH, SPRING_ZIGS = 0.018, 8
+DAMPER_WIDTH = 0.02
+ARROW_LENGTH, ARROW_HEAD = 0.16, 0.03
+
+
+def _ends(ap: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The two ends ``(2, n)`` [m] of a spring or damper, on its bodies a and b: the points
+    where its forces act (its wrenches, :class:`~linkwork.planar.forces.AppliedLoad`)."""
+    by_body = {w.body: np.stack(np.broadcast_arrays(w.px, w.py)).astype(float)
+               for w in ap.wrenches}
+    return by_body[ap.load.a], by_body[ap.load.b]
+
+
+def _along(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Length ``(n,)``, unit vector ``(2, n)`` from a to b and its left normal ``(2, n)``."""
+    d = b - a
+    length = np.hypot(d[0], d[1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = d / length
+    return length, u, np.stack([-u[1], u[0]])
+
+
+def spring_zigzag(a: np.ndarray, b: np.ndarray, width: float, zigs: int = SPRING_ZIGS
+                  ) -> np.ndarray:
+    """A spring drawn between the points ``a`` and ``b`` ``(2, n)`` [m]: straight ends of a
+    tenth of its length each and ``zigs`` zigzags of half-width ``width`` [m] between them,
+    vertices ``(zigs + 3, 2, n)`` (it stretches and shortens with the distance of its ends)."""
+    _, _, v = _along(a, b)
+    t = np.concatenate([[0.0, 0.1], 0.1 + 0.8 * (np.arange(1, zigs) / zigs), [0.9, 1.0]])
+    side = np.concatenate([[0.0, 0.0], np.where(np.arange(1, zigs) % 2, 1.0, -1.0), [0.0, 0.0]])
+    return (a[None] + t[:, None, None] * (b - a)[None]
+            + (side * width)[:, None, None] * v[None])
+
+
+def damper_parts(a: np.ndarray, b: np.ndarray, width: float) -> tuple[np.ndarray, np.ndarray]:
+    """A dashpot between ``a`` and ``b`` ``(2, n)`` [m]: the cylinder (on a: a stem to its
+    bottom and its open walls towards b; rigid, of fixed length) and the piston (on b: its rod
+    and plate), each a polyline ``(k, 2, n)``. The plate stays inside the cylinder over the
+    positions (the lengths are taken from the shortest and longest distance of the ends)."""
+    length, u, v = _along(a, b)
+    ok = length[np.isfinite(length)]
+    lo, hi = (float(ok.min()), float(ok.max())) if ok.size else (1.0, 1.0)
+    stem, rod = 0.1 * lo, 0.8 * lo
+    wall = max(hi - 0.8 * lo, 0.3 * lo)               # the plate moves from 0.2 lo to hi - rod
+    c0 = a + stem * u
+    cyl = np.stack([a, c0, c0 + width * v, c0 + width * v + wall * u, c0 + width * v,
+                    c0 - width * v, c0 - width * v + wall * u])
+    plate = b - rod * u
+    piston = np.stack([b, plate, plate + 0.8 * width * v, plate - 0.8 * width * v])
+    return cyl, piston
+
+
+def force_arrow(at: np.ndarray, f: np.ndarray, longest: float, head: float) -> np.ndarray:
+    """Arrows ``(5, 2, n)`` [m] of the forces ``f`` ``(2, n)`` [N] pointing at the points
+    ``at`` ``(2, n)`` (where they act), of length ``longest`` [m] at the largest force and in
+    proportion below it (tail, tip, one barb, tip, the other barb); NaN where the force is zero
+    (the load does not act there)."""
+    mag = np.hypot(f[0], f[1])
+    top = float(np.nanmax(mag)) if np.any(np.isfinite(mag)) else 0.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = f / mag
+        length = longest * mag / top if top > 0 else np.zeros_like(mag)
+    off = ~(mag > 1e-12 * top) if top > 0 else np.ones(mag.shape, dtype=bool)
+    v = np.stack([-u[1], u[0]])
+    h = np.minimum(head, 0.6 * length)
+    tail = at - length * u
+    xy = np.stack([tail, at, at - h * u + 0.5 * h * v, at, at - h * u - 0.5 * h * v])
+    return np.where(off[None, None, :], np.nan, xy)
+
+
+def torque_arrow(at: np.ndarray, mz: np.ndarray, radius: float, head: float) -> np.ndarray:
+    """A couple ``mz`` ``(n,)`` [N m] as a three-quarter circle of ``radius`` [m] around
+    ``at`` ``(2, n)`` with its head the way it turns (counter-clockwise positive), vertices
+    ``(k, 2, n)``; NaN where the couple is zero."""
+    top = float(np.nanmax(np.abs(mz))) if np.any(np.isfinite(mz)) else 0.0
+    sign = np.where(mz < 0, -1.0, 1.0)
+    t = np.linspace(0.0, 1.5 * math.pi, 19)[:, None] * sign[None, :]      # (k, n)
+    arc = at[None] + radius * np.stack([np.cos(t), np.sin(t)], axis=1)   # (k, 2, n)
+    end = arc[-1]
+    tangent = np.stack([-np.sin(t[-1]), np.cos(t[-1])]) * sign           # along the turn
+    normal = np.stack([-tangent[1], tangent[0]])
+    barbs = [end - head * tangent + 0.5 * head * normal, end,
+             end - head * tangent - 0.5 * head * normal]
+    xy = np.concatenate([arc, np.stack(barbs)])
+    off = ~(np.abs(mz) > 1e-12 * top) if top > 0 else np.ones(mz.shape, dtype=bool)
+    return np.where(off[None, None, :], np.nan, xy)
+
+
+def _moving_wrench(ap: Any, frame: str) -> Any:
+    """The wrench a load exerts on its moving body (not its reaction on the frame)."""
+    return next((w for w in ap.wrenches if w.body != frame), None)
+
+
+def load_shapes(loads: Sequence[Any], ctx: DrawContext) -> tuple[list[Shape], list[Shape],
+                                                                  list[str]]:
+    """The force elements and loads of a cycle (``Dynamics.loads``, each an
+    :class:`~linkwork.planar.forces.AppliedLoad` evaluated on the motion), drawn where they
+    act: springs as zigzags and dampers as dashpots between their two points; point forces,
+    slide forces and drags as arrows pointing at their point (each scaled to its own largest
+    value, hidden where it is zero); couples as curved arrows; and where a load acts over
+    part of the cycle only, that stretch of its point's path and, for a crank, the arc of the
+    crank's turn over which it acts (role ``range``).
+
+    Returns the shapes drawn under the bodies (springs, dampers, the crank's arcs), those
+    drawn over them (the stretches of the paths, faint, and the arrows) and notes for the
+    drawing.
+    """
+    mech = ctx.mechanism
+    frame = mech.frame.name
+    n = ctx.kin.phi1.shape[0]
+    under: list[Shape] = []
+    over: list[Shape] = []
+    partial: list[tuple[str, np.ndarray]] = []
+    for ap in loads:
+        kind = ap.kind
+        if kind in ("spring", "damper"):
+            a, b = _ends(ap)
+            if kind == "spring":
+                under.append(Shape("polyline", "spring", f"spring {ap.name}",
+                                   spring_zigzag(a, b, SPRING_WIDTH * ctx.size)))
+            else:
+                cyl, piston = damper_parts(a, b, DAMPER_WIDTH * ctx.size)
+                under.append(Shape("polyline", "damper", f"damper {ap.name} cylinder", cyl))
+                under.append(Shape("polyline", "damper", f"damper {ap.name} piston", piston))
+            continue
+        w = _moving_wrench(ap, frame)
+        if w is None:
+            continue
+        value = np.broadcast_to(np.asarray(ap.value, dtype=float), (n,))
+        active = np.abs(value) > 1e-12 * (float(np.nanmax(np.abs(value)))
+                                          if np.any(np.isfinite(value)) else 0.0)
+        at = np.stack(np.broadcast_arrays(w.px, w.py)).astype(float)
+        if kind == "torque":
+            i = ctx.kin.bodies.index(w.body)
+            centre = np.stack([ctx.kin.x[i], ctx.kin.y[i]])
+            over.append(Shape("polyline", "load", f"load {ap.name}",
+                              torque_arrow(centre, value, 0.06 * ctx.size,
+                                           ARROW_HEAD * ctx.size)))
+        else:
+            f = np.stack(np.broadcast_arrays(w.fx, w.fy)).astype(float)
+            over.append(Shape("polyline", "load", f"load {ap.name}",
+                              force_arrow(at, f, ARROW_LENGTH * ctx.size,
+                                          ARROW_HEAD * ctx.size)))
+        valid = np.asarray(ctx.kin.valid, dtype=bool)
+        if active[valid].any() and not active[valid].all():
+            partial.append((ap.name, active))
+            if kind != "torque":  # over the bodies (a guide's block would hide it), faint
+                xy = np.where(active[None, :], at, np.nan).T
+                over.insert(0, Shape("polyline", "range", f"range {ap.name}", xy,
+                                   size=0.035 * ctx.size))
+    notes: list[str] = []
+    if partial and mech.driver.kind == "crank":
+        under += _crank_arcs(ctx, partial)
+    if over:
+        notes.append("load arrows point at where the load acts, each scaled to its own largest "
+                     "value, and are hidden where it is zero" + (
+                         "; the shaded stretches of a path and the arcs at the crank: where a "
+                         "load acts over part of the cycle" if partial else ""))
+    return under, over, notes
+
+
+def _crank_arcs(ctx: DrawContext, partial: list[tuple[str, np.ndarray]]) -> list[Shape]:
+    """Arcs around the crank's pivot, outside the path of the crank's farthest point, over the
+    crank angles where each load of ``partial`` acts (one ring per load)."""
+    mech = ctx.mechanism
+    joint = mech.joint(mech.driver.joint)
+    frame = mech.frame.name
+    if frame not in (joint.a, joint.b):
+        return []
+    crank = joint.b if joint.a == frame else joint.a
+    qa, pb, _ = mech.joint_geometry(joint)
+    pivot = ctx.world(frame, [qa if joint.a == frame else pb])[0]
+    pts = ctx.world(crank, list(mech.body(crank).points.values()))
+    if pts.ndim != 3:
+        return []
+    r = np.hypot(pts[:, 0] - pivot[0, None], pts[:, 1] - pivot[1, None])    # (k, n)
+    far = int(np.argmax(np.nanmax(r, axis=1)))
+    reach = float(np.nanmax(r[far]))
+    if not reach > 0:
+        return []
+    direction = (pts[far] - pivot[:, None]) / r[far]
+    out = []
+    for k, (name, active) in enumerate(partial):
+        ring = reach + (0.05 + 0.035 * k) * ctx.size
+        xy = pivot[:, None] + ring * direction
+        out.append(Shape("polyline", "range", f"range {name} (crank angles)",
+                         np.where(active[None, :], xy, np.nan).T, size=0.012 * ctx.size))
+    return out
+
+
 def _hull(points: np.ndarray) -> tuple[np.ndarray, bool]:
     """Order of the outline of a body's points: the convex hull (closed: True), or, for points
     on one line, all of them along it (an open polyline: False)."""
@@ -414,8 +614,8 @@ def _whole_turn(phi: np.ndarray) -> bool:
 
 def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
                  centres: bool = False, title: str | None = None,
-                 weights: Sequence[tuple[str, tuple[float, float], float, str]] = ()
-                 ) -> Scene:
+                 weights: Sequence[tuple[str, tuple[float, float], float, str]] = (),
+                 loads: Sequence[Any] = ()) -> Scene:
     """The scene of a planar engine mechanism over the positions of ``kin``.
 
     Parameters
@@ -433,6 +633,9 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
     weights : sequence of (body, (x, y), radius, label)
         Round masses drawn on bodies (counterweights): centre in the body's frame [m] and
         radius [m].
+    loads : sequence of AppliedLoad, optional
+        The loads evaluated on this motion (``Dynamics.loads``): springs, dampers, force
+        arrows and where each load acts (:func:`load_shapes`).
     """
     mech = kin.mechanism
     valid = np.asarray(kin.valid, dtype=bool)
@@ -461,6 +664,9 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
         shapes.append(Shape("circle", "tracer", f"point {body}.{label}",
                             np.stack([pm.x, pm.y])[None], size=0.6 * ctx.pin,
                             colour=colours.get(body, -1)))
+    under, over, load_notes = load_shapes(loads, ctx) if loads else ([], [], [])
+    shapes += under
+    notes += load_notes
     # bodies as the outlines of their named points
     for b in mech.bodies:
         local = np.array(list(b.points.values()), dtype=float).reshape(-1, 2)
@@ -485,6 +691,7 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
         else:
             notes.append(f"joint {joint.name} ({type(joint).__name__}) has no drawing; "
                          "not shown")
+    shapes += over
     if centres:
         far = 50.0 * ctx.size
         cx, cy = np.mean(flat, axis=0) if len(flat) else (0.0, 0.0)
@@ -762,6 +969,11 @@ def draw(ax: Any, scene: Scene, k: int, *, centres: bool = True) -> list[Any]:
                           "solid_capstyle": "butt", "zorder": 1},
                 "slot": {"lw": 7, "color": _colour(s, "0.5"), "alpha": 0.3,
                          "solid_capstyle": "round", "zorder": 2},
+                "range": {"lw": 7 if s.size else 3, "color": "#d97706", "alpha": 0.3,
+                          "solid_capstyle": "butt", "zorder": 1},
+                "spring": {"lw": 1.1, "color": "#2f6f3e", "zorder": 3},
+                "damper": {"lw": 1.3, "color": "#6b4f2a", "zorder": 3},
+                "load": {"lw": 1.4, "color": "#c2410c", "zorder": 6},
             }
             style = styles.get(s.role, {"lw": 3.0, "color": _colour(s, "k"), "zorder": 4,
                                         "solid_capstyle": "round"})

@@ -274,3 +274,46 @@ def test_notebook_views_run_side_by_side(browser, tmp_path):
         assert o.requests == [path.resolve().as_uri()]
     finally:
         o.context.close()
+
+
+def _polyline(o: Opened, name: str) -> np.ndarray:
+    """Vertices of the drawn polyline called ``name`` in the drawing's mm (y up), (k, 2);
+    empty where it is not drawn at this frame."""
+    pts = o.page.locator(f'polyline[data-name="{name}"]').first.get_attribute("points") or ""
+    xy = np.array([[float(v) for v in p.split(",")] for p in pts.split()]).reshape(-1, 2)
+    return xy * [1.0, -1.0]
+
+
+@pytest.mark.parametrize("opened", ["crank_press"], indirect=True)
+def test_force_elements_are_drawn_where_they_act(opened):
+    """crank_press: the counterbalance spring from the frame point K to the ram's R, and the
+    drawing force's arrow at the wrist pin B only where the study's value is not zero (its
+    diagram acts while the ram goes down through its last 20 mm); the switch hides them."""
+    o = opened
+    o.api("pause()")
+    st = study_planar.analyze(io.load(ROOT / "examples" / "crank_press.toml"))
+    value = st.dynamics.load("drawing").value
+    R = st.kinematics.point("ram", "R")
+    B = st.kinematics.point("ram", "B")
+    frames, q = o.data["scene"]["frames"], o.data["scene"]["q"]
+    acting = [k for k, i in enumerate(frames) if value[i] != 0]
+    idle = [k for k, i in enumerate(frames) if value[i] == 0]
+    assert acting and idle
+    for k in (acting[0], acting[len(acting) // 2], idle[0], idle[len(idle) // 2]):
+        o.api(f"show({k})")
+        i = frames[k]
+        zig = _polyline(o, "spring counterbalance")
+        assert zig[0] == pytest.approx((250.0, 0.0), abs=0.51 * q)
+        assert zig[-1] == pytest.approx((R.x[i] * 1e3, R.y[i] * 1e3), abs=0.51 * q)
+        arrow = _polyline(o, "load drawing")
+        if value[i] != 0:
+            assert arrow[1] == pytest.approx((B.x[i] * 1e3, B.y[i] * 1e3), abs=0.51 * q)
+            assert arrow[1, 1] > arrow[0, 1]                # pushes the ram up
+        else:
+            assert arrow.size == 0                          # not drawn where it does not act
+    visible = "e => getComputedStyle(e).display != 'none'"
+    spring = o.page.locator('polyline[data-name="spring counterbalance"]')
+    assert spring.evaluate(visible)
+    o.page.locator("#lw-show-forces").uncheck()
+    assert not spring.evaluate(visible)
+    assert [m for m in o.messages if m[0] in ("error", "pageerror")] == []
