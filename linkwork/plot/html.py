@@ -34,9 +34,9 @@ import numpy as np
 from linkwork.plot.numbers import fmt, unit_label
 from linkwork.plot.scene import FORCE_ROLES, PALETTE, Scene, Shape
 
-__all__ = ["MAX_DIAGRAM_SAMPLES", "MAX_FRAMES", "Diagram", "Page", "Section", "Table",
-           "diagram_svg", "page_html", "peaks_table", "result_table", "scene_data", "scene_svg",
-           "summary_table", "view_html"]
+__all__ = ["MAX_DIAGRAM_SAMPLES", "MAX_FRAMES", "Diagram", "Page", "RefLine", "Section",
+           "Table", "diagram_svg", "page_html", "peaks_table", "result_table", "scene_data",
+           "scene_svg", "summary_table", "view_html"]
 
 #: Most frames the animation of a page holds (more positions are sampled evenly).
 MAX_FRAMES = 720
@@ -183,11 +183,15 @@ def scene_data(scene: Scene, *, prefix: str = "lw", most: int = MAX_FRAMES) -> d
         shapes.append({"id": f"{prefix}-s{i}", "kind": s.kind, "k": int(s.xy.shape[0]),
                        "d": flat, "label": bool(s.label), "r": s.size * 1e3,
                        "role": s.role})
+    speed_f, speed_unit = (30.0 / math.pi, "rpm") if scene.unit == "rad" else (1.0, "m/s")
+    timings = [{"label": tm.label, "t": [round(float(v), 6) for v in tm.t[idx]],
+                "speed": [round(float(v) * speed_f, 4) for v in tm.speed[idx]],
+                "span": float(tm.span), "unit": speed_unit} for tm in scene.timings]
     return {"n": int(idx.size), "frames": idx.tolist(),
             "pos": [round(float(v) * f, 6) for v in scene.positions[idx]],
             "valid": [int(v) for v in scene.valid[idx]], "q": q, "unit": unit,
             "coordinate": scene.coordinate, "periodic": scene.periodic,
-            "period": _period(scene), "shapes": shapes}
+            "period": _period(scene), "shapes": shapes, "timings": timings}
 
 
 def _period(scene: Scene) -> float:
@@ -200,6 +204,21 @@ def _period(scene: Scene) -> float:
 
 # ---------------------------------------------------------------------------------------------
 # diagrams
+
+
+@dataclass(frozen=True)
+class RefLine:
+    """A reference curve of a :class:`Diagram` with its own abscissas (display units), not
+    linked to the animation: a limit, a mean, a tangent, another design's curve.
+
+    ``colour``: a palette index (-1: the next after the diagram's series); ``dotted``: dotted
+    instead of dashed (a second kind of line of the same colour)."""
+
+    name: str
+    x: np.ndarray
+    y: np.ndarray
+    colour: int = -1
+    dotted: bool = False
 
 
 @dataclass(frozen=True)
@@ -225,6 +244,13 @@ class Diagram:
     equal : bool
         Equal scales on both axes (a hodograph).
     note : str
+    lines : sequence of RefLine
+        Reference curves with their own abscissas (display units), dashed and not linked to
+        the animation: a limit, a tangent, another design's curve.
+    points : sequence of (name, x, y)
+        Marked points (display units), not joined: targets, a Pareto set.
+    marks : sequence of (x, label)
+        Vertical lines at ``x`` (display units) with a short label: switches, events.
     """
 
     title: str
@@ -237,6 +263,9 @@ class Diagram:
     angle: bool = False
     equal: bool = False
     note: str = ""
+    lines: Sequence[RefLine] = ()
+    points: Sequence[tuple[str, np.ndarray, np.ndarray]] = ()
+    marks: Sequence[tuple[float, str]] = ()
 
 
 def _ticks(lo: float, hi: float, angle: bool = False, most: int = 8) -> list[float]:
@@ -256,6 +285,8 @@ def _ticks(lo: float, hi: float, angle: bool = False, most: int = 8) -> list[flo
 def _tick_text(v: float, ticks: Sequence[float]) -> str:
     step = abs(ticks[1] - ticks[0]) if len(ticks) > 1 else abs(v) or 1.0
     nd = max(0, -math.floor(math.log10(step) + 1e-9))
+    if abs(round(step, nd) - step) > 1e-9 * step:  # a step of 0.25, 0.025: one more decimal
+        nd += 1
     if nd > 6 or abs(v) >= 1e6:
         return f"{v:.3g}"
     s = f"{v:.{nd}f}"
@@ -307,8 +338,13 @@ def diagram_svg(diagram: Diagram, scene: Scene | None, *, ident: str
     keep = _decimate(len(diagram.x))
     x = np.asarray(diagram.x, dtype=float)[keep]
     ys = [np.asarray(y, dtype=float)[keep] for _, y in diagram.series]
-    xlo, xhi = _range([x])
-    ylo, yhi = _range(ys)
+    extra = [(ln, np.asarray(ln.x, dtype=float)[_decimate(len(ln.x))],
+              np.asarray(ln.y, dtype=float)[_decimate(len(ln.y))]) for ln in diagram.lines]
+    dots = [(n, np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+            for n, a, b in diagram.points]
+    xlo, xhi = _range([x, *(a for _, a, _ in extra), *(a for _, a, _ in dots),
+                       np.array([m for m, _ in diagram.marks], dtype=float)])
+    ylo, yhi = _range([*ys, *(b for _, _, b in extra), *(b for _, _, b in dots)])
     if not diagram.parametric:
         pad = 0.06 * (yhi - ylo)
         ylo, yhi = ylo - pad, yhi + pad
@@ -355,6 +391,22 @@ def diagram_svg(diagram: Diagram, scene: Scene | None, *, ident: str
                  f'text-anchor="middle">{_e(diagram.xlabel)}</text>')
     parts.append(f'<text class="lw-axis" transform="translate(13 {(mt + h - mb) / 2:.0f}) '
                  f'rotate(-90)" text-anchor="middle">{_e(diagram.ylabel)}</text>')
+    for k, (v, label) in enumerate(diagram.marks):
+        px = float(X(np.array(v)))
+        parts.append(f'<line class="lw-event" x1="{px:.1f}" x2="{px:.1f}" y1="{mt}" '
+                     f'y2="{h - mb}"><title>{_e(label)}</title></line>'
+                     f'<text class="lw-event-label" x="{px + 2:.1f}" y="{mt + 9 + 10 * (k % 3)}">'
+                     f"{_e(label)}</text>")  # staggered: marks close together stay legible
+    for k, (ln, a, b) in enumerate(extra):
+        pts = np.stack([X(a), Y(b)], axis=1)
+        parts.append(f'<path class="lw-curve {_ref_class(ln, len(ys) + k)}" '
+                     f'd="{_path_d(pts, 1)}"><title>{_e(ln.name)}</title></path>')
+    for k, (name, a, b) in enumerate(dots):
+        c = (len(ys) + len(extra) + k) % len(PALETTE)
+        for u, v in zip(X(a), Y(b), strict=True):
+            if math.isfinite(u) and math.isfinite(v):
+                parts.append(f'<circle class="lw-point lw-c{c}" cx="{u:.1f}" cy="{v:.1f}" '
+                             f'r="3.2"><title>{_e(name)}</title></circle>')
     pxs = X(x)
     for k, y in enumerate(ys):
         pts = np.stack([pxs, Y(y)], axis=1)
@@ -409,7 +461,8 @@ class Table:
 
 @dataclass(frozen=True)
 class Section:
-    """One part of a page: a study's diagrams, tables and notes (or why it is missing)."""
+    """One part of a page: a study's diagrams, tables and notes (or why it is missing), and
+    verdict lines ``(ok, text)`` shown under its introduction (a motor that is OK or not)."""
 
     title: str
     key: str
@@ -418,6 +471,7 @@ class Section:
     tables: Sequence[Table] = ()
     notes: Sequence[str] = ()
     error: str = ""
+    verdicts: Sequence[tuple[bool, str]] = ()
 
 
 @dataclass(frozen=True)
@@ -464,11 +518,25 @@ def _table_html(t: Table, scene: Scene | None, tid: str) -> str:
             f"<tbody>{''.join(rows)}</tbody></table>{note}</div>")
 
 
+def _ref_class(ln: RefLine, k: int) -> str:
+    """CSS classes of a reference line (``k``: its default palette place)."""
+    c = (ln.colour if ln.colour >= 0 else k) % len(PALETTE)
+    return f"{'lw-ref lw-dotted' if ln.dotted else 'lw-ref'} lw-c{c}"
+
+
 def _diagram_html(d: Diagram, scene: Scene | None, ident: str) -> tuple[str, dict[str, Any]]:
     svg, data = diagram_svg(d, scene, ident=ident)
     legend = "".join(
         f'<span class="lw-key"><i class="lw-swatch lw-c{k % len(PALETTE)}"></i>{_e(n)}'
         f'<b id="{ident}-v{k}"></b></span>' for k, (n, _) in enumerate(d.series))
+    first = len(d.series)
+    legend += "".join(
+        f'<span class="lw-key"><i class="lw-swatch {_ref_class(ln, first + k)}"></i>'
+        f"{_e(ln.name)}</span>" for k, ln in enumerate(d.lines) if ln.name)
+    first += len(d.lines)
+    legend += "".join(
+        f'<span class="lw-key"><i class="lw-dotkey lw-c{(first + k) % len(PALETTE)}"></i>'
+        f"{_e(n)}</span>" for k, (n, _, _) in enumerate(d.points))
     note = f'<p class="lw-note">{_e(d.note)}</p>' if d.note else ""
     return (f'<figure class="lw-diagram"><figcaption>{_e(d.title)}</figcaption>{svg}'
             f'<div class="lw-legend">{legend}</div>{note}</figure>', data)
@@ -489,6 +557,9 @@ def _player(scene: Scene, prefix: str) -> str:
                     f'data-show="{k}"{" checked" if on else ""}> {_e(t)}</label>'
                     for k, t, on in toggles)
     notes = "".join(f'<p class="lw-note">{_e(n)}</p>' for n in scene.notes)
+    constant = ", constant speed" if scene.timings else ""
+    timed = "".join(f'<option value="t{k}">real time: {_e(tm.label)}</option>'
+                    for k, tm in enumerate(scene.timings))
     return (f'<div class="lw-player">{scene_svg(scene, _first_valid(scene), prefix=prefix)}'
             f'<div class="lw-controls">'
             f'<button type="button" id="{prefix}-play" class="lw-play" aria-label="play">'
@@ -500,9 +571,10 @@ def _player(scene: Scene, prefix: str) -> str:
             f'<option value="0.1">0.1×</option><option value="0.25">0.25×</option>'
             f'<option value="0.5">0.5×</option><option value="1" selected>1×</option>'
             f'<option value="2">2×</option><option value="4">4×</option>'
-            f'<option value="real">real time</option></select></label></div>'
+            f'<option value="real">real time{constant}</option>{timed}</select></label></div>'
             f'<div class="lw-readout"><span id="{prefix}-pos">{_e(scene.coordinate)} '
-            f"[{_e(unit)}]</span> <span id=\"{prefix}-state\" class=\"lw-state\"></span></div>"
+            f"[{_e(unit)}]</span> <span id=\"{prefix}-time\" class=\"lw-time\"></span> "
+            f"<span id=\"{prefix}-state\" class=\"lw-state\"></span></div>"
             f'<div class="lw-toggles">{boxes}</div>{notes}</div>')
 
 
@@ -534,6 +606,10 @@ def page_html(page: Page, *, prefix: str = "lw") -> str:
         body += [f"<p>{_e(p)}</p>" for p in s.intro]
         if s.error:
             body.append(f'<p class="lw-error">{_e(s.error)}</p>')
+        if s.verdicts:
+            body.append('<ul class="lw-verdicts">' + "".join(
+                f'<li class="{"lw-ok" if ok else "lw-bad"}">{_e(t)}</li>'
+                for ok, t in s.verdicts) + "</ul>")
         if s.diagrams:
             body.append('<div class="lw-diagrams">')
             for d in s.diagrams:

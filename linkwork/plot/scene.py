@@ -35,6 +35,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from linkwork.errors import ParameterError
 from linkwork.outputs import atomic_path
 from linkwork.plot._base import Figure, axes_or_new, pyplot, text
 from linkwork.plot.planar import named_point_paths
@@ -43,10 +44,10 @@ if TYPE_CHECKING:
     from linkwork.planar.kinematics import Kinematics
 
 __all__ = ["FORCE_ROLES", "JOINT_SHAPES", "MAX_ANIMATION_FRAMES", "MAX_ANIMATION_PIXELS",
-           "DrawContext", "Scene", "Shape", "animate", "crank_slider_scene", "damper_parts",
-           "draw", "force_arrow", "inclined_slot_scene", "instant_centres", "load_shapes",
-           "mechanism_figure", "planar_scene", "sine_press_scene", "spring_zigzag",
-           "swashplate_scene", "torque_arrow"]
+           "DrawContext", "Scene", "Shape", "Timing", "animate", "crank_slider_scene",
+           "damper_parts", "draw", "force_arrow", "inclined_slot_scene", "instant_centres",
+           "load_shapes", "mechanism_figure", "planar_scene", "sine_press_scene",
+           "spring_zigzag", "swashplate_scene", "torque_arrow"]
 
 #: Roles of shapes (the CSS class in the report; the matplotlib style in :func:`draw`).
 ROLES = ("axis", "path", "range", "guide", "slot", "spring", "damper", "link", "ground",
@@ -54,6 +55,8 @@ ROLES = ("axis", "path", "range", "guide", "slot", "spring", "damper", "link", "
 
 #: Roles of the force elements and loads (one switch in the report's player shows or hides them).
 FORCE_ROLES = ("range", "spring", "damper", "load")
+
+TWO_PI = 2.0 * math.pi
 
 #: Most frames an animation file (GIF, MP4) holds, and the largest picture it has [pixels].
 MAX_ANIMATION_FRAMES = 180
@@ -105,6 +108,30 @@ class Shape:
 
 
 @dataclass(frozen=True)
+class Timing:
+    """When the real motion reaches each frame of a scene (machine dynamics: a crank that does
+    not turn at a constant speed), for playback in real time.
+
+    Attributes
+    ----------
+    label : str
+        What motion it is (``"1.5 kW induction: δ = 0.1"``).
+    t : ndarray (n,)
+        Time at each frame from the first frame [s], non-decreasing.
+    speed : ndarray (n,)
+        Driver speed at each frame [rad/s or m/s].
+    span : float
+        Time of one loop of the animation [s]: the period of a whole turn, or from the first
+        to the last frame.
+    """
+
+    label: str
+    t: np.ndarray
+    speed: np.ndarray
+    span: float
+
+
+@dataclass(frozen=True)
 class Scene:
     """A mechanism drawn over the frames of a cycle.
 
@@ -126,6 +153,8 @@ class Scene:
         Driver speed [rad/s or m/s] (real-time playback); 0 where not known.
     notes : tuple of str
         What the drawing leaves out or where it cannot show the mechanism.
+    timings : tuple of Timing
+        The real motions the animation can be played at in real time (:meth:`timed`).
     """
 
     title: str
@@ -137,6 +166,7 @@ class Scene:
     periodic: bool = False
     speed: float = 0.0
     notes: tuple[str, ...] = ()
+    timings: tuple[Timing, ...] = ()
 
     @property
     def n(self) -> int:
@@ -174,12 +204,48 @@ class Scene:
             return (-1.0, -1.0, 1.0, 1.0)
         return (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
 
+    def timed(self, label: str, phi: np.ndarray, t: np.ndarray, speed: np.ndarray,
+              period: float) -> Scene:
+        """The scene with one more real motion to play it at: the crank angles ``phi`` [rad]
+        of one turn (increasing, less than 2 pi apart), the time ``t`` [s] and the crank speed
+        ``speed`` [rad/s] there, and the ``period`` of the turn [s] (a steady state of
+        :mod:`linkwork.machine`). The time and speed of each frame are interpolated over the
+        turn (linearly, periodic); times count from the first frame.
+
+        Raises
+        ------
+        ParameterError
+            The scene's driver is not a crank, or ``phi`` does not increase within one turn.
+        """
+        p = np.asarray(phi, dtype=float)
+        tt = np.asarray(t, dtype=float)
+        w = np.asarray(speed, dtype=float)
+        if self.unit != "rad":
+            raise ParameterError("scene", self.coordinate, "a real motion over crank angles "
+                                 "needs a crank-driven scene")
+        if p.ndim != 1 or p.size < 2 or not (np.all(np.diff(p) > 0)
+                                              and p[-1] - p[0] < TWO_PI):
+            raise ParameterError("phi", p.size, "must increase over less than one turn")
+        rel_p = np.append(p - p[0], TWO_PI)
+        t_p = np.append(tt - tt[0], float(period))
+        w_p = np.append(w, w[0])
+        rel = np.mod(self.positions - p[0], TWO_PI)
+        at = np.interp(rel, rel_p, t_p)
+        frame_t = np.mod(at - at[0], float(period)) if self.n else at
+        if self.n > 1 and not self.periodic:  # a range less than a turn: run through it
+            frame_t = np.maximum.accumulate(frame_t)
+        span = float(period) if self.periodic else float(frame_t[-1]) + float(
+            np.median(np.diff(frame_t)) if self.n > 1 else 0.0)
+        timing = Timing(label, frame_t, np.interp(rel, rel_p, w_p), span)
+        return replace(self, timings=(*self.timings, timing))
+
     def take(self, frames: np.ndarray) -> Scene:
         """The scene at the frames ``frames`` (indices) only."""
         idx = np.asarray(frames, dtype=int)
         shapes = tuple(replace(s, xy=s.xy[:, :, idx]) if s.moving else s for s in self.shapes)
+        timings = tuple(replace(tm, t=tm.t[idx], speed=tm.speed[idx]) for tm in self.timings)
         return replace(self, positions=self.positions[idx], valid=self.valid[idx],
-                       shapes=shapes)
+                       shapes=shapes, timings=timings)
 
     def frames(self, most: int) -> np.ndarray:
         """At most ``most`` frame indices spread evenly over the cycle (all if fewer); a

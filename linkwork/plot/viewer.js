@@ -3,7 +3,11 @@
    element `${prefix}-data` ({scene, charts}; see linkwork/plot/html.py) and wires the player
    (play/pause, position slider, speed), the diagrams (cursor follows the animation; a click
    or drag on a diagram shows the nearest position) and the table rows that carry a position.
-   The view's API is root.linkwork = {show(k), frame(), play(), pause(), playing(), n}. */
+   In real time the animation runs at the driver's constant speed, or at a real motion the
+   scene carries (scene.timings: the time and speed at each frame of a machine's steady
+   state), frame by frame as the time reaches it.
+   The view's API is root.linkwork = {show(k), frame(), play(), pause(), playing(), clock(),
+   n}. */
 "use strict";
 function linkworkViewer(prefix) {
   var root = document.getElementById(prefix);
@@ -12,7 +16,7 @@ function linkworkViewer(prefix) {
   var data = JSON.parse(node.textContent);
   var sc = data.scene;
   var charts = data.charts || [];
-  var st = {k: 0, playing: false, t: 0, last: null, speed: 1, raf: 0};
+  var st = {k: 0, playing: false, t: 0, last: null, speed: 1, raf: 0, clock: 0};
   var BASE_SECONDS = 6;  // one cycle at speed 1x
   function $(id) { return document.getElementById(id); }
   var svg = $(prefix + "-scene");
@@ -21,6 +25,7 @@ function linkworkViewer(prefix) {
   var speed = $(prefix + "-speed");
   var posText = $(prefix + "-pos");
   var stateText = $(prefix + "-state");
+  var timeText = $(prefix + "-time");
   var shapes = [];
   if (sc) {
     sc.shapes.forEach(function (s) {
@@ -114,6 +119,24 @@ function linkworkViewer(prefix) {
       }
     });
   }
+  function timing() {
+    if (typeof st.speed !== "string" || st.speed.charAt(0) !== "t" || !sc) { return null; }
+    return (sc.timings || [])[Number(st.speed.slice(1))] || null;
+  }
+  function frameAt(tm, clock) {  // the last frame the real motion has reached at `clock`
+    var lo = 0, hi = tm.t.length - 1;
+    while (lo < hi) {
+      var mid = (lo + hi + 1) >> 1;
+      if (tm.t[mid] <= clock) { lo = mid; } else { hi = mid - 1; }
+    }
+    return lo;
+  }
+  function showTime(k) {
+    if (!timeText) { return; }
+    var tm = timing();
+    timeText.textContent = tm ? "t = " + tm.t[k].toFixed(3) + " s of " + tm.span.toFixed(3) +
+      " s, speed " + fmt(tm.speed[k]) + " " + tm.unit : "";
+  }
   function show(k) {
     if (!sc || sc.n === 0) { return; }
     k = ((Math.round(k) % sc.n) + sc.n) % sc.n;
@@ -131,6 +154,7 @@ function linkworkViewer(prefix) {
     }
     if (ok) { shapes.forEach(function (e) { setShape(e, k); }); }
     setCharts(k);
+    showTime(k);
     root.setAttribute("data-frame", String(k));
   }
   function nextValid(k, step) {
@@ -149,6 +173,17 @@ function linkworkViewer(prefix) {
     if (st.last === null) { st.last = now; }
     var dt = Math.min((now - st.last) / 1000, 0.25);
     st.last = now;
+    var tm = timing();
+    if (tm) {
+      st.clock += dt;
+      if (st.clock >= tm.span) { st.clock -= tm.span * Math.floor(st.clock / tm.span); }
+      var at = frameAt(tm, st.clock);
+      if (sc.valid[at] !== 1) { at = nextValid(at, 1); }
+      if (at < 0) { pause(); return; }
+      if (at !== st.k) { show(at); }
+      st.raf = window.requestAnimationFrame(tick);
+      return;
+    }
     st.t += dt * sc.n / cycleSeconds();
     var steps = Math.floor(st.t);
     if (steps >= 1) {
@@ -166,6 +201,8 @@ function linkworkViewer(prefix) {
     if (!sc || st.playing || nextValid(st.k, 0) < 0) { return; }
     st.playing = true; st.last = null; st.t = 0;
     if (sc.valid[st.k] !== 1) { show(nextValid(st.k, 1)); }
+    var tm = timing();
+    if (tm) { st.clock = tm.t[st.k]; }
     if (button) { button.innerHTML = "&#10074;&#10074; pause"; button.setAttribute("aria-label", "pause"); }
     st.raf = window.requestAnimationFrame(tick);
   }
@@ -179,7 +216,11 @@ function linkworkViewer(prefix) {
   if (slider) { slider.addEventListener("input", function () { pause(); show(Number(slider.value)); }); }
   if (speed) {
     speed.addEventListener("change", function () {
-      st.speed = speed.value === "real" ? "real" : Number(speed.value);
+      var v = speed.value;
+      st.speed = v === "real" || v.charAt(0) === "t" ? v : Number(v);
+      var tm = timing();
+      if (tm) { st.clock = tm.t[st.k]; }
+      if (sc) { showTime(st.k); }
     });
   }
   Array.prototype.forEach.call(root.querySelectorAll("input[data-show]"), function (box) {
@@ -237,6 +278,7 @@ function linkworkViewer(prefix) {
     frame: function () { return st.k; },
     play: play, pause: pause,
     playing: function () { return st.playing; },
+    clock: function () { return st.clock; },
     n: sc ? sc.n : 0
   };
   root.linkwork = api;

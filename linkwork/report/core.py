@@ -20,7 +20,7 @@ from linkwork.errors import FileFormatError, LinkworkError
 from linkwork.outputs import atomic_path
 from linkwork.plot.html import Page, Section, Table, page_html
 from linkwork.plot.scene import MAX_ANIMATION_FRAMES, Scene, animate
-from linkwork.report import balance, planar, reactions, sine_press, swashplate
+from linkwork.report import balance, dynamics, planar, reactions, sine_press, swashplate
 from linkwork.report.base import Options, Renderer
 
 __all__ = ["Options", "Renderer", "animation", "build", "html", "register", "renderers",
@@ -28,7 +28,7 @@ __all__ = ["Options", "Renderer", "animation", "build", "html", "register", "ren
 
 #: The renderers, in the order of the page's sections.
 _RENDERERS: list[Renderer] = [planar.RENDERER, balance.RENDERER, reactions.RENDERER,
-                              sine_press.RENDERER, swashplate.RENDERER]
+                              sine_press.RENDERER, dynamics.RENDERER, swashplate.RENDERER]
 
 
 def register(renderer: Renderer, *, before: str | None = None) -> None:
@@ -72,7 +72,9 @@ def build(doc: Any, *, path: str | Path | None = None, options: Options | None =
     opts = options or Options(file=str(path) if path is not None else "file")
     todo = renderers(doc)
     if not todo:
-        known = sorted({r.file_type.__name__ for r in _RENDERERS})
+        known = sorted({t.__name__ for r in _RENDERERS
+                        for t in (r.file_type if isinstance(r.file_type, tuple)
+                                  else (r.file_type,))})
         raise FileFormatError(str(path or "file"), "type",
                               f"no report for a {type(doc).__name__}; reports exist for "
                               f"{known}")
@@ -81,6 +83,7 @@ def build(doc: Any, *, path: str | Path | None = None, options: Options | None =
     inputs: list[Table] = []
     notes: list[tuple[str, str]] = []
     warnings: list[str] = []
+    timed: list[tuple[Renderer, Any]] = []
     for r in todo:
         if step is not None:
             step(f"computing {r.title}")
@@ -95,12 +98,17 @@ def build(doc: Any, *, path: str | Path | None = None, options: Options | None =
         if scene is None and r.scene is not None:
             scene = r.scene(study, opts)
         sections.append(r.section(study, opts))
-        if not inputs and r.inputs is not None:
-            inputs = r.inputs(doc)
+        if r.inputs is not None:
+            inputs += r.inputs(doc)
         if r.notes is not None:
             notes += r.notes(study)
         if r.warnings is not None:
             warnings += r.warnings(study)
+        if r.timing is not None:
+            timed.append((r, study))
+    for r, study in timed:
+        if scene is not None and r.timing is not None:
+            scene = r.timing(study, scene)
     name = getattr(doc, "name", "") or (Path(path).stem if path is not None else "mechanism")
     source = ""
     if path is not None:

@@ -354,3 +354,26 @@ def test_damper_and_couple_drawn_with_the_motion():
     turn = r0[0] * r1[1] - r0[1] * r1[0]                          # + counter-clockwise
     assert np.array_equal(np.sign(turn[on]), np.sign(np.sin(phi[on])))
     assert np.all(np.isnan(arrow[:, :, ~on]))
+
+
+def test_timed_scene_takes_a_turn_of_real_motion_and_refuses_others():
+    """Scene.timed over a uniform motion gives t = (phi - phi_0) / omega at every frame (the
+    constant-speed limit), and a linear driver's scene or angles that do not increase within a
+    turn are refused by name."""
+    from linkwork.errors import ParameterError
+
+    scene = sc.planar_scene(_study("fourbar_paper001.toml").kinematics)
+    nodes = np.radians(np.arange(0.0, 360.0, 7.5))
+    w = 3.0
+    timed = scene.timed("uniform", nodes, nodes / w, np.full(nodes.size, w), 2 * np.pi / w)
+    tm = timed.timings[0]
+    frames = scene.frames(720)
+    np.testing.assert_allclose(tm.t[frames], (scene.positions[frames] - scene.positions[0]) / w,
+                               atol=1e-12)
+    assert tm.span == pytest.approx(2 * np.pi / w) and np.all(tm.speed == w)
+    assert timed.take(frames[:10]).timings[0].t.size == 10
+    with pytest.raises(ParameterError, match="phi"):
+        scene.timed("x", nodes[::-1], nodes, nodes, 1.0)
+    linear = sc.Scene("s", np.array([0.0, 0.1]), "s1", "m", np.ones(2, bool), ())
+    with pytest.raises(ParameterError, match="crank"):
+        linear.timed("x", nodes, nodes, nodes, 1.0)

@@ -317,3 +317,50 @@ def test_force_elements_are_drawn_where_they_act(opened):
     o.page.locator("#lw-show-forces").uncheck()
     assert not spring.evaluate(visible)
     assert [m for m in o.messages if m[0] in ("error", "pageerror")] == []
+
+
+@pytest.mark.parametrize("stem", ["loom_sixbar"])
+def test_real_time_follows_the_machines_real_motion(browser, pages, stem):
+    """With a page clock that only moves when told (Playwright's clock), each motor's "real
+    time" plays the turn at the study's real crank speed: at any moment the frame shown is the
+    last one the real motion has reached, the crank angle of the study's steady state at that
+    time (interpolated over its own t and phi1) lies between this frame and the next, and the
+    readout shows that frame's time and speed."""
+    from linkwork.studies import dynamics as study_dynamics
+
+    study = study_dynamics.run(io.load(ROOT / "examples" / f"{stem}.toml"))
+    context = browser.new_context(offline=True, viewport={"width": 1400, "height": 900})
+    page = context.new_page()
+    errors: list[str] = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    try:
+        page.clock.install(time=0)
+        page.goto(pages[stem].resolve().as_uri())
+        page.clock.pause_at(10_000)
+        api = "document.getElementById('lw').linkwork"
+        data = json.loads(page.text_content("#lw-data"))["scene"]
+        for m, choice in enumerate(study.choices):
+            ss = choice.steady
+            page.evaluate(f"{api}.show(0)")
+            page.select_option("#lw-speed", f"t{m}")
+            page.evaluate(f"{api}.play()")
+            pos = np.array(data["pos"])                          # deg, the frames' angles
+            t0 = np.interp(np.radians(pos[0]), ss.phi1, ss.t)
+            seen = []
+            for step in (90, 350, 420, 700, 260):               # ms; wraps past one period
+                page.clock.run_for(step)
+                k = page.evaluate(f"{api}.frame()")
+                clock = page.evaluate(f"{api}.clock()")
+                seen.append(k)
+                t = np.append(ss.t - ss.t[0], ss.period)
+                phi = np.degrees(np.append(ss.phi1, ss.phi1[0] + 2 * np.pi))
+                at = np.interp((clock + t0) % ss.period, t, phi) % 360.0
+                nxt = pos[k + 1] if k + 1 < pos.size else 360.0
+                assert pos[k] - 1e-6 <= at < nxt + 0.05, (m, step, k, at)
+                text = page.text_content("#lw-time")
+                assert f"t = {data['timings'][m]['t'][k]:.3f} s" in text
+            assert len(set(seen)) == len(seen)
+            page.evaluate(f"{api}.pause()")
+        assert errors == []
+    finally:
+        context.close()

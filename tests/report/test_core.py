@@ -109,4 +109,4 @@ def test_a_renderer_plugs_in_by_registration():
         from linkwork.report import core
         core._RENDERERS[:] = [r for r in core._RENDERERS if r.key != "extra"]
     assert [r.key for r in report.renderers()] == ["planar", "balance", "reactions",
-                                                   "sine_press", "swashplate"]
+                                                   "sine_press", "dynamics", "swashplate"]
