@@ -247,10 +247,14 @@ class Diagram:
     lines : sequence of RefLine
         Reference curves with their own abscissas (display units), dashed and not linked to
         the animation: a limit, a tangent, another design's curve.
-    points : sequence of (name, x, y)
-        Marked points (display units), not joined: targets, a Pareto set.
+    points : sequence of (name, x, y) or (name, x, y, colour)
+        Marked points (display units), not joined: targets, a Pareto set; ``colour`` a palette
+        index (default: the next after the series and lines).
     marks : sequence of (x, label)
         Vertical lines at ``x`` (display units) with a short label: switches, events.
+    scene : int
+        The page's drawing it is linked to (an index into :attr:`Page.choices`; 0: the
+        page's drawing).
     """
 
     title: str
@@ -264,8 +268,9 @@ class Diagram:
     equal: bool = False
     note: str = ""
     lines: Sequence[RefLine] = ()
-    points: Sequence[tuple[str, np.ndarray, np.ndarray]] = ()
+    points: Sequence[tuple[str, Any, Any] | tuple[str, Any, Any, int]] = ()
     marks: Sequence[tuple[float, str]] = ()
+    scene: int = 0
 
 
 def _ticks(lo: float, hi: float, angle: bool = False, most: int = 8) -> list[float]:
@@ -340,8 +345,8 @@ def diagram_svg(diagram: Diagram, scene: Scene | None, *, ident: str
     ys = [np.asarray(y, dtype=float)[keep] for _, y in diagram.series]
     extra = [(ln, np.asarray(ln.x, dtype=float)[_decimate(len(ln.x))],
               np.asarray(ln.y, dtype=float)[_decimate(len(ln.y))]) for ln in diagram.lines]
-    dots = [(n, np.asarray(a, dtype=float), np.asarray(b, dtype=float))
-            for n, a, b in diagram.points]
+    dots = [(p[0], np.asarray(p[1], dtype=float).reshape(-1),
+             np.asarray(p[2], dtype=float).reshape(-1)) for p in diagram.points]
     xlo, xhi = _range([x, *(a for _, a, _ in extra), *(a for _, a, _ in dots),
                        np.array([m for m, _ in diagram.marks], dtype=float)])
     ylo, yhi = _range([*ys, *(b for _, _, b in extra), *(b for _, _, b in dots)])
@@ -402,7 +407,7 @@ def diagram_svg(diagram: Diagram, scene: Scene | None, *, ident: str
         parts.append(f'<path class="lw-curve {_ref_class(ln, len(ys) + k)}" '
                      f'd="{_path_d(pts, 1)}"><title>{_e(ln.name)}</title></path>')
     for k, (name, a, b) in enumerate(dots):
-        c = (len(ys) + len(extra) + k) % len(PALETTE)
+        c = _point_colour(diagram, k)
         for u, v in zip(X(a), Y(b), strict=True):
             if math.isfinite(u) and math.isfinite(v):
                 parts.append(f'<circle class="lw-point lw-c{c}" cx="{u:.1f}" cy="{v:.1f}" '
@@ -428,7 +433,7 @@ def diagram_svg(diagram: Diagram, scene: Scene | None, *, ident: str
                for y in ys],
         "vals": [[None if not math.isfinite(v) else float(f"{v:.5g}") for v in y] for y in ys],
         "names": [n for n, _ in diagram.series],
-        "box": [ml, w - mr, mt, h - mb]}
+        "box": [ml, w - mr, mt, h - mb], "scene": int(diagram.scene)}
     if linked and scene is not None and diagram.positions is not None:
         fi = scene.frames(MAX_FRAMES)
         pos = np.asarray(diagram.positions, dtype=float)[keep]
@@ -450,13 +455,17 @@ def diagram_svg(diagram: Diagram, scene: Scene | None, *, ident: str
 @dataclass(frozen=True)
 class Table:
     """A table of strings; ``positions`` (one per row, SI, or None) link rows to the
-    animation (a click on the row shows that position)."""
+    animation (a click on the row shows that position of the drawing ``scene``, an index
+    into :attr:`Page.choices`); ``chooses`` (one per row, or None) makes a click on the row
+    show that drawing of :attr:`Page.choices` (a design of a synthesis)."""
 
     caption: str
     head: Sequence[str]
     rows: Sequence[Sequence[str]]
     positions: Sequence[float | None] | None = None
     note: str = ""
+    scene: int = 0
+    chooses: Sequence[int | None] | None = None
 
 
 @dataclass(frozen=True)
@@ -481,6 +490,8 @@ class Page:
     ``warnings`` are shown at the top (e.g. the ranges where the mechanism does not
     assemble); ``inputs`` are tables of the input data with units and ``source`` the input
     file as written; ``notes`` are (title, text) of the conventions and errata that apply.
+    ``choices`` are (label, drawing) the player switches between (the designs of a
+    synthesis; the first is ``scene``); diagrams and tables name the one they refer to.
     """
 
     title: str
@@ -495,6 +506,15 @@ class Page:
     version: str = ""
     date: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
+    choices: Sequence[tuple[str, Scene]] = ()
+
+    @property
+    def scenes(self) -> list[Scene]:
+        """The drawings the player shows: the choices (the first is :attr:`scene`), or the
+        page's one drawing."""
+        if self.choices:
+            return [sc for _, sc in self.choices]
+        return [] if self.scene is None else [self.scene]
 
 
 def _table_html(t: Table, scene: Scene | None, tid: str) -> str:
@@ -506,9 +526,13 @@ def _table_html(t: Table, scene: Scene | None, tid: str) -> str:
     for i, r in enumerate(t.rows):
         attr = ""
         pos = t.positions[i] if t.positions is not None and i < len(t.positions) else None
+        pick = t.chooses[i] if t.chooses is not None and i < len(t.chooses) else None
         if fpos is not None and pos is not None and math.isfinite(pos):
             k, _ = _nearest(np.array([pos]), fpos, period)
-            attr = f' class="lw-goto" data-frame="{int(k[0])}" title="show this position"'
+            attr = (f' class="lw-goto" data-frame="{int(k[0])}" data-choice="{t.scene}" '
+                    'title="show this position"')
+        elif pick is not None:
+            attr = f' class="lw-goto" data-choice="{int(pick)}" title="show this design"'
         cells = "".join(f"<td>{_e(c)}</td>" for c in r)
         rows.append(f"<tr{attr}>{cells}</tr>")
     head = "".join(f"<th>{_e(h)}</th>" for h in t.head)
@@ -516,6 +540,13 @@ def _table_html(t: Table, scene: Scene | None, tid: str) -> str:
     return (f'<div class="lw-table-wrap"><table class="lw-table" id="{tid}">'
             f"<caption>{_e(t.caption)}</caption><thead><tr>{head}</tr></thead>"
             f"<tbody>{''.join(rows)}</tbody></table>{note}</div>")
+
+
+def _point_colour(d: Diagram, k: int) -> int:
+    """Palette index of the ``k``-th marked points of ``d``."""
+    p = d.points[k]
+    c = p[3] if len(p) > 3 else len(d.series) + len(d.lines) + k
+    return int(c) % len(PALETTE)
 
 
 def _ref_class(ln: RefLine, k: int) -> str:
@@ -533,19 +564,20 @@ def _diagram_html(d: Diagram, scene: Scene | None, ident: str) -> tuple[str, dic
     legend += "".join(
         f'<span class="lw-key"><i class="lw-swatch {_ref_class(ln, first + k)}"></i>'
         f"{_e(ln.name)}</span>" for k, ln in enumerate(d.lines) if ln.name)
-    first += len(d.lines)
     legend += "".join(
-        f'<span class="lw-key"><i class="lw-dotkey lw-c{(first + k) % len(PALETTE)}"></i>'
-        f"{_e(n)}</span>" for k, (n, _, _) in enumerate(d.points))
+        f'<span class="lw-key"><i class="lw-dotkey lw-c{_point_colour(d, k)}"></i>'
+        f"{_e(p[0])}</span>" for k, p in enumerate(d.points))
     note = f'<p class="lw-note">{_e(d.note)}</p>' if d.note else ""
     return (f'<figure class="lw-diagram"><figcaption>{_e(d.title)}</figcaption>{svg}'
             f'<div class="lw-legend">{legend}</div>{note}</figure>', data)
 
 
-def _player(scene: Scene, prefix: str) -> str:
+def _player(scene: Scene, prefix: str, choices: Sequence[tuple[str, Scene]] = ()) -> str:
     unit, _ = scene.display
     toggles = []
     roles = {s.role for s in scene.shapes}
+    for _, other in choices[1:]:
+        roles |= {s.role for s in other.shapes}
     if "path" in roles:
         toggles.append(("paths", "point paths", True))
     if "centre" in roles:
@@ -560,7 +592,17 @@ def _player(scene: Scene, prefix: str) -> str:
     constant = ", constant speed" if scene.timings else ""
     timed = "".join(f'<option value="t{k}">real time: {_e(tm.label)}</option>'
                     for k, tm in enumerate(scene.timings))
-    return (f'<div class="lw-player">{scene_svg(scene, _first_valid(scene), prefix=prefix)}'
+    svgs = scene_svg(scene, _first_valid(scene), prefix=prefix)
+    chooser = ""
+    if len(choices) > 1:
+        for k, (_, other) in enumerate(choices[1:], start=1):
+            svgs += scene_svg(other, _first_valid(other), prefix=f"{prefix}-v{k}").replace(
+                "<svg ", '<svg style="display:none" ', 1)
+        chooser = (f'<label class="lw-choice">show <select id="{prefix}-choice">'
+                   + "".join(f'<option value="{k}">{_e(label)}</option>'
+                             for k, (label, _) in enumerate(choices))
+                   + "</select></label>")
+    return (f'<div class="lw-player">{chooser}{svgs}'
             f'<div class="lw-controls">'
             f'<button type="button" id="{prefix}-play" class="lw-play" aria-label="play">'
             f"&#9654; play</button>"
@@ -588,14 +630,25 @@ def _viewer(prefix: str, data: dict[str, Any]) -> str:
             f"<script>{_asset('viewer.js')}\nlinkworkViewer({_json(prefix)});</script>")
 
 
-def _view_data(scene: Scene | None, prefix: str, charts: list[dict[str, Any]]
-               ) -> dict[str, Any]:
-    return {"scene": scene_data(scene, prefix=prefix) if scene is not None else None,
-            "charts": charts}
+def _view_data(scene: Scene | None, prefix: str, charts: list[dict[str, Any]],
+               choices: Sequence[tuple[str, Scene]] = ()) -> dict[str, Any]:
+    data: dict[str, Any] = {
+        "scene": scene_data(scene, prefix=prefix) if scene is not None else None,
+        "charts": charts}
+    if len(choices) > 1:
+        data["alternatives"] = [scene_data(sc, prefix=f"{prefix}-v{k}")
+                                for k, (_, sc) in enumerate(choices) if k > 0]
+        data["labels"] = [label for label, _ in choices]
+    return data
+
+
+def _of(scenes: Sequence[Scene], k: int) -> Scene | None:
+    return scenes[k] if 0 <= k < len(scenes) else None
 
 
 def page_html(page: Page, *, prefix: str = "lw") -> str:
     """The whole report as one self-contained HTML document."""
+    scenes = page.scenes
     charts: list[dict[str, Any]] = []
     body: list[str] = []
     nav = "".join(f'<a href="#{prefix}-{_e(s.key)}">{_e(s.title)}</a>' for s in page.sections)
@@ -614,12 +667,12 @@ def page_html(page: Page, *, prefix: str = "lw") -> str:
             body.append('<div class="lw-diagrams">')
             for d in s.diagrams:
                 ident = f"{prefix}-c{len(charts)}"
-                block, data = _diagram_html(d, page.scene, ident)
+                block, data = _diagram_html(d, _of(scenes, d.scene), ident)
                 charts.append(data)
                 body.append(block)
             body.append("</div>")
         for k, t in enumerate(s.tables):
-            body.append(_table_html(t, page.scene, f"{prefix}-{s.key}-t{k}"))
+            body.append(_table_html(t, _of(scenes, t.scene), f"{prefix}-{s.key}-t{k}"))
         body += [f'<p class="lw-note">{_e(n)}</p>' for n in s.notes]
         body.append("</section>")
     inputs = "".join(_table_html(t, None, f"{prefix}-in{k}") for k, t in enumerate(page.inputs))
@@ -628,10 +681,10 @@ def page_html(page: Page, *, prefix: str = "lw") -> str:
                    f"({_e(page.source_name)})</summary><pre>{_e(page.source)}</pre></details>")
     notes = "".join(f"<h3>{_e(t)}</h3><p>{_e(x)}</p>" for t, x in page.notes)
     warn = "".join(f'<p class="lw-warning">{_e(w)}</p>' for w in page.warnings)
-    player = (_player(page.scene, prefix) if page.scene is not None
+    player = (_player(scenes[0], prefix, page.choices) if scenes
               else '<div class="lw-player"><p class="lw-note">no drawing of this mechanism'
                    "</p></div>")
-    data = _view_data(page.scene, prefix, charts)
+    data = _view_data(scenes[0] if scenes else None, prefix, charts, page.choices)
     return (
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
         '<meta name="viewport" content="width=device-width, initial-scale=1">'

@@ -47,11 +47,12 @@ __all__ = ["FORCE_ROLES", "JOINT_SHAPES", "MAX_ANIMATION_FRAMES", "MAX_ANIMATION
            "DrawContext", "Scene", "Shape", "Timing", "animate", "crank_slider_scene",
            "damper_parts", "draw", "force_arrow", "inclined_slot_scene", "instant_centres",
            "load_shapes", "mechanism_figure", "planar_scene", "sine_press_scene",
-           "spring_zigzag", "swashplate_scene", "torque_arrow"]
+           "spring_zigzag", "swashplate_scene", "target_shapes", "torque_arrow",
+           "with_shapes"]
 
 #: Roles of shapes (the CSS class in the report; the matplotlib style in :func:`draw`).
 ROLES = ("axis", "path", "range", "guide", "slot", "spring", "damper", "link", "ground",
-         "block", "weight", "pin", "tracer", "load", "centre")
+         "block", "weight", "pin", "tracer", "load", "target", "centre")
 
 #: Roles of the force elements and loads (one switch in the report's player shows or hides them).
 FORCE_ROLES = ("range", "spring", "damper", "load")
@@ -74,7 +75,8 @@ class Shape:
     role : str
         What it shows (:data:`ROLES`): link, pin, ground, guide, slot, block, path, tracer,
         centre, weight, axis; the force elements and loads (:data:`FORCE_ROLES`): spring,
-        damper, load (an arrow), range (where a load acts).
+        damper, load (an arrow), range (where a load acts); target (a synthesis task's
+        points and poses).
     name : str
         What it is, for people and tests (``"crank"``, ``"joint A"``, ``"path coupler.P"``,
         ``"I13"``).
@@ -784,6 +786,28 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
                  speed=speed if math.isfinite(speed) else 0.0, notes=tuple(notes))
 
 
+def target_shapes(points: Any, *, size: float, angles: Any = None) -> list[Shape]:
+    """A synthesis task's targets, static and numbered from 1: points ``(k, 2)`` [m] drawn as
+    rings of radius ``size`` [m]; with ``angles`` ``(k,)`` [rad] they are poses, each with a
+    line of length ``6 size`` along the pose's x axis (the coupler's orientation there)."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    out: list[Shape] = []
+    for i, p in enumerate(pts):
+        if angles is not None:
+            a = float(np.asarray(angles, dtype=float)[i])
+            tip = p + 6.0 * size * np.array([math.cos(a), math.sin(a)])
+            out.append(Shape("polyline", "target", f"pose {i + 1} axis", np.stack([p, tip])))
+        out.append(Shape("circle", "target", f"target {i + 1}", p[None], size=size,
+                         label=str(i + 1)))
+    return out
+
+
+def with_shapes(scene: Scene, shapes: Sequence[Shape], *, first: bool = False) -> Scene:
+    """``scene`` with ``shapes`` added (over the others, or under them with ``first``)."""
+    new = (*shapes, *scene.shapes) if first else (*scene.shapes, *shapes)
+    return replace(scene, shapes=tuple(new))
+
+
 # ---------------------------------------------------------------------------------------------
 # closed forms
 
@@ -1016,7 +1040,7 @@ def draw(ax: Any, scene: Scene, k: int, *, centres: bool = True) -> list[Any]:
                            lw=1.0, alpha=0.5 if s.role == "weight" else 1.0, zorder=5)
                 ax.add_patch(c)
                 artists.append(c)
-                if s.label and s.role in ("pin", "centre", "weight"):
+                if s.label and s.role in ("pin", "centre", "weight", "target"):
                     artists.append(ax.annotate(text(s.label), (p[0], p[1]), fontsize=7,
                                                xytext=(4, 4), textcoords="offset points",
                                                zorder=6))
@@ -1040,6 +1064,7 @@ def draw(ax: Any, scene: Scene, k: int, *, centres: bool = True) -> list[Any]:
                 "spring": {"lw": 1.1, "color": "#2f6f3e", "zorder": 3},
                 "damper": {"lw": 1.3, "color": "#6b4f2a", "zorder": 3},
                 "load": {"lw": 1.4, "color": "#c2410c", "zorder": 6},
+                "target": {"lw": 1.4, "color": "k", "zorder": 6},
             }
             style = styles.get(s.role, {"lw": 3.0, "color": _colour(s, "k"), "zorder": 4,
                                         "solid_capstyle": "round"})

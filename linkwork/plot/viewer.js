@@ -6,8 +6,10 @@
    In real time the animation runs at the driver's constant speed, or at a real motion the
    scene carries (scene.timings: the time and speed at each frame of a machine's steady
    state), frame by frame as the time reaches it.
+   A page may hold several drawings (data.alternatives: the designs of a synthesis) that a
+   chooser switches between; a diagram and a table row name the drawing they refer to.
    The view's API is root.linkwork = {show(k), frame(), play(), pause(), playing(), clock(),
-   n}. */
+   choose(j), choice(), n}. */
 "use strict";
 function linkworkViewer(prefix) {
   var root = document.getElementById(prefix);
@@ -20,15 +22,20 @@ function linkworkViewer(prefix) {
   var BASE_SECONDS = 6;  // one cycle at speed 1x
   function $(id) { return document.getElementById(id); }
   var svg = $(prefix + "-scene");
+  var scenes = sc ? [sc].concat(data.alternatives || []) : [];
+  var svgs = scenes.map(function (_, j) {
+    return j === 0 ? svg : $(prefix + "-v" + j + "-scene");
+  });
+  var chosen = 0;  // the drawing shown (an index into scenes)
+  var chooser = $(prefix + "-choice");
   var slider = $(prefix + "-slider");
   var button = $(prefix + "-play");
   var speed = $(prefix + "-speed");
   var posText = $(prefix + "-pos");
   var stateText = $(prefix + "-state");
   var timeText = $(prefix + "-time");
-  var shapes = [];
-  if (sc) {
-    sc.shapes.forEach(function (s) {
+  function build(scene) {  // the drawn elements of every moving shape of a drawing
+    return scene.shapes.map(function (s) {
       var nodes = [];
       var labels = [];
       if (s.kind === "circle") {
@@ -39,12 +46,17 @@ function linkworkViewer(prefix) {
       } else {
         nodes.push($(s.id));
       }
-      shapes.push({s: s, nodes: nodes, labels: labels});
+      return {s: s, nodes: nodes, labels: labels};
     });
-    if (speed && !(sc.period > 0)) {
-      var real = speed.querySelector('option[value="real"]');
-      if (real) { real.disabled = true; }
-    }
+  }
+  function realTime() {
+    var real = speed ? speed.querySelector('option[value="real"]') : null;
+    if (real) { real.disabled = !(sc.period > 0); }
+  }
+  var shapes = [];
+  if (sc) {
+    shapes = build(sc);
+    realTime();
   }
   function fmt(v) {
     if (v === null || v === undefined || !isFinite(v)) { return "–"; }
@@ -87,7 +99,7 @@ function linkworkViewer(prefix) {
   function setCharts(k) {
     charts.forEach(function (c) {
       if (!c.linked) { return; }
-      var s = c.f2s[k];
+      var s = (c.scene || 0) === chosen ? c.f2s[k] : -1;  // linked to another drawing: no cursor
       var cur = $(c.id + "-cursor");
       var j;
       if (s < 0 || s === undefined) {
@@ -144,7 +156,9 @@ function linkworkViewer(prefix) {
     if (slider && Number(slider.value) !== k) { slider.value = String(k); }
     var ok = sc.valid[k] === 1;
     if (posText) {
-      posText.textContent = sc.coordinate + " = " + sc.pos[k].toFixed(sc.unit === "deg" ? 1 : 2) +
+      var p = sc.pos[k];
+      if (sc.periodic && sc.unit === "deg") { p = ((p % 360) + 360) % 360; }  // a whole turn
+      posText.textContent = sc.coordinate + " = " + p.toFixed(sc.unit === "deg" ? 1 : 2) +
         " " + sc.unit;
     }
     if (svg) { svg.classList.toggle("lw-off", !ok); }
@@ -228,8 +242,34 @@ function linkworkViewer(prefix) {
     box.addEventListener("change", apply);
     apply();
   });
-  Array.prototype.forEach.call(root.querySelectorAll("tr[data-frame]"), function (tr) {
-    tr.addEventListener("click", function () { pause(); show(Number(tr.getAttribute("data-frame"))); });
+  function firstValid(scene) {
+    if (scene.valid[0] === 1) { return 0; }
+    for (var i = 0; i < scene.n; i++) { if (scene.valid[i] === 1) { return i; } }
+    return 0;
+  }
+  function choose(j) {
+    j = Number(j);
+    if (!(j >= 0 && j < scenes.length) || j === chosen) { return; }
+    var was = st.playing;
+    pause();
+    if (svgs[chosen]) { svgs[chosen].style.display = "none"; }
+    if (svgs[j]) { svgs[j].style.display = ""; }
+    chosen = j; sc = scenes[j]; svg = svgs[j];
+    shapes = build(sc);
+    if (slider) { slider.max = String(Math.max(sc.n - 1, 0)); }
+    if (chooser && Number(chooser.value) !== j) { chooser.value = String(j); }
+    realTime();
+    show(firstValid(sc));
+    if (was) { play(); }
+  }
+  if (chooser) { chooser.addEventListener("change", function () { choose(chooser.value); }); }
+  Array.prototype.forEach.call(root.querySelectorAll("tr[data-frame], tr[data-choice]"), function (tr) {
+    tr.addEventListener("click", function () {
+      pause();
+      var j = tr.getAttribute("data-choice");
+      if (j !== null) { choose(j); }
+      if (tr.getAttribute("data-frame") !== null) { show(Number(tr.getAttribute("data-frame"))); }
+    });
   });
   function pick(c, el, ev) {
     var box = el.getBoundingClientRect();
@@ -249,7 +289,7 @@ function linkworkViewer(prefix) {
       }
       if (d < bd) { bd = d; best = i; }
     }
-    if (best >= 0) { pause(); show(c.s2f[best]); }
+    if (best >= 0) { pause(); choose(c.scene || 0); show(c.s2f[best]); }
   }
   charts.forEach(function (c) {
     if (!c.linked) { return; }
@@ -279,7 +319,9 @@ function linkworkViewer(prefix) {
     play: play, pause: pause,
     playing: function () { return st.playing; },
     clock: function () { return st.clock; },
-    n: sc ? sc.n : 0
+    choose: function (j) { choose(j); },
+    choice: function () { return chosen; },
+    get n() { return sc ? sc.n : 0; }
   };
   root.linkwork = api;
   if (sc && sc.n > 0) {

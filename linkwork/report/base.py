@@ -76,6 +76,10 @@ class Renderer:
         ``study -> list of (title, text)``: the conventions and errata that apply.
     warnings : callable, optional
         ``study -> list of str``: shown at the top of the page.
+    scenes : callable, optional
+        ``(study, options) -> list of (label, Scene)``: drawings to choose between (the
+        designs of a synthesis); its section's diagrams and tables refer to them by their
+        index in this list (``Diagram.scene``, ``Table.scene``, ``Table.chooses``).
     timing : callable, optional
         ``(study, scene) -> Scene``: the page's drawing with what this study knows of its
         motion over time (the real speed of a machine: :meth:`Scene.timed`), applied after
@@ -95,6 +99,7 @@ class Renderer:
     inputs: Callable[[Any], list[Table]] | None = None
     notes: Callable[[Any], list[tuple[str, str]]] | None = None
     warnings: Callable[[Any], list[str]] | None = None
+    scenes: Callable[[Any, Options], list[tuple[str, Scene]]] | None = None
     timing: Callable[[Any, Scene], Scene] | None = None
     primary: bool = False
     extra: dict[str, Any] = field(default_factory=dict)

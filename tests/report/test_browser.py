@@ -30,6 +30,7 @@ from linkwork import io, report
 from linkwork.report.base import Options
 from linkwork.studies import planar as study_planar
 from linkwork.studies import sine_press, swashplate
+from linkwork.studies import synthesis as study_synthesis
 
 ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))
@@ -114,8 +115,24 @@ def opened(browser, pages, request):
 
 
 def _frames_to_check(o: Opened) -> list[int]:
-    valid = np.flatnonzero(np.array(o.data["scene"]["valid"]) == 1)
+    """Five assembled frames spread over the drawing shown."""
+    shown = o.api("choice()")
+    scene = o.data["scene"] if shown == 0 else o.data["alternatives"][shown - 1]
+    valid = np.flatnonzero(np.array(scene["valid"]) == 1)
     return [int(valid[int(k)]) for k in np.linspace(0, valid.size - 1, 5)]
+
+
+def _joint_points(kin: Any) -> dict[str, np.ndarray]:
+    """Every non-prismatic joint's point from the engine [mm, (2, n)], by its drawn name."""
+    mech = kin.mechanism
+    pts = {}
+    for j in mech.joints:
+        if j.code == "P":
+            continue
+        qa, pb, _ = mech.joint_geometry(j)
+        pm = kin.point(j.b, pb) if j.b != mech.frame.name else kin.point(j.a, qa)
+        pts[f"joint {j.name}"] = np.stack([pm.x, pm.y]) * 1e3
+    return pts
 
 
 def _engine_points(stem: str) -> tuple[dict[str, np.ndarray], np.ndarray]:
@@ -124,16 +141,11 @@ def _engine_points(stem: str) -> tuple[dict[str, np.ndarray], np.ndarray]:
     path = PARTIAL if stem == "fourbar_partial" else ROOT / "examples" / f"{stem}.toml"
     doc = io.load(path)
     if isinstance(doc, io.PlanarFile):
-        st = study_planar.analyze(doc, on_failure="nan")
-        kin, mech = st.kinematics, st.mechanism
-        pts = {}
-        for j in mech.joints:
-            if j.code == "P":
-                continue
-            qa, pb, _ = mech.joint_geometry(j)
-            pm = kin.point(j.b, pb) if j.b != mech.frame.name else kin.point(j.a, qa)
-            pts[f"joint {j.name}"] = np.stack([pm.x, pm.y]) * 1e3
-        return pts, np.asarray(kin.phi1)
+        kin = study_planar.analyze(doc, on_failure="nan").kinematics
+        return _joint_points(kin), np.asarray(kin.phi1)
+    if isinstance(doc, io.SynthesisFile):      # the page shows the first path design first
+        kin = study_synthesis.run(doc, "path").motion(0)
+        return _joint_points(kin), np.asarray(kin.phi1)
     if isinstance(doc, io.SinePressFile):
         c = sine_press.analyze(doc).idle_cycle
         return {"idle joint B": np.stack([c.X_B, c.Y_B]) * 1e3,
@@ -187,6 +199,8 @@ def test_slider_and_diagram_cursor_agree_both_ways(opened):
     o = opened
     o.api("pause()")
     chart = next(c for c in o.data["charts"] if c["linked"] and not c["parametric"])
+    o.api(f"choose({chart['scene']})")                 # the drawing the chart refers to
+    assert o.api("choice()") == chart["scene"]
     o.api(f"show({_frames_to_check(o)[1]})")
     slider = o.page.locator("#lw-slider")
     slider.focus()
@@ -199,6 +213,7 @@ def test_slider_and_diagram_cursor_agree_both_ways(opened):
     assert float(cursor.get_attribute("x1")) == pytest.approx(chart["px"][s], abs=0.05)
     # a click on the diagram at a sample's abscissa shows that sample's frame
     target = len(chart["px"]) // 3
+    o.page.locator(f"#{chart['id']}").scroll_into_view_if_needed()
     box = o.page.locator(f"#{chart['id']}").bounding_box()
     vb = o.page.locator(f"#{chart['id']}").evaluate(
         "e => [e.viewBox.baseVal.width, e.viewBox.baseVal.height]")
@@ -214,7 +229,11 @@ def test_slider_and_diagram_cursor_agree_both_ways(opened):
             if px is not None and abs(px - chart["px"][target]) <= pixel]
     assert k2 in near
     cursor_x = float(cursor.get_attribute("x1"))
-    assert abs(cursor_x - chart["px"][target]) <= pixel  # the cursor stands where clicked
+    assert cursor_x == pytest.approx(chart["px"][chart["f2s"][k2]], abs=0.05)  # frame's sample
+    # where clicked, to a pixel, or to a frame's step where the chart has more samples
+    nxt = chart["f2s"][min(k2 + 1, len(chart["f2s"]) - 1)]
+    step = abs(chart["px"][nxt] - chart["px"][chart["f2s"][k2]])
+    assert abs(cursor_x - chart["px"][target]) <= pixel + step
 
 
 @pytest.mark.parametrize("opened", [*STEMS, "fourbar_partial"], indirect=True)
@@ -364,3 +383,92 @@ def test_real_time_follows_the_machines_real_motion(browser, pages, stem):
         assert errors == []
     finally:
         context.close()
+
+
+@pytest.mark.parametrize("opened", ["synthesis_tasks"], indirect=True)
+def test_synthesis_designs_are_chosen_and_each_drawn_by_the_engine(opened):
+    """Every design of the synthesis file is a drawing: the chooser (and a click on a design's
+    table row) shows that one and hides the others; the drawn joints at several frames are the
+    engine's motion of that design (SynthesisStudy.motion, run here); a design's diagram has
+    its cursor only while its design is shown, and a click on it shows its design."""
+    o = opened
+    o.api("pause()")
+    doc = io.load(ROOT / "examples" / "synthesis_tasks.toml")
+    designs = [(k, i) for k in ("path", "function", "motion")
+               for i in range(len(study_synthesis.run(doc, k).designs))]
+    labels = o.page.eval_on_selector_all("#lw-choice option", "els => els.map(e => e.text)")
+    assert len(labels) == len(designs) == len(o.data["alternatives"]) + 1
+    q = o.data["scene"]["q"]
+    studies = {k: study_synthesis.run(doc, k) for k in ("path", "function", "motion")}
+    for j in (1, 4, len(designs) - 1):                  # a path, a function, a motion design
+        o.page.select_option("#lw-choice", str(j))      # a person choosing
+        assert o.api("choice()") == j
+        shown = o.page.eval_on_selector_all(
+            "svg.lw-scene", "els => els.filter(e => e.style.display != 'none').map(e => e.id)")
+        assert shown == [f"lw-v{j}-scene"]
+        kind, i = designs[j]
+        kin = studies[kind].motion(i)
+        engine = _joint_points(kin)
+        scene = o.data["alternatives"][j - 1]
+        qj = scene["q"]
+        for k in _frames_to_check(o):
+            o.api(f"show({k})")
+            f = scene["frames"][k]
+            for name, xy in engine.items():
+                loc = o.page.locator(f'#lw-v{j}-scene circle[data-name="{name}"]').first
+                drawn = (float(loc.get_attribute("cx")), -float(loc.get_attribute("cy")))
+                assert drawn == pytest.approx((xy[0, f], xy[1, f]), abs=0.51 * qj + 1e-6)
+    # a design's row shows it
+    row = o.page.locator("#lw-synthesis-motion-t0 tbody tr").nth(1)
+    row.click()
+    assert o.api("choice()") == len(designs) - len(studies["motion"].designs) + 1
+    # the cursor of function design 1's error diagram: hidden unless that design is shown
+    chart = next(c for c in o.data["charts"] if c["linked"] and not c["parametric"]
+                 and c["scene"] == 4)
+    cursor = o.page.locator(f"#{chart['id']}-cursor")
+    o.api("show(10)")
+    assert cursor.get_attribute("visibility") == "hidden"
+    o.page.locator(f"#{chart['id']}").scroll_into_view_if_needed()
+    box = o.page.locator(f"#{chart['id']}").bounding_box()
+    o.page.mouse.click(box["x"] + 0.5 * box["width"], box["y"] + 0.5 * box["height"])
+    assert o.api("choice()") == 4 and cursor.get_attribute("visibility") is None
+    assert q > 0 and [m for m in o.messages if m[0] in ("error", "pageerror")] == []
+
+
+SECTIONS = [("loom_sixbar", "dynamics"), ("sine_press", "dynamics"),
+            ("synthesis_tasks", "synthesis-path"), ("synthesis_tasks", "synthesis-function"),
+            ("synthesis_tasks", "synthesis-motion")]
+
+
+@pytest.mark.parametrize(("stem", "key"), SECTIONS, ids=[f"{s}-{k}" for s, k in SECTIONS])
+def test_screenshot_of_each_new_section(browser, pages, stem, key):
+    """Machine dynamics and synthesis sections, each shot whole for review (test-output/
+    screenshots/<file>-<section>.png), with no error on the page; the crank press with its
+    drawing force acting."""
+    o = Opened(browser, pages[stem])
+    try:
+        o.api("pause()")
+        section = o.page.locator(f"#lw-{key}")
+        assert section.count() == 1 and section.locator(".lw-error").count() == 0
+        SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+        shot = SCREENSHOTS / f"{stem}-{key}.png"
+        section.screenshot(path=str(shot))
+        assert shot.stat().st_size > 20_000
+        assert [m for m in o.messages if m[0] in ("error", "pageerror")] == []
+    finally:
+        o.close()
+
+
+def test_screenshot_of_the_force_elements_at_work(browser, pages):
+    """crank_press at 260 deg: the drawing force acts (its arrow at B), the spring stretched."""
+    o = Opened(browser, pages["crank_press"])
+    try:
+        pos = np.array(o.data["scene"]["pos"])
+        o.api(f"show({int(np.argmin(np.abs(pos - 260.0)))})")
+        SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+        shot = SCREENSHOTS / "crank_press-forces.png"
+        o.page.locator(".lw-player").screenshot(path=str(shot))
+        assert shot.stat().st_size > 10_000
+        assert o.page.locator('polyline[data-name="load drawing"]').get_attribute("points")
+    finally:
+        o.close()

@@ -108,5 +108,6 @@ def test_a_renderer_plugs_in_by_registration():
         report.register(extra)
         from linkwork.report import core
         core._RENDERERS[:] = [r for r in core._RENDERERS if r.key != "extra"]
-    assert [r.key for r in report.renderers()] == ["planar", "balance", "reactions",
-                                                   "sine_press", "dynamics", "swashplate"]
+    assert [r.key for r in report.renderers()] == [
+        "planar", "balance", "reactions", "sine_press", "dynamics", "swashplate",
+        "synthesis-path", "synthesis-function", "synthesis-motion"]
