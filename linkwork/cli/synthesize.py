@@ -26,7 +26,7 @@ from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.synthesis import SynthesisFile
 from linkwork.results import write_json
 from linkwork.studies import synthesis as study_synthesis
-from linkwork.studies.synthesis import SynthesisStudy, design_table
+from linkwork.studies.synthesis import SynthesisStudy, design_summary, design_table
 from linkwork.sweep import check_client, rich_progress
 
 __all__ = ["register", "render", "sub"]
@@ -39,20 +39,8 @@ sub = typer.Typer(name="synthesize", no_args_is_help=True, add_completion=False,
 def _table(study: SynthesisStudy) -> Table:
     """The ranked designs (:func:`linkwork.studies.synthesis.design_table`) under a title of
     what the search did."""
-    res = study.result
-    rej = ", ".join(f"{v} {k}" for k, v in getattr(res, "rejected", {}).items() if v) or "none"
-    n = len(res.designs)
-    if study.kind == "path":
-        title = (f"{study.doc.name}: {n} defect-free four-bars of {res.n_evaluated} "
-                 f"candidates, {res.n_refined} refined ({res.time:.3g} s; rejected: {rej})")
-    elif study.kind == "function":
-        title = (f"{study.doc.name}: {n} {res.kind.replace('_', '-')} function generators "
-                 "(structural error over the whole range)")
-    else:
-        title = (f"{study.doc.name}: {n} four-bars through {len(res.poses)} poses from "
-                 f"{res.n_dyads} dyads, {res.n_pairs} pairs checked (rejected: {rej})")
     head, rows = design_table(study)
-    t = Table(title=escape(title))
+    t = Table(title=escape(f"{study.doc.name}: {design_summary(study)}"))
     for c in head:
         t.add_column(escape(c), justify="left" if c == "method" else "right")
     for row in rows:

@@ -25,7 +25,7 @@ from linkwork.plot.numbers import fmt
 from linkwork.plot.scene import Scene, Shape, planar_scene, target_shapes, with_shapes
 from linkwork.report.base import Options, Renderer
 from linkwork.studies import synthesis as study_synthesis
-from linkwork.studies.synthesis import SynthesisStudy, design_table
+from linkwork.studies.synthesis import SynthesisStudy, design_summary, design_table
 
 __all__ = ["RENDERERS", "scenes", "section"]
 
@@ -237,16 +237,7 @@ def _table(study: SynthesisStudy) -> Table:
     if study.kind == "path" and res.pareto:
         head = [*head, "Pareto"]
         rows = [[*r, "yes" if i in res.pareto else ""] for i, r in enumerate(rows)]
-    rej = ", ".join(f"{v} {k}" for k, v in getattr(res, "rejected", {}).items() if v) or "none"
-    if study.kind == "path":
-        caption = (f"{n} defect-free four-bars of {res.n_evaluated} candidates, "
-                   f"{res.n_refined} refined (rejected: {rej})")
-    elif study.kind == "function":
-        caption = (f"{n} {res.kind.replace('_', '-')} function generators (structural error "
-                   "over the whole range)")
-    else:
-        caption = (f"{n} four-bars through {len(res.poses)} poses from {res.n_dyads} dyads, "
-                   f"{res.n_pairs} pairs checked (rejected: {rej})")
+    caption = design_summary(study)
     return Table(f"{caption}; click a row to show the design", head, rows,
                  chooses=list(range(n)))
 

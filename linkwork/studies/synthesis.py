@@ -22,7 +22,7 @@ from linkwork.synthesis import function as fn
 from linkwork.synthesis import motion as mo
 from linkwork.synthesis import path as pa
 
-__all__ = ["KINDS", "SynthesisStudy", "design_table", "run"]
+__all__ = ["KINDS", "SynthesisStudy", "design_summary", "design_table", "run"]
 
 #: Task kinds, as the subcommands of ``linkwork synthesize`` name them.
 KINDS = ("function", "motion", "path")
@@ -130,6 +130,21 @@ def _mm(x: float) -> str:
 
 def _deg(x: float) -> str:
     return fmt(math.degrees(float(x)))
+
+
+def design_summary(study: SynthesisStudy) -> str:
+    """What the search found and did, in one line (the title of :func:`design_table`)."""
+    res = study.result
+    n = len(res.designs)
+    rej = ", ".join(f"{v} {k}" for k, v in getattr(res, "rejected", {}).items() if v) or "none"
+    if study.kind == "path":
+        return (f"{n} defect-free four-bars of {res.n_evaluated} candidates, {res.n_refined} "
+                f"refined ({res.time:.3g} s; rejected: {rej})")
+    if study.kind == "function":
+        return (f"{n} {res.kind.replace('_', '-')} function generators (structural error over "
+                "the whole range)")
+    return (f"{n} four-bars through {len(res.poses)} poses from {res.n_dyads} dyads, "
+            f"{res.n_pairs} pairs checked (rejected: {rej})")
 
 
 def design_table(study: SynthesisStudy) -> tuple[list[str], list[list[str]]]:
