@@ -307,7 +307,7 @@ class DrawContext:
 
     def full(self, v: np.ndarray) -> np.ndarray:
         """``v`` of shape ``(2,)`` (static) or ``(2, n)`` as ``(2, n)``."""
-        return v if v.ndim == 2 else np.broadcast_to(v[:, None], (2, self.kin.phi1.shape[0]))
+        return v if v.ndim == 2 else np.broadcast_to(v[:, None], (2, self.kin.n))
 
     def direction(self, body: str, angle: float) -> np.ndarray:
         """Unit vector at ``angle`` [rad] in ``body``'s frame, in world axes: ``(2,)`` or
@@ -513,7 +513,7 @@ def load_shapes(loads: Sequence[Any], ctx: DrawContext) -> tuple[list[Shape], li
     """
     mech = ctx.mechanism
     frame = mech.frame.name
-    n = ctx.kin.phi1.shape[0]
+    n = ctx.kin.n
     under: list[Shape] = []
     over: list[Shape] = []
     partial: list[tuple[str, np.ndarray]] = []
