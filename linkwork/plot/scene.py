@@ -1254,7 +1254,9 @@ def _caption(scene: Scene, k: int) -> str:
     unit, f = scene.display
     pos = (f"{scene.coordinate} {scene.positions[k]:.0f}" if not unit else
            f"{scene.coordinate} = {scene.positions[k] * f:.1f} {unit}")
-    pos += "".join(f", {label} = {vals[k]:.1f} {u}" for label, u, vals in scene.readouts)
+    if scene.readouts:  # several drivers: their coordinates on a line of their own
+        pos += "\n" + ", ".join(f"{label} = {vals[k]:.1f} {u}"
+                                for label, u, vals in scene.readouts)
     return pos if scene.valid[k] else pos + ": not assembled"
 
 

@@ -470,4 +470,4 @@ def test_several_drivers_number_the_frames_and_read_out_every_driver():
     (tm,) = scene.timings                                      # the drivers' own speeds
     np.testing.assert_allclose(tm.t, (kin.phi1[0] - 1.3) / 0.045, atol=1e-12)
     assert tm.span == pytest.approx(4.0 + 4.0 / 80)            # and one step back to the start
-    assert "position 40, s boom_cyl = 1390.0 mm" in sc._caption(scene, 40)
+    assert sc._caption(scene, 40).startswith("position 40\ns boom_cyl = 1390.0 mm, ")
