@@ -365,13 +365,42 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         with np.errstate(all="ignore"):
             fxr, fyr, mzr, Q = _group_reactions(plan, st, f)
     fric = _with_friction(plan, st, f, kin, Q) if friction.has_friction(plan) else None
+    sfx, sfy, sm = _shaking(plan, st, mech.frame.name, (fxr, fyr, mzr, Q), pxr, pyr, ab,
+                            on_frame)
     if fric is not None:
         fxr, fyr, mzr, Q = fric.reactions
-    # shaking force and moment on the frame
-    sfx = np.zeros(n)
-    sfy = np.zeros(n)
-    sm = np.zeros(n)
-    fr = mech.frame.name
+        # friction is internal to the machine: the shaking loads equal the frictionless ones,
+        # which stay defined where it self-locks (reactions and Q undefined there)
+        with_f = _shaking(plan, st, mech.frame.name, fric.reactions, pxr, pyr, ab, on_frame)
+        sfx, sfy, sm = (np.where(fric.locked, s0, s1)
+                        for s0, s1 in zip((sfx, sfy, sm), with_f, strict=True))
+    T = kinetic_energy(kin)
+    if fric is None:  # no joint dissipates
+        zeros = np.zeros((nj, n))
+        fric = _Friction((fxr, fyr, mzr, Q), Q, friction.FrictionSolution(
+            np.zeros((n, 0)), zeros, zeros, zeros, np.ones(n, dtype=bool), np.ones(n), 0),
+            zeros, np.zeros(n, dtype=bool), False)
+    return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), fxr, fyr, mzr, pxr, pyr,
+                    Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]),
+                    Q_frictionless=fric.Q0, friction_fx=fric.sol.ffx,
+                    friction_fy=fric.sol.ffy, friction_mz=fric.sol.fmz,
+                    friction_power=fric.power, locked=fric.locked, kappa=fric.sol.kappa,
+                    friction_iterations=fric.sol.iterations,
+                    friction_static=fric.static, loads=applied,
+                    load_power=np.array([ap.power for ap in applied]).reshape(-1, n),
+                    V=sum((ap.energy for ap in applied), np.zeros(n)))
+
+
+def _shaking(plan: Plan, st: State, fr: str, reactions: tuple[Arr, Arr, Arr, Arr],
+             pxr: Arr, pyr: Arr, ab: tuple[float, ...], on_frame: list[forces.Wrench]
+             ) -> tuple[Arr, Arr, Arr]:
+    """Shaking force (x, y) and moment about ``ab`` on the frame ``fr``: the frame joints'
+    reactions (by the moving bodies on the frame), the motor's reaction and the loads'
+    reactions on the frame."""
+    fxr, fyr, mzr, Q = reactions
+    sfx = np.zeros(st.n)
+    sfy = np.zeros(st.n)
+    sm = np.zeros(st.n)
     for ji, rj in enumerate(plan.joints):
         j = rj.joint
         if fr not in (j.a, j.b):
@@ -391,21 +420,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         sfx += w.fx
         sfy += w.fy
         sm += (w.px - ab[0]) * w.fy - (w.py - ab[1]) * w.fx + w.mz
-    T = kinetic_energy(kin)
-    if fric is None:  # no joint dissipates
-        zeros = np.zeros((nj, n))
-        fric = _Friction((fxr, fyr, mzr, Q), Q, friction.FrictionSolution(
-            np.zeros((n, 0)), zeros, zeros, zeros, np.ones(n, dtype=bool), np.ones(n), 0),
-            zeros, np.zeros(n, dtype=bool), False)
-    return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), fxr, fyr, mzr, pxr, pyr,
-                    Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]),
-                    Q_frictionless=fric.Q0, friction_fx=fric.sol.ffx,
-                    friction_fy=fric.sol.ffy, friction_mz=fric.sol.fmz,
-                    friction_power=fric.power, locked=fric.locked, kappa=fric.sol.kappa,
-                    friction_iterations=fric.sol.iterations,
-                    friction_static=fric.static, loads=applied,
-                    load_power=np.array([ap.power for ap in applied]).reshape(-1, n),
-                    V=sum((ap.energy for ap in applied), np.zeros(n)))
+    return sfx, sfy, sm
 
 
 @dataclass(frozen=True)

@@ -362,6 +362,27 @@ def test_self_locking_is_reported_and_undefined():
     assert peaks[0][1] > peaks[1][1] > peaks[2][1] > 0
 
 
+
+def test_self_locked_positions_keep_the_shaking_loads():
+    """Where the mechanism self-locks the reactions and Q are undefined, but the shaking force
+    and moment are not: friction is internal, so they are the frictionless engine's (its
+    Newton-Euler resultant, independent of the joint reactions), at every position, to
+    round-off (1e-11 of their scale). Balancing takes its shaking moment from them."""
+    f1, f2 = 0.12, 0.10
+    lo = float(sine.working_range(f1, f2)[0])
+    phi = np.linspace(0.0, 2 * np.pi, 73)[:-1] + 0.01
+    d = {}
+    for tag, (a, b) in (("friction", (f1, f2)), ("none", (0.0, 0.0))):
+        kin = kinematics(sine_mechanism(lo - 0.01, a, b), phi)
+        v = kin.point("slider", "G").vx
+        d[tag] = inverse_dynamics(kin, gravity=(-9.81, 0.0),
+                                  loads=[PointForce("slider", "G", fx=-1000.0 * np.sign(v))])
+    assert d["friction"].locked.any() and not d["none"].locked.any()
+    for name in ("shaking_fx", "shaking_fy", "shaking_m"):
+        a, b = getattr(d["friction"], name), getattr(d["none"], name)
+        assert np.all(np.isfinite(a)), name
+        assert np.max(np.abs(a - b)) <= 1e-11 * max(np.max(np.abs(b)), 1.0), name
+
 # -- efficiency and losses --------------------------------------------------------------------
 
 def test_efficiency_and_losses():
