@@ -22,7 +22,7 @@ from linkwork import io
 from linkwork.cli._args import output_run
 from linkwork.cli._console import console as make_console
 from linkwork.cli._console import steps
-from linkwork.errors import ParameterError
+from linkwork.errors import ExternalToolError, ParameterError
 from linkwork.plot.scene import MAX_ANIMATION_FRAMES, PointSpec
 from linkwork.report import Options, animation, build, write
 
@@ -93,13 +93,20 @@ def register(app: typer.Typer) -> None:
                 page = build(doc, path=file, options=options, step=step)
                 step("writing the HTML")
                 written = [write(page, out / f"{stem}.html")]
+                movie_notes = []
                 if animate:
                     for suffix in movies:
                         step(f"drawing {stem}{suffix}")
-                        written.append(animation(page, out / f"{stem}{suffix}", frames=frames))
+                        try:
+                            written.append(animation(page, out / f"{stem}{suffix}",
+                                                     frames=frames))
+                        except ExternalToolError as exc:  # the MP4 is the optional one
+                            movie_notes.append(f"note: {exc}: no MP4 (the GIF is written)")
             console = make_console()
             for w in page.warnings:
                 console.print(escape(f"note: {w}"), highlight=False)
+            for note in movie_notes:
+                console.print(escape(note), highlight=False)
             if animate and len(movies) == 1:
                 console.print("note: ffmpeg is not installed: no MP4 (the GIF is written)",
                               highlight=False)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
@@ -31,6 +32,26 @@ def test_report_with_paths_centres_and_animation(tmp_path):
     html = (tmp_path / "fourbar_paper001.html").read_text()
     assert "path coupler.(100, -40) mm" in html and "I13" in html
 
+
+
+def test_an_ffmpeg_that_fails_costs_only_the_mp4(tmp_path, capsys, monkeypatch):
+    """An ffmpeg that fails (here a stand-in that prints one line and exits 1, as a build
+    without libx264 does): the HTML and the GIF are written, one note says what ffmpeg said
+    and that there is no MP4, exit 0, no partial file left (it was a 60-line traceback and
+    exit code 1, matplotlib's 'MovieWriter stderr' on the terminal)."""
+    fake = tmp_path / "bin"
+    fake.mkdir()
+    (fake / "ffmpeg").write_text("#!/bin/sh\necho 'Unknown encoder libx264' >&2\nexit 1\n")
+    (fake / "ffmpeg").chmod(0o755)
+    monkeypatch.setenv("PATH", f"{fake}{os.pathsep}{os.environ['PATH']}")
+    out = tmp_path / "out"
+    assert main(["report", str(FOURBAR), "-o", str(out), "--animate", "--frames", "3"]) == 0
+    io = capsys.readouterr()
+    assert io.err.count("\n") <= 1 and "Traceback" not in io.err and "MovieWriter" not in io.err
+    assert ("note: ffmpeg failed writing fourbar_paper001.mp4 (Unknown encoder libx264): no "
+            "MP4 (the GIF is written)") in io.out
+    assert sorted(p.name for p in out.iterdir()) == [
+        "fourbar_paper001.gif", "fourbar_paper001.html", "linkwork-run.json"]
 
 @pytest.mark.parametrize(("args", "message"), [
     (["--path", "nobody.P"], "--path = nobody.P is invalid: no moving body"),
