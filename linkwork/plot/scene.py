@@ -842,6 +842,8 @@ def animate(scene: Scene, path: str | Path, *, frames: int = 120, fps: int = 20,
             try:
                 anim.save(str(tmp), writer=writer, dpi=dpi)
             except (subprocess.CalledProcessError, OSError) as exc:
+                if _interrupted(exc):  # Ctrl-C stops ffmpeg too; the writer's cleanup hid it
+                    raise KeyboardInterrupt from None
                 if not isinstance(writer, animation.FFMpegWriter):
                     raise
                 last = [ln for m in said for ln in m.splitlines()
@@ -851,6 +853,16 @@ def animate(scene: Scene, path: str | Path, *, frames: int = 120, fps: int = 20,
     finally:
         plt.close(fig)
     return p
+
+
+def _interrupted(exc: BaseException) -> bool:
+    """A KeyboardInterrupt among the exceptions ``exc`` was raised while handling."""
+    seen: BaseException | None = exc
+    while seen is not None:
+        if isinstance(seen, KeyboardInterrupt):
+            return True
+        seen = seen.__context__
+    return False
 
 
 class _Said(logging.Handler):
