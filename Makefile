@@ -32,6 +32,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/kinematics.py
 	$(BIN)/python benchmarks/swashplate_synthesis.py
 	$(BIN)/python benchmarks/tolerance_study.py
+	$(BIN)/python benchmarks/machine.py
 	$(BIN)/python benchmarks/synthesis.py
 	$(BIN)/python benchmarks/forces.py
 

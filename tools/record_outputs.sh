@@ -18,6 +18,9 @@ for f in examples/*.toml tests/data/*.toml; do
     swashplate) run "swashplate-analyze-$b" swashplate analyze "$f" ;;
     *) run "analyze-$b" analyze "$f" ;;
   esac
+  if grep -q '^\[drive\]' "$f"; then
+    run "dynamics-$b" dynamics "$f"
+  fi
   if [ "$t" = planar ]; then
     run "balance-$b" balance "$f"
     run "balance-pareto-$b" balance "$f" --pareto

@@ -2,8 +2,9 @@
 
 A thin layer: it parses, calls the library and prints. Each command lives in its own module of
 this package and registers itself on a Typer app through a ``register(app)`` function; the
-modules are listed in :data:`COMMAND_MODULES`. They are imported when a command runs (or its
-help is asked for), not for ``linkwork --help`` and ``--version``: :data:`COMMAND_HELP` gives
+modules are listed in :data:`COMMAND_MODULES`. A command's module is imported when that command
+runs (or its help is asked for), no other command's; none for ``linkwork --help`` and
+``--version``: :data:`COMMAND_HELP` gives
 the command list its one-line helps (the start-up cost is importing the studies, pydantic and the
 engine; docs/performance.md). A command parses its arguments, loads the file
 (:func:`linkwork.io.load`), runs a study (:mod:`linkwork.studies`) and renders its result.
@@ -16,6 +17,7 @@ stderr and exits with code 2, Ctrl-C one line naming the command and exit code 1
 from __future__ import annotations
 
 import functools
+import importlib
 import sys
 from collections.abc import Sequence
 from pathlib import Path
@@ -37,6 +39,8 @@ __all__ = ["COMMAND_HELP", "COMMAND_MODULES", "app", "main"]
 COMMAND_HELP: dict[str, str] = {
     "analyze": "Analyse a mechanism over a cycle: table, CSV/JSON and plots in an output folder.",
     "balance": "Balance a planar mechanism: paper 001's table, torque and bearing loads, plots.",
+    "dynamics": "Machine dynamics: the crank's real motion under its motor, flywheel, start-up, "
+                "motor verdicts.",
     "reactions": "Spatial joint reactions (axial forces, bending moments) with redundant "
                  "constraints.",
     "report": "Write a self-contained HTML report: animated mechanism, diagrams, tables.",
@@ -50,9 +54,17 @@ COMMAND_HELP: dict[str, str] = {
 def _command_modules() -> tuple[ModuleType, ...]:
     # Lazy on purpose (issue 19, item 7): `linkwork --help` and `--version` must not import
     # the studies; tests/docs/test_architecture.py allows this one import in a function.
-    from linkwork.cli import analyze, balance, reactions, report, swashplate, synthesize
+    from linkwork.cli import (
+        analyze,
+        balance,
+        dynamics,
+        reactions,
+        report,
+        swashplate,
+        synthesize,
+    )
 
-    return (analyze, balance, reactions, report, swashplate, synthesize, examples)
+    return (analyze, balance, dynamics, reactions, report, swashplate, synthesize, examples)
 
 
 @functools.cache
@@ -62,6 +74,22 @@ def _real_commands() -> dict[str, Any]:
     for module in _command_modules():
         module.register(full)
     return dict(typer.main.get_command(full).commands)  # type: ignore[attr-defined]
+
+
+#: The commands whose module was imported to run one (:func:`_command`), by name.
+_LOADED: dict[str, Any] = {}
+
+
+def _command(name: str) -> Any:
+    """The Click command ``name`` with only its own module imported (``linkwork.cli.<name>``):
+    running ``analyze``, or failing in it, imports no other command's studies."""
+    if name not in _LOADED:
+        module = importlib.import_module(f"linkwork.cli.{name}")
+        one = typer.Typer(add_completion=False, pretty_exceptions_enable=False)
+        one.callback()(lambda: None)  # a group even with one command: its commands by name
+        module.register(one)
+        _LOADED[name] = typer.main.get_command(one).commands[name]  # type: ignore[attr-defined]
+    return _LOADED[name]
 
 
 class _Interrupted(Exception):
@@ -90,10 +118,13 @@ class _LazyGroup(typer.core.TyperGroup):
             return _real_commands().get(cmd_name)
         if cmd_name not in COMMAND_HELP:
             return None
+        if cmd_name in _LOADED:
+            return _LOADED[cmd_name]
         return typer.core.TyperCommand(cmd_name, help=COMMAND_HELP[cmd_name])  # listing only
 
     def resolve_command(self, ctx: Any, args: list[str]) -> Any:
-        _real_commands()
+        if args and args[0] in COMMAND_HELP:  # the command to run: its module only
+            _command(args[0])
         return super().resolve_command(ctx, args)
 
     def invoke(self, ctx: Any) -> Any:

@@ -40,7 +40,8 @@ DEFAULT_ANGLES = "0,30,60,90,120,150,180,210,240,270,300,330"
 
 #: Optional sections of a ``planar`` file that other commands use (section -> command); the
 #: file is validated once, with them, by every command.
-COMMAND_TABLES: dict[str, str] = {"balance": "linkwork balance", "spatial": "linkwork reactions"}
+COMMAND_TABLES: dict[str, str] = {"balance": "linkwork balance", "spatial": "linkwork reactions",
+                                  "drive": "linkwork dynamics"}
 
 
 def without_command_tables(raw: dict[str, Any], keep: str = "") -> dict[str, Any]:

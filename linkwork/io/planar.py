@@ -92,6 +92,17 @@ Example (the four-bar of ``examples/fourbar_paper001.toml``)::
     angles = [0, 30, 60, 90]       # table [deg]
     n = 360                        # positions of the full cycle
 
+    [drive]                        # optional: read by `linkwork dynamics` (machine dynamics;
+    flywheel = "0.5 kg*m^2"        # the table is described in linkwork/io/drive.py)
+    [[drive.motor]]
+    type = "induction"
+    rated_power = "250 W"
+    synchronous_speed = "1500 rpm"
+    rated_speed = "1400 rpm"
+    breakdown_ratio = 2.4
+    [drive.gear]
+    ratio = 14
+
     [spatial]                      # optional: read by `linkwork reactions` (paper 004)
     k_bearing = "100 N/um"         # default radial bearing stiffness k_b
     axial_ratio = 1.0              # default axial/radial stiffness ratio
@@ -123,8 +134,8 @@ Example (the four-bar of ``examples/fourbar_paper001.toml``)::
     mean = 0.0
 
 Plain numbers are SI (metres, radians, kg, N); strings carry units. Unknown keys are errors.
-The ``[balance]`` and ``[spatial]`` tables are optional sections of the one :class:`PlanarFile`
-model: the file is read and validated once, whichever command reads it.
+The ``[balance]``, ``[drive]`` and ``[spatial]`` tables are optional sections of the one
+:class:`PlanarFile` model: the file is read and validated once, whichever command reads it.
 """
 
 from __future__ import annotations
@@ -139,6 +150,7 @@ import pydantic
 from pydantic import Field, PrivateAttr, field_validator, model_validator
 
 from linkwork.errors import FileFormatError, LinkworkError, ParameterError
+from linkwork.io.drive import DriveSection
 from linkwork.io.toml import (
     MAGNITUDE_LIMITS,
     Acceleration,
@@ -897,6 +909,7 @@ class PlanarFile(FileModel):
     damper: list[DamperSection] = Field(default_factory=list)
     balance: BalanceSection = Field(default_factory=lambda: BalanceSection())
     spatial: SpatialSpec = Field(default_factory=lambda: SpatialSpec())
+    drive: DriveSection | None = None
     #: The Mechanism built (and decomposed) when the file was validated, with the sections it
     #: was built from: :meth:`mechanism` returns it while they are the same objects.
     _built: tuple[tuple[Any, ...], Mechanism] | None = PrivateAttr(default=None)

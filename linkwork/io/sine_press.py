@@ -43,6 +43,7 @@ from pydantic import Field, ValidationInfo, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
 from linkwork.errors import InfeasibleError, ParameterError
+from linkwork.io.drive import DriveSection, PressSection
 from linkwork.io.toml import (
     Angle,
     AngularAcceleration,
@@ -171,6 +172,8 @@ class SinePressFile(FileModel):
     working: WorkingSection
     schedule: list[ScheduleEntry] = Field(default_factory=list)
     output: OutputSection = OutputSection()
+    press: PressSection | None = None
+    drive: DriveSection | None = None
 
     @field_validator("schedule")
     @classmethod

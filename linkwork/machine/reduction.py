@@ -35,6 +35,7 @@ at arbitrary :math:`\omega, \varepsilon`).
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar
@@ -52,6 +53,7 @@ from linkwork.planar import (
     inverse_dynamics,
     kinematics,
 )
+from linkwork.planar.forces import Load, LoadDiagram, SlideForce
 from linkwork.planar.forces import apply as apply_loads
 from linkwork.planar.state import Arr
 from linkwork.results import Result
@@ -59,12 +61,13 @@ from linkwork.results import Result
 if TYPE_CHECKING:
     from linkwork.plot import Figure
 
-__all__ = ["Loads", "Reduction", "check_crank", "friction_moment", "load_list", "reduce"]
+__all__ = ["Loads", "Reduction", "check_crank", "friction_moment", "load_list", "reduce",
+           "scale_loads"]
 
 #: External loads of a machine: PointForce/BodyTorque objects (constant, or arrays over the
 #: positions asked), or a function of the driver positions [rad] returning them (as
 #: ``PlanarFile.loads``), evaluated wherever the solver needs them.
-LoadList = Sequence[PointForce | BodyTorque]
+LoadList = Sequence[Load]
 Loads = LoadList | Callable[[np.ndarray], LoadList]
 
 
@@ -84,7 +87,7 @@ def check_crank(mech: Mechanism) -> None:
                              " and the crank: the motor's stator sits on the frame")
 
 
-def load_list(loads: Loads, phi: np.ndarray) -> list[PointForce | BodyTorque]:
+def load_list(loads: Loads, phi: np.ndarray) -> list[Load]:
     """The loads at the driver positions ``phi``: ``loads(phi)`` for a function, else the
     sequence itself (its arrays must then have one value per position)."""
     if callable(loads):
@@ -95,6 +98,31 @@ def load_list(loads: Loads, phi: np.ndarray) -> list[PointForce | BodyTorque]:
         raise ParameterError("loads", out, "must be a sequence of PointForce and BodyTorque, or "
                              "a function of the driver positions returning one")
     return list(out)
+
+
+def scale_loads(loads: Sequence[Load], f: float | np.ndarray) -> list[Load]:
+    """The applied loads (point forces, torques, slide forces) times ``f`` (a number, or an
+    array over the positions; a load diagram takes the mean of an array); the force elements
+    (springs, dampers, drags) are part of the machine and stay as they are."""
+    fa = np.asarray(f, dtype=float)
+    scalar = float(np.mean(fa))
+
+    def times(v: Any) -> Any:
+        if isinstance(v, LoadDiagram):
+            return dataclasses.replace(v, value=[x * scalar for x in v.value])
+        return np.asarray(v, dtype=float) * fa
+
+    out: list[Load] = []
+    for ld in loads:
+        if isinstance(ld, PointForce):
+            out.append(dataclasses.replace(ld, fx=times(ld.fx), fy=times(ld.fy)))
+        elif isinstance(ld, BodyTorque):
+            out.append(dataclasses.replace(ld, mz=times(ld.mz)))
+        elif isinstance(ld, SlideForce):
+            out.append(dataclasses.replace(ld, force=times(ld.force)))
+        else:
+            out.append(ld)
+    return out
 
 
 @dataclass(frozen=True)

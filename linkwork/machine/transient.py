@@ -41,7 +41,7 @@ from numpy.typing import ArrayLike
 from linkwork.checks import require_number
 from linkwork.errors import ConvergenceError, DriveError, ParameterError, StallError
 from linkwork.machine.motors import ConstantSpeed, Gear, Motor
-from linkwork.machine.reduction import Loads, friction_moment, load_list
+from linkwork.machine.reduction import Loads, friction_moment, load_list, scale_loads
 from linkwork.machine.solver import Solution, Stall, hermite_extremes, march
 from linkwork.machine.steady import (
     Machine,
@@ -52,7 +52,7 @@ from linkwork.machine.steady import (
     solve_steady,
     torque_limit,
 )
-from linkwork.planar import BodyTorque, Mechanism, PointForce, kinematics
+from linkwork.planar import Mechanism, kinematics
 from linkwork.planar.state import Arr
 from linkwork.results import Result
 
@@ -251,17 +251,6 @@ class StartUp:
 
 
 # ---------------------------------------------------------------------------------------------
-def _scaled(loads: Sequence[PointForce | BodyTorque], f: Arr) -> list[PointForce | BodyTorque]:
-    out: list[PointForce | BodyTorque] = []
-    for ld in loads:
-        if isinstance(ld, PointForce):
-            out.append(PointForce(ld.body, ld.point, np.asarray(ld.fx) * f,
-                                  np.asarray(ld.fy) * f, ld.from_frame))
-        else:
-            out.append(BodyTorque(ld.body, np.asarray(ld.mz) * f, ld.from_frame))
-    return out
-
-
 def _revolution(m: Machine, Mf: Arr, u0: float, t0: float,
                 factor: Callable[[float], float] | None) -> tuple[Solution, Arr]:
     """One revolution marched from ``u0`` at time ``t0``; with friction, marched again with
@@ -283,7 +272,7 @@ def _revolution(m: Machine, Mf: Arr, u0: float, t0: float,
             f[: g.n] = [factor(x) for x in tk]
             for idx in (g.iL, g.iM, g.iR):  # the interval's start time for all three
                 f[idx] = f[: g.n]
-            lds = _scaled(lds, f)
+            lds = scale_loads(lds, f)
         Mf_new = friction_moment(m.mechanism, g.pts, np.sqrt(u), eps, loads=lds,
                                  gravity=m.gravity)
         change = float(np.max(np.abs(Mf_new - Mf)))

@@ -111,6 +111,17 @@ def plot_energy_mass(sizing: FlywheelSizing, ax: Any = None, *, name: str | None
     ax.axvline(0.0, color="k", lw=0.6)
     ax.annotate(f"flywheel {w['flywheel']:.4g} kg·m²", (-w["flywheel"], 0.0),
                 textcoords="offset points", xytext=(4, 6), fontsize="small")
+    span = float(np.max(J) - np.min(J))
+    if w["flywheel"] > 5 * span:  # the curve is a sliver at this scale: magnified, inset
+        ins = ax.inset_axes((0.42, 0.08, 0.36, 0.42))
+        ins.plot(np.append(J, J[0]), np.append(E, E[0]) / 1e3)
+        xs_in = np.array([np.min(J) - 0.1 * span, np.max(J) + 0.1 * span])
+        for slope, b in ((w["k_max"], w["b_max"]), (w["k_min"], w["b_min"])):
+            ins.plot(xs_in, (slope * xs_in + b) / 1e3, lw=0.9, ls="--")
+        ins.set_xlim(*xs_in)
+        ins.tick_params(labelsize="x-small")
+        ins.set_title("the curve and the tangents, magnified", fontsize="x-small")
+        ins.grid(True, alpha=0.3)
     ax.set_xlabel("reduced moment of inertia J(φ1) [kg·m²] (flywheel to the left)")
     ax.set_ylabel("change of kinetic energy ΔE [kJ]")
     finish(ax, title=titled(name, "FlywheelSizing", f"energy-mass diagram, δ = "

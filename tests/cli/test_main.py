@@ -370,6 +370,27 @@ def test_help_and_version_import_no_study_and_list_the_commands_as_their_modules
     assert lazy.endswith(version) and lazy[:-len(version)] == loaded  # same listing
 
 
+_ONE_COMMAND_SCRIPT = """
+import sys
+from linkwork.cli import main
+code = main(["analyze", "no-such-file.toml"])
+print("CODE", code, sorted(m for m in sys.modules if m.startswith("linkwork.cli.")
+                          and m.split(".")[2] in {"balance", "reactions", "report",
+                                                  "synthesize"}))
+"""
+
+
+def test_a_command_imports_only_its_own_module():
+    """``linkwork analyze`` (here failing on a missing file: an error path) imports the analyze
+    module, not the other commands' (their studies, the report, the synthesis; the swashplate
+    module renders analyze's swash-plate files, so analyze imports it)."""
+    r = subprocess.run([sys.executable, "-c", _ONE_COMMAND_SCRIPT], cwd=ROOT,
+                       capture_output=True, text=True, timeout=120, env={"PATH": ""})
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip().splitlines()[-1] == "CODE 2 []"
+    assert "no-such-file.toml" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
 def test_command_help_is_the_first_paragraph_of_each_commands_help():
     real = _real_commands()
     assert list(real) == list(COMMAND_HELP)
@@ -382,14 +403,15 @@ def test_command_modules_are_still_importable_from_linkwork_cli():
         COMMAND_MODULES,
         analyze,
         balance,
+        dynamics,
         examples,
         reactions,
         report,
         swashplate,
         synthesize,
     )
-    assert COMMAND_MODULES == (analyze, balance, reactions, report, swashplate, synthesize,
-                               examples)
+    assert COMMAND_MODULES == (analyze, balance, dynamics, reactions, report, swashplate,
+                               synthesize, examples)
 
 
 def _complete(words: str, cword: int) -> list[str]:

@@ -140,3 +140,19 @@ def test_dampers_and_drags_reduce_to_a_moment_linear_in_the_speed():
     dyn = inverse_dynamics(kinematics(mech, phi, omega, eps), loads=loads)
     expected = red.J * eps + 0.5 * red.dJ * omega**2 - red.M_loads + red.damping * omega
     assert np.max(np.abs(dyn.Q - expected)) <= 1e-10 * np.max(np.abs(dyn.Q))
+
+
+def test_scaled_loads_scale_the_applied_loads_only():
+    from linkwork.machine.reduction import scale_loads
+    from linkwork.planar import LoadDiagram
+
+    doc = _doc("examples/fourbar_paper001.toml")
+    mech = doc.mechanism()
+    phi = np.linspace(0, 2 * np.pi, 61, endpoint=False)
+    diagram = LoadDiagram([0.0, 3.0, 6.0], [0.0, -10.0, 0.0])
+    loads = [PointForce("coupler", "P", diagram, -5.0), BodyTorque("rocker", 2.0),
+             Spring("frame", (0.0, 0.3), "coupler", "P", stiffness=500.0, free_length=0.1)]
+    base = reduce(mech, phi, loads=loads[2:]).M_loads
+    one = reduce(mech, phi, loads=loads).M_loads
+    three = reduce(mech, phi, loads=scale_loads(loads, 3.0)).M_loads
+    np.testing.assert_allclose(three - base, 3 * (one - base), rtol=1e-12, atol=1e-12)

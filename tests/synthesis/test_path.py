@@ -193,3 +193,11 @@ def test_design_file_runs_through_the_planar_study(tmp_path):
     k = kinematics(doc.mechanism(), th + res.best.params["theta0"])
     P = k.point("coupler", "P")
     assert np.allclose(P.x, pts[:, 0], atol=1e-9) and np.allclose(P.y, pts[:, 1], atol=1e-9)
+
+
+def test_bounds_that_exclude_every_assembled_design_say_so():
+    pts = _targets(np.linspace(0.2, 5.5, 6))
+    b = {"r1": (10.0, 11.0), "r2": (1.0, 1.1), "r3": (1.0, 1.1), "r4": (1.0, 1.1)}
+    with pytest.raises(InfeasibleError, match="assembles") as ex:
+        path(pts, bounds=b, constraints=("order",), **FAST)
+    assert "no candidate assembles" in str(ex.value)
