@@ -46,7 +46,7 @@ from linkwork.balancing.partial import (
 from linkwork.balancing.static import Counterweight
 from linkwork.checks import require_finite
 from linkwork.cycles import Harmonics, harmonics, peak, rms
-from linkwork.errors import ParameterError, format_angle_ranges
+from linkwork.errors import ParameterError
 from linkwork.planar.dynamics import BodyTorque, Dynamics, PointForce, inverse_dynamics
 from linkwork.planar.kinematics import Kinematics, kinematics
 from linkwork.planar.model import Mechanism
@@ -247,21 +247,6 @@ def _lever(counterweights: Sequence[Counterweight]) -> float:
     return max((c.radius for c in counterweights if c.radius is not None), default=0.0)
 
 
-def _refuse_self_locking(dyn: Dynamics, which: str) -> None:
-    """A ParameterError naming the joints' friction if ``dyn`` self-locks somewhere: the
-    driving torque and the bearing loads that balancing compares are undefined there."""
-    if not np.any(dyn.locked):
-        return
-    mech = dyn.kinematics.mechanism
-    coefs = ", ".join(f"{getattr(j, 'friction', 0.0):g} ({j.name})" for j in mech.joints
-                      if j.has_friction)
-    raise ParameterError(
-        "friction", coefs, f"makes the {which} mechanism self-lock at phi1 in "
-        f"{format_angle_ranges(dyn.self_locking_ranges())} (no finite driving torque moves "
-        "it there); balancing compares the driving torque and the bearing loads over a full "
-        "turn of the crank (linkwork analyze shows the self-locking ranges)")
-
-
 def _frame_reactions(dyn: Dynamics, mech: Mechanism) -> dict[str, np.ndarray]:
     out = {}
     for j in mech.joints:
@@ -373,8 +358,9 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
         d1g = inverse_dynamics(k1, about=O, gravity=gravity, loads=ext)
     else:
         d0g, d1g = d0, d1
-    for dyn, which in ((d0g, "unbalanced"), (d1g, "balanced")):
-        _refuse_self_locking(dyn, which)
+    for dyn in (d0g, d1g):
+        dyn.require_no_self_locking("balancing compares the driving torque and the bearing "
+                                    "loads over a full turn of the crank")
     r0 = _frame_reactions(d0g, mech)
     r1 = _frame_reactions(d1g, bal)
     # moving the axis: the counterweight's inertia (and weight) goes from O to O1

@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike
 
 from linkwork.checks import require_finite
 from linkwork.cycles import mean_over_range
-from linkwork.errors import ParameterError
+from linkwork.errors import ParameterError, angle_ranges, format_angle_ranges
 from linkwork.planar import forces, friction
 from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
 from linkwork.planar.inertia import inertia_wrenches
@@ -269,6 +269,23 @@ class Dynamics(Result):
             else:
                 i += 1
         return out
+
+    def require_no_self_locking(self, needs: str) -> None:
+        """A ParameterError naming the joints' friction coefficients and the self-locking
+        ranges if the mechanism self-locks at some position: for a computation that ``needs``
+        the driving load everywhere (said in the message)."""
+        if not np.any(self.locked):
+            return
+        mech = self.kinematics.mechanism
+        coefs = ", ".join(f"{getattr(j, 'friction', 0.0):g} ({j.name})" for j in mech.joints
+                          if j.has_friction)
+        name, unit = mech.driver.coordinate
+        order = np.argsort(self.phi1, kind="stable")  # positions in any order (several grids)
+        ranges = angle_ranges(np.asarray(self.phi1)[order], np.asarray(self.locked)[order])
+        raise ParameterError(
+            "friction", coefs, f"makes the mechanism self-lock at {name} in "
+            f"{format_angle_ranges(ranges, unit)} (no finite driving load moves it there); "
+            f"{needs} (linkwork analyze shows the self-locking ranges)")
 
     def _scene(self) -> Any:
         """The mechanism drawn over the positions of its kinematics."""

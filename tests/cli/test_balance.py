@@ -351,7 +351,7 @@ def test_cli_balance_of_a_self_locking_file_names_its_friction(tmp_path, capsys)
     code, _, err = run_cli(["balance", str(path), "--out", str(out)], capsys)
     assert code == 2 and len(err.strip().splitlines()) == 1, err
     assert f"{path}: joint friction: 0.05 (A), 0.1 (guide), 0.12 (slot) is invalid" in err
-    assert "self-lock at phi1 in [151, 206 deg], [283, 357 deg]" in err
+    assert "makes the mechanism self-lock at phi1 in [151, 206 deg], [283, 357 deg]" in err
     assert not list(out.glob("balanc*"))
     path = sine_press_with_friction(tmp_path)
     assert run_cli(["balance", str(path), "--out", str(out)], capsys)[0] == 0
