@@ -174,7 +174,7 @@ def _plots(study: BalanceStudy, out: Path, name: str | None = None) -> None:
         for ax, joint in zip(axes[:, 0], joints, strict=True):
             curves = {"unbalanced": c.reactions0[joint], "static": c.reactions1[joint],
                       "moved axis (paper 001)": c.reactions3[joint]}
-            if joint == study.mechanism.driver.joint and "O1" in c.reactions3:
+            if joint == study.mechanism.drivers[0].joint and "O1" in c.reactions3:
                 curves["moved counterweight's bearing O1"] = c.reactions3["O1"]
             plot_moments(c.phi1, curves, ax=ax, ylabel=f"|R| at {joint} [N]", title="")
             if ax is not axes[-1, 0]:
