@@ -26,16 +26,19 @@ check independently.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
+import logging
 import math
-from collections.abc import Callable, Sequence
+import subprocess
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from linkwork.errors import ParameterError
+from linkwork.errors import ExternalToolError, ParameterError
 from linkwork.outputs import atomic_path
 from linkwork.plot._base import Figure, axes_or_new, pyplot, text
 from linkwork.plot.planar import named_point_paths
@@ -1296,8 +1299,55 @@ def animate(scene: Scene, path: str | Path, *, frames: int = 120, fps: int = 20,
                                             extra_args=["-pix_fmt", "yuv420p"])
         else:
             writer = animation.PillowWriter(fps=fps)
-        with atomic_path(p) as tmp:
-            anim.save(str(tmp), writer=writer, dpi=dpi)
+        with atomic_path(p) as tmp, _movie_writer_log() as said:
+            try:
+                anim.save(str(tmp), writer=writer, dpi=dpi)
+            except (subprocess.CalledProcessError, OSError) as exc:
+                if _interrupted(exc):  # Ctrl-C stops ffmpeg too; the writer's cleanup hid it
+                    raise KeyboardInterrupt from None
+                if not isinstance(writer, animation.FFMpegWriter):
+                    raise
+                last = [ln for m in said for ln in m.splitlines()
+                        if ln.strip() and not ln.startswith("MovieWriter")]
+                why = last[-1].strip() if last else str(exc)
+                raise ExternalToolError(f"ffmpeg failed writing {p.name} ({why})") from None
     finally:
         plt.close(fig)
     return p
+
+
+def _interrupted(exc: BaseException) -> bool:
+    """A KeyboardInterrupt among the exceptions ``exc`` was raised while handling."""
+    seen: BaseException | None = exc
+    while seen is not None:
+        if isinstance(seen, KeyboardInterrupt):
+            return True
+        seen = seen.__context__
+    return False
+
+
+class _Said(logging.Handler):
+    """Keeps the messages of a logger (what ffmpeg printed, as matplotlib passes it on)."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.DEBUG)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.messages.append(record.getMessage())
+
+
+@contextlib.contextmanager
+def _movie_writer_log() -> Iterator[list[str]]:
+    """What matplotlib's movie writers log (ffmpeg's stderr when it fails), kept for the
+    error's message instead of printed on the terminal."""
+    log = logging.getLogger("matplotlib.animation")
+    said = _Said()
+    propagate = log.propagate
+    log.addHandler(said)
+    log.propagate = False
+    try:
+        yield said.messages
+    finally:
+        log.removeHandler(said)
+        log.propagate = propagate

@@ -22,7 +22,7 @@ import pytest
 
 from linkwork import io
 from linkwork.models import swashplate as sw
-from linkwork.planar import fourbar_mechanism, kinematics
+from linkwork.planar import crank_slider_mechanism, fourbar_mechanism, kinematics
 from linkwork.plot import scene as sc
 from linkwork.studies import planar as study_planar
 from linkwork.studies import sine_press, swashplate
@@ -164,6 +164,28 @@ def test_instant_centre_of_a_slider_is_at_infinity():
     i = kin.bodies.index("ram")  # the ram only slides in the frame's guide
     assert np.all(np.isnan(ic[(0, i)]))
 
+
+
+def test_instant_centres_of_an_offset_crank_slider_by_kennedys_construction():
+    """Offset crank-slider (r 50, l 200, e 20 mm; Kennedy: frame 1, crank 2, rod 3, slider
+    4): I13 where the crank's line O-A meets the normal to the guide through B (I14 at
+    infinity along that normal, I34 at B), I24 where the rod's line A-B meets the normal to
+    the guide through O; constructed here, to 1e-12 m."""
+    r, l, e = 0.05, 0.2, 0.02
+    mech = crank_slider_mechanism(r, l, e)
+    phi = np.radians(np.arange(5.0, 360.0, 20.0))
+    kin = kinematics(mech, phi)
+    ic = sc.instant_centres(kin)
+    crank, rod, slider = (kin.bodies.index(b) for b in ("crank", "rod", "slider"))
+    A = r * np.stack([np.cos(phi), np.sin(phi)])
+    B = kin.point("slider", "B")
+    np.testing.assert_allclose(B.y, e, atol=1e-15)
+    I13 = np.stack([B.x, B.x * np.tan(phi)])
+    I24 = np.stack([np.zeros(phi.size), A[1] - A[0] * (B.y - A[1]) / (B.x - A[0])])
+    np.testing.assert_allclose(ic[(0, rod)], I13, atol=1e-12)
+    np.testing.assert_allclose(ic[(crank, slider)], I24, atol=1e-12)
+    np.testing.assert_allclose(ic[(rod, slider)], np.stack([B.x, B.y]), atol=1e-12)
+    assert np.all(np.isnan(ic[(0, slider)]))
 
 def test_sine_press_scene_keeps_the_constraints_of_both_modes():
     st = sine_press.analyze(io.load(EXAMPLES / "sine_press.toml"))
