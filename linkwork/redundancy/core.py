@@ -695,7 +695,7 @@ class SpatialReactions(Result):
 
     Attributes
     ----------
-    phi1 : ndarray (n,)
+    phi1 : ndarray (n,), or (n_drivers, n) for several drivers
         Driver positions [rad] (or [m]), as passed by the caller.
     joints : tuple of str
         Joint names (axis 0 of the component arrays).
@@ -751,8 +751,12 @@ class SpatialReactions(Result):
         return out
 
     def columns(self) -> dict[str, np.ndarray]:
-        """Per-position columns named ``<component>_<joint>`` (``fz_B``, ``mx_O``...) and Q."""
-        cols: dict[str, np.ndarray] = {"phi1": np.asarray(self.phi1)}
+        """Per-position columns named ``<component>_<joint>`` (``fz_B``, ``mx_O``...) and Q;
+        several drivers: ``phi1_<joint>`` first and ``Q_<joint>`` last, one per driver."""
+        phi = np.asarray(self.phi1)
+        cols: dict[str, np.ndarray] = (
+            {f"phi1_{name}": phi[k] for k, name in enumerate(self.drivers)} if phi.ndim == 2
+            else {"phi1": phi})
         comp = self.components()
         for j, name in enumerate(self.joints):
             for i, c in enumerate(COMPONENTS):
@@ -768,9 +772,9 @@ class SpatialReactions(Result):
         """Unit of a CSV column: that of its component (``fz_B`` -> ``fz``); the CSV (written by
         :meth:`Result.to_csv`) has the columns of :meth:`columns`."""
         head = column.split("_")[0]
-        if head == "Q" and column != "Q":  # one driver's of several: its own unit
-            units = self.units.get("Q", "").split(", ")
-            k = list(self.drivers).index(column[2:])
+        if head in ("Q", "phi1") and column != head:  # one driver's of several: its own unit
+            units = self.units.get(head, "").split(", ")
+            k = list(self.drivers).index(column[len(head) + 1:])
             return units[k] if len(units) > 1 else units[0]
         return self.units.get(head, "")
 

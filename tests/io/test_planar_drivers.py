@@ -64,7 +64,7 @@ def test_bad_several_driver_files(tmp_path, change, key, words):
 
 @pytest.mark.parametrize(("args", "words"), [
     (["analyze", "--angles", "0,30"], "--angles = 0,30 is invalid: gives one driver's"),
-    (["reactions"], "tables one driver's positions"),
+    (["reactions", "--angles", "0,30"], "--angles = 0,30 is invalid: gives one driver's"),
     (["balance"], "balancing (paper 001) needs one crank"),
 ])
 def test_commands_that_take_one_driver_say_so_in_one_line(tmp_path, capsys, args, words):

@@ -306,16 +306,8 @@ def _independent_reactions(mech, phi, joints, heights, devs, driver_k=1e9):
     out = np.zeros((len(mech.joints), 6, len(phi)))
     Q = np.zeros(len(phi))
 
-    def cross_mat(p):
-        x, y, z = p
-        return np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
-
-    def rot(a):
-        c, s = np.cos(a), np.sin(a)
-        R = np.zeros((6, 6))
-        for o in (0, 3):
-            R[o:o + 3, o:o + 3] = [[c, -s, 0], [s, c, 0], [0, 0, 1]]
-        return R
+    from _spatial_reference import _rot6 as rot
+    from _spatial_reference import _skew as cross_mat
 
     for n in range(len(phi)):
         Kg = np.zeros((6 * nb, 6 * nb))
@@ -423,3 +415,105 @@ def test_a_mechanism_movable_in_space_cannot_carry_loads():
     with pytest.raises(StructureError, match="movable in space"):
         rd.spatial_reactions(mech, LOOM_PHI, gravity=LOOM_G, joints={"A": {"kind": "spherical"},
                                                            "B": {"kind": "spherical"}})
+
+
+# -- several drivers -----------------------------------------------------------------------------
+
+ROOT_DIR = __import__("pathlib").Path(__file__).resolve().parents[2]
+
+
+def _several_driver_case(which):
+    """(mechanism, path, gravity, point forces, joint spec, heights, deviations) of the
+    excavator (three cylinders: linear drivers) or the two-crank five-bar, with joints at
+    different heights and axis lengths, bodies lifted and deviations on both sides of joints."""
+    from linkwork import io
+
+    if which == "excavator":
+        doc = io.load(ROOT_DIR / "examples" / "excavator_boom.toml")
+        forces = [("bucket", "K", -12e3, 4e3)]
+        heights = {"boom": 0.05, "arm_cyl_rod": -0.04, "bucket": 0.02}
+        devs = [("O", "frame", (1e-5, 0, 2e-5, 2e-4, -1e-4, 0)),
+                ("E", "bucket", (0, 0, -1e-5, -1e-4, 3e-4, 0)),
+                ("arm_cyl", "arm_cyl_barrel", (0, 1e-5, 0, 1e-4, 0, 2e-4)),
+                ("A1", "boom_cyl_barrel", (0, 0, 3e-5, 0, 2e-4, 0))]
+    else:
+        doc = io.load(ROOT_DIR / "tests" / "data" / "drivers" / "five_bar_two_cranks.toml")
+        forces = [("l1", "P", 30.0, -20.0)]
+        heights = {"l1": 0.01, "c2": -0.005}
+        devs = [("O2", "frame", (0, 0, 1e-5, 2e-4, 1e-4, 0)),
+                ("P", "l2", (1e-5, 0, 0, -2e-4, 0, 0)),
+                ("A", "c1", (0, 0, 2e-5, 0, 1e-4, 0))]
+    mech = doc.mechanism()
+    spec = {}
+    for i, j in enumerate(mech.joints):
+        kind = "prismatic" if j.spatial_family == "P" else "revolute"
+        spec[j.name] = (kind, 0.02 + 0.004 * (i % 5), 0.01 * ((i % 3) - 1), 1e8 * (1 + i % 2))
+    return mech, doc.positions(), tuple(doc.analysis.gravity), forces, spec, heights, devs
+
+
+@pytest.mark.parametrize("which", ["excavator", "five_bar"])
+def test_several_drivers_against_an_independent_spatial_solve(which):
+    """Three linear drivers (the excavator's cylinders) and two cranks (a five-bar): the spatial
+    reactions and every driver's load equal the independent solve of tests/_spatial_reference.py
+    (drivers held rigid by Lagrange multipliers, springs assembled per position from the joint
+    definitions) to 1e-8 of the largest component; the in-plane parts and each driver's Q equal
+    the planar engine's inverse dynamics to 1e-9; the whole machine (the frame's joints against
+    all body loads) is in equilibrium in all six components to 1e-9."""
+    from _spatial_reference import reactions as reference
+
+    from linkwork.planar import PointForce
+
+    mech, path, g, forces, spec, heights, devs = _several_driver_case(which)
+    phi = path[:, ::8]
+    kin = kinematics(mech, phi)
+    joints = {name: {"kind": k, "e": e, "z": z, "k_bearing": kb}
+              for name, (k, e, z, kb) in spec.items()}
+    loads = [PointForce(b, p, fx=fx, fy=fy) for b, p, fx, fy in forces]
+    deviations = [Deviation(jn, bn, *v) for jn, bn, v in devs]
+    r = spatial_reactions(mech, phi, gravity=g, loads=loads, joints=joints, heights=heights,
+                          deviations=deviations)
+    assert r.Q.shape == (mech.n_drivers, phi.shape[1]) and r.redundant > 0
+    frames, centres = {}, {}
+    for j in mech.joints:
+        _, pb, ang = mech.joint_geometry(j)
+        pm = kin.point(j.b, pb)
+        centres[j.name] = (pm.x, pm.y)
+        frames[j.name] = (kin.angle(j.a) + ang if j.spatial_family == "P"
+                          else np.zeros(phi.shape[1]))
+    ref, q_ref = reference(mech, kin, spec=spec, frames=frames, centres=centres,
+                           heights=heights, devs=devs, gravity=g, forces=forces)
+    got = r.components()
+    assert np.abs(ref[:, 2:5]).max() > 1e-3 * np.abs(ref).max()  # out-of-plane parts matter
+    assert np.max(np.abs(got - ref)) <= 1e-8 * np.abs(ref).max()
+    assert np.max(np.abs(r.Q - q_ref)) <= 1e-8 * np.abs(q_ref).max()
+    # in-plane: the planar engine, driver by driver
+    dyn = inverse_dynamics(kin, gravity=g, loads=loads)
+    scale = max(np.abs(dyn.fx).max(), np.abs(dyn.fy).max())
+    for k, name in enumerate(dyn.joints):
+        i = r.joints.index(name)
+        extra = 0.0
+        if name in r.drivers and mech.joint(name).spatial_family == "P":
+            extra = dyn.Q[r.drivers.index(name)]  # the driving force along the slide
+            c, s = np.cos(frames[name]), np.sin(frames[name])
+            assert np.max(np.abs(r.fx[i] - (dyn.fx[k] + extra * c))) <= 1e-9 * scale
+            assert np.max(np.abs(r.fy[i] - (dyn.fy[k] + extra * s))) <= 1e-9 * scale
+            continue
+        assert np.max(np.abs(r.fx[i] - dyn.fx[k])) <= 1e-9 * scale
+        assert np.max(np.abs(r.fy[i] - dyn.fy[k])) <= 1e-9 * scale
+    assert np.max(np.abs(r.Q - dyn.Q)) <= 1e-9 * np.abs(dyn.Q).max()
+    # the whole machine: what the frame's joints exert on the moving bodies balances all loads
+    w = rd.body_wrenches(mech, kin, gravity=g, loads=loads, heights=heights)
+    total = w.sum(axis=1).T  # (6, n) about the origin
+    for j in mech.joints:
+        if mech.frame.name not in (j.a, j.b):
+            continue
+        i = r.joints.index(j.name)
+        sign = 1.0 if j.a == mech.frame.name else -1.0  # as a wrench on the moving body
+        x, y = centres[j.name]
+        p = np.stack([x, y, np.full_like(x, spec[j.name][2])])
+        f = sign * np.stack([r.fx[i], r.fy[i], r.fz[i]])
+        m = sign * np.stack([r.mx[i], r.my[i], r.mz[i]])
+        total += np.concatenate([f, m + np.cross(p, f, axis=0)])
+    assert np.max(np.abs(total[:3])) <= 1e-9 * scale
+    lever = np.abs(path).max() if which == "five_bar" else 5.0
+    assert np.max(np.abs(total[3:])) <= 1e-9 * scale * max(lever, 1.0)
