@@ -176,6 +176,11 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
     written."""
     console.print(f"[bold]structure in space[/bold]: {escape(study.count.summary())}",
                   highlight=False)
+    lossy = [j.name for j in study.mechanism.joints if j.has_friction]
+    if lossy:
+        console.print(escape(f"note: the spatial reactions leave friction and mesh losses out "
+                             f"(joints {', '.join(lossy)}): frictionless joints, the driving "
+                             "loads those of a lossless mechanism"), highlight=False)
     at, res, peaks = study.table, study.reactions, study.peaks
     comp = at.components()
     f_n, f_nm = _scales(study)

@@ -144,18 +144,20 @@ class ReactionsStudy:
                 "mobility_somov_malyshev": count.mobility_formula, "mobility": count.mobility}
 
 
-def _reactions(mech: Mechanism, kin: Kinematics, model: SpatialModel, geom: SpatialGeometry,
-               inputs: dict[str, Any], gravity: Any, loads: Sequence[Any], method: str
-               ) -> tuple[np.ndarray, SpatialReactions]:
-    """As :func:`~linkwork.redundancy.spatial_reactions`, on a kinematics already solved."""
+def _reactions(mech: Mechanism, kin: Kinematics, model: SpatialModel, inputs: dict[str, Any],
+               gravity: Any, loads: Sequence[Any], method: str
+               ) -> tuple[np.ndarray, SpatialGeometry, SpatialReactions]:
+    """As :func:`~linkwork.redundancy.spatial_reactions`, on a kinematics already solved:
+    (body wrenches, geometry, reactions)."""
     w = body_wrenches(mech, kin, gravity=gravity, loads=loads, heights=inputs["heights"],
                       out_of_plane=inputs["out_of_plane"])
+    geom = geometry(mech, kin, w)  # (gear meshes: on the flank their tooth force presses)
     dev = deviation_array(model, inputs["deviations"], mech.frame.name)
     res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
     du = mech.driver_units  # a linear driver: positions are slides [m], the driving force N
     if du["phi1"] != "rad" or du["Q"] != "N*m":
         res._relabel_units(phi1=du["phi1"], Q=du["Q"])
-    return w, res
+    return w, geom, res
 
 
 def solve(mech: Mechanism, spec: SpatialSpec, *, angles: ArrayLike,
@@ -210,16 +212,14 @@ def solve(mech: Mechanism, spec: SpatialSpec, *, angles: ArrayLike,
 
     kin = kinematics(mech, cyc)
     model = spatial_model(mech, inputs["joints"], inputs["default"])
-    geom = geometry(mech, kin)
-    w, res = _reactions(mech, kin, model, geom, inputs, gravity, loads_at(cyc), method)
+    w, geom, res = _reactions(mech, kin, model, inputs, gravity, loads_at(cyc), method)
     try:
         kin_t = kinematics(mech, tphi)
     except AssemblyError as exc:
         if nd > 1:
             raise
         raise table_positions_error(exc, tphi, mech.drivers[0].kind == "linear") from None
-    _, at = _reactions(mech, kin_t, model, geometry(mech, kin_t), inputs, gravity,
-                       loads_at(tphi), method)
+    _, _, at = _reactions(mech, kin_t, model, inputs, gravity, loads_at(tphi), method)
     count = count_redundancy(model, geom, position=cyc.shape[-1] // 7)
     return ReactionsStudy(mechanism=mech, spec=spec, inputs=inputs, model=model, kinematics=kin,
                           geometry=geom, wrenches=w, reactions=res, table_positions=tphi,

@@ -174,5 +174,5 @@ def test_every_command_tables_the_same_default_positions(path):
     assert phi[0] - 1e-12 <= tphi.min() and tphi.max() <= phi[-1] + 1e-12
     np.testing.assert_array_equal(study_planar.analyze(doc).table_positions, tphi)
     if all(j.spatial_family is not None for j in doc.mechanism().joints):
-        # (the spatial reactions take revolute and prismatic joints only)
+        # (the spatial reactions take no pin-in-slot joint)
         np.testing.assert_array_equal(study_reactions.run(doc).table_positions, tphi)
