@@ -309,5 +309,11 @@ def register(app: typer.Typer) -> None:
                 console.print("note: the file's external loads enter the driving torque and "
                               "the bearing reactions, not the shaking-moment table (inertia "
                               "forces)", highlight=False)
-            render(study_balance.run(doc, angles=table, pareto=pareto), out=out,
-                   console=console, name=doc.name or None)
+            try:
+                study = study_balance.run(doc, angles=table, pareto=pareto)
+            except ParameterError as exc:  # the joints' friction locks it: the file's keys
+                if exc.parameter != "friction":
+                    raise
+                raise FileFormatError(str(file), "joint friction", str(exc).removeprefix(
+                    "friction = ")) from None
+            render(study, out=out, console=console, name=doc.name or None)

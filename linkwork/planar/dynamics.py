@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike
 
 from linkwork.checks import require_finite
 from linkwork.cycles import mean_over_range
-from linkwork.errors import ParameterError
+from linkwork.errors import ParameterError, angle_ranges, format_angle_ranges
 from linkwork.planar import forces, friction
 from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
 from linkwork.planar.inertia import inertia_wrenches
@@ -295,6 +295,24 @@ class Dynamics(Result):
                 i += 1
         return out
 
+    def require_no_self_locking(self, needs: str) -> None:
+        """A ParameterError naming the joints' friction coefficients and the self-locking
+        ranges if the mechanism self-locks at some position: for a computation that ``needs``
+        the driving load everywhere (said in the message)."""
+        if not np.any(self.locked):
+            return
+        mech = self.kinematics.mechanism
+        coefs = ", ".join(f"{getattr(j, 'friction', 0.0):g} ({j.name})" for j in mech.joints
+                          if j.has_friction)
+        name, unit = mech.drivers[0].coordinate    # several drivers: over the first's
+        p = np.atleast_2d(np.asarray(self.phi1, dtype=float))[0]
+        order = np.argsort(p, kind="stable")  # positions in any order (several grids)
+        ranges = angle_ranges(p[order], np.asarray(self.locked)[order])
+        raise ParameterError(
+            "friction", coefs, f"makes the mechanism self-lock at {name} in "
+            f"{format_angle_ranges(ranges, unit)} (no finite driving load moves it there); "
+            f"{needs} (linkwork analyze shows the self-locking ranges)")
+
     def _scene(self) -> Any:
         """The mechanism drawn over the positions of its kinematics."""
         return self.kinematics._scene()
@@ -392,14 +410,44 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         with np.errstate(all="ignore"):
             fxr, fyr, mzr, Q = _group_reactions(plan, st, f)
     fric = _with_friction(plan, st, f, kin, Q) if friction.has_friction(plan) else None
+    sfx, sfy, sm = _shaking(plan, st, mech.frame.name, (fxr, fyr, mzr, Q), pxr, pyr, ab,
+                            on_frame)
     if fric is not None:
         fxr, fyr, mzr, Q = fric.reactions
+        # friction is internal to the machine: the shaking loads equal the frictionless ones,
+        # which stay defined where it self-locks (reactions and Q undefined there)
+        with_f = _shaking(plan, st, mech.frame.name, fric.reactions, pxr, pyr, ab, on_frame)
+        sfx, sfy, sm = (np.where(fric.locked, s0, s1)
+                        for s0, s1 in zip((sfx, sfy, sm), with_f, strict=True))
+    T = kinetic_energy(kin)
+    one = mech.n_drivers == 1  # one driver: Q of shape (n,), as always
+    if fric is None:  # no joint dissipates
+        zeros = np.zeros((nj, n))
+        fric = _Friction((fxr, fyr, mzr, Q), Q, friction.FrictionSolution(
+            np.zeros((n, 0)), zeros, zeros, zeros, np.ones(n, dtype=bool), np.ones(n), 0),
+            zeros, np.zeros(n, dtype=bool), False)
+    return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), fxr, fyr, mzr, pxr, pyr,
+                    Q[0] if one else Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]),
+                    Q_frictionless=fric.Q0[0] if one else fric.Q0, friction_fx=fric.sol.ffx,
+                    friction_fy=fric.sol.ffy, friction_mz=fric.sol.fmz,
+                    friction_power=fric.power, locked=fric.locked, kappa=fric.sol.kappa,
+                    friction_iterations=fric.sol.iterations,
+                    friction_static=fric.static, loads=applied,
+                    load_power=np.array([ap.power for ap in applied]).reshape(-1, n),
+                    V=sum((ap.energy for ap in applied), np.zeros(n)))
+
+
+def _shaking(plan: Plan, st: State, fr: str, reactions: tuple[Arr, Arr, Arr, Arr],
+             pxr: Arr, pyr: Arr, ab: tuple[float, ...], on_frame: list[forces.Wrench]
+             ) -> tuple[Arr, Arr, Arr]:
+    """Shaking force (x, y) and moment about ``ab`` on the frame ``fr``: the frame joints'
+    reactions (by the moving bodies on the frame), the motors' reactions (``Q`` of shape
+    (n_drivers, n)) and the loads' reactions on the frame."""
+    fxr, fyr, mzr, Q = reactions
     kinds = plan.driver_kinds
-    # shaking force and moment on the frame
-    sfx = np.zeros(n)
-    sfy = np.zeros(n)
-    sm = np.zeros(n)
-    fr = mech.frame.name
+    sfx = np.zeros(st.n)
+    sfy = np.zeros(st.n)
+    sm = np.zeros(st.n)
     for ji, rj in enumerate(plan.joints):
         j = rj.joint
         if fr not in (j.a, j.b):
@@ -420,22 +468,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         sfx += w.fx
         sfy += w.fy
         sm += (w.px - ab[0]) * w.fy - (w.py - ab[1]) * w.fx + w.mz
-    T = kinetic_energy(kin)
-    one = mech.n_drivers == 1  # one driver: Q of shape (n,), as always
-    if fric is None:  # no joint dissipates
-        zeros = np.zeros((nj, n))
-        fric = _Friction((fxr, fyr, mzr, Q), Q, friction.FrictionSolution(
-            np.zeros((n, 0)), zeros, zeros, zeros, np.ones(n, dtype=bool), np.ones(n), 0),
-            zeros, np.zeros(n, dtype=bool), False)
-    return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), fxr, fyr, mzr, pxr, pyr,
-                    Q[0] if one else Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]),
-                    Q_frictionless=fric.Q0[0] if one else fric.Q0, friction_fx=fric.sol.ffx,
-                    friction_fy=fric.sol.ffy, friction_mz=fric.sol.fmz,
-                    friction_power=fric.power, locked=fric.locked, kappa=fric.sol.kappa,
-                    friction_iterations=fric.sol.iterations,
-                    friction_static=fric.static, loads=applied,
-                    load_power=np.array([ap.power for ap in applied]).reshape(-1, n),
-                    V=sum((ap.energy for ap in applied), np.zeros(n)))
+    return sfx, sfy, sm
 
 
 @dataclass(frozen=True)

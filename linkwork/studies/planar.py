@@ -383,12 +383,14 @@ class PlanarStudy:
         return dynamics_columns_of(self.kinematics, self.dynamics)
 
     def scene(self, *, paths: Any = None, centres: bool = False) -> Any:
-        """The mechanism drawn over the cycle (:func:`linkwork.plot.scene.planar_scene`):
-        ``paths`` of further points (coupler curves), ``centres`` the instant centres."""
+        """The mechanism drawn over the cycle (:func:`linkwork.plot.scene.planar_scene`) with
+        its force elements and loads where they act: ``paths`` of further points (coupler
+        curves), ``centres`` the instant centres."""
         from linkwork.plot.scene import planar_scene
 
         return planar_scene(self.kinematics, paths=paths, centres=centres,
-                            title=self.doc.name or "planar mechanism")
+                            title=self.doc.name or "planar mechanism",
+                            loads=self.dynamics.loads)
 
     def _repr_html_(self) -> str:
         """A notebook's display: the animated mechanism and the extremes over the cycle (a row

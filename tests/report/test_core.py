@@ -111,8 +111,9 @@ def test_a_renderer_plugs_in_by_registration():
         report.register(extra)
         from linkwork.report import core
         core._RENDERERS[:] = [r for r in core._RENDERERS if r.key != "extra"]
-    assert [r.key for r in report.renderers()] == ["planar", "balance", "reactions",
-                                                   "sine_press", "swashplate"]
+    assert [r.key for r in report.renderers()] == [
+        "planar", "balance", "reactions", "sine_press", "dynamics", "swashplate",
+        "synthesis-path", "synthesis-function", "synthesis-motion"]
 
 
 def test_several_drivers_are_refused_naming_them():
