@@ -131,7 +131,8 @@ class Joint:
     has_line: ClassVar[bool] = False
     #: the reaction component each constraint row carries (drive rows excepted)
     row_kinds: ClassVar[tuple[str, ...]] = ()
-    #: family of the spatial joint it becomes in :mod:`linkwork.redundancy` (None: unsupported)
+    #: family of the spatial joint it becomes in :mod:`linkwork.redundancy` ("R", "P", "G" a
+    #: gear mesh; None: unsupported)
     spatial_family: ClassVar[str | None] = None
 
     # -- description ------------------------------------------------------------------------
@@ -878,6 +879,7 @@ class GearPair(Joint):
     n_constraints = 1
     code = "G"
     row_kinds: ClassVar[tuple[str, ...]] = ("t",)
+    spatial_family: ClassVar[str | None] = "G"
 
     def __post_init__(self) -> None:
         if (self.teeth is None) == (self.radii is None):
