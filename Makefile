@@ -32,6 +32,8 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/kinematics.py
 	$(BIN)/python benchmarks/swashplate_synthesis.py
 	$(BIN)/python benchmarks/tolerance_study.py
+	$(BIN)/python benchmarks/cli.py
+	$(BIN)/python benchmarks/long_cycle.py
 
 clean:
 	rm -rf $(VENV) demo-output linkwork-output dist .pytest_cache .mypy_cache .ruff_cache

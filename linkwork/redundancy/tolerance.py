@@ -38,8 +38,8 @@ from linkwork.sweep import evaluate
 if TYPE_CHECKING:
     from linkwork.plot import Figure
 
-__all__ = ["MEMORY_BUDGET", "PEAK_QUANTITIES", "Tolerance", "ToleranceStudy", "check_samples",
-           "max_samples", "sample_bytes", "tolerance_study"]
+__all__ = ["MEMORY_BUDGET", "PEAK_QUANTITIES", "Tolerance", "ToleranceStudy", "affine_blocks",
+           "affine_map", "check_samples", "max_samples", "sample_bytes", "tolerance_study"]
 
 #: Quantities whose peak over the cycle is kept per joint: the six components and the bending
 #: moment magnitude sqrt(mx² + my²).
@@ -311,6 +311,31 @@ def check_samples(n_samples: Any, n_joints: int, n_tolerances: int,
     return int(n_samples)
 
 
+def affine_map(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike,
+               index: Sequence[int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The global reaction components as an affine function of the sampled deviations.
+
+    ``index``: the slot of each sampled deviation in the flattened (joint, side, component)
+    deviation array. Returns the peaks without deviations (n_joints, 7), ``c0`` (n, 6 n_joints)
+    and ``Z`` (n, 6 n_joints, n_tol) with components ``= c0 + Z @ d`` at every position:
+    ``Z = P H M`` (P: unknowns -> global components, H: misfit -> unknowns, M: deviations ->
+    misfits), computed once per position by the force method (:func:`influence`).
+    """
+    inf = influence(model, geom, wrenches)
+    frames = _joint_frames(model, geom)
+    nominal = _peaks(_global(model, frames, inf.r0))
+    nj, m1 = len(model.joints), inf.r0.shape[-1]
+    basis = np.zeros((len(index), nj * 2 * 6))
+    basis[np.arange(len(index)), index] = 1.0
+    mis = misfit(model, geom, basis.reshape(len(index), nj, 2, 6))       # (n_tol, n, m)
+    dr = np.einsum("nij,tnj->nit", inf.h, mis)                           # (n, m+1, n_tol)
+    eye = np.broadcast_to(np.eye(m1)[:, None, :], (m1, geom.n, m1))
+    p = _global(model, frames, eye)                                      # (m+1, nj, 6, n)
+    p = p.reshape(m1, nj * 6, geom.n).transpose(2, 1, 0)                # (n, 6 nj, m+1)
+    c0 = np.einsum("nck,nk->nc", p, inf.r0)
+    return nominal, c0, p @ dr
+
+
 def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike,
                     tolerances: Sequence[Tolerance], n_samples: int, *,
                     seed: int | None = 0, chunk_size: int = 2000, client: Any = None,
@@ -361,22 +386,8 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
             draws[:, k] = rng.normal(t.mean, t.limit / 3.0, n)
         else:
             draws[:, k] = rng.uniform(t.mean - t.limit, t.mean + t.limit, n)
-    inf = influence(model, geom, wrenches)
-    frames = _joint_frames(model, geom)
-    nominal = _peaks(_global(model, frames, inf.r0))
-    # everything is affine in the deviations: global components = c0 + Z @ draws, with
-    # Z = P H M (P: unknowns -> global components, H: misfit -> unknowns, M: deviations ->
-    # misfits), computed once per position
-    nj, m1 = len(model.joints), inf.r0.shape[-1]
-    basis = np.zeros((len(index), nj * 2 * 6))
-    basis[np.arange(len(index)), index] = 1.0
-    mis = misfit(model, geom, basis.reshape(len(index), nj, 2, 6))       # (n_tol, n, m)
-    dr = np.einsum("nij,tnj->nit", inf.h, mis)                           # (n, m+1, n_tol)
-    eye = np.broadcast_to(np.eye(m1)[:, None, :], (m1, geom.n, m1))
-    p = _global(model, frames, eye)                                      # (m+1, nj, 6, n)
-    p = p.reshape(m1, nj * 6, geom.n).transpose(2, 1, 0)                # (n, 6 nj, m+1)
-    c0 = np.einsum("nck,nk->nc", p, inf.r0)
-    zmat = p @ dr                                                        # (n, 6 nj, n_tol)
+    nominal, c0, zmat = affine_map(model, geom, wrenches, index)
+    nj = len(model.joints)
     func = functools.partial(_chunk, n=geom.n, n_joints=nj)
     peaks = evaluate(func, draws, chunk_size=chunk_size, client=client, progress=progress,
                      shared={"zb": affine_blocks(c0, zmat)})
