@@ -34,6 +34,7 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/tolerance_study.py
 	$(BIN)/python benchmarks/cli.py
 	$(BIN)/python benchmarks/long_cycle.py
+	$(BIN)/python benchmarks/synthesis.py
 
 clean:
 	rm -rf $(VENV) demo-output linkwork-output dist .pytest_cache .mypy_cache .ruff_cache

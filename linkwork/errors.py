@@ -20,11 +20,13 @@ from numpy.typing import ArrayLike
 __all__ = [
     "AssemblyError",
     "ConvergenceError",
+    "DriveError",
     "FileFormatError",
     "InfeasibleError",
     "LinkworkError",
     "MissingExtraError",
     "ParameterError",
+    "StallError",
     "StructureError",
     "angle_ranges",
     "format_angle_ranges",
@@ -97,6 +99,17 @@ class FileFormatError(LinkworkError, ValueError):
 
 class ConvergenceError(LinkworkError, RuntimeError):
     """An iterative solve did not converge."""
+
+
+class DriveError(LinkworkError, ValueError):
+    """A motor cannot drive a machine as asked: it cannot carry the mean load at any stable
+    speed, the crank stops within a cycle or during start-up, or no flywheel reaches the
+    speed fluctuation asked. The message names the value and the limit it exceeds."""
+
+
+class StallError(DriveError):
+    """The crank stops: the motor cannot carry the machine over its peak load with the inertia
+    it has (within a cycle, or during start-up). The message names where and the torques."""
 
 
 class InfeasibleError(LinkworkError, ValueError):

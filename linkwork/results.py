@@ -356,6 +356,20 @@ class Result:
         """
         raise NotImplementedError(f"{type(self).__name__} has no default figure")
 
+    def _scene(self) -> Any:
+        """The drawing of the mechanism this result moves (a
+        :class:`linkwork.plot.scene.Scene`), or None: results of a mechanism's motion
+        override it, and then display themselves animated in a notebook."""
+        return None
+
+    def _repr_html_(self) -> str:
+        """A notebook's display: the animated mechanism (if the result moves one) and a
+        compact table of the fields (scalars, and the range of each per-position array); one
+        self-contained HTML fragment (:func:`linkwork.plot.html.view_html`)."""
+        from linkwork.plot.html import result_table, view_html
+
+        return view_html(self._scene(), result_table(self))
+
     def to_frame(self) -> Any:
         """A pandas DataFrame of the per-position columns (requires pandas: ``pip install
         'linkwork[pandas]'``; without it a :class:`~linkwork.errors.MissingExtraError`, an

@@ -30,10 +30,12 @@ KINDS: dict[str, str] = {
     "inertia": "kg*m**2",
     "force": "N",
     "torque": "N*m",
+    "power": "W",
     "time": "s",
     "frequency": "1/s",
     "stiffness": "N/m",
     "rotational_stiffness": "N*m/rad",
+    "damping": "N*s/m",
     "dimensionless": "",
 }
 

@@ -4,6 +4,8 @@ linear driver, a class-III triad), shared by the planar tests: each builder retu
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
 import linkwork.planar as pl
@@ -213,3 +215,46 @@ def _rates(f, p, h=2e-3):
     d1 = (v[0] - 8 * v[1] + 8 * v[3] - v[4]) / (12 * h)
     d2 = (-v[0] + 16 * v[1] - 30 * v[2] + 16 * v[3] - v[4]) / (12 * h * h)
     return v[2], d1, d2
+
+
+def sine_mechanism(alpha: float, f_slot: float, f_guide: float, L1: float = 0.1) -> Mechanism:
+    """Paper 000's working mechanism: crank AB about the frame's A, the crank pin B in a
+    straight slot at ``alpha`` to the guide, cut in the slider (ram), which moves along x on
+    the frame's guide; pin friction neglected (a sliding block, radius 0), guide a point
+    contact (length 0), as in the closed form's model."""
+    frame = Body("frame", {"A": (0.0, 0.0)})
+    crank = bar("crank", "A", "B", L1)
+    slider = Body("slider", {"G": (0.0, 0.0)})
+    joints = (Revolute("A", "frame", "crank"),
+              PinInSlot("S", "slider", "crank", angle=alpha, through=(0.0, 0.0), point="B",
+                        friction=f_slot),
+              Prismatic("G", "frame", "slider", angle=0.0, through="A", point="G",
+                        friction=f_guide))
+    return Mechanism(frame, (crank, slider), joints, Crank("A", 1.0))
+
+
+def with_friction(mech: Mechanism, f_rev: float = 0.08, r: float = 0.004, f_line: float = 0.12,
+                  length: float = 0.3, pin: float = 0.003, torque: float = 0.0) -> Mechanism:
+    """``mech`` with friction in every joint."""
+    js = []
+    for j in mech.joints:
+        if isinstance(j, Revolute):
+            js.append(dataclasses.replace(j, friction=f_rev, radius=r, friction_torque=torque))
+        elif isinstance(j, Prismatic):
+            js.append(dataclasses.replace(j, friction=f_line, length=length))
+        else:
+            js.append(dataclasses.replace(j, friction=f_line, radius=pin))
+    return Mechanism(mech.frame, mech.bodies, tuple(js), mech.driver, mech.branches)
+
+
+def kinetic_energy_rate(mech: Mechanism, kin, g=(0.0, 0.0)):
+    """dT/dt = sum m a_C . v_C + I omega eps, and the power of gravity sum m g . v_C, written
+    out from the kinematics (positions last)."""
+    dT = np.zeros(kin.n)
+    pg = np.zeros(kin.n)
+    for b in mech.bodies:
+        i = mech.index[b.name]
+        c = kin.point(b.name, "com")
+        dT += b.mass * (c.ax * c.vx + c.ay * c.vy) + b.inertia * kin.omega[i] * kin.eps[i]
+        pg += b.mass * (g[0] * c.vx + g[1] * c.vy)
+    return dT, pg

@@ -39,17 +39,20 @@ COMMAND_HELP: dict[str, str] = {
     "balance": "Balance a planar mechanism: paper 001's table, torque and bearing loads, plots.",
     "reactions": "Spatial joint reactions (axial forces, bending moments) with redundant "
                  "constraints.",
+    "report": "Write a self-contained HTML report: animated mechanism, diagrams, tables.",
     "examples": "List the bundled example files, or copy them into a folder (--copy DIR).",
     "swashplate": "Swash-plate (inclined-disk) drive of rotor machines (paper 003).",
+    "synthesize": "Dimensional synthesis of planar linkages: function, motion or path "
+                  "generation from a task file.",
 }
 
 
 def _command_modules() -> tuple[ModuleType, ...]:
     # Lazy on purpose (issue 19, item 7): `linkwork --help` and `--version` must not import
     # the studies; tests/docs/test_architecture.py allows this one import in a function.
-    from linkwork.cli import analyze, balance, reactions, swashplate
+    from linkwork.cli import analyze, balance, reactions, report, swashplate, synthesize
 
-    return (analyze, balance, reactions, swashplate, examples)
+    return (analyze, balance, reactions, report, swashplate, synthesize, examples)
 
 
 @functools.cache

@@ -25,13 +25,13 @@ from typing import Any
 
 import numpy as np
 
-from linkwork.errors import ParameterError
+from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.planar import MAX_ANGLE, PlanarFile
 from linkwork.outputs import recording
 from linkwork.results import write_json
 
-__all__ = ["MANIFEST", "output_dir", "output_run", "parse_angles", "parse_angles_deg",
-           "reach_scheduler", "table_positions"]
+__all__ = ["MANIFEST", "load_errors", "output_dir", "output_run", "parse_angles",
+           "parse_angles_deg", "reach_scheduler", "table_positions"]
 
 #: The record of what linkwork wrote into an output folder (see the module docstring).
 MANIFEST = "linkwork-run.json"
@@ -155,6 +155,28 @@ def _write_manifest(folder: Path, runs: dict[str, dict[str, Any]]) -> None:
             "runs": {cmd: {**run, "files": [{"name": n, **st} for n, st in run["files"].items()]}
                      for cmd, run in runs.items() if run["files"]}}
     write_json(folder / MANIFEST, data)
+
+
+#: The tables of a planar file whose entries become the engine's loads.
+_LOAD_TABLES = ("load", "spring", "damper")
+
+
+@contextlib.contextmanager
+def load_errors(file: Path, doc: Any) -> Iterator[None]:
+    """A load's error raised while a command works on the planar file ``doc`` (a load diagram
+    the analysis leaves with ``outside = "error"``, a spring whose points meet at some
+    position) as the file's error: its file and its key as the file writes it
+    (:meth:`PlanarFile.file_error`: ``spring.0``, ``load.1.diagram.table``)."""
+    try:
+        yield
+    except ParameterError as exc:
+        if not isinstance(doc, PlanarFile):
+            raise
+        err = doc.file_error(exc)
+        if err.parameter.split(".")[0] not in _LOAD_TABLES:
+            raise
+        raise FileFormatError(str(file), err.parameter,
+                              str(err).removeprefix(f"{err.parameter} = ")) from None
 
 
 @contextlib.contextmanager

@@ -7,7 +7,9 @@ transmission angles (the kinetic energy is in the CSV/JSON), and the extremes ov
 ``planar_kinematics.csv`` (every body's and named point's motion), ``planar_dynamics.csv``
 (every joint's reaction components, driving torque, shaking force and moment, kinetic
 energy), ``planar.json`` (both, with units and the structure) and plots (skeleton with point
-paths, guides and slots, driving torque, reactions, shaking).
+paths, guides and slots, driving torque, reactions, shaking). With force elements or load
+diagrams also their ranges, work and diagrams' ranges (a table), their columns and
+``planar_loads.png``.
 """
 
 from __future__ import annotations
@@ -182,9 +184,50 @@ def _friction(study: PlanarStudy, console: Any) -> None:
         console.print("self-locking: none over the range", highlight=False)
 
 
-#: The files that :func:`render` writes, in order (one step of its progress bar each).
+def _loads(study: PlanarStudy, console: Any) -> None:
+    """With force elements or load diagrams: each one's range of values, length, and work over
+    the cycle, and where each diagram acts (nothing is printed without them)."""
+    if not study.loads:
+        return
+    shown = _shown(study)
+    tab = Table(title=escape(f"loads and force elements over the cycle ({study.kinematics.n} "
+                             "positions of [analysis]; springs and dampers: tension +)"))
+    heads = ("load", "kind", "min", "max", "unit", "length [mm]", "work [J]")
+    for h in heads:
+        tab.add_column(escape(h), justify="left" if h in ("load", "kind", "unit") else "right",
+                       no_wrap=True)
+    top = max((abs(e["work"]) for e in study.loads if e["work"] is not None), default=0.0)
+    for e in study.loads:
+        scale = max(abs(e["min"] or 0.0), abs(e["max"] or 0.0))
+        length = ("" if "length" not in e else
+                  "..".join(fmt(v * 1e3, decimals=1) for v in e["length"]))
+        tab.add_row(escape(e["name"]), e["kind"],
+                    fmt(np.nan if e["min"] is None else e["min"], scale),
+                    fmt(np.nan if e["max"] is None else e["max"], scale), unit_label(e["unit"]),
+                    length, fmt(np.nan if e["work"] is None else e["work"], top))
+    print_table(console, tab)
+    when = {"always": "at every position", "increasing": "while it increases",
+            "decreasing": "while it decreases"}
+    for e in study.loads:
+        d = e.get("diagram")
+        if d is None:
+            continue
+        if d["over"] == "driver":
+            what, scale, unit = shown.position.split()[0], shown.scale, shown.unit
+        else:
+            what, scale, unit = f"the slide s of {d['over']}", 1e3, "mm"
+        lo, hi = (fmt(v * scale, decimals=1) for v in d["range"])
+        console.print(escape(
+            f"{e['name']}: diagram over {what} from {lo} to {hi} {unit}, acting {when[d['when']]}"
+            f"; outside its range {'zero' if d['outside'] == 'zero' else 'refused'}"),
+            highlight=False)
+
+
+#: The files that :func:`render` writes, in order (one step of its progress bar each); the
+#: loads' figure only with force elements or load diagrams.
 FILES = ("planar_kinematics.csv", "planar_dynamics.csv", "planar.json", "planar_skeleton.png",
-         "planar_driving_torque.png", "planar_reactions.png", "planar_shaking.png")
+         "planar_driving_torque.png", "planar_reactions.png", "planar_shaking.png",
+         "planar_loads.png")
 
 
 def _plots(study: PlanarStudy, out: Path, step: Callable[[str], None] = lambda what: None
@@ -213,6 +256,12 @@ def _plots(study: PlanarStudy, out: Path, step: Callable[[str], None] = lambda w
     fig, axes = plt.subplots(2, 1, sharex=True)
     pplot.plot_shaking(dyn, axes=axes, name=name)
     written.append(save(fig, out / "planar_shaking.png"))
+    if study.loads:
+        step(f"drawing {FILES[7]}")
+        units = {e["unit"] for e in study.loads}
+        fig, axes = plt.subplots(len(units), 1, sharex=True, squeeze=False)
+        pplot.plot_loads(dyn, [e["name"] for e in study.loads], axes=axes[:, 0], name=name)
+        written.append(save(fig, out / "planar_loads.png"))
     return written
 
 
@@ -223,7 +272,8 @@ def render(study: PlanarStudy, *, out: Path, console: Any) -> None:
     print_table(console, _table(study))
     print_table(console, _extremes(study))
     _friction(study, console)
-    with steps(len(FILES), console=make_console(stderr=True)) as step:
+    _loads(study, console)
+    with steps(len(FILES) - (not study.loads), console=make_console(stderr=True)) as step:
         step(f"writing {FILES[0]}")
         written = [write_csv(out / FILES[0], study.kinematics_columns())]
         step(f"writing {FILES[1]}")

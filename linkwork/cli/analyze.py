@@ -19,6 +19,7 @@ import typer
 
 from linkwork import io
 from linkwork.cli._args import (
+    load_errors,
     output_dir,
     output_run,
     parse_angles,
@@ -48,11 +49,20 @@ def without_command_tables(raw: dict[str, Any], keep: str = "") -> dict[str, Any
     return {k: v for k, v in raw.items() if k == keep or k not in COMMAND_TABLES}
 
 
+def synthesis_task(doc: io.SynthesisFile, **_: Any) -> None:
+    """A synthesis task is not a mechanism: say which command runs it."""
+    kinds = [k for k in ("function", "motion", "path") if getattr(doc, k) is not None]
+    raise FileFormatError(doc.name, "type", "'synthesis' is a task, not a mechanism: run "
+                          + " or ".join(f"`linkwork synthesize {k} FILE`" for k in kinds)
+                          + "; analyse the design files it writes")
+
+
 #: File class -> its analyser.
 ANALYZERS: dict[type, Callable[..., Any]] = {
     io.PlanarFile: analyze_planar,
     io.SinePressFile: analyze_sine_press,
     io.SwashplateFile: analyze_swashplate,
+    io.SynthesisFile: synthesis_task,
 }
 
 
@@ -82,5 +92,7 @@ def register(app: typer.Typer) -> None:
             table = None if angles is None else table_positions(doc, angles)
         else:
             table = parse_angles(DEFAULT_ANGLES if angles is None else angles)
-        with output_run(out, command="analyze", file=file):
+        if isinstance(doc, io.SynthesisFile):  # before the output folder is touched
+            synthesis_task(doc)
+        with output_run(out, command="analyze", file=file), load_errors(file, doc):
             analyzers[type(doc)](doc, out=out, angles=table, console=make_console())

@@ -29,7 +29,7 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork import io
-from linkwork.cli._args import output_dir, output_run, parse_angles_deg
+from linkwork.cli._args import load_errors, output_dir, output_run, parse_angles_deg
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt, scale_of, unit_label
 from linkwork.cli._tables import print_table
@@ -226,7 +226,7 @@ def register(app: typer.Typer) -> None:
         _, _, doc = load_balance_file(file)
         table = None if angles is None else parse_angles_deg(angles)
         # --out checked before the work: an unusable one must not cost an optimisation
-        with output_run(out, command="balance", file=file):
+        with output_run(out, command="balance", file=file), load_errors(file, doc):
             console = make_console()
             if doc.load:
                 console.print("note: the file's external loads enter the driving torque and "

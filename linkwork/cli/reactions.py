@@ -20,7 +20,13 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork import io
-from linkwork.cli._args import output_dir, output_run, reach_scheduler, table_positions
+from linkwork.cli._args import (
+    load_errors,
+    output_dir,
+    output_run,
+    reach_scheduler,
+    table_positions,
+)
 from linkwork.cli._console import console as make_console
 from linkwork.cli._format import fmt
 from linkwork.cli._tables import print_table
@@ -243,10 +249,10 @@ def register(app: typer.Typer) -> None:
         doc = _load(file)
         doc.check_spatial_positions(file)  # the cycle's size, before any work
         if tolerance_study and doc.spatial.tolerance:  # its memory bound, before any work
-            check_samples(tolerance_study, len(doc.joint), doc.spatial.n_deviations(),
+            check_samples(tolerance_study, len(doc.mechanism().joints), doc.spatial.n_deviations(),
                           parameter="--tolerance-study")
         table = None if angles is None else table_positions(doc, angles)
-        with output_run(out, command="reactions", file=file):
+        with output_run(out, command="reactions", file=file), load_errors(file, doc):
             study = study_reactions.run(doc, angles=table, method=method)
             _report(study, out=out, console=make_console(), plots=plots,
                     n=tolerance_study or 0, seed=seed, scheduler=scheduler,

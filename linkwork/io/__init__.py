@@ -6,7 +6,9 @@ pydantic class (a :class:`~linkwork.io.toml.FileModel`) in a module of this pack
 * :class:`~linkwork.io.planar.PlanarFile` (``type = "planar"``): any planar linkage of the
   engine, with the optional ``[balance]`` and ``[spatial]`` sections;
 * :class:`~linkwork.io.sine_press.SinePressFile` (``type = "sine_press"``): paper 000's press;
-* :class:`~linkwork.io.swashplate.SwashplateFile` (``type = "swashplate"``): paper 003's drive.
+* :class:`~linkwork.io.swashplate.SwashplateFile` (``type = "swashplate"``): paper 003's drive;
+* :class:`~linkwork.io.synthesis.SynthesisFile` (``type = "synthesis"``): a synthesis task
+  (path, function or motion generation) for ``linkwork synthesize``.
 
 :data:`FILE_TYPES` maps the ``type`` to the class; :func:`load` reads a file, picks the class and
 returns the validated document. A new file type is a class in a new module here, added to
@@ -22,16 +24,18 @@ from linkwork.errors import FileFormatError
 from linkwork.io.planar import PlanarFile
 from linkwork.io.sine_press import SinePressFile
 from linkwork.io.swashplate import SwashplateFile
+from linkwork.io.synthesis import SynthesisFile
 from linkwork.io.toml import FileModel, read_toml, validate
 
-__all__ = ["FILE_TYPES", "FileModel", "PlanarFile", "SinePressFile", "SwashplateFile", "load",
-           "read_toml"]
+__all__ = ["FILE_TYPES", "FileModel", "PlanarFile", "SinePressFile", "SwashplateFile",
+           "SynthesisFile", "load", "read_toml"]
 
 #: File type (the file's top-level ``type`` key) -> its class.
 FILE_TYPES: dict[str, type[FileModel]] = {
     "sine_press": SinePressFile,
     "planar": PlanarFile,
     "swashplate": SwashplateFile,
+    "synthesis": SynthesisFile,
 }
 
 

@@ -60,6 +60,31 @@ Example (the four-bar of ``examples/fourbar_paper001.toml``)::
                                          # positions, e.g. ["200 mm", "220 mm"]
     from_frame = false             # true: the load comes from the frame (a press's workpiece on
                                    # the bed) and cancels in the shaking force and moment
+    # type = "slide": joint (prismatic or slot), force along its line on its body b (reaction
+    # on a); type = "drag": body, point, force (constant magnitude), damping [N*s/m], against
+    # the point's velocity; name = "..." (optional, default load.<i>)
+
+    [[load]]                       # a load diagram (docs/forces.md)
+    name = "drawing"
+    type = "slide"
+    joint = "guide"
+    [load.diagram]                 # also for type = "torque" (mz) and "force" (with angle)
+    over = "guide"                 # "driver" or a prismatic/slot joint: its slide s
+    when = "decreasing"            # "always" | "increasing" | "decreasing"
+    outside = "zero"               # "zero" | "error" (no extrapolation)
+    table = [["-450 mm", "100 kN"], ["-440 mm", "200 kN"], ["-430 mm", "0 kN"]]
+
+    [[spring]]                     # between points of any two bodies, the frame included
+    a = "frame"
+    point_a = "K"                  # name, "com" or [x, y] in the body's frame
+    b = "ram"
+    point_b = "R"
+    stiffness = "5 N/mm"
+    free_length = "400 mm"
+    preload = "2.5 kN"             # tension at the free length (optional)
+
+    [[damper]]                     # a, point_a, b, point_b as a spring
+    damping = "200 N*s/m"
 
     [balance]                      # optional: read by `linkwork balance` (paper 001)
     links = ["crank", "rocker"]    # counterweighted frame-hinged links
@@ -105,6 +130,7 @@ model: the file is read and validated once, whichever command reads it.
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 from typing import Annotated, Any, Literal, Self
 
@@ -118,6 +144,7 @@ from linkwork.io.toml import (
     Angle,
     AngularAcceleration,
     AngularVelocity,
+    Damping,
     Dimensionless,
     FileModel,
     Force,
@@ -129,8 +156,18 @@ from linkwork.io.toml import (
     Velocity,
     _validation_error,
     parameter_error,
+    quantity,
 )
-from linkwork.planar.dynamics import BodyTorque, PointForce
+from linkwork.planar.forces import (
+    BodyTorque,
+    Damper,
+    Drag,
+    Load,
+    LoadDiagram,
+    PointForce,
+    SlideForce,
+    Spring,
+)
 from linkwork.planar.model import (
     Body,
     Crank,
@@ -142,6 +179,7 @@ from linkwork.planar.model import (
     Revolute,
     bar,
 )
+from linkwork.planar.sketch import sketch
 from linkwork.redundancy.core import DEFAULT_BEARING_STIFFNESS, check_tilt
 from linkwork.units import to_si
 
@@ -259,10 +297,13 @@ class JointSection(FileModel):
 
 
 class DriverSection(FileModel):
-    """The driver: a crank (revolute joint) or a linear actuator (prismatic joint)."""
+    """The driver: a crank (revolute joint) or a linear actuator (prismatic joint). In a file
+    with a ``[sketch]``, ``joint`` names a frame pivot's point (a crank; ``link``: which link,
+    if several are hinged there) or a slider (a linear driver)."""
 
     type: Literal["crank", "linear"] = "crank"
     joint: str
+    link: str | None = None
     omega1: AngularVelocity = 1.0
     eps1: AngularAcceleration = 0.0
     v1: Velocity = 1.0
@@ -277,9 +318,87 @@ class DriverSection(FileModel):
         return self
 
     def build(self) -> Crank | Linear:
+        if self.link is not None:
+            raise ParameterError("driver.link", self.link, "names the driven link of a frame "
+                                 "pivot in a [sketch]; with [[joint]] the joint says it")
         if self.type == "crank":
             return Crank(self.joint, self.omega1, self.eps1)
         return Linear(self.joint, self.v1, self.a1)
+
+    def sketch_spec(self) -> str | tuple[str, str]:
+        """The driver as :func:`linkwork.planar.sketch` names it."""
+        return self.joint if self.link is None else (self.joint, self.link)
+
+    def speeds(self) -> tuple[float, float]:
+        """(speed, acceleration) of the driver [rad/s, rad/s^2, or m/s, m/s^2]."""
+        return (self.omega1, self.eps1) if self.type == "crank" else (self.v1, self.a1)
+
+
+class SliderSection(FileModel):
+    """``[sketch.sliders.NAME]``: a prismatic pair as drawn (:class:`linkwork.planar.Slider`)."""
+
+    point: str
+    guide: str
+    angle: Angle | None = None
+    along: tuple[str, str] | None = None
+    body: str | None = None
+
+
+class SlotSection(FileModel):
+    """``[sketch.slots.NAME]``: a pin-in-slot pair as drawn (:class:`linkwork.planar.Slot`)."""
+
+    point: str
+    guide: str
+    angle: Angle | None = None
+    along: tuple[str, str] | None = None
+
+
+class LinkMassSection(FileModel):
+    """``[sketch.masses.LINK]``: mass, centre of mass (a drawn point's name or world [x, y] as
+    drawn), centroidal inertia (:class:`linkwork.planar.LinkMass`)."""
+
+    mass: Mass = 0.0
+    com: str | XY | None = None
+    inertia: Inertia | None = None
+
+
+class SketchSection(FileModel):
+    """``[sketch]``: the mechanism as drawn (:func:`linkwork.planar.sketch`): world coordinates
+    of its points in the drawn position, links as lists of points, ground points; the drivers
+    are the ``[driver]`` table's ``joint`` (a frame pivot's point or a slider's name)."""
+
+    frame: str = "frame"
+    points: dict[str, XY]
+    ground: list[str]
+    links: dict[str, list[str]]
+    sliders: dict[str, SliderSection] = Field(default_factory=dict)
+    slots: dict[str, SlotSection] = Field(default_factory=dict)
+    masses: dict[str, LinkMassSection | Mass] = Field(default_factory=dict)
+
+    def build(self, drivers: list[DriverSection]) -> Mechanism:
+        """The mechanism of the drawing (errors name the ``sketch.`` key)."""
+        for i, d in enumerate(drivers):
+            key = "driver" if len(drivers) == 1 else f"driver.{i}"
+            if (d.type == "linear") != (d.joint in self.sliders):
+                raise ParameterError(f"{key}.type", d.type,
+                                     f"must be {'linear' if d.joint in self.sliders else 'crank'}"
+                                     f" for joint {d.joint!r}, " + (
+                                         "a slider of the sketch" if d.joint in self.sliders
+                                         else "which is not a slider of the sketch (a linear "
+                                         "driver drives a [sketch.sliders] entry)"))
+        masses = {k: (v.model_dump() if isinstance(v, LinkMassSection) else v)
+                  for k, v in self.masses.items()}
+        try:
+            return sketch(dict(self.points), self.links, ground=self.ground,
+                          drivers=[d.sketch_spec() for d in drivers],
+                          sliders={k: v.model_dump() for k, v in self.sliders.items()},
+                          slots={k: v.model_dump() for k, v in self.slots.items()},
+                          masses=masses, frame=self.frame,
+                          speeds={d.joint: d.speeds() for d in drivers})
+        except ParameterError as exc:
+            raise ParameterError(f"sketch.{exc.parameter}", exc.value, exc.limit) from None
+        except LinkworkError as exc:
+            raise ParameterError("sketch", "the drawing", str(exc)) from None
 
 
 #: The most driver positions of ``[analysis] n``: ``linkwork analyze`` keeps about
@@ -319,15 +438,65 @@ class AnalysisSection(FileModel):
         return v
 
 
-class LoadSection(FileModel):
-    """An external force at a point (frame axes) or a couple on a body."""
+class DiagramSection(FileModel):
+    """``[load.diagram]``: the load's value as a table over the driver or a slide's position
+    (:class:`~linkwork.planar.forces.LoadDiagram`)."""
 
-    type: Literal["force", "torque"]
-    body: str
+    over: str = "driver"
+    table: list[tuple[float | str, float | str]]
+    when: Literal["always", "increasing", "decreasing"] = "always"
+    outside: Literal["zero", "error"] = "zero"
+
+    def build(self, key: str, linear: bool, value_kind: str) -> LoadDiagram:
+        """The diagram in SI: positions are crank angles (a plain number in radians) when it is
+        over a crank, slides [m] otherwise; values of ``value_kind``. ``key``: the dotted key of
+        this table (``load.2.diagram``), which every error names (a row: ``table.3``)."""
+        kind = "angle" if self.over == "driver" and not linear else "length"
+        xs = [quantity(x, kind, f"{key}.table.{r}.0") for r, (x, _) in enumerate(self.table)]
+        ys = [quantity(y, value_kind, f"{key}.table.{r}.1")
+              for r, (_, y) in enumerate(self.table)]
+        for r, x in enumerate(xs):
+            if kind == "angle" and not abs(x) <= MAX_ANGLE:
+                raise ParameterError(f"{key}.table.{r}.0", self.table[r][0],
+                                     f"must lie within +-{MAX_ANGLE:g} rad")
+            if r and not x > xs[r - 1]:
+                raise ParameterError(f"{key}.table.{r}.0", self.table[r][0], (
+                    f"the table's positions must increase strictly: it must be > "
+                    f"{self.table[r - 1][0]} (row {r - 1})"))
+        try:
+            return LoadDiagram(xs, ys, self.over, self.when, self.outside)
+        except ParameterError as exc:
+            row = exc.parameter.removeprefix("position[").removesuffix("]")
+            where = f"table.{row}.0" if row.isdigit() else "table"
+            raise ParameterError(f"{key}.{where}", exc.value, exc.limit) from None
+
+
+#: The keys each ``[[load]]`` type takes (besides ``type`` and ``name``).
+_LOAD_KEYS = {
+    "force": ("body", "point", "fx", "fy", "phi_range", "from_frame", "diagram", "angle"),
+    "torque": ("body", "mz", "phi_range", "from_frame", "diagram"),
+    "slide": ("joint", "force", "phi_range", "diagram"),
+    "drag": ("body", "point", "force", "damping", "from_frame"),
+}
+
+
+class LoadSection(FileModel):
+    """An external load: a force at a point (frame axes), a couple on a body, a force along
+    a prismatic or slot joint's line, or a drag opposing a point's velocity; the value of the
+    first three constant, over ``phi_range``, or a diagram."""
+
+    type: Literal["force", "torque", "slide", "drag"]
+    name: str = ""
+    body: str | None = None
     point: str | XY = "com"
     fx: Force = 0.0
     fy: Force = 0.0
     mz: Torque = 0.0
+    joint: str | None = None
+    force: Force = 0.0
+    damping: Damping = 0.0
+    angle: Angle = 0.0
+    diagram: DiagramSection | None = None
     phi_range: tuple[float | str, float | str] | None = None
     from_frame: bool = False
 
@@ -348,16 +517,47 @@ class LoadSection(FileModel):
 
     @model_validator(mode="after")
     def _keys_of_type(self) -> LoadSection:
-        if self.type == "force":
-            _refuse_keys(self, ("mz",), "a force at a point (fx, fy, point); give a couple as "
-                         "a separate [[load]] of type = 'torque'")
-        else:
-            _refuse_keys(self, ("point", "fx", "fy"), "a couple on the body (mz); give a force "
-                         "as a separate [[load]] of type = 'force'")
+        takes = _LOAD_KEYS[self.type]
+        unused = tuple(k for keys in _LOAD_KEYS.values() for k in keys if k not in takes)
+        what = {"force": "a force at a point (fx, fy, point, or a diagram along angle); give a "
+                         "couple as a separate [[load]] of type = 'torque'",
+                "torque": "a couple on the body (mz, or a diagram); give a force as a separate "
+                          "[[load]] of type = 'force'",
+                "slide": "a force along a prismatic or slot joint's line (joint, force, or a "
+                         "diagram)",
+                "drag": "a force against a point's velocity (body, point, force, damping)"}
+        _refuse_keys(self, tuple(dict.fromkeys(unused)), what[self.type])
+        need = "joint" if self.type == "slide" else "body"
+        if getattr(self, need) is None:
+            raise ParameterError(need, None, f"is required by type = {self.type!r}")
+        if self.diagram is not None:
+            value = {"force": ("fx", "fy"), "torque": ("mz",), "slide": ("force",)}[self.type]
+            _refuse_keys(self, (*value, "phi_range"), "its value from the diagram (and its "
+                         "range from the diagram's table)")
+            if self.type == "force" and "angle" not in self.model_fields_set:
+                raise ParameterError("angle", None, "is required by a force given by a "
+                                     "diagram: its direction in the frame's axes")
+        elif "angle" in self.model_fields_set:
+            raise ParameterError("angle", self.angle, "is the direction of a force given by a "
+                                 "diagram: give [load.diagram], or fx and fy")
         return self
 
-    def build(self, phi1: np.ndarray, i: int = 0, linear: bool = False
-              ) -> PointForce | BodyTorque:
+    def build(self, phi1: np.ndarray, i: int = 0, linear: bool = False) -> Load:
+        """The load as the engine takes it (its name: ``name`` or ``load.<i>``); a constant
+        value acts over ``phi_range`` (evaluated at ``phi1``), a diagram as its table says."""
+        name = self.name or f"load.{i}"
+        if self.type == "drag":
+            return Drag(str(self.body), self.point, self.force, self.damping, self.from_frame,
+                        name)
+        if self.diagram is not None:
+            key = f"load.{i}.diagram"
+            d = self.diagram.build(key, linear, "torque" if self.type == "torque" else "force")
+            if self.type == "force":
+                return PointForce(str(self.body), self.point, d.times(math.cos(self.angle)),
+                                  d.times(math.sin(self.angle)), self.from_frame, name)
+            if self.type == "torque":
+                return BodyTorque(str(self.body), d, self.from_frame, name)
+            return SlideForce(str(self.joint), d, name)
         on: np.ndarray | float = 1.0
         rng = self.driver_range(i, linear)
         if rng is not None and linear:
@@ -368,9 +568,44 @@ class LoadSection(FileModel):
             rel = np.mod(phi1 - lo, two_pi)
             on = (rel <= np.mod(hi - lo, two_pi) + 1e-12).astype(float)
         if self.type == "force":
-            return PointForce(self.body, self.point, self.fx * on, self.fy * on,
-                              self.from_frame)
-        return BodyTorque(self.body, self.mz * on, self.from_frame)
+            return PointForce(str(self.body), self.point, self.fx * on, self.fy * on,
+                              self.from_frame, name)
+        if self.type == "torque":
+            return BodyTorque(str(self.body), self.mz * on, self.from_frame, name)
+        return SlideForce(str(self.joint), self.force * on, name)
+
+
+class _TwoPointSection(FileModel):
+    """An element between a point of body ``a`` and a point of body ``b`` (either may be the
+    frame): a point name, ``"com"`` or [x, y] in the body's frame."""
+
+    name: str = ""
+    a: str
+    point_a: str | XY
+    b: str
+    point_b: str | XY
+
+
+class SpringSection(_TwoPointSection):
+    """``[[spring]]``: a linear spring (:class:`~linkwork.planar.forces.Spring`)."""
+
+    stiffness: Stiffness
+    free_length: Length
+    preload: Force = 0.0
+
+    def build(self, i: int) -> Spring:
+        return Spring(self.a, self.point_a, self.b, self.point_b, self.stiffness,
+                      self.free_length, self.preload, self.name or f"spring.{i}")
+
+
+class DamperSection(_TwoPointSection):
+    """``[[damper]]``: a viscous damper (:class:`~linkwork.planar.forces.Damper`)."""
+
+    damping: Damping
+
+    def build(self, i: int) -> Damper:
+        return Damper(self.a, self.point_a, self.b, self.point_b, self.damping,
+                      self.name or f"damper.{i}")
 
 
 class BalanceSection(FileModel):
@@ -623,12 +858,15 @@ class PlanarFile(FileModel):
     name: str = ""
     description: str = ""
     source: str = ""
-    frame: FrameSection
-    body: list[BodySection]
-    joint: list[JointSection]
+    frame: FrameSection | None = None
+    body: list[BodySection] = Field(default_factory=list)
+    joint: list[JointSection] = Field(default_factory=list)
+    sketch: SketchSection | None = None
     driver: DriverSection
     analysis: AnalysisSection = Field(default_factory=lambda: AnalysisSection())
     load: list[LoadSection] = Field(default_factory=list)
+    spring: list[SpringSection] = Field(default_factory=list)
+    damper: list[DamperSection] = Field(default_factory=list)
     balance: BalanceSection = Field(default_factory=lambda: BalanceSection())
     spatial: SpatialSpec = Field(default_factory=lambda: SpatialSpec())
     #: The Mechanism built (and decomposed) when the file was validated, with the sections it
@@ -642,6 +880,11 @@ class PlanarFile(FileModel):
         for table in ("spatial", "balance"):
             if table in data and not isinstance(data[table], dict):
                 raise FileFormatError(str(path), table, "must be a table")
+        if "sketch" not in data:
+            for key in ("frame", "body", "joint"):
+                if key not in data:  # as pydantic words it, and the way out
+                    raise FileFormatError(str(path), key, "missing required key (or describe "
+                                          "the mechanism by its drawing in a [sketch])")
         try:
             doc = cls.model_validate(data)
         except pydantic.ValidationError as exc:
@@ -666,6 +909,24 @@ class PlanarFile(FileModel):
                                   "range for the reactions")
 
     @model_validator(mode="after")
+    def _one_description(self) -> PlanarFile:
+        """The mechanism is described either by ``[frame]``, ``[[body]]``, ``[[joint]]`` or by
+        a ``[sketch]`` (its drawing), not both."""
+        if self.sketch is not None:
+            given = [k for k in ("frame", "body", "joint") if k in self.model_fields_set]
+            if given:
+                raise ParameterError(given[0], f"[{given[0]}]", "a [sketch] describes the "
+                                     f"mechanism by its drawing: leave out [{given[0]}] (or "
+                                     "describe it by [frame], [[body]], [[joint]] without "
+                                     "[sketch])")
+        else:
+            missing = [k for k in ("frame", "body", "joint") if k not in self.model_fields_set]
+            if missing:
+                raise ParameterError(missing[0], "missing", "a required key (or describe the "
+                                     "mechanism by its drawing in a [sketch])")
+        return self
+
+    @model_validator(mode="after")
     def _check(self) -> PlanarFile:
         mech = self.mechanism()
         try:
@@ -680,17 +941,22 @@ class PlanarFile(FileModel):
                                  f"no assembly group has this key; known: {keys}")
         self.positions()
         self._check_loads()
-        for i, ld in enumerate(self.load):
-            ld.driver_range(i, self.driver.type == "linear")
         return self
 
     def mechanism(self) -> Mechanism:
         """The engine model described by the file (built once: an immutable Mechanism whose
         structure analysis is cached with it)."""
-        sources = (self.frame, self.body, self.joint, self.driver, self.analysis)
+        sources = (self.frame, self.body, self.joint, self.sketch, self.driver, self.analysis)
         if self._built is not None and all(
                 a is b for a, b in zip(self._built[0], sources, strict=True)):
             return self._built[1]
+        if self.sketch is not None:
+            mech = self.sketch.build([self.driver])
+            if self.analysis.branches:  # explicit branches override the drawing's
+                mech = mech.with_branches(**self.analysis.branches)
+            self._built = (sources, mech)
+            return mech
+        assert self.frame is not None  # _one_description
         frame = Body(self.frame.name, self.frame.points)
         bodies = tuple(b.build() for b in self.body)
         joints = tuple(j.build() for j in self.joint)
@@ -717,34 +983,89 @@ class PlanarFile(FileModel):
                                  f"must be > analysis.start = {self.analysis.start}")
         return np.linspace(lo, hi, self.analysis.n)
 
-    def loads(self, phi1: np.ndarray) -> list[PointForce | BodyTorque]:
-        """External loads evaluated at the driver positions ``phi1``.
+    def loads(self, phi1: np.ndarray) -> list[Load]:
+        """External loads and force elements at the driver positions ``phi1``: the
+        ``[[load]]`` tables (constant values evaluated over ``phi_range``), then the
+        ``[[spring]]`` and ``[[damper]]`` tables; named as written or ``load.<i>``,
+        ``spring.<i>``, ``damper.<i>`` (:meth:`load_keys` gives their file keys).
 
         Raises
         ------
         ParameterError
             A load names no moving body (``load.<i>.body``) or no point of its body
-            (``load.<i>.point``).
+            (``load.<i>.point``), ... (checked when the file is read).
         """
         self._check_loads()
         linear = self.driver.type == "linear"
-        return [ld.build(phi1, i, linear) for i, ld in enumerate(self.load)]
+        return [*(ld.build(phi1, i, linear) for i, ld in enumerate(self.load)),
+                *(sp.build(i) for i, sp in enumerate(self.spring)),
+                *(dp.build(i) for i, dp in enumerate(self.damper))]
+
+    def load_keys(self) -> list[str]:
+        """The file key of each entry of :meth:`loads`, in its order (``load.2``,
+        ``spring.0``)."""
+        return [*(f"load.{i}" for i in range(len(self.load))),
+                *(f"spring.{i}" for i in range(len(self.spring))),
+                *(f"damper.{i}" for i in range(len(self.damper)))]
+
+    def file_error(self, exc: ParameterError) -> ParameterError:
+        """``exc`` with a load's parameter as the file writes it: ``loads[3].point_a`` (the
+        engine's name, by the place in :meth:`loads`) becomes ``spring.0.point_a``, a diagram's
+        ``loads[1].force.position`` becomes ``load.1.diagram.table``. Other errors are
+        returned as they are."""
+        m = re.fullmatch(r"loads\[(\d+)\](.*)", exc.parameter)
+        keys = self.load_keys()
+        if m is None or int(m[1]) >= len(keys):
+            return exc
+        rest = m[2]
+        d = re.fullmatch(r"\.(fx|fy|mz|force)\.(position|value|over)(.*)", rest)
+        if d is not None and keys[int(m[1])].startswith("load."):
+            rest = ".diagram." + ("over" if d[2] == "over" else "table") + d[3]
+        return ParameterError(keys[int(m[1])] + rest, exc.value, exc.limit)
 
     def _check_loads(self) -> None:
-        """Every load names a moving body and a point of it (checked when the file loads, so
-        that the error carries the file's name)."""
-        moving = {b.name: b for b in self.body}
+        """Every load and force element fits the mechanism (bodies, points, joints, values,
+        diagrams; checked when the file loads, so that the error carries the file's name and
+        its keys); names are unique."""
+        mech = self.mechanism()
+        linear = self.driver.type == "linear"
+        moving = {b.name: b for b in mech.bodies}
         for i, ld in enumerate(self.load):
-            if ld.body not in moving:
+            if ld.body is not None and ld.body not in moving:
                 why = ("loads act on moving bodies, not on the frame"
-                       if ld.body == self.frame.name else "no such moving body")
+                       if ld.body == mech.frame.name else "no such moving body")
                 raise ParameterError(f"load.{i}.body", ld.body, f"{why}; known: {list(moving)}")
-            if isinstance(ld.point, str) and ld.point != "com":
-                known = list(moving[ld.body].build().points)
+            if ld.body is not None and isinstance(ld.point, str) and ld.point != "com":
+                known = list(moving[ld.body].points)
                 if ld.point not in known:
                     raise ParameterError(f"load.{i}.point", ld.point,
                                          f"no such point of body {ld.body!r}; known: "
                                          f"{[*known, 'com']}")
+            ld.driver_range(i, linear)
+            if ld.diagram is not None:
+                ld.diagram.build(f"load.{i}.diagram", linear, "torque" if ld.type == "torque"
+                                 else "force").check(mech, f"load.{i}.diagram")
+        sections: list[tuple[str, LoadSection | SpringSection | DamperSection]] = [
+            *((f"load.{i}", ld) for i, ld in enumerate(self.load)),
+            *((f"spring.{i}", sp) for i, sp in enumerate(self.spring)),
+            *((f"damper.{i}", dp) for i, dp in enumerate(self.damper))]
+        built: list[tuple[str, Load]] = []
+        for key, sec in sections:
+            i = int(key.rsplit(".", 1)[1])
+            try:
+                built.append((key, sec.build(np.zeros(1), i, linear)
+                              if isinstance(sec, LoadSection) else sec.build(i)))
+            except ParameterError as exc:  # a value the element refuses (stiffness < 0)
+                if exc.parameter.startswith(f"{key}."):  # already the file's key
+                    raise
+                raise ParameterError(f"{key}.{exc.parameter}", exc.value, exc.limit) from None
+        names: dict[str, str] = {}
+        for key, el in built:
+            el.check(mech, key)  # names its keys under ``key`` (the diagrams: checked above)
+            if el.name in names:
+                raise ParameterError(f"{key}.name", el.name, f"must be unique among the "
+                                     f"loads, springs and dampers (also {names[el.name]})")
+            names[el.name] = key
 
     def _check_spatial_names(self, path: str | Path) -> None:
         """Every joint and body the ``[spatial]`` table names exists in the mechanism.

@@ -27,6 +27,7 @@ __all__ = [
     "Angle",
     "AngularAcceleration",
     "AngularVelocity",
+    "Damping",
     "Dimensionless",
     "FileModel",
     "Force",
@@ -34,10 +35,12 @@ __all__ = [
     "Inertia",
     "Length",
     "Mass",
+    "Power",
     "Stiffness",
     "Time",
     "Torque",
     "Velocity",
+    "quantity",
     "read_toml",
     "validate",
 ]
@@ -50,8 +53,9 @@ __all__ = [
 #: where they are read (the float spacing of large angles), dimensionless values none.
 MAGNITUDE_LIMITS: dict[str, float] = {
     "length": 1e4, "angular_velocity": 1e6, "angular_acceleration": 1e9, "velocity": 1e4,
-    "acceleration": 1e8, "mass": 1e9, "inertia": 1e12, "force": 1e12, "torque": 1e12,
+    "acceleration": 1e8, "mass": 1e9, "inertia": 1e12, "force": 1e12, "torque": 1e12, "power": 1e12,
     "time": 1e9, "frequency": 1e6, "stiffness": 1e15, "rotational_stiffness": 1e15,
+    "damping": 1e12,
 }
 
 
@@ -71,6 +75,17 @@ def _quantity(kind: str) -> Callable[[Any], float]:
         return si
 
     return convert
+
+
+def quantity(value: Any, kind: str, key: str) -> float:
+    """``value`` (a number, SI, or a string with a unit) in the SI unit of ``kind``, checked as
+    the file's quantity types check it (finite, within :data:`MAGNITUDE_LIMITS`), for values
+    whose kind a file knows only from other keys (a load diagram's table); a
+    :class:`~linkwork.errors.ParameterError` naming ``key`` otherwise."""
+    try:
+        return _quantity(kind)(value)
+    except ValueError as exc:
+        raise ParameterError(key, value, str(exc)) from None
 
 
 def _key(loc: tuple[Any, ...]) -> str | None:
@@ -95,8 +110,10 @@ Mass = Annotated[float, BeforeValidator(_quantity("mass"))]
 Inertia = Annotated[float, BeforeValidator(_quantity("inertia"))]
 Force = Annotated[float, BeforeValidator(_quantity("force"))]
 Torque = Annotated[float, BeforeValidator(_quantity("torque"))]
+Power = Annotated[float, BeforeValidator(_quantity("power"))]
 Time = Annotated[float, BeforeValidator(_quantity("time"))]
 Stiffness = Annotated[float, BeforeValidator(_quantity("stiffness"))]
+Damping = Annotated[float, BeforeValidator(_quantity("damping"))]
 Dimensionless = Annotated[float, BeforeValidator(_quantity("dimensionless"))]
 Frequency = Annotated[float, BeforeValidator(_quantity("frequency"))]
 

@@ -126,6 +126,15 @@ class CrankSliderResult(Result):
         "pressure_angle": "rad", "valid": "1",
     }
 
+    def _scene(self) -> Any:
+        """The crank-slider drawn over the crank angles (one design only; None for several)."""
+        if np.ndim(self.phi1) != 1 or np.ndim(self.L1) or np.ndim(self.lambda2) \
+                or np.ndim(self.lambda_e):
+            return None
+        from linkwork.plot.scene import crank_slider_scene
+
+        return crank_slider_scene(self)
+
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
         """Slider position, velocity and acceleration over the crank angle (1-D results): a
         :class:`linkwork.plot.Figure` with 3 axes."""

@@ -114,6 +114,14 @@ class InclinedSlotResult(Result):
         "a32": "m/s^2",
     }
 
+    def _scene(self) -> Any:
+        """The mechanism drawn over the crank angles (one design only; None for several)."""
+        if np.ndim(self.phi1) != 1 or np.size(self.L1) != 1 or np.size(self.alpha) != 1:
+            return None
+        from linkwork.plot.scene import inclined_slot_scene
+
+        return inclined_slot_scene(self)
+
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
         """Ram position, velocity and acceleration over the crank angle (1-D results): a
         :class:`linkwork.plot.Figure` with 3 axes."""

@@ -802,6 +802,14 @@ class KinematicsResult(Result):
                     self.characteristics.scalars().items()})
         return out
 
+    def _scene(self) -> Any:
+        """The drive drawn over the rotor angles (:func:`linkwork.plot.scene.swashplate_scene`
+        with the slide and disk points of :func:`points`)."""
+        from linkwork.plot.scene import swashplate_scene
+
+        A, B = points(self.phi, *self.design.params)
+        return swashplate_scene(self, A, B)
+
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
         """Position, pressure angle and transfer function over the rotor angle: a
         :class:`linkwork.plot.Figure` with 3 axes."""

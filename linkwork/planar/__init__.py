@@ -69,6 +69,14 @@ from linkwork.planar.dynamics import (
     inverse_dynamics,
     kinetic_energy,
 )
+from linkwork.planar.forces import (
+    AppliedLoad,
+    Damper,
+    Drag,
+    LoadDiagram,
+    SlideForce,
+    Spring,
+)
 from linkwork.planar.kinematics import (
     DeadCentre,
     Kinematics,
@@ -80,6 +88,7 @@ from linkwork.planar.kinematics import (
 from linkwork.planar.model import (
     Body,
     Crank,
+    Drawing,
     Joint,
     Linear,
     Mechanism,
@@ -92,25 +101,38 @@ from linkwork.planar.model import (
     fourbar,
     fourbar_mechanism,
 )
+from linkwork.planar.self_locking import WorkingRange, working_range
+from linkwork.planar.sketch import LinkMass, Slider, Slot, sketch
 from linkwork.planar.structure import Group, Structure, analyse, mobility
 
 __all__ = [
+    "AppliedLoad",
     "Body",
     "BodyTorque",
     "Crank",
+    "Damper",
     "DeadCentre",
+    "Drag",
+    "Drawing",
     "Dynamics",
     "Group",
     "Joint",
     "Kinematics",
     "Linear",
+    "LinkMass",
+    "LoadDiagram",
     "Mechanism",
     "PinInSlot",
     "PointForce",
     "PointMotion",
     "Prismatic",
     "Revolute",
+    "SlideForce",
+    "Slider",
+    "Slot",
+    "Spring",
     "Structure",
+    "WorkingRange",
     "analyse",
     "bar",
     "crank_slider",
@@ -122,5 +144,7 @@ __all__ = [
     "kinematics",
     "kinetic_energy",
     "mobility",
+    "sketch",
     "transmission_angles",
+    "working_range",
 ]

@@ -38,10 +38,11 @@ from typing import TYPE_CHECKING, Any, ClassVar
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.checks import per_position, require_finite
+from linkwork.checks import require_finite
 from linkwork.cycles import mean_over_range
 from linkwork.errors import ParameterError
-from linkwork.planar import friction
+from linkwork.planar import forces, friction
+from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.joints import ResolvedJoint
 from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
@@ -56,36 +57,6 @@ if TYPE_CHECKING:
 
 __all__ = ["CHUNK", "BodyTorque", "Dynamics", "PointForce", "inverse_dynamics",
            "kinetic_energy"]
-
-
-
-@dataclass(frozen=True)
-class PointForce:
-    """External force on ``body`` at ``point`` (name, ``"com"`` or local (x, y) [m]).
-
-    ``fx, fy`` [N] in the fixed frame's axes, scalars or arrays over the positions.
-    ``from_frame``: the force comes from something held by the frame (the workpiece on a
-    press's bed, a spring or cylinder anchored to it), so its reaction acts on the frame at the
-    same point and it cancels in the shaking force and moment (default False: the load comes
-    from outside the machine, and the frame's bearings carry all of it).
-    """
-
-    body: str
-    point: str | tuple[float, float] = "com"
-    fx: ArrayLike = 0.0
-    fy: ArrayLike = 0.0
-    from_frame: bool = False
-
-
-@dataclass(frozen=True)
-class BodyTorque:
-    """External couple ``mz`` [N m] on ``body`` (counter-clockwise positive), scalar or array.
-
-    ``from_frame``: the couple reacts on the frame (see :class:`PointForce`)."""
-
-    body: str
-    mz: ArrayLike = 0.0
-    from_frame: bool = False
 
 
 @dataclass(frozen=True)
@@ -136,6 +107,15 @@ class Dynamics(Result):
         Newton steps of the friction solve (0 without friction).
     friction_static : bool
         The driver is at rest at every position: friction is not determined and set to zero.
+    loads : tuple of AppliedLoad
+        Every load as evaluated on the motion, in the order given
+        (:class:`~linkwork.planar.forces.AppliedLoad`: name, kind, value, power, energy, the
+        forces it exerts); :meth:`load` finds one by name.
+    load_power : ndarray (n_loads, n)
+        Power of each load on the moving bodies [W] (rows in ``loads`` order; a spring's is
+        ``-dV/dt``, a damper's <= 0).
+    V : ndarray (n,)
+        Energy stored in the springs [J] (zero without springs).
     """
 
     kinematics: Kinematics
@@ -162,11 +142,14 @@ class Dynamics(Result):
     kappa: Arr
     friction_iterations: int
     friction_static: bool
+    loads: tuple[AppliedLoad, ...]
+    load_power: Arr
+    V: Arr
     units: ClassVar[dict[str, str]] = {
         "phi1": "rad", "fx": "N", "fy": "N", "mz": "N*m", "px": "m", "py": "m", "Q": "N*m",
         "shaking_fx": "N", "shaking_fy": "N", "shaking_m": "N*m", "T": "J",
         "Q_frictionless": "N*m", "friction_fx": "N", "friction_fy": "N", "friction_mz": "N*m",
-        "friction_power": "W", "locked": "1", "kappa": ""}
+        "friction_power": "W", "locked": "1", "kappa": "", "load_power": "W", "V": "J"}
 
     def __post_init__(self) -> None:
         du = self.kinematics.mechanism.driver.field_units  # a linear driver: slide, force
@@ -183,6 +166,13 @@ class Dynamics(Result):
             raise ParameterError("joint", joint, f"no such joint; known: {list(self.joints)}"
                                  ) from None
         return self.fx[i], self.fy[i]
+
+    def load(self, name: str) -> AppliedLoad:
+        """The load called ``name`` as evaluated (value, power, energy, forces)."""
+        for ld in self.loads:
+            if ld.name == name:
+                return ld
+        raise ParameterError("load", name, f"no such load; known: {[x.name for x in self.loads]}")
 
     def reaction_magnitude(self, joint: str) -> Arr:
         """|R| of joint ``joint`` [N]."""
@@ -281,6 +271,10 @@ class Dynamics(Result):
                 i += 1
         return out
 
+    def _scene(self) -> Any:
+        """The mechanism drawn over the positions of its kinematics."""
+        return self.kinematics._scene()
+
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
         """Driving torque (or force) with its mean and the joint reaction magnitudes: a
         :class:`linkwork.plot.Figure` with 2 axes (:mod:`linkwork.plot.planar` also draws the
@@ -317,7 +311,7 @@ _PER_POSITION = ("fx", "fy", "mz", "px", "py", "Q", "shaking_fx", "shaking_fy", 
 
 
 def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
-                     loads: Sequence[PointForce | BodyTorque] = (),
+                     loads: Sequence[Load] = (),
                      about: ArrayLike = (0.0, 0.0)) -> Dynamics:
     """Joint reactions, driving torque, shaking force/moment and kinetic energy.
 
@@ -327,8 +321,10 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         Result of :func:`~linkwork.planar.kinematics.kinematics`.
     gravity : (gx, gy), optional
         Gravity acceleration [m/s^2] in frame axes, e.g. ``(0, -9.81)``; default none.
-    loads : sequence of PointForce and BodyTorque
-        External loads on moving bodies (constant or per position).
+    loads : sequence of loads
+        External loads and force elements (:mod:`linkwork.planar.forces`): PointForce,
+        BodyTorque, SlideForce (numbers, arrays over the positions or LoadDiagram), Spring,
+        Damper, Drag.
     about : (x, y)
         Point about which the shaking moment is taken [m] (default the frame origin).
 
@@ -346,22 +342,28 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     from the driver speed over all positions, as without chunks.
     """
     require_kinematics(kin)
-    if isinstance(loads, PointForce | BodyTorque) or not isinstance(loads, Sequence):
-        raise ParameterError("loads", loads, "must be a sequence (list or tuple) of PointForce "
-                             "and BodyTorque")
+    g = (0.0, 0.0) if gravity is None else tuple(float(v) for v in require_finite(
+        "gravity", gravity).ravel())
+    if len(g) != 2:
+        raise ParameterError("gravity", gravity, "must be a vector (gx, gy) [m/s^2]")
+    ab = tuple(float(v) for v in require_finite("about", about).ravel())
+    if len(ab) != 2:
+        raise ParameterError("about", about, "must be a point (x, y) [m]")
+    # the loads are checked and evaluated over the whole cycle (a load diagram's rest band,
+    # a spring's length), once; the chunks take their slices
+    applied = forces.apply(kin, loads)
     n = kin.n
     plan = kin.mechanism.plan
     width = friction.sign_widths(plan, kin.omega1) if friction.has_friction(plan) else None
     if n <= CHUNK:
-        return _inverse_dynamics(kin, gravity, loads, about, width)
-    loads = [_per_position_load(ld, k, n) for k, ld in enumerate(loads)]
+        return _inverse_dynamics(kin, (g[0], g[1]), (ab[0], ab[1]), applied, width)
     parts: dict[str, Arr] = {}
     iterations = 0
     first: Dynamics | None = None
     for lo in range(0, n, CHUNK):
         sl = slice(lo, min(lo + CHUNK, n))
-        d = _inverse_dynamics(_kinematics_slice(kin, sl), gravity,
-                              [_load_slice(ld, sl) for ld in loads], about, width)
+        d = _inverse_dynamics(_kinematics_slice(kin, sl), (g[0], g[1]), (ab[0], ab[1]),
+                              [_applied_slice(ap, sl) for ap in applied], width)
         if first is None:
             first = d
             parts = {k: np.empty((*getattr(d, k).shape[:-1], n), dtype=getattr(d, k).dtype)
@@ -372,23 +374,28 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     assert first is not None
     return Dynamics(kin, kin.phi1, first.joints, about=first.about, gravity=first.gravity,
                     friction_iterations=iterations, friction_static=first.friction_static,
-                    **parts)
+                    loads=applied, load_power=_load_power(applied, n),
+                    V=sum((ap.energy for ap in applied), np.zeros(n)), **parts)
 
 
-def _per_position_load(ld: Any, k: int, n: int) -> Any:
-    """A load whose arrays are checked against the ``n`` positions (before they are sliced)."""
-    if isinstance(ld, PointForce):
-        return replace(ld, fx=per_position(f"loads[{k}].fx", ld.fx, n),
-                       fy=per_position(f"loads[{k}].fy", ld.fy, n))
-    if isinstance(ld, BodyTorque):
-        return replace(ld, mz=per_position(f"loads[{k}].mz", ld.mz, n))
-    raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
+def _load_power(applied: Sequence[AppliedLoad], n: int) -> Arr:
+    return np.array([ap.power for ap in applied]).reshape(-1, n)
 
 
-def _load_slice(ld: PointForce | BodyTorque, sl: slice) -> PointForce | BodyTorque:
-    if isinstance(ld, PointForce):
-        return replace(ld, fx=np.asarray(ld.fx)[sl], fy=np.asarray(ld.fy)[sl])
-    return replace(ld, mz=np.asarray(ld.mz)[sl])
+def _part(v: Any, sl: slice) -> Any:
+    """The positions ``sl`` of an array over the positions (a number as it is)."""
+    return v[sl] if np.ndim(v) else v
+
+
+def _applied_slice(ap: AppliedLoad, sl: slice) -> AppliedLoad:
+    """The positions ``sl`` of a load evaluated over the cycle: its value, power, energy,
+    length and wrenches."""
+    return replace(ap, value=_part(ap.value, sl), power=_part(ap.power, sl),
+                   energy=_part(ap.energy, sl),
+                   length=None if ap.length is None else _part(ap.length, sl),
+                   wrenches=tuple(replace(w, fx=_part(w.fx, sl), fy=_part(w.fy, sl),
+                                          px=_part(w.px, sl), py=_part(w.py, sl),
+                                          mz=_part(w.mz, sl)) for w in ap.wrenches))
 
 
 def _kinematics_slice(kin: Kinematics, sl: slice) -> Kinematics:
@@ -399,25 +406,18 @@ def _kinematics_slice(kin: Kinematics, sl: slice) -> Kinematics:
                       kin.eps[:, sl], kin.valid[sl], kin.branches)
 
 
-def _inverse_dynamics(kin: Kinematics, gravity: ArrayLike | None,
-                      loads: Sequence[PointForce | BodyTorque], about: ArrayLike,
-                      width: tuple[float, float] | None) -> Dynamics:
-    """:func:`inverse_dynamics` of one chunk of positions; ``width``: the friction law's sign
-    width over the whole cycle (None without friction)."""
+def _inverse_dynamics(kin: Kinematics, g: tuple[float, float], ab: tuple[float, float],
+                      applied: Sequence[AppliedLoad], width: tuple[float, float] | None
+                      ) -> Dynamics:
+    """:func:`inverse_dynamics` of one chunk of positions: ``applied`` the loads evaluated
+    there (:func:`linkwork.planar.forces.apply`), ``width`` the friction law's sign width over
+    the whole cycle (None without friction)."""
     mech: Mechanism = kin.mechanism
     n = kin.n
-    g = (0.0, 0.0) if gravity is None else tuple(float(v) for v in require_finite(
-        "gravity", gravity).ravel())
-    if len(g) != 2:
-        raise ParameterError("gravity", gravity, "must be a vector (gx, gy) [m/s^2]")
-    ab = tuple(float(v) for v in require_finite("about", about).ravel())
-    if len(ab) != 2:
-        raise ParameterError("about", about, "must be a point (x, y) [m]")
     st = _state_from(kin)
     nb = len(mech.body_names)
     # generalised applied-minus-inertia forces on each moving body (about its origin)
     f = np.zeros((n, 3 * (nb - 1)))
-    on_frame: list[tuple[Arr | float, ...]] = []  # reactions of from_frame loads on the frame
     iw = inertia_wrenches(kin, g)  # weight + inertia force at C, inertia couple
     for k, b in enumerate(mech.bodies):
         i = mech.index[b.name]
@@ -425,34 +425,16 @@ def _inverse_dynamics(kin: Kinematics, gravity: ArrayLike | None,
         f[:, 3 * i - 3] += iw.fx[k]
         f[:, 3 * i - 2] += iw.fy[k]
         f[:, 3 * i - 1] += rx * iw.fy[k] - ry * iw.fx[k] + iw.mz[k]
-    for k, ld in enumerate(loads):
-        if not isinstance(ld, PointForce | BodyTorque):
-            raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
-        if ld.body == mech.frame.name:
-            raise ParameterError("loads.body", ld.body, "loads must act on moving bodies")
-        if ld.body not in mech.index:
-            raise ParameterError("loads.body", ld.body,
-                                 f"no such body; known: {list(mech.body_names[1:])}")
-        i = mech.index[ld.body]
-        if not isinstance(ld.from_frame, bool | np.bool_):
-            raise ParameterError("loads.from_frame", ld.from_frame, "must be True or False")
-        if isinstance(ld, PointForce):
-            pm = kin.point(ld.body, ld.point)
-            fx = per_position(f"loads[{k}].fx", ld.fx, n)
-            fy = per_position(f"loads[{k}].fy", ld.fy, n)
-            rx, ry = pm.x - kin.x[i], pm.y - kin.y[i]
-            f[:, 3 * i - 3] += fx
-            f[:, 3 * i - 2] += fy
-            f[:, 3 * i - 1] += rx * fy - ry * fx
-            if ld.from_frame:  # its reaction on the frame: -F at the same point
-                on_frame.append((-fx, -fy, pm.x, pm.y, 0.0))
-        elif isinstance(ld, BodyTorque):
-            mz = per_position(f"loads[{k}].mz", ld.mz, n)
-            f[:, 3 * i - 1] += mz
-            if ld.from_frame:
-                on_frame.append((0.0, 0.0, 0.0, 0.0, -mz))
-        else:
-            raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
+    on_frame: list[forces.Wrench] = []  # the loads' reactions on the frame
+    for ap in applied:
+        for w in ap.wrenches:
+            i = mech.index[w.body]
+            if i == 0:
+                on_frame.append(w)
+                continue
+            f[:, 3 * i - 3] += w.fx
+            f[:, 3 * i - 2] += w.fy
+            f[:, 3 * i - 1] += (w.px - kin.x[i]) * w.fy - (w.py - kin.y[i]) * w.fx + w.mz
     nj = len(mech.joints)
     pxr = np.zeros((nj, n))
     pyr = np.zeros((nj, n))
@@ -487,10 +469,10 @@ def _inverse_dynamics(kin: Kinematics, gravity: ArrayLike | None,
         sm += (pxr[ji] - ab[0]) * fy - (pyr[ji] - ab[1]) * fx + mz
         if rj.drive and plan.driver_kind != "linear":  # the motor's reaction torque
             sm += sgn * Q
-    for rfx, rfy, rpx, rpy, rmz in on_frame:
-        sfx += rfx
-        sfy += rfy
-        sm += (rpx - ab[0]) * rfy - (rpy - ab[1]) * rfx + rmz
+    for w in on_frame:
+        sfx += w.fx
+        sfy += w.fy
+        sm += (w.px - ab[0]) * w.fy - (w.py - ab[1]) * w.fx + w.mz
     T = kinetic_energy(kin)
     if fric is None:  # no joint dissipates
         zeros = np.zeros((nj, n))
@@ -503,7 +485,9 @@ def _inverse_dynamics(kin: Kinematics, gravity: ArrayLike | None,
                     friction_fy=fric.sol.ffy, friction_mz=fric.sol.fmz,
                     friction_power=fric.power, locked=fric.locked, kappa=fric.sol.kappa,
                     friction_iterations=fric.sol.iterations,
-                    friction_static=fric.static)
+                    friction_static=fric.static, loads=tuple(applied),
+                    load_power=_load_power(applied, n),
+                    V=sum((ap.energy for ap in applied), np.zeros(n)))
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ rest of the public names.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cached_property
 from typing import TYPE_CHECKING, Any, ClassVar, Literal
 
@@ -42,7 +42,7 @@ from linkwork.planar.extremes import (
     transmission_angles_of,
 )
 from linkwork.planar.model import Mechanism
-from linkwork.planar.positions import solve_driver, solve_dyad, solve_newton, solve_slot_group
+from linkwork.planar.positions import solve_group
 from linkwork.planar.rates import group_rates
 from linkwork.planar.state import Arr, State
 from linkwork.planar.structure import Group, Plan
@@ -211,6 +211,12 @@ class Kinematics(Result):
         ray = P.ay - aay - 2 * wa * rvx
         return s, sd, ux * rax + uy * ray
 
+    def _scene(self) -> Any:
+        """The mechanism drawn over these positions (:func:`linkwork.plot.scene.planar_scene`)."""
+        from linkwork.plot.scene import planar_scene
+
+        return planar_scene(self)
+
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
         """Angles, angular velocities and accelerations of the moving bodies over the driver
         positions: a :class:`linkwork.plot.Figure` with 3 axes
@@ -232,14 +238,7 @@ def _solve_chunk(plan: Plan, branches: dict[str, int], q: Arr, w1: Arr, e1: Arr)
         for g in plan.groups:
             b = branches[g.key]
             before = st.bad.copy()
-            if g.kind == "driver":
-                solve_driver(st, g, q)
-            elif g.kind in ("RS", "PS"):
-                solve_slot_group(st, g, b)
-            elif g.kind == "newton":
-                solve_newton(plan, st, g, q)
-            else:
-                solve_dyad(st, g, b, plan.body_names)
+            solve_group(plan, st, g, b, q)
             if (st.bad & ~before).any():
                 st.failed[g.key] = st.bad & ~before
             if st.parallel:
@@ -249,6 +248,37 @@ def _solve_chunk(plan: Plan, branches: dict[str, int], q: Arr, w1: Arr, e1: Arr)
         for g in plan.groups:
             group_rates(plan, st, g, w1, e1)
     return st
+
+
+#: Largest step of the continuation from a drawing to the first position: crank [rad], slide
+#: [fraction of the mechanism's size]; at most 100 steps.
+_PATH_STEP = (np.radians(3.0), 0.02)
+
+
+def _from_drawing(mech: Mechanism, plan: Plan, used: dict[str, int], q: Arr) -> Plan:
+    """The plan whose Newton groups start at the first position ``q[..., 0]`` from the poses
+    continued there from the drawing (the drawn poses if the continuation fails)."""
+    drawing = mech.drawing
+    assert drawing is not None
+    ref = np.array(drawing.positions)
+    first = np.atleast_1d(q[..., 0]).astype(float)
+    crank = np.array([d.kind == "crank" for d in (mech.driver,)])
+    # a crank reaches the first position the short way (the mechanism repeats every turn)
+    delta = np.where(crank, np.remainder(first - ref + np.pi, 2 * np.pi) - np.pi, first - ref)
+    step = np.where(crank, _PATH_STEP[0], _PATH_STEP[1] * plan.length_scale)
+    m = int(min(max(np.max(np.ceil(np.abs(delta) / step)), 1), 100))
+    path = ref[:, None] + delta[:, None] * np.linspace(0.0, 1.0, m + 1)[None, :]
+    zero = np.zeros(m + 1)
+    st = _solve_chunk(plan, used, path[0], zero, zero)
+    if st.pos_bad[-1]:
+        return plan
+    groups = []
+    for g in plan.groups:
+        if g.kind == "newton":
+            g = replace(g, guesses=tuple((float(st.X[b][-1]), float(st.Y[b][-1]),
+                                          float(st.T[b][-1])) for b in g.bodies))
+        groups.append(g)
+    return replace(plan, groups=tuple(groups))
 
 
 _PARALLEL = (", whose two lines (guides, slots) are parallel there, so that the place along "
@@ -328,6 +358,8 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     bad = np.zeros(n, dtype=bool)
     failed: set[str] = set()
     parallel: set[str] = set()
+    if plan.newton and mech.drawing is not None and n:
+        plan = _from_drawing(mech, plan, used, q)
     # chunks keep the temporaries in cache; Newton groups need the whole sequence
     step = n if plan.newton else _CHUNK
     for lo in range(0, n, step):

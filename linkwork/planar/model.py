@@ -43,6 +43,7 @@ from linkwork.planar.structure import Plan, Structure, analyse, compile_plan
 __all__ = [
     "Body",
     "Crank",
+    "Drawing",
     "Joint",
     "Linear",
     "Mechanism",
@@ -216,6 +217,30 @@ class Linear:
 
 
 @dataclass(frozen=True)
+class Drawing:
+    """The drawn position a mechanism was described from (:func:`linkwork.planar.sketch`).
+
+    Attributes
+    ----------
+    points : mapping str -> (x, y)
+        Every drawn point in world coordinates [m], as given.
+    poses : mapping str -> (x, y, theta)
+        The pose of every moving body's frame in the drawing [m, m, rad].
+    positions : tuple of float
+        The driver positions of the drawing, one per driver (crank angle [rad], slide [m]).
+    """
+
+    points: Mapping[str, Point]
+    poses: Mapping[str, tuple[float, float, float]]
+    positions: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "points", MappingProxyType(dict(self.points)))
+        object.__setattr__(self, "poses", MappingProxyType(dict(self.poses)))
+        object.__setattr__(self, "positions", tuple(float(v) for v in self.positions))
+
+
+@dataclass(frozen=True)
 class Mechanism:
     """A planar mechanism: frame, moving bodies, joints, one driver, assembly branches.
 
@@ -233,6 +258,9 @@ class Mechanism:
         Assembly branch of each Assur group, keyed by the group's key (see
         :mod:`linkwork.planar.structure`; for a dyad the name of the joint between its two bodies).
         Missing keys mean +1.
+    drawing : Drawing, optional
+        The drawn position the mechanism was described from (set by
+        :func:`~linkwork.planar.sketch`): Newton-solved groups are continued from it.
     """
 
     frame: Body
@@ -240,6 +268,7 @@ class Mechanism:
     joints: tuple[Joint, ...]
     driver: Crank | Linear
     branches: Mapping[str, int] = field(default_factory=dict)
+    drawing: Drawing | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.frame, Body):
@@ -256,6 +285,8 @@ class Mechanism:
         if not isinstance(self.branches, Mapping):
             raise ParameterError("branches", self.branches, "must map group keys to +1 or -1")
         object.__setattr__(self, "branches", MappingProxyType(dict(self.branches)))
+        if self.drawing is not None and not isinstance(self.drawing, Drawing):
+            raise ParameterError("drawing", self.drawing, "must be a Drawing or None")
         if not isinstance(self.driver, Crank | Linear):
             raise ParameterError("driver", self.driver, "must be Crank or Linear")
         names = [self.frame.name] + [b.name for b in self.bodies]
@@ -336,7 +367,7 @@ class Mechanism:
         """A copy with some group branches changed (``m.with_branches(B=-1)``)."""
         new = dict(self.branches)
         new.update(branches)
-        return Mechanism(self.frame, self.bodies, self.joints, self.driver, new)
+        return Mechanism(self.frame, self.bodies, self.joints, self.driver, new, self.drawing)
 
     @cached_property
     def structure(self) -> Structure:

@@ -21,7 +21,7 @@ from linkwork.planar.state import Arr, State, Vec
 from linkwork.planar.structure import Plan, PlanGroup, length_scale
 
 __all__ = ["assemble_jacobian", "group_rows", "length_scale", "solve_driver", "solve_dyad",
-           "solve_newton", "solve_slot_group"]
+           "solve_group", "solve_newton", "solve_slot_group"]
 
 #: rows of a group with the indices of their joint's bodies a and b
 Rows = list[tuple[int, int, dict[str, Any]]]
@@ -206,6 +206,18 @@ def solve_slot_group(st: State, g: PlanGroup, branch: int) -> None:
     u = st.rot(ia, rs.u_loc)
     P = _intersect(st, ("circle", (A, rad, a_loc)), ("line", (Q, u)), branch)
     _finish_side(st, b, "circle", (A, rad, a_loc), pb, P)
+
+
+def solve_group(plan: Plan, st: State, g: PlanGroup, branch: int, q: Arr) -> None:
+    """Poses of the bodies of group ``g`` (the groups before it solved) on ``branch``."""
+    if g.kind == "driver":
+        solve_driver(st, g, q)
+    elif g.kind in ("RS", "PS"):
+        solve_slot_group(st, g, branch)
+    elif g.kind == "newton":
+        solve_newton(plan, st, g, q)
+    else:
+        solve_dyad(st, g, branch, plan.body_names)
 
 
 # ---------------------------------------------------------------------------------------------

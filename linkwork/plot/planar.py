@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from linkwork.errors import ParameterError
 from linkwork.plot._base import (
     Figure,
     axes_or_new,
@@ -25,8 +26,8 @@ if TYPE_CHECKING:
     from linkwork.planar.dynamics import Dynamics
     from linkwork.planar.kinematics import Kinematics, PointMotion
 
-__all__ = ["dynamics_figure", "kinematics_figure", "plot_driving_torque", "plot_reactions",
-           "plot_shaking", "plot_skeleton", "point_motion_figure"]
+__all__ = ["dynamics_figure", "kinematics_figure", "plot_driving_torque", "plot_loads",
+           "plot_reactions", "plot_shaking", "plot_skeleton", "point_motion_figure"]
 
 
 def _ax(ax: Any) -> Any:
@@ -228,6 +229,37 @@ def plot_reactions(dyn: Any, joints: Sequence[str] | None = None, ax: Any = None
     finish(ax, title=titled(name, "Dynamics", "joint reactions |R| (force of a on b)"),
            angle=_angle(dyn.kinematics, x), legend_kw={"title": "joint"})
     return {"ax": ax, "lines": lines}
+
+
+def plot_loads(dyn: Any, names: Sequence[str] | None = None, axes: Any = None, *,
+               name: str | None = None) -> dict[str, Any]:
+    """The value of loads over the cycle (``dyn.loads``, or those called ``names``): forces
+    [N] (a spring's or damper's tension, a slide force, a drag's magnitude, a diagram's force)
+    on the first axes, couples [N m] on the second. ``name`` (of the mechanism) heads the
+    title. Returns ``{"axes", "lines"}``."""
+    shown = [ap for ap in dyn.loads if names is None or ap.name in names]
+    forces = [ap for ap in shown if ap.unit == "N"]
+    couples = [ap for ap in shown if ap.unit != "N"]
+    groups = [(g, u, q) for g, u, q in ((forces, "N", "force"), (couples, "N·m", "couple"))
+              if g]
+    if not groups:
+        raise ParameterError("names", names, f"no load to draw; known: "
+                             f"{[ap.name for ap in dyn.loads]}")
+    axes = axes_or_new(axes, len(groups), 1, sharex=True)
+    axes = list(np.atleast_1d(axes))
+    x, label = _x(dyn.kinematics)
+    angle = _angle(dyn.kinematics, x)
+    lines = []
+    for k, (ax, (group, unit, quantity)) in enumerate(zip(axes, groups, strict=True)):
+        div, shown_unit = _prefixed(unit, *(ap.value for ap in group))
+        for ap in group:
+            lines.append(ax.plot(x, ap.value / div, label=f"{ap.name} ({ap.kind})")[0])
+        ax.set_ylabel(f"{quantity} [{shown_unit}]")
+        title = (titled(name, "Dynamics", "loads and force elements (springs and dampers: "
+                        "tension +)") if k == 0 else None)
+        finish(ax, title=title, angle=angle, legend_kw={"title": "load"})
+    axes[-1].set_xlabel(label)
+    return {"axes": axes, "lines": lines}
 
 
 def plot_shaking(dyn: Any, axes: Any = None, *, name: str | None = None) -> dict[str, Any]:

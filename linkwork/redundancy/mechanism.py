@@ -22,7 +22,7 @@ from numpy.typing import ArrayLike
 
 from linkwork.checks import require_finite
 from linkwork.errors import ParameterError, StructureError
-from linkwork.planar.dynamics import BodyTorque, PointForce
+from linkwork.planar import forces
 from linkwork.planar.inertia import inertia_wrenches
 from linkwork.planar.kinematics import kinematics
 from linkwork.redundancy.core import (
@@ -156,8 +156,9 @@ def body_wrenches(mech: Any, kin: Any, *, gravity: ArrayLike | None = None,
               M_z = -I_S \varepsilon + \sum M_{ext},
 
     the force of each body applied at its centre of mass lifted to the height ``heights[body]``
-    [m] (default 0, the plane of the joints' z = 0), external point forces at their points at
-    the same height; then :class:`OutOfPlaneLoad` terms.
+    [m] (default 0, the plane of the joints' z = 0), the forces of the loads (every kind of
+    :mod:`linkwork.planar.forces`: point forces, springs, dampers, ...) at their points at the
+    same height; then :class:`OutOfPlaneLoad` terms.
 
     Returns
     -------
@@ -185,18 +186,13 @@ def body_wrenches(mech: Any, kin: Any, *, gravity: ArrayLike | None = None,
     for i, b in enumerate(mech.bodies):
         add(i, iw.fx[i], iw.fy[i], 0.0, iw.cx[i], iw.cy[i], h.get(b.name, 0.0))
         moment[:, i, 2] += iw.mz[i]
-    for ld in loads:
-        if ld.body not in names:
-            raise ParameterError("loads.body", ld.body, f"no such moving body; known: {names}")
-        i = names.index(ld.body)
-        if isinstance(ld, PointForce):
-            pm = kin.point(ld.body, ld.point)
-            add(i, require_finite("fx", ld.fx), require_finite("fy", ld.fy), 0.0, pm.x, pm.y,
-                h.get(ld.body, 0.0))
-        elif isinstance(ld, BodyTorque):
-            moment[:, i, 2] += require_finite("mz", ld.mz)
-        else:
-            raise ParameterError("loads", ld, "must be PointForce or BodyTorque")
+    for ap in forces.apply(kin, loads):  # every load's forces and couples on moving bodies
+        for wr in ap.wrenches:
+            if wr.body not in names:  # its reaction on the frame
+                continue
+            i = names.index(wr.body)
+            add(i, wr.fx, wr.fy, 0.0, wr.px, wr.py, h.get(wr.body, 0.0))
+            moment[:, i, 2] += wr.mz
     for op in out_of_plane:
         if op.body not in names:
             raise ParameterError("out_of_plane.body", op.body,

@@ -55,6 +55,24 @@ class BalanceStudy:
     increases: list[str]
     pareto: ParetoSet | None = None
 
+    def _repr_html_(self) -> str:
+        """A notebook's display: R2, R3, the counterweights and the peaks and RMS before and
+        after balancing."""
+        from linkwork.plot.html import summary_table, view_html
+
+        comp = self.comparison
+        data = {"R2 [%]": comp.R2, "R3 [%]": comp.R3,
+                "counterweights": {w.link: {"S [kg*m]": w.static_moment,
+                                            "angle [deg]": float(np.degrees(w.angle))}
+                                   for w in comp.counterweights},
+                **comp.summary()}
+        return view_html(None, summary_table("balancing (paper 001)", data))
+
+    def plot(self, axes: Any = None, **kw: Any) -> Any:
+        """Shaking moments, force hodographs and driving torques before and after balancing
+        over the cycle (``comparison.cycle.plot()``): a :class:`linkwork.plot.Figure`."""
+        return self.comparison.cycle.plot(axes=axes, **kw)
+
     def summary(self) -> dict[str, Any]:
         """The scalar results as JSON-able values (``balance_summary.json``)."""
         comp, fb = self.comparison, self.comparison.balance

@@ -9,21 +9,23 @@ prints, writes and plots. Nothing is printed.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, field
+from typing import Any, Literal
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.balancing.loads import mean_over_range
 from linkwork.checks import require_finite
-from linkwork.errors import AssemblyError, ParameterError
+from linkwork.errors import AssemblyError, ParameterError, angle_ranges, format_angle_ranges
 from linkwork.io.planar import PlanarFile
 from linkwork.planar import (
+    AppliedLoad,
     Crank,
     DeadCentre,
     Dynamics,
     Kinematics,
+    LoadDiagram,
     Mechanism,
     PinInSlot,
     Prismatic,
@@ -40,16 +42,11 @@ from linkwork.results import json_array
 
 __all__ = ["CHUNK_POSITIONS", "PlanarStudy", "PlanarSummary", "analyze", "analyze_chunked",
            "cycle_peaks", "dead_centre_label", "default_table_positions", "distinct_paths",
-           "friction_summary", "named_columns", "split_columns", "table_positions_error"]
-
-#: Columns of ``planar_dynamics.csv`` besides the reactions ``R_*`` and the friction powers
-#: ``Pf_*`` (the rest is kinematics); the last three only with friction.
-DYNAMICS_COLUMNS = ("Q", "shaking_fx", "shaking_fy", "shaking_m", "T", "Q_frictionless",
-                    "efficiency", "locked")
-#: Prefixes of the per-joint columns of ``planar_dynamics.csv``.
-DYNAMICS_PREFIXES = ("R_", "Pf_")
+           "dynamics_columns_of", "friction_summary", "kinematics_columns_of", "load_summary",
+           "named_columns", "reported_loads", "table_positions_error"]
 
 Transmission = dict[str, tuple[np.ndarray, np.ndarray]]
+OnFailure = Literal["raise", "nan"]
 
 
 def table_positions_error(exc: AssemblyError, positions: np.ndarray, linear: bool
@@ -63,19 +60,26 @@ def table_positions_error(exc: AssemblyError, positions: np.ndarray, linear: boo
                           "[analysis] range")
 
 
-def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | None = None,
-                  *, by_structure: bool = False) -> dict[str, tuple[np.ndarray, str]]:
+def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | None = None
+                  ) -> dict[str, tuple[np.ndarray, str]]:
     """Readable per-position columns: name -> (values, unit). ``transmission``: the result of
     :func:`~linkwork.planar.transmission_angles` of ``kin`` if already computed.
-    ``by_structure``: a joint's couple ``R_<j>.mz`` and friction power ``Pf_<j>`` are columns
-    wherever the joint can carry them (a prismatic pair's couple, a joint with friction), not
-    only where they are not zero throughout these positions (the same columns for every chunk
-    of a long cycle, :func:`analyze_chunked`).
 
     Per moving body: ``<body>.theta/omega/eps`` and its centre of mass ``<body>.xS/yS/vxS/vyS/
     axS/ayS``, then every named point of the body (frame axes, :meth:`Kinematics.point`):
     ``<body>.<point>.x/y`` [m], ``.vx/.vy`` [m/s], ``.ax/.ay`` [m/s^2]; a joint's point named
-    on both of its bodies appears under each."""
+    on both of its bodies appears under each. Then the dynamics (:func:`dynamics_columns_of`)
+    and the transmission angles ``mu_<group>``."""
+    cols = kinematics_columns_of(kin)
+    cols.update({k: v for k, v in dynamics_columns_of(kin, dyn).items() if k != "phi1"})
+    trans = transmission_angles(kin) if transmission is None else transmission
+    for key, (mu, _) in trans.items():
+        cols[f"mu_{key}"] = (mu, "rad")
+    return cols
+
+
+def kinematics_columns_of(kin: Kinematics) -> dict[str, tuple[np.ndarray, str]]:
+    """The driver's and every body's and named point's motion (see :func:`named_columns`)."""
     mech = kin.mechanism
     units = mech.driver.field_units  # rad, rad/s, rad/s^2, N*m of a crank; m, m/s, m/s^2, N
     cols: dict[str, tuple[np.ndarray, str]] = {
@@ -97,7 +101,32 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
                                     ("vy", p.vy, "m/s"), ("ax", p.ax, "m/s^2"),
                                     ("ay", p.ay, "m/s^2")):
                 cols[f"{b.name}.{pt}.{name}"] = (arr, unit)
-    joints = [mech.joint(j) for j in dyn.joints]
+    return cols
+
+
+def reported_loads(dyn: Dynamics) -> list[AppliedLoad]:
+    """The loads whose value and power the study reports: force elements (springs, dampers,
+    drags), slide forces and loads given by a diagram. Constant point forces and couples (all
+    the loads of files before them) are not: their effect is in ``Q`` and the reactions, and
+    their files keep their columns."""
+    return [ap for ap in dyn.loads if ap.kind not in ("force", "torque") or any(
+        isinstance(getattr(ap.load, f, None), LoadDiagram) for f in ("fx", "fy", "mz"))]
+
+
+def dynamics_columns_of(kin: Kinematics, dyn: Dynamics, *, by_structure: bool = False
+                        ) -> dict[str, tuple[np.ndarray, str]]:
+    """``phi1``, every joint's reaction ``R_<joint>.x/.y`` [N] (``.mz`` [N m] where not zero),
+    ``Q``, the shaking force and moment, ``T``; with friction ``Q_frictionless``, the friction
+    powers ``Pf_<joint>`` [W], ``efficiency`` and ``locked``; with force elements or load
+    diagrams (:func:`reported_loads`) each one's value ``F_<name>`` [N] (a couple ``M_<name>``
+    [N m]), a spring's or damper's length ``L_<name>`` [m] and power ``P_<name>`` [W], and the
+    energy in the springs ``V`` [J]. ``by_structure``: a joint's couple and friction power are
+    columns wherever the joint can carry them (a prismatic pair's couple, a joint with
+    friction), not only where they are not zero throughout these positions (the same columns
+    for every chunk of a long cycle, :func:`analyze_chunked`)."""
+    units = kin.mechanism.driver.field_units
+    cols: dict[str, tuple[np.ndarray, str]] = {"phi1": (kin.phi1, units["phi1"])}
+    joints = [kin.mechanism.joint(j) for j in dyn.joints]
     for k, j in enumerate(dyn.joints):
         cols[f"R_{j}.x"] = (dyn.fx[k], "N")
         cols[f"R_{j}.y"] = (dyn.fy[k], "N")
@@ -117,21 +146,62 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
                 cols[f"Pf_{j}"] = (dyn.friction_power[k], "W")
         cols["efficiency"] = (dyn.efficiency, "")
         cols["locked"] = (dyn.locked.astype(float), "1")  # a flag, as "valid [1]"
-    trans = transmission_angles(kin) if transmission is None else transmission
-    for key, (mu, _) in trans.items():
-        cols[f"mu_{key}"] = (mu, "rad")
+    shown = reported_loads(dyn)
+    for ap in shown:
+        cols[f"{'M' if ap.unit == 'N*m' else 'F'}_{ap.name}"] = (ap.value, ap.unit)
+        if ap.length is not None:
+            cols[f"L_{ap.name}"] = (ap.length, "m")
+        cols[f"P_{ap.name}"] = (ap.power, "W")
+    if any(ap.kind == "spring" for ap in dyn.loads):
+        cols["V"] = (dyn.V, "J")
     return cols
 
 
-def split_columns(cols: dict[str, tuple[np.ndarray, str]]
-                  ) -> tuple[dict[str, tuple[np.ndarray, str]], dict[str, tuple[np.ndarray, str]]]:
-    """:func:`named_columns` split into those of ``planar_kinematics.csv`` (poses, velocities,
-    accelerations, transmission angles) and of ``planar_dynamics.csv`` (``phi1``, then
-    reactions, driving torque, shaking, kinetic energy, friction)."""
-    dynamic = {k: v for k, v in cols.items()
-               if k.startswith(DYNAMICS_PREFIXES) or k in DYNAMICS_COLUMNS}
-    kinematic = {k: v for k, v in cols.items() if k not in dynamic}
-    return kinematic, {"phi1": cols["phi1"], **dynamic}
+def load_summary(dyn: Dynamics) -> list[dict[str, Any]]:
+    """What each reported load (:func:`reported_loads`) does over the analysed range: its
+    ``name``, ``kind``, the smallest and largest ``value`` (``min``, ``max``, ``unit``, with
+    the driver positions ``min_at``, ``max_at``), a spring's or damper's shortest and longest
+    ``length`` [m], the ``work`` it does on the mechanism over the range [J] (the time integral
+    of its power in the order the driver passes the positions; negative: taken from the
+    mechanism; None if the driver stops or reverses), and a diagram's ``diagram``: ``over``,
+    ``range`` (first and last position of its table, [rad] or [m]), ``when``, ``outside``."""
+    out = []
+    order = dyn._time_order()
+    w1 = np.broadcast_to(np.asarray(dyn.kinematics.omega1, dtype=float), dyn.phi1.shape)
+
+    def at(v: np.ndarray, pick: Any) -> tuple[float | None, float | None]:
+        if not np.any(np.isfinite(v)):
+            return None, None
+        i = int(pick(v))
+        return float(v[i]), float(dyn.phi1[i])
+
+    for ap in reported_loads(dyn):
+        with np.errstate(all="ignore"):
+            work = order * float(np.trapezoid(ap.power / w1, dyn.phi1)) if order else None
+        length = (None if ap.length is None else
+                  (float(np.nanmin(ap.length)), float(np.nanmax(ap.length))))
+        out.append(_load_record(ap, at(ap.value, np.nanargmin), at(ap.value, np.nanargmax),
+                                length, work))
+    return out
+
+
+def _load_record(ap: AppliedLoad, lo: tuple[float | None, float | None],
+                 hi: tuple[float | None, float | None], length: tuple[float, float] | None,
+                 work: float | None) -> dict[str, Any]:
+    """One entry of :func:`load_summary`: ``lo``, ``hi`` the smallest and largest value with
+    their positions, ``length`` a spring's or damper's extremes, ``work`` over the range."""
+    entry: dict[str, Any] = {"name": ap.name, "kind": ap.kind, "unit": ap.unit, "min": lo[0],
+                             "min_at": lo[1], "max": hi[0], "max_at": hi[1],
+                             "work": work if work is None or np.isfinite(work) else None}
+    if length is not None:
+        entry["length"] = list(length)
+    diagrams = [d for d in (getattr(ap.load, f, None) for f in ("fx", "fy", "mz", "force"))
+                if isinstance(d, LoadDiagram)]
+    if diagrams:
+        d = diagrams[0]
+        entry["diagram"] = {"over": d.over, "range": list(d.table_range), "when": d.when,
+                            "outside": d.outside}
+    return entry
 
 
 def dead_centre_label(mech: Mechanism, d: DeadCentre) -> tuple[str, str]:
@@ -278,6 +348,9 @@ class PlanarStudy:
         ``Q_mean`` (work / range) [N m or N] and ``power_mean`` [W] over the cycle.
     friction : dict or None
         :func:`friction_summary` of the cycle (None: no joint has friction).
+    loads : list of dict
+        :func:`load_summary` of the cycle: the force elements and load diagrams (empty
+        without them).
     """
 
     doc: PlanarFile
@@ -294,11 +367,18 @@ class PlanarStudy:
     peaks: list[dict[str, Any]]
     means: dict[str, float]
     friction: dict[str, Any] | None = None
+    loads: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def crank(self) -> bool:
         """True for a crank driver (angles [rad]), False for a linear one (slides [m])."""
         return isinstance(self.mechanism.driver, Crank)
+
+    @property
+    def unassembled(self) -> list[tuple[float, float]]:
+        """Ranges ``[(first, last), ...]`` of the analysed driver positions [rad, or m] where the
+        mechanism does not assemble (empty unless analysed with ``on_failure="nan"``)."""
+        return angle_ranges(self.kinematics.phi1, ~np.asarray(self.kinematics.valid, bool))
 
     @property
     def structure(self) -> Structure:
@@ -317,12 +397,46 @@ class PlanarStudy:
     def kinematics_columns(self) -> dict[str, tuple[np.ndarray, str]]:
         """The columns of ``planar_kinematics.csv``: poses, velocities, accelerations (of every
         body, its centre of mass and its named points), transmission angles."""
-        return split_columns(self.columns())[0]
+        cols = kinematics_columns_of(self.kinematics)
+        cols.update({f"mu_{key}": (mu, "rad") for key, (mu, _) in self.transmission.items()})
+        return cols
 
     def dynamics_columns(self) -> dict[str, tuple[np.ndarray, str]]:
         """The columns of ``planar_dynamics.csv``: reactions, driving torque, shaking, kinetic
-        energy (after ``phi1``)."""
-        return split_columns(self.columns())[1]
+        energy, friction, loads (after ``phi1``; :func:`dynamics_columns_of`)."""
+        return dynamics_columns_of(self.kinematics, self.dynamics)
+
+    def scene(self, *, paths: Any = None, centres: bool = False) -> Any:
+        """The mechanism drawn over the cycle (:func:`linkwork.plot.scene.planar_scene`):
+        ``paths`` of further points (coupler curves), ``centres`` the instant centres."""
+        from linkwork.plot.scene import planar_scene
+
+        return planar_scene(self.kinematics, paths=paths, centres=centres,
+                            title=self.doc.name or "planar mechanism")
+
+    def _repr_html_(self) -> str:
+        """A notebook's display: the animated mechanism and the extremes over the cycle (a row
+        shows its position)."""
+        from linkwork.plot.html import peaks_table, view_html
+
+        unit = self.mechanism.driver.field_units["phi1"]
+        title = self.doc.name or "planar mechanism"
+        return view_html(self.scene(), peaks_table(
+            f"{title}: extremes over {self.kinematics.n} positions", self.peaks, unit))
+
+    def plot(self, axes: Any = None, **kw: Any) -> Any:
+        """The mechanism at its first assembled position with its point paths, and the driving
+        torque (force) over the cycle: a :class:`linkwork.plot.Figure` with 2 axes (``kw``:
+        ``paths``, ``centres`` of :meth:`scene`)."""
+        from linkwork.plot import Figure, axes_or_new
+        from linkwork.plot.planar import plot_driving_torque
+        from linkwork.plot.scene import mechanism_figure
+
+        ax = axes_or_new(axes, 1, 2, figsize=(13, 5))
+        name = self.doc.name or None
+        mechanism_figure(self.scene(**kw), ax=ax[0])
+        plot_driving_torque(self.dynamics, ax=ax[1], name=name)
+        return Figure.of(ax)
 
     def to_dict(self) -> dict[str, Any]:
         """Everything of the study as JSON-able values (``planar.json``)."""
@@ -331,7 +445,9 @@ class PlanarStudy:
         cols = self.columns()
         a_x, a_y = (float(v) for v in dyn.about)
         drv = mech.joint(mech.driver.joint)
-        extra = {} if self.friction is None else {"friction": self.friction}
+        extra: dict[str, Any] = {} if self.friction is None else {"friction": self.friction}
+        if self.loads:
+            extra["loads"] = self.loads
         return {
             "name": self.doc.name, "mobility": s.mobility, "structure": s.formula(),
             "groups": [{"kind": g.kind, "bodies": list(g.bodies), "joints": list(g.joints),
@@ -359,11 +475,19 @@ class PlanarStudy:
         }
 
 
-def _solve(doc: PlanarFile, mech: Mechanism, phi: np.ndarray) -> tuple[Kinematics, Dynamics]:
-    kin = kinematics(mech, phi)
+def _solve(doc: PlanarFile, mech: Mechanism, phi: np.ndarray, on_failure: OnFailure = "raise"
+           ) -> tuple[Kinematics, Dynamics]:
+    kin = kinematics(mech, phi, on_failure=on_failure)
     a = doc.analysis
-    dyn = inverse_dynamics(kin, gravity=a.gravity, loads=doc.loads(phi), about=a.about)
+    try:
+        dyn = inverse_dynamics(kin, gravity=a.gravity, loads=doc.loads(phi), about=a.about)
+    except ParameterError as exc:  # a load at these positions (a diagram left, a spring...)
+        raise doc.file_error(exc) from None
     return kin, dyn
+
+
+def _range_text(phi: np.ndarray, crank: bool) -> str:
+    return format_angle_ranges([(float(phi[0]), float(phi[-1]))], "rad" if crank else "m")
 
 
 #: Spacing of the default table positions of a crank [rad]: every 30 deg.
@@ -395,7 +519,8 @@ def default_table_positions(doc: PlanarFile) -> np.ndarray:
     return np.linspace(lo, hi, TABLE_COUNT)
 
 
-def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
+def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None,
+            on_failure: OnFailure = "raise") -> PlanarStudy:
     """Analyse a planar mechanism file over its [analysis] positions and at table positions.
 
     Parameters
@@ -405,6 +530,10 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
     angles : array_like, optional
         The table's driver positions [rad, or m for a linear driver]; default
         :func:`default_table_positions`.
+    on_failure : {"raise", "nan"}
+        Where the mechanism does not assemble over part of the range: raise (default), or
+        solve the rest and leave NaN there (``study.kinematics.valid`` says where; the table
+        positions likewise; :attr:`PlanarStudy.unassembled` lists the ranges).
 
     Returns
     -------
@@ -413,18 +542,22 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
     Raises
     ------
     AssemblyError
-        The mechanism does not assemble over the file's range.
+        The mechanism does not assemble over the file's range (with ``on_failure="nan"``:
+        at no position of it).
     ParameterError
         The table positions leave the range where the mechanism assembles (``--angles``).
     """
     mech = doc.mechanism()
     crank = isinstance(mech.driver, Crank)
     phi = doc.positions()
-    kin, dyn = _solve(doc, mech, phi)
+    kin, dyn = _solve(doc, mech, phi, on_failure)
+    if not np.any(kin.valid):
+        raise AssemblyError(f"the mechanism assembles at no position of the [analysis] range "
+                            f"({_range_text(phi, crank)})")
     dcs = dead_centres(kin)
     tphi = default_table_positions(doc) if angles is None else np.asarray(angles, float)
     try:
-        tk, td = _solve(doc, mech, tphi)
+        tk, td = _solve(doc, mech, tphi, on_failure)
     except AssemblyError as exc:
         raise table_positions_error(exc, tphi, not crank) from None
     trans = transmission_angles(kin)
@@ -436,7 +569,7 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
         peaks=cycle_peaks(kin, dyn, trans),
         means={"Q_mean": dyn.Q_mean,
                "power_mean": mean_over_range(kin.phi1, dyn.power)},
-        friction=friction_summary(dyn))
+        friction=friction_summary(dyn), loads=load_summary(dyn))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -449,7 +582,8 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None) -> PlanarStudy:
 CHUNK_POSITIONS = 16_384
 
 #: What receives the per-position columns of one chunk: ``sink(kinematic, dynamic)``, two
-#: mappings name -> values as :func:`split_columns` orders them (the same names every chunk).
+#: mappings name -> values, those of ``planar_kinematics.csv`` and ``planar_dynamics.csv`` in
+#: their order (the same names every chunk).
 ColumnSink = Callable[[dict[str, np.ndarray], dict[str, np.ndarray]], None]
 
 
@@ -505,6 +639,8 @@ class _ChunkStats:
         self.losses = _Trapezoid(nj)      # friction power / omega1 over phi1
         self.w1_pos = self.w1_neg = True  # the driver turns one way throughout
         self.w1_first = 0.0
+        # reported loads by name: [load, (min, at), (max, at), [shortest, longest], work]
+        self.loads: dict[str, list[Any]] = {}
         self.runs: list[tuple[float, float]] = []
         self.locked = 0
         self.iterations = 0
@@ -530,12 +666,14 @@ class _ChunkStats:
                 entry[0], entry[1] = val, float(q[i])  # strict: the first position wins
         self.q.add(q, dyn.Q)
         self.power.add(q, dyn.power)
+        w1 = np.broadcast_to(np.asarray(kin.omega1, dtype=float), q.shape)
+        if lo == 0:
+            self.w1_first = float(w1[0])
+        self.w1_pos = self.w1_pos and bool(np.all(w1 > 0))
+        self.w1_neg = self.w1_neg and bool(np.all(w1 < 0))
+        for ap in reported_loads(dyn):
+            self._add_load(ap, q, w1)
         if self.has_friction:
-            w1 = np.broadcast_to(np.asarray(kin.omega1, dtype=float), q.shape)
-            if lo == 0:
-                self.w1_first = float(w1[0])
-            self.w1_pos = self.w1_pos and bool(np.all(w1 > 0))
-            self.w1_neg = self.w1_neg and bool(np.all(w1 < 0))
             with np.errstate(all="ignore"):
                 self.losses.add(q, dyn.friction_power / w1)
             lk = np.asarray(dyn.locked, dtype=bool)
@@ -547,6 +685,38 @@ class _ChunkStats:
                 else:
                     self.runs.append((start, end))
             self.last_locked = bool(lk[-1])
+
+    def _add_load(self, ap: AppliedLoad, q: np.ndarray, w1: np.ndarray) -> None:
+        """A reported load's extremes (first position of a tie), length and work so far."""
+        entry = self.loads.setdefault(ap.name, [ap, (None, None), (None, None), None,
+                                                _Trapezoid()])
+        v = ap.value
+        if np.any(np.isfinite(v)):
+            i, j = int(np.nanargmin(v)), int(np.nanargmax(v))
+            if entry[1][0] is None or v[i] < entry[1][0]:
+                entry[1] = (float(v[i]), float(q[i]))
+            if entry[2][0] is None or v[j] > entry[2][0]:
+                entry[2] = (float(v[j]), float(q[j]))
+        if ap.length is not None and np.any(np.isfinite(ap.length)):
+            lo, hi = float(np.nanmin(ap.length)), float(np.nanmax(ap.length))
+            entry[3] = (lo, hi) if entry[3] is None else (min(entry[3][0], lo),
+                                                          max(entry[3][1], hi))
+        with np.errstate(all="ignore"):
+            entry[4].add(q, ap.power / w1)
+
+    def _order(self) -> float:
+        """+1 / -1: the positions in the order the driver passes them, or against it; 0:
+        undefined (as :meth:`Dynamics._time_order`)."""
+        span = float(self.phi[-1] - self.phi[0]) if self.phi.size >= 2 else 0.0
+        return (float(np.sign(self.w1_first * span))
+                if span != 0.0 and (self.w1_pos or self.w1_neg) else 0.0)
+
+    def load_records(self) -> list[dict[str, Any]]:
+        """:func:`load_summary` of the whole cycle."""
+        order = self._order()
+        return [_load_record(ap, lo, hi, length,
+                             order * float(work.total) if order else None)
+                for ap, lo, hi, length, work in self.loads.values()]
 
     def peaks(self) -> list[dict[str, Any]]:
         """:func:`cycle_peaks` of the whole cycle."""
@@ -563,9 +733,7 @@ class _ChunkStats:
         """:func:`friction_summary` of the whole cycle."""
         if not self.has_friction:
             return None
-        span = float(self.phi[-1] - self.phi[0]) if self.phi.size >= 2 else 0.0
-        order = (float(np.sign(self.w1_first * span))
-                 if span != 0.0 and (self.w1_pos or self.w1_neg) else 0.0)
+        order = self._order()
         joints = tuple(j.name for j in self.mech.joints)
         nan = float("nan")
         wd = order * float(self.q.total) if order else nan
@@ -587,9 +755,9 @@ class PlanarSummary:
         [rad, or m].
     branches : dict
         Branch used for each group key.
-    dead_centres, dead_centre_labels, peaks, means, friction
+    dead_centres, dead_centre_labels, peaks, means, friction, loads
         As in :class:`PlanarStudy` (the same numbers as the whole cycle held at once, to
-        round-off in the means and losses, which are summed chunk by chunk).
+        round-off in the means, losses and work, which are summed chunk by chunk).
     table_positions, table_kinematics, table_dynamics, table_transmission
         The table, as in :class:`PlanarStudy`.
     chunk : int
@@ -612,6 +780,7 @@ class PlanarSummary:
     table_dynamics: Dynamics
     table_transmission: Transmission
     chunk: int
+    loads: list[dict[str, Any]] = field(default_factory=list)
 
 
 def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
@@ -621,12 +790,14 @@ def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
     """:func:`analyze` of a cycle too long to hold, chunk by chunk, in bounded memory.
 
     Each chunk of ``chunk`` positions is solved (kinematics, inverse dynamics, transmission
-    angles), its per-position columns (:func:`named_columns`, the same columns for every
-    chunk: ``by_structure=True``) go to ``sink`` (e.g. two :class:`~linkwork.results.CsvRows`
-    of ``planar_kinematics.csv`` and ``planar_dynamics.csv``), and what the study reports is
+    angles), its per-position columns (:func:`kinematics_columns_of` with the transmission
+    angles, :func:`dynamics_columns_of` with ``by_structure=True``: the same columns for every
+    chunk) go to ``sink`` (e.g. two :class:`~linkwork.results.CsvRows` of
+    ``planar_kinematics.csv`` and ``planar_dynamics.csv``), and what the study reports is
     kept as running statistics: the extremes with their positions (:func:`cycle_peaks`: the
     first position of an extreme, as over the whole cycle), the means (trapezoid integrals
-    continued across chunks), the friction losses, work and self-locking runs, and the output
+    continued across chunks), the friction losses, work and self-locking runs, the loads'
+    extremes, lengths and work (:func:`load_summary`), and the output
     rate of every group (8 bytes per position and group) from which the dead centres are found
     at the end. Memory: that of one chunk plus those rates and the positions themselves; the
     numbers are those of :func:`analyze` (means and losses to round-off).
@@ -660,24 +831,25 @@ def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
         raise ParameterError("positions", "[]", "must hold at least one driver position")
     if isinstance(chunk, bool) or int(chunk) != chunk or chunk < 2:
         raise ParameterError("chunk", chunk, "must be an integer >= 2 (positions per chunk)")
-    a = doc.analysis
     stats = _ChunkStats(mech, phi)
     for lo in range(0, n, int(chunk)):
         q = phi[lo:lo + int(chunk)]
+        # (the driver's speed is the same at every position: the friction law's sign width
+        # and a load diagram's band of rest, relative to its largest value, are those of the
+        # whole cycle in every chunk)
         try:
-            kin = kinematics(mech, q)
+            kin, dyn = _solve(doc, mech, q)
         except AssemblyError as exc:
             err = AssemblyError(f"{exc} (the cycle is analysed chunk by chunk: positions "
                                 f"{lo + 1}-{lo + q.size} of {n}; later ones not checked)")
             err.ranges, err.driver = exc.ranges, exc.driver
             raise err from None
-        # (the driver's speed is the same at every position: the friction law's sign width,
-        # relative to its largest value, is that of the whole cycle in every chunk)
-        dyn = inverse_dynamics(kin, gravity=a.gravity, loads=doc.loads(q), about=a.about)
         trans = transmission_angles(kin)
         stats.add(lo, kin, dyn, trans)
         if sink is not None:
-            kc, dc = split_columns(named_columns(kin, dyn, trans, by_structure=True))
+            kc = kinematics_columns_of(kin)
+            kc.update({f"mu_{key}": (mu, "rad") for key, (mu, _) in trans.items()})
+            dc = dynamics_columns_of(kin, dyn, by_structure=True)
             sink({k: v for k, (v, _) in kc.items()}, {k: v for k, (v, _) in dc.items()})
         if progress is not None:
             progress(lo + q.size, n)
@@ -693,4 +865,4 @@ def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
         dead_centre_labels=[dead_centre_label(mech, d) for d in dcs], peaks=stats.peaks(),
         means=stats.means(), friction=stats.friction(), table_positions=tphi,
         table_kinematics=tk, table_dynamics=td, table_transmission=transmission_angles(tk),
-        chunk=int(chunk))
+        chunk=int(chunk), loads=stats.load_records())

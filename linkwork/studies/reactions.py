@@ -114,6 +114,19 @@ class ReactionsStudy:
         """The cycle's driver positions."""
         return np.asarray(self.kinematics.phi1)
 
+    def _repr_html_(self) -> str:
+        """A notebook's display: the mechanism animated over the cycle, the count of redundant
+        constraints and the peak reactions per joint."""
+        from linkwork.plot.html import summary_table, view_html
+
+        return view_html(self.kinematics._scene(),
+                         summary_table("spatial reactions (paper 004)", self.peaks_dict()))
+
+    def plot(self, axes: Any = None, **kw: Any) -> Any:
+        """Axial forces, bending moments and the driving torque over the cycle
+        (``reactions.plot()``): a :class:`linkwork.plot.Figure`."""
+        return self.reactions.plot(axes=axes, **kw)
+
     def peaks_dict(self) -> dict[str, Any]:
         """The peaks and the count as JSON-able values (``reactions_peaks.json``)."""
         count = self.count

@@ -60,6 +60,28 @@ class SinePressStudy:
     summary: dict[str, Any]
     force_ratio: ForceRatioCurve
 
+    def scene(self) -> Any:
+        """Both modes drawn side by side over a revolution
+        (:func:`linkwork.plot.scene.sine_press_scene`)."""
+        from linkwork.plot.scene import sine_press_scene
+
+        return sine_press_scene(self.idle_cycle, self.working_cycle,
+                                title=self.doc.name or "press drive",
+                                speed=float(self.doc.crank.speed))
+
+    def _repr_html_(self) -> str:
+        """A notebook's display: both modes animated side by side, and the characteristics."""
+        from linkwork.plot.html import summary_table, view_html
+
+        return view_html(self.scene(), summary_table("characteristics", self.summary))
+
+    def plot(self, axes: Any = None, **kw: Any) -> Any:
+        """Both modes drawn at the first crank angle: a :class:`linkwork.plot.Figure`
+        (``idle_cycle.plot()``, ``working_cycle.plot()`` draw the outputs' motion)."""
+        from linkwork.plot.scene import mechanism_figure
+
+        return mechanism_figure(self.scene(), ax=axes, **kw)
+
 
 def _characteristics(doc: SinePressFile) -> dict[str, Any]:
     L1, idle, work = doc.crank.L1, doc.idle, doc.working

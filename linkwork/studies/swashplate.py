@@ -76,6 +76,25 @@ class SwashplateStudy:
         """``characteristics.json``: the design and :attr:`summary`."""
         return {"design": self.design.as_dict(), **self.summary}
 
+    def _repr_html_(self) -> str:
+        """A notebook's display: the drive animated in two views, and its characteristics."""
+        from linkwork.plot.html import summary_table, view_html
+
+        return view_html(self.scene(), summary_table("characteristics", self.to_dict()))
+
+    def scene(self) -> Any:
+        """The drive drawn in two views over the cycle
+        (:func:`linkwork.plot.scene.swashplate_scene`)."""
+        from linkwork.plot.scene import swashplate_scene
+
+        A, B = sw.points(self.cycle.phi, *self.design.params)
+        return swashplate_scene(self.cycle, A, B, title=self.doc.name or "swash-plate drive")
+
+    def plot(self, axes: Any = None, **kw: Any) -> Any:
+        """Position, pressure angle and transfer function over the rotor angle
+        (``cycle.plot()``): a :class:`linkwork.plot.Figure`."""
+        return self.cycle.plot(axes=axes, **kw)
+
 
 def analyze(doc: SwashplateFile, *, angles: ArrayLike | None = None) -> SwashplateStudy:
     """Analyse a validated ``swashplate`` file.

@@ -157,3 +157,30 @@ def test_cli_benchmark_splits_the_wall_time(tmp_path):
     parts = sum(ph[p][0] for p in ("start-up", "imports", "computation", "output"))
     assert abs(parts - ph["total"][0]) < 1e-9
     assert ph["computation"][0] > 0 and ph["imports"][0] > 0 and ph["output"][0] > 0
+
+
+def test_synthesis_benchmark_runs_tiny():
+    """benchmarks/synthesis.py on the planted problem, tiny, without pylinkage and Dask: the
+    exact answer (f = 0) is found; no timing assertions."""
+    spec = importlib.util.spec_from_file_location(
+        "linkwork_bench_synthesis", PATH.parent / "synthesis.py")
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod
+    spec.loader.exec_module(mod)
+    rows = mod.main(["--repeat", "1", "--problems", "planted", "--candidates", "2048",
+                     "--no-pylinkage", "--no-dask", "--no-throughput"])
+    assert rows[0]["contender"] == "linkwork" and rows[0]["error"] < 1e-20
+
+
+def test_report_benchmark_runs_tiny():
+    """benchmarks/report.py on one example, once, without the GIF; no timing assertions."""
+    spec = importlib.util.spec_from_file_location("linkwork_bench_report",
+                                                  PATH.parent / "report.py")
+    assert spec is not None and spec.loader is not None
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    rows = mod.run([PATH.parents[1] / "examples" / "swashplate_4a.toml"], repeat=1,
+                   gif_frames=0)
+    assert len(rows) == 1 and rows[0]["bytes"] > 10_000 and rows[0]["positions"] == 361
+    assert "report [s]" in mod.table(rows)

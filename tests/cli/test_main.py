@@ -378,8 +378,18 @@ def test_command_help_is_the_first_paragraph_of_each_commands_help():
 
 
 def test_command_modules_are_still_importable_from_linkwork_cli():
-    from linkwork.cli import COMMAND_MODULES, analyze, balance, examples, reactions, swashplate
-    assert COMMAND_MODULES == (analyze, balance, reactions, swashplate, examples)
+    from linkwork.cli import (
+        COMMAND_MODULES,
+        analyze,
+        balance,
+        examples,
+        reactions,
+        report,
+        swashplate,
+        synthesize,
+    )
+    assert COMMAND_MODULES == (analyze, balance, reactions, report, swashplate, synthesize,
+                               examples)
 
 
 def _complete(words: str, cword: int) -> list[str]:

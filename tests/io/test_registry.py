@@ -10,6 +10,7 @@ from linkwork.errors import FileFormatError
 from linkwork.io.planar import PlanarFile
 from linkwork.io.sine_press import SinePressFile
 from linkwork.io.swashplate import SwashplateFile
+from linkwork.io.synthesis import SynthesisFile
 from linkwork.io.toml import read_toml
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -18,7 +19,7 @@ FILES = sorted([*(ROOT / "examples").glob("*.toml"), *(ROOT / "tests" / "data").
 
 def test_registry_maps_every_type_to_its_class():
     assert io.FILE_TYPES == {"planar": PlanarFile, "sine_press": SinePressFile,
-                             "swashplate": SwashplateFile}
+                             "swashplate": SwashplateFile, "synthesis": SynthesisFile}
     assert files.schemas() == io.FILE_TYPES  # the deprecated accessor reads the same registry
 
 
@@ -33,9 +34,9 @@ def test_every_bundled_file_loads_as_the_class_of_its_type(path):
 
 @pytest.mark.parametrize("text, problem", [
     ("name = 'x'\n", "type: missing required key; one of ['planar', 'sine_press', "
-                     "'swashplate']"),
+                     "'swashplate', 'synthesis']"),
     ("type = 'loom'\n", "type: unknown type 'loom'; one of ['planar', 'sine_press', "
-                        "'swashplate']"),
+                        "'swashplate', 'synthesis']"),
 ])
 def test_unknown_or_missing_type_names_the_registered_types(tmp_path, text, problem):
     f = tmp_path / "m.toml"

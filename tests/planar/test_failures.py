@@ -140,7 +140,7 @@ def test_bad_inputs_name_parameter():
                                                   bar("c", "O", "A", 0.1)),
                   (Revolute("O", "frame", "c"),), Crank("O"))
     k = kinematics(m, [0.0, 1.0])
-    with pytest.raises(ParameterError, match=r"loads\.body"):
+    with pytest.raises(ParameterError, match=r"loads\[0\]\.body = frame .*moving bodies"):
         inverse_dynamics(k, loads=[PointForce("frame", "O2", 1.0, 0.0)])
     with pytest.raises(ParameterError, match="fx"):
         inverse_dynamics(k, loads=[PointForce("crank", "A", [1.0, 2.0, 3.0], 0.0)])

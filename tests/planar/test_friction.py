@@ -11,9 +11,8 @@ References, none produced by the code under test:
 * a crank-slider and a four-bar with friction solved from scratch here: the Newton-Euler
   equations of each link written by hand and solved per position with
   ``scipy.optimize.fsolve`` (rtol 1e-9);
-* paper 000's jamming range of the inclined slot (``linkwork.models.sine.working_range``,
-  closed form rho1 + rho2 < alpha < 180 deg - (rho1 + rho2)), against the engine's
-  self-locking limit found by bisection over alpha (1e-8 rad).
+* self-locking reported and undefined near paper 000's jamming limit (the limit itself over
+  alpha against the closed form: ``tests/planar/test_self_locking.py``).
 """
 
 from __future__ import annotations
@@ -22,7 +21,7 @@ import dataclasses
 
 import numpy as np
 import pytest
-from _mechanisms import BUILDERS
+from _mechanisms import BUILDERS, kinetic_energy_rate, sine_mechanism, with_friction
 
 from linkwork.errors import ParameterError
 from linkwork.models import sine
@@ -44,20 +43,6 @@ from linkwork.planar import (
 FIELDS = ("fx", "fy", "mz", "px", "py", "Q", "shaking_fx", "shaking_fy", "shaking_m", "T")
 
 
-def with_friction(mech: Mechanism, f_rev: float = 0.08, r: float = 0.004, f_line: float = 0.12,
-                  length: float = 0.3, pin: float = 0.003, torque: float = 0.0) -> Mechanism:
-    """``mech`` with friction in every joint."""
-    js = []
-    for j in mech.joints:
-        if isinstance(j, Revolute):
-            js.append(dataclasses.replace(j, friction=f_rev, radius=r, friction_torque=torque))
-        elif isinstance(j, Prismatic):
-            js.append(dataclasses.replace(j, friction=f_line, length=length))
-        else:
-            js.append(dataclasses.replace(j, friction=f_line, radius=pin))
-    return Mechanism(mech.frame, mech.bodies, tuple(js), mech.driver, mech.branches)
-
-
 def _loads(mech: Mechanism, kin) -> list[PointForce]:
     """A load on the last body against its motion, and a constant one on the first."""
     last = mech.bodies[-1].name
@@ -68,13 +53,7 @@ def _loads(mech: Mechanism, kin) -> list[PointForce]:
 
 def _power_balance(mech, kin, dyn, loads, g):
     """Residual of Q omega1 = dT/dt - P_loads - P_gravity + sum friction_power, and its scale."""
-    dT = np.zeros(kin.n)
-    pl = np.zeros(kin.n)
-    for b in mech.bodies:
-        i = mech.index[b.name]
-        c = kin.point(b.name, "com")
-        dT += b.mass * (c.ax * c.vx + c.ay * c.vy) + b.inertia * kin.omega[i] * kin.eps[i]
-        pl += b.mass * (g[0] * c.vx + g[1] * c.vy)
+    dT, pl = kinetic_energy_rate(mech, kin, g)
     for ld in loads:
         p = kin.point(ld.body, ld.point)
         pl += np.asarray(ld.fx) * p.vx + np.asarray(ld.fy) * p.vy
@@ -330,53 +309,7 @@ def test_eccentric_and_rod_worked_example_with_friction_circles():
     assert -dyn.Q[0] == pytest.approx(Mb, rel=1e-12)
 
 
-# -- paper 000: the jamming range of the inclined slot ----------------------------------------
-
-def sine_mechanism(alpha: float, f_slot: float, f_guide: float, L1: float = 0.1) -> Mechanism:
-    """Paper 000's working mechanism: crank AB about the frame's A, the crank pin B in a
-    straight slot at ``alpha`` to the guide, cut in the slider (ram), which moves along x on
-    the frame's guide; pin friction neglected (a sliding block, radius 0), guide a point
-    contact (length 0), as in the closed form's model."""
-    frame = Body("frame", {"A": (0.0, 0.0)})
-    crank = bar("crank", "A", "B", L1)
-    slider = Body("slider", {"G": (0.0, 0.0)})
-    joints = (Revolute("A", "frame", "crank"),
-              PinInSlot("S", "slider", "crank", angle=alpha, through=(0.0, 0.0), point="B",
-                        friction=f_slot),
-              Prismatic("G", "frame", "slider", angle=0.0, through="A", point="G",
-                        friction=f_guide))
-    return Mechanism(frame, (crank, slider), joints, Crank("A", 1.0))
-
-
-def _sine_locks(alpha: float, f1: float, f2: float) -> bool:
-    """Does the engine find a self-locking position over a revolution (a technological load
-    against the ram's motion)?"""
-    phi = np.linspace(0.0, 2 * np.pi, 73)[:-1] + 0.01
-    kin = kinematics(sine_mechanism(alpha, f1, f2), phi)
-    v = kin.point("slider", "G").vx
-    dyn = inverse_dynamics(kin, loads=[PointForce("slider", "G", fx=-1000.0 * np.sign(v))])
-    return bool(dyn.locked.any())
-
-
-@pytest.mark.parametrize(("f1", "f2"), [(0.12, 0.10), (0.2, 0.05)])
-def test_sine_press_jamming_range_matches_paper_000(f1, f2):
-    """The engine's self-locking limits over the slot angle alpha (bisection, 30 steps)
-    equal the closed form rho1 + rho2 < alpha < 180 deg - (rho1 + rho2) of
-    linkwork.models.sine.working_range (paper 000's jamming) to 1e-7 rad."""
-    lo, hi = (float(v) for v in sine.working_range(f1, f2))
-    assert _sine_locks(lo - 1e-3, f1, f2) and _sine_locks(hi + 1e-3, f1, f2)
-    assert not _sine_locks(lo + 1e-3, f1, f2) and not _sine_locks(hi - 1e-3, f1, f2)
-    a, b = lo - 0.05, lo + 0.05
-    for _ in range(30):
-        m = 0.5 * (a + b)
-        a, b = (m, b) if _sine_locks(m, f1, f2) else (a, m)
-    assert abs(0.5 * (a + b) - lo) < 1e-7
-    a, b = hi - 0.05, hi + 0.05
-    for _ in range(30):
-        m = 0.5 * (a + b)
-        a, b = (a, m) if _sine_locks(m, f1, f2) else (m, b)
-    assert abs(0.5 * (a + b) - hi) < 1e-7
-
+# -- self-locking (paper 000's jamming range over alpha: tests/planar/test_self_locking.py) ------
 
 def test_short_guide_block_jams_drawer_effect():
     """The yoke of a sine mechanism in a two-contact guide: a block 30 mm long (its load's

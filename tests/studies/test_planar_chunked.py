@@ -62,6 +62,14 @@ def _compare(doc, chunk):
             assert (a["losses"][j] is None) == (v is None)
             if v is not None:
                 assert abs(a["losses"][j] - v) <= 1e-12 * work
+    # the loads' extremes exactly, their work to round-off
+    assert len(summary.loads) == len(whole.loads)
+    for a, b in zip(summary.loads, whole.loads, strict=True):
+        for key in set(b) - {"work"}:
+            assert a[key] == b[key], (b["name"], key)
+        assert (a["work"] is None) == (b["work"] is None)
+        if b["work"] is not None:
+            assert abs(a["work"] - b["work"]) <= 1e-12 * max(abs(b["work"]), w_scale, 1.0)
     np.testing.assert_array_equal(summary.table_dynamics.Q, whole.table_dynamics.Q)
     # the streamed columns: those of the whole cycle (by the joints' structure: a couple or
     # friction power that is zero throughout is a column of zeros here)

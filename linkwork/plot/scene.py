@@ -1,0 +1,841 @@
+"""The mechanism drawn to scale, frame by frame: one scene for the HTML report, GIF/MP4 and plots.
+
+A :class:`Scene` is a list of :class:`Shape` (polylines, polygons, circles) in world
+coordinates [m], each either static (``xy`` of shape ``(k, 2)``) or moving (``(k, 2, n)``: one
+set of vertices per frame, positions last). The scene knows nothing of how it is drawn: the
+report's SVG and its viewer script (:mod:`linkwork.plot.html`) and matplotlib (:func:`draw`,
+:func:`animate`) render the same shapes, so every picture of a mechanism shows the same thing.
+
+Builders read results by their attributes (no model is imported at run time):
+
+* :func:`planar_scene` -- any mechanism of the planar engine from its
+  :class:`~linkwork.planar.Kinematics`: bodies as the polygons of their named points, each joint
+  by the shape its type supplies (:data:`JOINT_SHAPES`, or a ``scene_shapes(ctx)`` method of
+  the joint class), ground pivots, guides and slots, the paths of the named points (and of any
+  other point on request: coupler curves), the instant centres of velocity on request;
+* :func:`sine_press_scene` -- paper 000's press in both modes, side by side;
+* :func:`swashplate_scene` -- paper 003's drive in a side view and a view along the rotor axis.
+
+Instant centres (:func:`instant_centres`) are found from the bodies' velocities: the centre
+``I_ij`` of bodies i and j is the point whose velocity is the same in both,
+``P = (-c_y, c_x) / (omega_i - omega_j)`` with ``c`` the difference of the two bodies' velocity
+fields at the origin; centres of bodies that translate relative to each other are at infinity
+(NaN). The three centres of any three bodies are collinear (Aronhold-Kennedy), which the tests
+check independently.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from linkwork.outputs import atomic_path
+from linkwork.plot._base import Figure, axes_or_new, pyplot, text
+from linkwork.plot.planar import named_point_paths
+
+if TYPE_CHECKING:
+    from linkwork.planar.kinematics import Kinematics
+
+__all__ = ["JOINT_SHAPES", "MAX_ANIMATION_FRAMES", "MAX_ANIMATION_PIXELS", "DrawContext",
+           "Scene", "Shape", "animate", "crank_slider_scene", "draw", "inclined_slot_scene",
+           "instant_centres", "mechanism_figure", "planar_scene", "sine_press_scene",
+           "swashplate_scene"]
+
+#: Roles of shapes (the CSS class in the report; the matplotlib style in :func:`draw`).
+ROLES = ("axis", "path", "guide", "slot", "link", "ground", "block", "weight", "pin",
+         "tracer", "centre")
+
+#: Most frames an animation file (GIF, MP4) holds, and the largest picture it has [pixels].
+MAX_ANIMATION_FRAMES = 180
+MAX_ANIMATION_PIXELS = (960, 720)
+
+
+@dataclass(frozen=True)
+class Shape:
+    """One drawn element of a scene.
+
+    Attributes
+    ----------
+    kind : {"polyline", "polygon", "circle"}
+        An open line, a closed outline (filled), or circles (one per vertex).
+    role : str
+        What it shows (:data:`ROLES`): link, pin, ground, guide, slot, block, path, tracer,
+        centre, weight, axis.
+    name : str
+        What it is, for people and tests (``"crank"``, ``"joint A"``, ``"path coupler.P"``,
+        ``"I13"``).
+    xy : ndarray
+        World coordinates [m]: ``(k, 2)`` static, or ``(k, 2, n)`` one set per frame; NaN where
+        a vertex is undefined (an unassembled frame, a centre at infinity).
+    size : float
+        Circle radius, or the width of a wide line (guide, slot) [m]; 0: a thin line.
+    label : str
+        Text drawn beside the shape (circles: beside the first vertex).
+    colour : int
+        Palette index (the body's), or -1 for the role's own colour.
+    """
+
+    kind: str
+    role: str
+    name: str
+    xy: np.ndarray
+    size: float = 0.0
+    label: str = ""
+    colour: int = -1
+
+    @property
+    def moving(self) -> bool:
+        """True if the shape has vertices per frame."""
+        return bool(self.xy.ndim == 3)
+
+    def at(self, k: int) -> np.ndarray:
+        """Vertices ``(k, 2)`` [m] at frame ``k`` (the static ones for a static shape)."""
+        return self.xy[:, :, k] if self.moving else self.xy
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A mechanism drawn over the frames of a cycle.
+
+    Attributes
+    ----------
+    title : str
+    positions : ndarray (n,)
+        Driver position of each frame [rad, or m for a linear driver].
+    coordinate : str
+        Name of the driver coordinate (``"φ1"``, ``"s1"``, ``"φ"``).
+    unit : str
+        Its SI unit (``"rad"`` or ``"m"``); shown in deg or mm.
+    valid : ndarray of bool (n,)
+        Frames where the mechanism is assembled (others are skipped by the animation).
+    shapes : tuple of Shape
+    periodic : bool
+        The frames cover a whole turn (the animation wraps; diagrams map positions modulo 2 pi).
+    speed : float
+        Driver speed [rad/s or m/s] (real-time playback); 0 where not known.
+    notes : tuple of str
+        What the drawing leaves out or where it cannot show the mechanism.
+    """
+
+    title: str
+    positions: np.ndarray
+    coordinate: str
+    unit: str
+    valid: np.ndarray
+    shapes: tuple[Shape, ...]
+    periodic: bool = False
+    speed: float = 0.0
+    notes: tuple[str, ...] = ()
+
+    @property
+    def n(self) -> int:
+        """Number of frames."""
+        return int(self.positions.shape[0])
+
+    @property
+    def display(self) -> tuple[str, float]:
+        """Display unit of the driver coordinate and the factor from SI (deg or mm)."""
+        return ("deg", 180.0 / math.pi) if self.unit == "rad" else ("mm", 1e3)
+
+    def shape(self, name: str) -> Shape:
+        """The shape called ``name`` (KeyError if none)."""
+        for s in self.shapes:
+            if s.name == name:
+                return s
+        raise KeyError(name)
+
+    def bounds(self) -> tuple[float, float, float, float]:
+        """``(xmin, ymin, xmax, ymax)`` [m] over every shape and frame (circles' radii in)."""
+        lo = np.array([np.inf, np.inf])
+        hi = -lo
+        for s in self.shapes:
+            pts = s.xy if not s.moving else s.xy[:, :, self.valid]
+            if pts.size == 0:
+                continue
+            p = np.moveaxis(pts, 1, -1).reshape(-1, 2) if s.moving else pts.reshape(-1, 2)
+            ok = np.all(np.isfinite(p), axis=1)
+            if s.role == "centre" or not ok.any():
+                continue  # centres may lie far away: they do not set the scale
+            r = s.size if s.kind == "circle" else 0.5 * s.size
+            lo = np.minimum(lo, p[ok].min(axis=0) - r)
+            hi = np.maximum(hi, p[ok].max(axis=0) + r)
+        if not np.all(np.isfinite(lo)):
+            return (-1.0, -1.0, 1.0, 1.0)
+        return (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+
+    def take(self, frames: np.ndarray) -> Scene:
+        """The scene at the frames ``frames`` (indices) only."""
+        idx = np.asarray(frames, dtype=int)
+        shapes = tuple(replace(s, xy=s.xy[:, :, idx]) if s.moving else s for s in self.shapes)
+        return replace(self, positions=self.positions[idx], valid=self.valid[idx],
+                       shapes=shapes)
+
+    def frames(self, most: int) -> np.ndarray:
+        """At most ``most`` frame indices spread evenly over the cycle (all if fewer); a
+        periodic scene whose last frame repeats the first leaves that one out."""
+        n = self.n
+        last = n
+        if self.periodic and n > 1 and abs(self.positions[-1] - self.positions[0]
+                                           - 2 * math.pi) < 1e-9:
+            last = n - 1
+        if last <= most:
+            return np.arange(last)
+        return np.unique(np.round(np.linspace(0, last - 1, most)).astype(int))
+
+
+# ---------------------------------------------------------------------------------------------
+# the planar engine
+
+
+@dataclass(frozen=True)
+class DrawContext:
+    """What a joint's shape function needs: the kinematics, the characteristic size of the
+    drawing and the body colours.
+
+    Attributes
+    ----------
+    kin : Kinematics
+    size : float
+        Extent of the mechanism over the cycle [m]; pins, blocks and guides scale with it.
+    colours : dict
+        Body name -> palette index (the frame: -1).
+    """
+
+    kin: Any
+    size: float
+    colours: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def mechanism(self) -> Any:
+        return self.kin.mechanism
+
+    @property
+    def pin(self) -> float:
+        """Radius of a drawn pin [m]."""
+        return 0.012 * self.size
+
+    def world(self, body: str, local: Any) -> np.ndarray:
+        """Points ``local`` ``(k, 2)`` of ``body``'s frame in world coordinates: ``(k, 2)`` for
+        the frame, ``(k, 2, n)`` for a moving body [m]."""
+        pts = np.asarray(local, dtype=float).reshape(-1, 2)
+        kin = self.kin
+        i = kin.bodies.index(body)
+        if i == 0:
+            return pts
+        c, s = np.cos(kin.theta[i]), np.sin(kin.theta[i])
+        px, py = pts[:, :1], pts[:, 1:]
+        return np.stack([kin.x[i] + c * px - s * py, kin.y[i] + s * px + c * py], axis=1)
+
+    def full(self, v: np.ndarray) -> np.ndarray:
+        """``v`` of shape ``(2,)`` (static) or ``(2, n)`` as ``(2, n)``."""
+        return v if v.ndim == 2 else np.broadcast_to(v[:, None], (2, self.kin.phi1.shape[0]))
+
+    def direction(self, body: str, angle: float) -> np.ndarray:
+        """Unit vector at ``angle`` [rad] in ``body``'s frame, in world axes: ``(2,)`` or
+        ``(2, n)``."""
+        i = self.kin.bodies.index(body)
+        if i == 0:
+            return np.array([math.cos(angle), math.sin(angle)])
+        th = self.kin.theta[i] + angle
+        return np.stack([np.cos(th), np.sin(th)])
+
+
+def _band(ctx: DrawContext, joint: Any, role: str, width: float) -> Shape:
+    """The line of a prismatic or pin-in-slot joint on its body a, over the stretch the point
+    of b travels along it (plus a margin): a wide line, static on the frame."""
+    mech = ctx.mechanism
+    qa, pb, ang = mech.joint_geometry(joint)
+    q = ctx.full(ctx.world(joint.a, [qa])[0])
+    u = ctx.full(ctx.direction(joint.a, ang))
+    p = ctx.full(ctx.world(joint.b, [pb])[0])
+    t = np.sum((p - q) * u, axis=0)
+    t = t[np.isfinite(t)]
+    lo, hi = (float(t.min()), float(t.max())) if t.size else (0.0, 0.0)
+    pad = max(0.15 * (hi - lo), 0.06 * ctx.size)
+    ends = np.array([lo - pad, hi + pad])
+    xy = q[None, :, :] + ends[:, None, None] * u[None, :, :]
+    if joint.a == mech.frame.name:  # on the frame: static
+        xy = xy[:, :, 0]
+    kind = "slot" if role == "slot" else "guide"
+    return Shape("polyline", role, f"{kind} {joint.name}", xy, size=width,
+                 colour=ctx.colours.get(joint.a, -1))
+
+
+def _revolute_shapes(joint: Any, ctx: DrawContext) -> list[Shape]:
+    mech = ctx.mechanism
+    qa, pb, _ = mech.joint_geometry(joint)
+    frame = mech.frame.name
+    on_b = joint.b != frame
+    xy = ctx.world(joint.b, [pb]) if on_b else ctx.world(joint.a, [qa])
+    out = [Shape("circle", "pin", f"joint {joint.name}", xy, size=ctx.pin,
+                 label=joint.name)]
+    if frame in (joint.a, joint.b):
+        out.insert(0, _ground(ctx.world(frame, [qa if joint.a == frame else pb])[0], ctx,
+                              joint.name))
+    return out
+
+
+def _ground(at: np.ndarray, ctx: DrawContext, name: str) -> Shape:
+    """A ground pivot: a triangle under the point and the hatched base."""
+    h = 2.5 * ctx.pin
+    x, y = float(at[0]), float(at[1])
+    tri = np.array([[x, y], [x - h, y - 1.6 * h], [x + h, y - 1.6 * h]])
+    return Shape("polygon", "ground", f"ground {name}", tri)
+
+
+def _prismatic_shapes(joint: Any, ctx: DrawContext) -> list[Shape]:
+    mech = ctx.mechanism
+    _, pb, ang = mech.joint_geometry(joint)
+    guide = _band(ctx, joint, "guide", 0.05 * ctx.size)
+    centre = ctx.full(ctx.world(joint.b, [pb])[0])
+    u = ctx.full(ctx.direction(joint.a, ang))
+    v = np.stack([-u[1], u[0]])
+    length = float(getattr(joint, "length", 0.0)) or 0.09 * ctx.size
+    half_l, half_w = 0.5 * length, 0.035 * ctx.size
+    corners = [centre + sl * half_l * u + sw * half_w * v
+               for sl, sw in ((-1, -1), (1, -1), (1, 1), (-1, 1))]
+    block = Shape("polygon", "block", f"block {joint.name}", np.stack(corners),
+                  colour=ctx.colours.get(joint.b, -1))
+    return [guide, block]
+
+
+def _slot_shapes(joint: Any, ctx: DrawContext) -> list[Shape]:
+    mech = ctx.mechanism
+    _, pb, _ = mech.joint_geometry(joint)
+    r = max(float(getattr(joint, "radius", 0.0)), ctx.pin)
+    slot = _band(ctx, joint, "slot", 2.6 * r)
+    pin = Shape("circle", "pin", f"joint {joint.name}", ctx.world(joint.b, [pb]), size=r,
+                label=joint.name)
+    return [slot, pin]
+
+
+#: The shape of each joint type, by its one-letter code (:attr:`Joint.code`): a function
+#: ``(joint, ctx: DrawContext) -> list[Shape]``. A joint class may instead supply its own
+#: ``scene_shapes(ctx)`` method (used first), so that a new joint type (a gear pair, a cylinder)
+#: draws itself without changes here.
+JOINT_SHAPES: dict[str, Callable[[Any, DrawContext], list[Shape]]] = {
+    "R": _revolute_shapes,
+    "P": _prismatic_shapes,
+    "S": _slot_shapes,
+}
+
+
+def _hull(points: np.ndarray) -> tuple[np.ndarray, bool]:
+    """Order of the outline of a body's points: the convex hull (closed: True), or, for points
+    on one line, all of them along it (an open polyline: False)."""
+    pts = np.asarray(points, dtype=float)
+    if len(pts) < 3:
+        return np.arange(len(pts)), False
+    centre = pts.mean(axis=0)
+    d = pts - centre
+    span = float(np.max(np.hypot(d[:, 0], d[:, 1]))) or 1.0
+    _, sv, vt = np.linalg.svd(d, full_matrices=False)
+    if sv[-1] <= 1e-9 * span * math.sqrt(len(pts)):  # collinear: along the line
+        return np.argsort(d @ vt[0]), False
+    order = sorted(range(len(pts)), key=lambda i: (pts[i, 0], pts[i, 1]))
+
+    def cross(o: int, a: int, b: int) -> float:
+        return float((pts[a, 0] - pts[o, 0]) * (pts[b, 1] - pts[o, 1])
+                     - (pts[a, 1] - pts[o, 1]) * (pts[b, 0] - pts[o, 0]))
+
+    lower: list[int] = []
+    upper: list[int] = []
+    for i in order:  # Andrew's monotone chain
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], i) <= 0:
+            lower.pop()
+        lower.append(i)
+    for i in reversed(order):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], i) <= 0:
+            upper.pop()
+        upper.append(i)
+    return np.array(lower[:-1] + upper[:-1]), True
+
+
+def instant_centres(kin: Kinematics) -> dict[tuple[int, int], np.ndarray]:
+    """Instant centres of velocity of every pair of bodies over the cycle.
+
+    Bodies are numbered as in ``kin.bodies`` (0 the frame). Returns ``{(i, j): xy}`` for
+    ``i < j`` with ``xy`` of shape ``(2, n)`` [m]: the point whose velocity is the same as a
+    point of body i and of body j, ``P = (-c_y, c_x) / (omega_i - omega_j)`` where ``c`` is
+    the difference of the two velocity fields at the origin. NaN where the two bodies
+    translate relative to each other (the centre at infinity) or where the driver does not
+    move (all velocities zero), and at unassembled positions. Bodies joined by a revolute
+    joint have their primary centre at the joint at every position (also where their relative
+    angular velocity passes through zero and the formula is 0/0).
+    """
+    w = np.asarray(kin.omega, dtype=float)
+    ux = kin.vx + w * kin.y  # velocity field of each body at the world origin
+    uy = kin.vy - w * kin.x
+    scale = np.nanmax(np.abs(w), axis=0, initial=0.0)  # (n,)
+    out: dict[tuple[int, int], np.ndarray] = {}
+    nb = w.shape[0]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for i, j in itertools.combinations(range(nb), 2):
+            dw = w[i] - w[j]
+            cx, cy = ux[i] - ux[j], uy[i] - uy[j]
+            tiny = np.abs(dw) <= 1e-9 * scale
+            px = np.where(tiny, np.nan, -cy / dw)
+            py = np.where(tiny, np.nan, cx / dw)
+            out[(i, j)] = np.stack([px, py])
+    mech = kin.mechanism
+    for joint in mech.joints:
+        if getattr(joint, "code", "") != "R":
+            continue
+        i, j = sorted((kin.bodies.index(joint.a), kin.bodies.index(joint.b)))
+        qa, pb, _ = mech.joint_geometry(joint)
+        pm = kin.point(joint.b, pb) if joint.b != mech.frame.name else kin.point(joint.a, qa)
+        out[(i, j)] = np.stack([pm.x, pm.y])
+    return out
+
+
+def _centre_name(i: int, j: int) -> str:
+    """Kennedy's numbering: the frame is body 1."""
+    sep = "," if max(i, j) >= 9 else ""
+    return f"I{i + 1}{sep}{j + 1}"
+
+
+PointSpec = tuple[str, str | tuple[float, float]]
+
+
+def _whole_turn(phi: np.ndarray) -> bool:
+    """The angles cover a whole turn: from start to start + 360 deg, or to one step short of it
+    (0, 1, ..., 359 deg)."""
+    if phi.size < 3:
+        return False
+    step = float(np.median(np.abs(np.diff(phi))))
+    return bool(phi[-1] - phi[0] >= 2 * math.pi - 1.01 * step - 1e-9)
+
+
+def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
+                 centres: bool = False, title: str | None = None,
+                 weights: Sequence[tuple[str, tuple[float, float], float, str]] = ()
+                 ) -> Scene:
+    """The scene of a planar engine mechanism over the positions of ``kin``.
+
+    Parameters
+    ----------
+    kin : Kinematics
+        The cycle (``on_failure="nan"`` results are drawn where assembled).
+    paths : sequence of (body, point), optional
+        Points whose paths (coupler curves) are drawn, besides the named points that move:
+        a named point or local coordinates (x, y) [m] of the body's frame.
+    centres : bool
+        Also draw the instant centres of velocity of every pair of bodies
+        (:func:`instant_centres`), labelled in Kennedy's numbering (frame = 1).
+    title : str, optional
+        Default: the mechanism's frame-and-bodies summary.
+    weights : sequence of (body, (x, y), radius, label)
+        Round masses drawn on bodies (counterweights): centre in the body's frame [m] and
+        radius [m].
+    """
+    mech = kin.mechanism
+    valid = np.asarray(kin.valid, dtype=bool)
+    colours = {b.name: k for k, b in enumerate(mech.bodies)}
+    colours[mech.frame.name] = -1
+    # characteristic size: the extent of every named point over the cycle
+    pts = [DrawContext(kin, 1.0).world(b.name, list(b.points.values()))
+           for b in (mech.frame, *mech.bodies) if b.points]
+    flat = np.concatenate([np.moveaxis(p, 1, -1).reshape(-1, 2) if p.ndim == 3 else p
+                           for p in pts]) if pts else np.zeros((1, 2))
+    flat = flat[np.all(np.isfinite(flat), axis=1)]
+    size = float(np.hypot(*np.ptp(flat, axis=0))) if len(flat) else 1.0
+    ctx = DrawContext(kin, size or 1.0, colours)
+    shapes: list[Shape] = []
+    notes: list[str] = []
+    # point paths (under everything)
+    drawn = named_point_paths(kin)
+    extra = [p for p in (paths or ()) if (p[0], p[1]) not in drawn]
+    for body, point in [*drawn, *extra]:
+        pm = kin.point(body, point)
+        label = point if isinstance(point, str) else "({:g}, {:g}) mm".format(
+            *(1e3 * np.asarray(point, dtype=float)))
+        xy = np.stack([pm.x, pm.y], axis=1)
+        shapes.append(Shape("polyline", "path", f"path {body}.{label}", xy,
+                            colour=colours.get(body, -1), label=f"{body}.{label}"))
+        shapes.append(Shape("circle", "tracer", f"point {body}.{label}",
+                            np.stack([pm.x, pm.y])[None], size=0.6 * ctx.pin,
+                            colour=colours.get(body, -1)))
+    # bodies as the outlines of their named points
+    for b in mech.bodies:
+        local = np.array(list(b.points.values()), dtype=float).reshape(-1, 2)
+        if len(local) < 2:
+            continue
+        order, closed = _hull(local)
+        shapes.append(Shape("polygon" if closed else "polyline", "link", b.name,
+                            ctx.world(b.name, local[order]), size=0.0,
+                            colour=colours[b.name]))
+    for on, centre, radius, label in weights:
+        shapes.append(Shape("circle", "weight", f"weight {label}",
+                            ctx.world(on, [centre]), size=radius, label=label,
+                            colour=colours.get(on, -1)))
+    # joints, by the shape their type supplies
+    for joint in mech.joints:
+        own = getattr(joint, "scene_shapes", None)
+        fn = JOINT_SHAPES.get(getattr(joint, "code", ""))
+        if callable(own):
+            shapes += own(ctx)
+        elif fn is not None:
+            shapes += fn(joint, ctx)
+        else:
+            notes.append(f"joint {joint.name} ({type(joint).__name__}) has no drawing; "
+                         "not shown")
+    if centres:
+        far = 50.0 * ctx.size
+        cx, cy = np.mean(flat, axis=0) if len(flat) else (0.0, 0.0)
+        infinite: list[str] = []
+        for (i, j), xy in instant_centres(kin).items():
+            xy = np.where(np.hypot(xy[0] - cx, xy[1] - cy) > far, np.nan, xy)
+            name = _centre_name(i, j)
+            if not np.isfinite(xy).any():
+                infinite.append(name)
+            shapes.append(Shape("circle", "centre", name, xy[None], size=0.7 * ctx.pin,
+                                label=name))
+        legend = ", ".join(f"{k + 1} = {b}" for k, b in enumerate(kin.bodies))
+        notes.append(f"instant centres I_ij of bodies {legend} (Aronhold-Kennedy: any three "
+                     "are collinear); a centre farther than 50 times the mechanism's size is "
+                     "not drawn" + (f" ({', '.join(infinite)} at infinity: relative "
+                                    "translation)" if infinite else ""))
+    crank = mech.driver.kind == "crank"
+    phi = np.asarray(kin.phi1, dtype=float)
+    periodic = crank and _whole_turn(phi)
+    speed = float(np.nanmedian(np.abs(np.asarray(kin.omega1, dtype=float)))) if phi.size else 0.0
+    return Scene(title=title or "mechanism", positions=phi,
+                 coordinate="φ1" if crank else "s1", unit="rad" if crank else "m",
+                 valid=valid, shapes=tuple(shapes), periodic=periodic,
+                 speed=speed if math.isfinite(speed) else 0.0, notes=tuple(notes))
+
+
+# ---------------------------------------------------------------------------------------------
+# closed forms
+
+
+def _rect(centre: np.ndarray, u: np.ndarray, half_l: float, half_w: float) -> np.ndarray:
+    """Corners ``(4, 2, ...)`` of a rectangle around ``centre`` ``(2, ...)`` along unit
+    ``u`` ``(2, ...)``."""
+    v = np.stack([-u[1], u[0]])
+    return np.stack([centre + a * half_l * u + b * half_w * v
+                     for a, b in ((-1, -1), (1, -1), (1, 1), (-1, 1))])
+
+
+def _crank_slider_shapes(idle: Any, prefix: str = "") -> tuple[list[Shape], float]:
+    """Shapes of the offset crank-slider (crank AB, rod BC, slider C on the guide X = e
+    parallel to +Y; crank axis A at the origin) and the drawing's characteristic size [m]."""
+    phi = np.asarray(idle.phi1, dtype=float)
+    L1 = float(np.asarray(idle.L1).ravel()[0])
+    e = float(np.asarray(idle.X_C).ravel()[0])
+    lam2 = float(np.asarray(idle.lambda2).ravel()[0])
+    size = (lam2 + 2.0) * L1
+    pin = 0.018 * size
+    B = np.stack([idle.X_B, idle.Y_B])
+    C = np.stack(np.broadcast_arrays(np.asarray(idle.X_C, float), np.asarray(idle.Y_C, float)))
+    ymin, ymax = float(np.nanmin(idle.Y_C)), float(np.nanmax(idle.Y_C))
+    bl = 0.09 * size
+    up = np.stack([np.zeros_like(phi), np.ones_like(phi)])
+    return [
+        Shape("polyline", "guide", f"{prefix}guide", np.array([[e, ymin - bl], [e, ymax + bl]]),
+              size=0.05 * size),
+        Shape("polygon", "ground", f"{prefix}ground A", _tri(0.0, 0.0, 2.5 * pin)),
+        Shape("polyline", "link", f"{prefix}crank", np.stack([np.zeros_like(B), B]), colour=0),
+        Shape("polyline", "link", f"{prefix}rod", np.stack([B, C]), colour=1),
+        Shape("polygon", "block", f"{prefix}slider C", _rect(C, up, bl / 2, 0.035 * size),
+              colour=2),
+        Shape("circle", "pin", f"{prefix}joint A", np.zeros((1, 2)), size=pin, label="A"),
+        Shape("circle", "pin", f"{prefix}joint B", B[None], size=pin, label="B"),
+        Shape("circle", "pin", f"{prefix}joint C", C[None], size=pin, label="C"),
+        Shape("polyline", "path", f"path {prefix}C", C.T, colour=2),
+    ], size
+
+
+def _inclined_slot_shapes(working: Any, dx: float, size: float, prefix: str = ""
+                          ) -> list[Shape]:
+    """Shapes of the sine mechanism with an inclined slot, crank axis at (dx, 0): crank AB,
+    the block at B in the ram's slot inclined at alpha, the ram sliding along x (its slot
+    crosses the x axis at ``L1 - X3``)."""
+    phi = np.asarray(working.phi1, dtype=float)
+    L1 = float(np.asarray(working.L1).ravel()[0])
+    alpha = float(np.asarray(working.alpha).ravel()[0])
+    pin = 0.018 * size
+    u = np.array([math.cos(alpha), math.sin(alpha)])
+    reach = L1 / max(math.sin(alpha), 1e-3) + 0.08 * size
+    Bw = np.stack([np.asarray(working.X_B) + dx, np.asarray(working.Y_B)])
+    S = np.stack([L1 - np.asarray(working.X3) + dx, np.zeros_like(phi)])  # slot on the x axis
+    slot = np.stack([S - reach * u[:, None], S + reach * u[:, None]])
+    stroke = float(np.nanmax(working.X3) - np.nanmin(working.X3))
+    ram_len = max(stroke + 2.0 * L1, 0.5 * size)
+    ram = np.stack([S, S + np.array([[ram_len], [0.0]])])
+    x_lo = float(np.nanmin(S[0])) - 0.05 * size
+    return [
+        Shape("polyline", "axis", f"{prefix}line of the ram",
+              np.array([[x_lo - L1, 0.0], [x_lo + stroke + ram_len + L1, 0.0]])),
+        Shape("polyline", "guide", f"{prefix}guide",
+              np.array([[float(np.nanmax(S[0])) + 0.5 * L1 + reach * abs(u[0]), 0.0],
+                        [float(np.nanmin(S[0])) + ram_len - 0.2 * L1, 0.0]]),
+              size=0.05 * size),
+        Shape("polygon", "ground", f"{prefix}ground A", _tri(dx, 0.0, 2.5 * pin)),
+        Shape("polyline", "link", f"{prefix}ram", ram, colour=3),
+        Shape("polyline", "slot", f"{prefix}slot", slot, size=2.6 * pin, colour=3),
+        Shape("polyline", "link", f"{prefix}crank", np.stack([np.stack(
+            [np.full_like(phi, dx), np.zeros_like(phi)]), Bw]), colour=0),
+        Shape("polygon", "block", f"{prefix}block B",
+              _rect(Bw, np.broadcast_to(u[:, None], Bw.shape), 0.045 * size, 0.025 * size),
+              colour=1),
+        Shape("circle", "pin", f"{prefix}joint A", np.array([[dx, 0.0]]), size=pin, label="A"),
+        Shape("circle", "pin", f"{prefix}joint B", Bw[None], size=pin, label="B"),
+    ]
+
+
+def _closed_form_scene(title: str, phi: np.ndarray, shapes: list[Shape], valid: Any,
+                       speed: float, notes: tuple[str, ...] = ()) -> Scene:
+    ok = np.ones(phi.shape, dtype=bool) if valid is None else np.asarray(valid, dtype=bool)
+    return Scene(title=title, positions=phi, coordinate="φ1", unit="rad",
+                 valid=np.broadcast_to(ok, phi.shape).copy(), shapes=tuple(shapes),
+                 periodic=_whole_turn(phi), speed=float(speed), notes=notes)
+
+
+def crank_slider_scene(idle: Any, *, title: str = "offset crank-slider") -> Scene:
+    """An offset crank-slider (:class:`~linkwork.models.crank_slider.CrankSliderResult` of one
+    design over crank angles): crank AB, rod BC, slider C on its guide."""
+    shapes, _ = _crank_slider_shapes(idle)
+    phi = np.asarray(idle.phi1, dtype=float)
+    return _closed_form_scene(title, phi, shapes, getattr(idle, "valid", None),
+                              float(np.asarray(idle.omega1).ravel()[0]))
+
+
+def inclined_slot_scene(working: Any, *, title: str = "sine mechanism") -> Scene:
+    """A sine mechanism with an inclined slot (:class:`~linkwork.models.sine.InclinedSlotResult`
+    of one design over crank angles): crank, block, slotted ram."""
+    L1 = float(np.asarray(working.L1).ravel()[0])
+    phi = np.asarray(working.phi1, dtype=float)
+    return _closed_form_scene(title, phi, _inclined_slot_shapes(working, 0.0, 4.0 * L1), None,
+                              float(np.asarray(working.omega1).ravel()[0]))
+
+
+def sine_press_scene(idle: Any, working: Any, *, title: str = "press drive",
+                     speed: float = 0.0) -> Scene:
+    """Paper 000's press drive in both modes at the same crank angle, side by side.
+
+    ``idle``: a :class:`~linkwork.models.crank_slider.CrankSliderResult` (left);
+    ``working``: an :class:`~linkwork.models.sine.InclinedSlotResult` over the same crank
+    angles (right).
+    """
+    shapes, size = _crank_slider_shapes(idle, "idle ")
+    L1 = float(np.asarray(idle.L1).ravel()[0])
+    e = float(np.asarray(idle.X_C).ravel()[0])
+    alpha = float(np.asarray(working.alpha).ravel()[0])
+    reach = L1 / max(math.sin(alpha), 1e-3) + 0.08 * size
+    dx = max(L1, e) + 0.15 * size + 2.0 * L1 + reach * abs(math.cos(alpha))
+    shapes += _inclined_slot_shapes(working, dx, size, "working ")
+    return _closed_form_scene(
+        title, np.asarray(idle.phi1, dtype=float), shapes, getattr(idle, "valid", None), speed,
+        (f"left: idle mode (offset crank-slider); right: working mode (sine mechanism, slot at "
+         f"α = {math.degrees(alpha):.4g} deg); both at the same crank angle φ1",))
+
+
+def _tri(x: float, y: float, h: float) -> np.ndarray:
+    return np.array([[x, y], [x - h, y - 1.6 * h], [x + h, y - 1.6 * h]])
+
+
+def swashplate_scene(cycle: Any, A: np.ndarray, B: np.ndarray, *,
+                     title: str = "swash-plate drive") -> Scene:
+    """Paper 003's drive in two views, side by side: along ``x0`` (``y0`` to the right, the
+    rotor axis ``z0`` up) and along the rotor axis (``x0`` right, ``y0`` up).
+
+    ``cycle``: a :class:`~linkwork.models.swashplate.KinematicsResult`; ``A``, ``B``: the slide
+    and disk points ``(n, 3)`` [m] over its angles (:func:`linkwork.models.swashplate.points`,
+    with ``A_z = s``).
+    """
+    d = cycle.design
+    phi = np.asarray(cycle.phi, dtype=float)
+    R, r, alpha = float(d.R), float(d.r), float(d.alpha)
+    size = 2.0 * max(R, r) + float(d.l)
+    pin = 0.012 * size
+    Ay, Az, By, Bz = A[:, 1], A[:, 2], B[:, 1], B[:, 2]
+    z1 = float(np.mean(Bz + r * math.sin(alpha) * np.cos(phi)))  # disk centre height
+    zc = np.array([math.cos(alpha), math.sin(alpha)])
+    disk = np.array([[d.b, z1], [d.b, z1]]) + np.array([[-r], [r]]) * zc
+    smin, smax = float(np.min(Az)), float(np.max(Az))
+    slide_len = 0.35 * size
+    drum_lo, drum_hi = smin - 0.05 * size, smax + slide_len
+    side = [
+        Shape("polyline", "axis", "rotor axis", np.array([[0.0, min(z1 - r, drum_lo) - 0.1 * size],
+                                                          [0.0, drum_hi + 0.1 * size]])),
+        Shape("polyline", "axis", "disk axis", np.array([[d.b, z1], [d.b, z1]])
+              + np.array([[0.0], [0.25 * size]]) * np.array([-math.sin(alpha),
+                                                            math.cos(alpha)])),
+        Shape("polyline", "link", "disk (edge on)", disk, colour=0),
+        Shape("polyline", "guide", "drum guides", np.array([[-R, drum_lo], [-R, drum_hi],
+                                                            [R, drum_hi], [R, drum_lo]]),
+              size=0.0),
+        Shape("polyline", "link", "side rod", np.stack([np.stack([By, Bz]),
+                                                        np.stack([Ay, Az])]), colour=1),
+        Shape("polygon", "block", "side slide", _rect(
+            np.stack([Ay, Az + 0.5 * slide_len]),
+            np.stack([np.zeros_like(phi), np.ones_like(phi)]), 0.5 * slide_len, 0.03 * size),
+            colour=2),
+        Shape("circle", "pin", "side joint B", np.stack([By, Bz])[None], size=pin, label="B"),
+        Shape("circle", "pin", "side joint A", np.stack([Ay, Az])[None], size=pin, label="A"),
+        Shape("polyline", "path", "path side.A", np.stack([Ay, Az], axis=1), colour=2),
+    ]
+    dx = R + max(R, r) + 0.45 * size
+    dz = 0.5 * (smin + smax)
+    t = np.linspace(0.0, 2 * math.pi, 73)
+    top = [
+        Shape("polyline", "guide", "rotor pitch circle",
+              np.stack([dx + R * np.sin(t), dz - R * np.cos(t)], axis=1)),
+        Shape("polyline", "link", "disk rim (seen along the rotor axis)",
+              np.stack([dx + d.a + r * np.sin(t), dz + d.b - r * math.cos(alpha) * np.cos(t)],
+                       axis=1), colour=0),
+        Shape("polyline", "link", "top rod", np.stack([
+            np.stack([dx + B[:, 0], dz + By]), np.stack([dx + A[:, 0], dz + Ay])]), colour=1),
+        Shape("circle", "pin", "top joint B", np.stack([dx + B[:, 0], dz + By])[None],
+              size=pin, label="B"),
+        Shape("circle", "block", "top slide A", np.stack([dx + A[:, 0], dz + Ay])[None],
+              size=2 * pin, label="A", colour=2),
+        Shape("circle", "pin", "rotor axis (top)", np.array([[dx, dz]]), size=0.5 * pin),
+    ]
+    return Scene(title=title, positions=phi, coordinate="φ", unit="rad",
+                 valid=np.ones(phi.shape, dtype=bool), shapes=tuple(side + top),
+                 periodic=_whole_turn(phi), speed=float(cycle.omega),
+                 notes=("left: side view along x0 (y0 to the right, the rotor axis z0 up; the "
+                        "disk is seen edge on and the rod foreshortened); right: view along "
+                        "the rotor axis (x0 right, y0 up); one slide shown",))
+
+
+# ---------------------------------------------------------------------------------------------
+# matplotlib
+
+#: matplotlib colours of the palette indices (the report's CSS uses the same)
+PALETTE = ("#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2",
+           "#17becf", "#bcbd22", "#7f7f7f")
+
+
+def _colour(s: Shape, default: str) -> str:
+    return PALETTE[s.colour % len(PALETTE)] if s.colour >= 0 else default
+
+
+def draw(ax: Any, scene: Scene, k: int, *, centres: bool = True) -> list[Any]:
+    """Draw frame ``k`` of ``scene`` into matplotlib axes ``ax`` (lengths in mm); returns the
+    artists. The frame's pose is left out (only static shapes) where it is not assembled."""
+    from matplotlib.patches import Circle, Polygon
+
+    artists: list[Any] = []
+    ok = bool(scene.valid[k])
+    for s in scene.shapes:
+        if s.moving and not ok:
+            continue
+        if s.role == "centre" and not centres:
+            continue
+        xy = s.at(k) * 1e3
+        if not np.all(np.isfinite(xy)) and s.kind != "polyline":
+            continue
+        if s.kind == "circle":
+            for p in xy:
+                face = {"pin": "white", "tracer": _colour(s, "k"), "weight": _colour(s, "0.3"),
+                        "centre": "#ff00aa", "block": _colour(s, "0.5")}.get(s.role, "white")
+                c = Circle((p[0], p[1]), s.size * 1e3, facecolor=face,
+                           edgecolor=_colour(s, "k") if s.role != "centre" else "#aa0077",
+                           lw=1.0, alpha=0.5 if s.role == "weight" else 1.0, zorder=5)
+                ax.add_patch(c)
+                artists.append(c)
+                if s.label and s.role in ("pin", "centre", "weight"):
+                    artists.append(ax.annotate(text(s.label), (p[0], p[1]), fontsize=7,
+                                               xytext=(4, 4), textcoords="offset points",
+                                               zorder=6))
+        elif s.kind == "polygon":
+            fill = {"ground": "0.55", "block": _colour(s, "0.5"), "link": _colour(s, "0.5")}
+            poly = Polygon(xy, closed=True, facecolor=fill.get(s.role, "0.8"),
+                           edgecolor=_colour(s, "k") if s.role != "ground" else "0.3",
+                           alpha=0.35 if s.role == "link" else 0.8, lw=1.5, zorder=3)
+            ax.add_patch(poly)
+            artists.append(poly)
+        else:
+            styles: dict[str, dict[str, Any]] = {
+                "path": {"lw": 0.8, "ls": "--", "color": _colour(s, "0.4"), "zorder": 1},
+                "axis": {"lw": 0.6, "ls": "-.", "color": "0.5", "zorder": 0},
+                "guide": {"lw": 6 if s.size else 1.0, "color": "0.6", "alpha": 0.5,
+                          "solid_capstyle": "butt", "zorder": 1},
+                "slot": {"lw": 7, "color": _colour(s, "0.5"), "alpha": 0.3,
+                         "solid_capstyle": "round", "zorder": 2},
+            }
+            style = styles.get(s.role, {"lw": 3.0, "color": _colour(s, "k"), "zorder": 4,
+                                        "solid_capstyle": "round"})
+            (ln,) = ax.plot(xy[:, 0], xy[:, 1], **style)
+            artists.append(ln)
+    return artists
+
+
+def _limits(ax: Any, scene: Scene) -> None:
+    x0, y0, x1, y1 = (v * 1e3 for v in scene.bounds())
+    pad = 0.06 * max(x1 - x0, y1 - y0, 1e-9)
+    ax.set_xlim(x0 - pad, x1 + pad)
+    ax.set_ylim(y0 - pad, y1 + pad)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [mm]")
+    ax.set_ylabel("y [mm]")
+
+
+def mechanism_figure(scene: Scene, frame: int | None = None, ax: Any = None) -> Any:
+    """The scene drawn at ``frame`` (default: the first assembled) into ``ax`` (None: a new
+    figure), with its title and position: a :class:`linkwork.plot.Figure`."""
+    ax = axes_or_new(ax, figsize=(7, 6))
+    good = np.flatnonzero(scene.valid)
+    k = int(good[0]) if frame is None and good.size else int(frame or 0)
+    artists = draw(ax, scene, k)
+    _limits(ax, scene)
+    ax.set_title(text(f"{scene.title}: {_caption(scene, k)}"), fontsize=10)
+    return Figure.of(ax, artists=artists)
+
+
+def _caption(scene: Scene, k: int) -> str:
+    unit, f = scene.display
+    pos = f"{scene.coordinate} = {scene.positions[k] * f:.1f} {unit}"
+    return pos if scene.valid[k] else pos + ": not assembled"
+
+
+def animate(scene: Scene, path: str | Path, *, frames: int = 120, fps: int = 20,
+            size: tuple[int, int] = (640, 480), dpi: int = 100) -> Path:
+    """Write the scene's animation to ``path``: a GIF (Pillow), or an MP4 (ffmpeg) by the
+    suffix. At most :data:`MAX_ANIMATION_FRAMES` frames spread over the cycle (unassembled
+    ones left out) and a picture of at most :data:`MAX_ANIMATION_PIXELS`; the file is written
+    beside ``path`` and renamed when complete."""
+    from matplotlib import animation
+
+    plt = pyplot()
+    p = Path(path)
+    w = min(int(size[0]), MAX_ANIMATION_PIXELS[0])
+    h = min(int(size[1]), MAX_ANIMATION_PIXELS[1])
+    idx = scene.frames(max(1, min(int(frames), MAX_ANIMATION_FRAMES)))
+    idx = idx[scene.valid[idx]]
+    if idx.size == 0:
+        idx = np.array([0])
+    fig, ax = plt.subplots(figsize=(w / dpi, h / dpi), dpi=dpi)
+    try:
+        held: list[Any] = []
+
+        def update(k: int) -> list[Any]:
+            for a in held:
+                a.remove()
+            held[:] = draw(ax, scene, int(k))
+            ax.set_title(text(f"{scene.title}\n{_caption(scene, int(k))}"), fontsize=9)
+            return held
+
+        _limits(ax, scene)
+        fig.tight_layout()
+        anim = animation.FuncAnimation(fig, update, frames=list(idx), blit=False)
+        writer: Any
+        if p.suffix.lower() == ".mp4":
+            writer = animation.FFMpegWriter(fps=fps, codec="libx264",
+                                            extra_args=["-pix_fmt", "yuv420p"])
+        else:
+            writer = animation.PillowWriter(fps=fps)
+        with atomic_path(p) as tmp:
+            anim.save(str(tmp), writer=writer, dpi=dpi)
+    finally:
+        plt.close(fig)
+    return p
