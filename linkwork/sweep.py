@@ -44,8 +44,9 @@ as ``func(chunk, **shared)``; on a cluster they are sent to every worker once
     y = evaluate(peaks_of, draws, shared={"zmat": zmat}, client=client)
 
 On a cluster the chunks are submitted at once and their results gathered in batches as they
-complete (``as_completed(...).batches()``), each released on the workers as soon as it is
-here; ``combine`` folds them in candidate order as soon as the next one in order is in.
+complete (``as_completed(...).batches()``, one ``gather`` per batch), each released on the
+workers as soon as it is here; ``combine`` folds them in candidate order as soon as the next
+one in order is in.
 
 Worker malloc settings
 ----------------------
@@ -359,14 +360,16 @@ def _evaluate_dask(func: Callable[..., Any], candidates: Any, slices: list[slice
         acc: Any = None
         folded = 0   # chunks folded by combine, in order
         done = 0
-        for batch in as_completed(futures, with_results=True).batches():
-            for fut, res in batch:
+        for batch in as_completed(futures).batches():
+            # one gather per batch of finished chunks (not one per chunk, nor many at once)
+            for fut, res in zip(batch, cl.gather(batch), strict=True):
                 i = index[fut.key]
                 futures[i] = None  # released on the workers once nothing refers to it
                 results[i] = res
                 done += slices[i].stop - slices[i].start
                 if progress is not None:
                     progress(done, n)
+            del batch
             if combine is not None:  # fold the chunks that are next in order
                 while folded in results:
                     res = results.pop(folded)
