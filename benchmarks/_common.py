@@ -185,3 +185,49 @@ def local_clusters(workers: Sequence[int]) -> tuple[dict[str, Any], list[Any]]:
         clients[f"process cluster, {w} worker{'s' if w > 1 else ''}"] = client
         owned += [client, cluster]
     return clients, owned
+
+
+def _process_cpu() -> float:
+    """CPU seconds (user + system) of this process so far (run on a worker by the client)."""
+    t = os.times()
+    return t.user + t.system
+
+
+def cpu_split(fn: Callable[[], Any], client: Any = None, repeat: int = 3) -> dict[str, float]:
+    """CPU seconds that one call of ``fn`` costs, median of ``repeat`` calls: in this process
+    (``client``), and with a dask ``client`` on each of its workers (``workers``: sorted, the
+    busiest last). Unlike wall time this does not depend on other load of the machine: the
+    busiest process bounds the wall time the call would take on free cores."""
+    runs: list[dict[str, Any]] = []
+    for _ in range(repeat):
+        w0 = client.run(_process_cpu) if client is not None else {}
+        c0 = _process_cpu()
+        fn()
+        c1 = _process_cpu()
+        w1 = client.run(_process_cpu) if client is not None else {}
+        runs.append({"client": c1 - c0, "workers": sorted(w1[k] - w0[k] for k in w0)})
+    out = {"client": statistics.median(r["client"] for r in runs)}
+    if client is not None:
+        n = len(runs[0]["workers"])
+        out["workers"] = [statistics.median(r["workers"][i] for r in runs)  # type: ignore[misc]
+                          for i in range(n)]
+    return out
+
+
+def cpu_lines(cpu: dict[str, dict[str, Any]]) -> list[str]:
+    """The CPU seconds of :func:`cpu_split` per executor, and the speed-up the busiest process
+    allows on free cores (in-process CPU / busiest process's CPU: a bound, not a measurement)."""
+    if not cpu:
+        return []
+    base = cpu["in-process"]["client"]
+    out = ["", "CPU seconds per call (median of 3; load-independent): in-process "
+           f"{base:.2f} s"]
+    for label, c in cpu.items():
+        if label == "in-process":
+            continue
+        busiest = max([c["client"], *c["workers"]])
+        out.append(f"  {label}: client {c['client']:.2f} s, workers "
+                   + ", ".join(f"{w:.2f}" for w in c["workers"])
+                   + f" s; in-process / busiest process = {base / busiest:.2f} "
+                   "(the speed-up on free cores at most)")
+    return out

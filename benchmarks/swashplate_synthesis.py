@@ -44,6 +44,8 @@ from scipy.stats import qmc
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import (
     Spread,
+    cpu_lines,
+    cpu_split,
     finish,
     fmt_spread,
     load,
@@ -144,12 +146,17 @@ def run(n: int = 16384, loop_n: int = 300, repeat: int = 5, workers: tuple[int, 
             agreement[f"{name} vs in-process"] = 0.0
         del results
         times = time_rounds(fns, repeat, first=firsts, long_repeat=long_repeat)
+        cpu = {}
+        if clients:
+            cpu["in-process"] = cpu_split(fns[2])
+            for (label, cl), fn in zip(clients.items(), fns[3:], strict=True):
+                cpu[label] = cpu_split(fn, cl)
     finally:
         for obj in owned:
             obj.close()
     rows = [{"contender": name, "candidates": k, "times": sp.samples}
             for name, k, sp in zip(names, counts, times, strict=True)]
-    return {"rows": rows, "agreement": agreement, "n": n}
+    return {"rows": rows, "agreement": agreement, "n": n, "cpu": cpu}
 
 
 def table(result: dict[str, Any], markdown: bool = False) -> str:
@@ -181,6 +188,7 @@ def table(result: dict[str, Any], markdown: bool = False) -> str:
             target = ("; target >= 1.6 (issue 20): " + verdict(sp, 1.6, "above")
                       if "2 workers" in r["contender"] else "")
             lines.append(f"  {r['contender']}: {fmt_spread(sp, 'ratio')}{target}")
+    lines += cpu_lines(result.get("cpu", {}))
     lines += ["", "agreement (checked before timing):"]
     lines += [f"  {k}: {v:.2g}" for k, v in result["agreement"].items()]
     return "\n".join(lines)

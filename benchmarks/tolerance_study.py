@@ -81,6 +81,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import (
     Spread,
+    cpu_lines,
+    cpu_split,
     finish,
     fmt_spread,
     fmt_time,
@@ -622,6 +624,7 @@ def run(sizes: tuple[int, ...] = (1_000, 10_000, 100_000), positions: int = 360,
         del res_s
         times = time_rounds([c.run for c in cons], repeat, first=first_s,
                             long_repeat=long_repeat)
+        cpu = cpu_profiles(cons, clients, dask_n)
     finally:
         for obj in owned:
             obj.close()
@@ -630,7 +633,22 @@ def run(sizes: tuple[int, ...] = (1_000, 10_000, 100_000), positions: int = 360,
                      "positions": positions, "times": sp.samples})
     return {"rows": rows, "agreement": {"force vs displacement (one cycle)": cycle_err,
                                         **kernel_err, **study_err},
-            "tolerances": len(prob.tolerances), "resolve_samples": cons[0].samples}
+            "tolerances": len(prob.tolerances), "resolve_samples": cons[0].samples,
+            "cpu": cpu}
+
+
+def cpu_profiles(cons: list[Contender], clients: dict[str, Any], n: int
+                 ) -> dict[str, dict[str, Any]]:
+    """CPU seconds per call of the study at ``n`` samples in-process and on each cluster
+    (:func:`_common.cpu_split`): what bounds the speed-up on free cores, whatever the load."""
+    if not clients:
+        return {}
+    out = {"in-process": cpu_split(next(c.run for c in cons if c.name == "tolerance_study"
+                                        and c.samples == n))}
+    for label, cl in clients.items():
+        run = next(c.run for c in cons if c.name == f"tolerance_study, dask {label}")
+        out[label] = cpu_split(run, cl)
+    return out
 
 
 def _sp(r: dict[str, Any]) -> Spread:
@@ -699,6 +717,7 @@ def table(result: dict[str, Any], markdown: bool = False) -> str:
             target = ("; target >= 1.6 (issue 20): " + verdict(sp, 1.6, "above")
                       if "2 workers" in r["contender"] else "")
             lines.append(f"  {r['contender']}: {fmt_spread(sp, 'ratio')}{target}")
+    lines += cpu_lines(result.get("cpu", {}))
     lines.append("")
     lines.append("agreement (max relative difference, checked before timing):")
     for k, v in result["agreement"].items():
