@@ -201,16 +201,19 @@ def cpu_split(fn: Callable[[], Any], client: Any = None, repeat: int = 3) -> dic
     runs: list[dict[str, Any]] = []
     for _ in range(repeat):
         w0 = client.run(_process_cpu) if client is not None else {}
+        s0 = client.run_on_scheduler(_process_cpu) if client is not None else 0.0
         c0 = _process_cpu()
         fn()
         c1 = _process_cpu()
         w1 = client.run(_process_cpu) if client is not None else {}
-        runs.append({"client": c1 - c0, "workers": sorted(w1[k] - w0[k] for k in w0)})
-    out = {"client": statistics.median(r["client"] for r in runs)}
+        s1 = client.run_on_scheduler(_process_cpu) if client is not None else 0.0
+        runs.append({"client": c1 - c0, "scheduler": s1 - s0,
+                     "workers": sorted(w1[k] - w0[k] for k in w0)})
+    out: dict[str, Any] = {"client": statistics.median(r["client"] for r in runs)}
     if client is not None:
+        out["scheduler"] = statistics.median(r["scheduler"] for r in runs)
         n = len(runs[0]["workers"])
-        out["workers"] = [statistics.median(r["workers"][i] for r in runs)  # type: ignore[misc]
-                          for i in range(n)]
+        out["workers"] = [statistics.median(r["workers"][i] for r in runs) for i in range(n)]
     return out
 
 
@@ -226,8 +229,9 @@ def cpu_lines(cpu: dict[str, dict[str, Any]]) -> list[str]:
         if label == "in-process":
             continue
         busiest = max([c["client"], *c["workers"]])
-        out.append(f"  {label}: client {c['client']:.2f} s, workers "
-                   + ", ".join(f"{w:.2f}" for w in c["workers"])
-                   + f" s; in-process / busiest process = {base / busiest:.2f} "
-                   "(the speed-up on free cores at most)")
+        total = c["client"] + c["scheduler"] + sum(c["workers"])
+        out.append(f"  {label}: client {c['client']:.2f} s, scheduler {c['scheduler']:.2f} s, "
+                   "workers " + ", ".join(f"{w:.2f}" for w in c["workers"])
+                   + f" s (all {total:.2f} s); in-process / busiest process = "
+                   f"{base / busiest:.2f} (the speed-up on free cores at most)")
     return out

@@ -13,6 +13,7 @@ seeded generator, so the result does not depend on chunking or on the cluster.
 from __future__ import annotations
 
 import functools
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -199,6 +200,10 @@ def _peaks(comp: np.ndarray) -> np.ndarray:
 #: Samples per block of the peak kernel: a block's reactions (positions x 6 n_joints x block,
 #: 4.4 MB for 360 positions and 4 joints) live in one buffer reused by every block of a chunk.
 KERNEL_BLOCK = 64
+#: Elements of NumPy's ufunc buffers in the peak kernel (its default, 8192, makes 64-132 kB
+#: buffers for the strided moments: each freed at once under a Dask worker's malloc setting
+#: and page-faulted back, 2x the kernel's time there).
+UFUNC_BUFFER = 1024
 #: Rows of the affine map (positions x components) per matrix product: products of at most
 #: 240 x (n_tol + 1) x KERNEL_BLOCK stay under OpenBLAS's threshold for threads (a threaded
 #: product on 2 shared cores ran 4-15x slower), and NumPy loops over them in C.
@@ -227,45 +232,69 @@ def _chunk(draws: np.ndarray, *, zb: np.ndarray, n: int, n_joints: int) -> np.nd
     (n, 6 n_joints) and of their derivatives ``Z`` with respect to the sampled deviations
     (n, 6 n_joints, n_tol), over ``n`` positions. The chunk is the unit of work of Dask and of
     the progress bar; the kernel runs over it in blocks of :data:`KERNEL_BLOCK` samples, in
-    buffers allocated once per chunk and reused by every block (``out=``): no temporary grows
-    with the block, so the malloc settings of the process (a Dask worker's
-    ``MALLOC_TRIM_THRESHOLD_``) do not slow it down.
+    buffers made once per thread (:func:`_workspace`) and reused by every block and chunk
+    (``out=``), with NumPy's ufunc
+    buffers held to :data:`UFUNC_BUFFER` elements: no block allocates more than a few kB, so
+    the malloc settings of the process (a Dask worker's ``MALLOC_TRIM_THRESHOLD_``, under
+    which a freed 64 kB buffer goes back to the system at once) do not slow it down.
     """
+    # an array that came over the network (Dask) may be unaligned: matmul would copy it for
+    # BLAS at every block (5 500 page faults a chunk, 1.7x the time on a worker); once here
+    zb = np.require(zb, np.float64, ["C", "A"])
     S = draws.shape[0]
     k = zb.shape[2] - 1
     m = 6 * n_joints
     blk = KERNEL_BLOCK
     out = np.empty((S, n_joints, 7))
-    comp = np.empty((zb.shape[0], zb.shape[1], blk))      # the block's components
-    rhs = np.zeros((k + 1, blk))                          # [draws^T; 1]
+    comp, rhs, peak, low, bend, b2, t2 = _workspace(zb.shape[0], zb.shape[1], k, n, n_joints)
     rhs[k] = 1.0
-    peak = np.empty((m, blk))
-    low = np.empty((m, blk))
-    bend = np.empty((n_joints, blk))
     # (positions, joints, 6, block): a view of the rows that are not padding
     c = comp.reshape(-1, blk)[:n * m].reshape(n, n_joints, 6, blk)
     c2 = c.reshape(n, m, blk)
     mx, my = c[:, :, 3], c[:, :, 4]
-    for lo in range(0, S, blk):
-        s = min(blk, S - lo)
-        rhs[:k, :s] = draws[lo:lo + s].T
-        rhs[:k, s:] = 0.0                                 # a partial last block
-        np.matmul(zb, rhs, out=comp)                      # c0 + Z d, batched over row blocks
-        # peak |x| = max(max x, -min x): no |x| over every position
-        np.max(c2, axis=0, out=peak)
-        np.min(c2, axis=0, out=low)
-        np.negative(low, out=low)
-        np.maximum(peak, low, out=peak)
-        # bending peak = sqrt of the peak of mx^2 + my^2 (one root per sample), in place
-        np.multiply(mx, mx, out=mx)
-        np.multiply(my, my, out=my)
-        np.add(mx, my, out=mx)
-        np.max(mx, axis=0, out=bend)
-        np.sqrt(bend, out=bend)
-        o = out[lo:lo + s]
-        o[:, :, :6] = peak[:, :s].reshape(n_joints, 6, s).transpose(2, 0, 1)
-        o[:, :, 6] = bend[:, :s].T
+    with np.errstate():  # (the ufunc buffer size is restored with the error state)
+        np.setbufsize(UFUNC_BUFFER)
+        for lo in range(0, S, blk):
+            s = min(blk, S - lo)
+            rhs[:k, :s] = draws[lo:lo + s].T
+            rhs[:k, s:] = 0.0                             # a partial last block
+            np.matmul(zb, rhs, out=comp)                  # c0 + Z d, batched over row blocks
+            # peak |x| = max(max x, -min x): no |x| over every position
+            np.max(c2, axis=0, out=peak)
+            np.min(c2, axis=0, out=low)
+            np.negative(low, out=low)
+            np.maximum(peak, low, out=peak)
+            # bending peak = sqrt of the peak of mx^2 + my^2 (one root per sample), into
+            # contiguous buffers (squaring the strided mx in place made NumPy copy it)
+            np.multiply(mx, mx, out=b2)
+            np.multiply(my, my, out=t2)
+            np.add(b2, t2, out=b2)
+            np.max(b2, axis=0, out=bend)
+            np.sqrt(bend, out=bend)
+            o = out[lo:lo + s]
+            o[:, :, :6] = peak[:, :s].reshape(n_joints, 6, s).transpose(2, 0, 1)
+            o[:, :, 6] = bend[:, :s].T
     return out
+
+
+_workspaces = threading.local()
+
+
+def _workspace(nblk: int, rows: int, k: int, n: int, n_joints: int) -> tuple[np.ndarray, ...]:
+    """The peak kernel's buffers for this shape, made once per thread and reused by every chunk
+    after (6 MB for 360 positions and 4 joints): the block's components (nblk, rows, block),
+    the right-hand side [draws^T; 1], the peaks, minima and bending peaks of a block, and
+    ``mx^2 + my^2`` with its second term (contiguous). Chunk after chunk on a Dask worker,
+    no buffer is freed and faulted back, whatever the worker's malloc settings."""
+    key = (nblk, rows, k, n, n_joints, KERNEL_BLOCK)
+    cache = getattr(_workspaces, "buffers", None)
+    if cache is None or cache[0] != key:
+        blk, m = KERNEL_BLOCK, 6 * n_joints
+        bufs = (np.empty((nblk, rows, blk)), np.zeros((k + 1, blk)), np.empty((m, blk)),
+                np.empty((m, blk)), np.empty((n_joints, blk)), np.empty((n, n_joints, blk)),
+                np.empty((n, n_joints, blk)))
+        _workspaces.buffers = cache = (key, bufs)
+    return cache[1]
 
 
 #: Memory budget of a tolerance study [bytes]: the draws (N x n_tolerances) and the peaks
