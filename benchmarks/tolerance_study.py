@@ -372,7 +372,7 @@ def cycle_contenders(prob: Problem) -> list[Contender]:
 
 def study_contenders(prob: Problem, sizes: tuple[int, ...], resolve_n: int, dask_n: int,
                      clients: dict[str, Any] | None = None, seed: int = 1,
-                     chunk_size: int = 2000
+                     chunk_size: int = 10_000
                      ) -> tuple[list[Contender], Callable[[np.ndarray], np.ndarray]]:
     """The Monte-Carlo contenders, and the plain NumPy re-solve ``draws -> peaks`` that checks
     them. Per-sample contenders run on ``resolve_n`` samples of the smallest study; ``clients``
@@ -435,7 +435,7 @@ def study_contenders(prob: Problem, sizes: tuple[int, ...], resolve_n: int, dask
     return cons, resolve
 
 
-def kernel_contenders(prob: Problem, n: int, seed: int = 1, chunk_size: int = 2000,
+def kernel_contenders(prob: Problem, n: int, seed: int = 1, chunk_size: int = 10_000,
                       fused: bool = True) -> list[Contender]:
     """The peak kernel alone on ``n`` samples, the affine map given (the same ``c0``, ``Z`` and
     draws for all): the library's (``tolerance._chunk`` over chunks of ``chunk_size``, its
@@ -586,7 +586,7 @@ def _first_calls(cons: list[Contender]) -> tuple[dict[str, Any], list[float]]:
 
 def run(sizes: tuple[int, ...] = (1_000, 10_000, 100_000), positions: int = 360,
         repeat: int = 5, resolve_n: int = 10, dask_n: int = 100_000, seed: int = 1,
-        chunk_size: int = 2000, long_repeat: int = 3, workers: tuple[int, ...] = (1, 2),
+        chunk_size: int = 10_000, long_repeat: int = 3, workers: tuple[int, ...] = (1, 2),
         fused: bool = True) -> dict[str, Any]:
     """Check and time every contender; return rows (with every sample's time) and the
     agreement reached."""
@@ -741,7 +741,7 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeat", type=int, default=5, help="rounds (samples per contender)")
     ap.add_argument("--long-repeat", type=int, default=3,
                     help="rounds of calls longer than 1 s")
-    ap.add_argument("--chunk-size", type=int, default=2000,
+    ap.add_argument("--chunk-size", type=int, default=10_000,
                     help="samples per chunk of tolerance_study (the library's default)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--markdown", action="store_true", help="print Markdown tables")
