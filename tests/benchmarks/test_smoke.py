@@ -97,19 +97,9 @@ def test_tolerance_study_benchmark_runs_tiny_and_its_checks_bite():
         tol.check_study(results, cons, 3, resolve)
 
 
-def _load(name: str):
-    path = PATH.parent / f"{name}.py"
-    spec = importlib.util.spec_from_file_location(f"linkwork_bench_{name}", path)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = mod
-    spec.loader.exec_module(mod)
-    return mod
-
-
 def test_tolerance_study_benchmark_dask_rows_on_a_process_cluster():
     """The dask rows run on LocalCluster(processes=True) and equal the in-process study."""
-    tol = _load("tolerance_study")
+    tol = load_benchmark("tolerance_study")
     result = tol.run(sizes=(40,), positions=12, repeat=1, resolve_n=2, dask_n=40, workers=(1,),
                      fused=False)
     names = [r["contender"] for r in result["rows"]]
@@ -122,7 +112,7 @@ def test_tolerance_study_benchmark_dask_rows_on_a_process_cluster():
 def test_long_cycle_benchmark_runs_tiny():
     """benchmarks/long_cycle.py at tiny sizes: the chunked study equals the whole cycle, the
     long run agrees with the check run, peaks are reported."""
-    lc = _load("long_cycle")
+    lc = load_benchmark("long_cycle")
     result = lc.run(n=3000, dyn_n=2000, check_n=500, chunk=700)
     assert result["chunked"]["columns"] > 50 and result["chunked"]["csv_bytes"] > 0
     agree = result["agreement"]
@@ -135,8 +125,8 @@ def test_long_cycle_benchmark_runs_tiny():
 def test_cli_benchmark_splits_the_wall_time(tmp_path):
     """benchmarks/cli.py: one command, one round: the phases add up to the wall time and the
     command writes what it wrote when probed."""
-    cli = _load("cli")
-    result = cli.run(1, [("analyze sine_press", ["analyze", str(PATH.parents[1] / "examples"
+    cli = load_benchmark("cli")
+    result = cli.run(1, [("analyze sine_press", ["analyze", str(BENCHMARKS.parent / "examples"
                                                                / "sine_press.toml")])])
     ph = result["commands"]["analyze sine_press"]
     parts = sum(ph[p][0] for p in ("start-up", "imports", "computation", "output"))
