@@ -358,6 +358,9 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
         d1g = inverse_dynamics(k1, about=O, gravity=gravity, loads=ext)
     else:
         d0g, d1g = d0, d1
+    for dyn in (d0g, d1g):
+        dyn.require_no_self_locking("balancing compares the driving torque and the bearing "
+                                    "loads over a full turn of the crank")
     r0 = _frame_reactions(d0g, mech)
     r1 = _frame_reactions(d1g, bal)
     # moving the axis: the counterweight's inertia (and weight) goes from O to O1

@@ -40,7 +40,7 @@ from numpy.typing import ArrayLike
 
 from linkwork.checks import require_finite
 from linkwork.cycles import mean_over_range
-from linkwork.errors import ParameterError
+from linkwork.errors import ParameterError, angle_ranges, format_angle_ranges
 from linkwork.planar import forces, friction
 from linkwork.planar.designs import pick
 from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
@@ -56,7 +56,8 @@ from linkwork.results import Result
 if TYPE_CHECKING:
     from linkwork.plot import Figure
 
-__all__ = ["BodyTorque", "Dynamics", "PointForce", "inverse_dynamics", "kinetic_energy"]
+__all__ = ["CHUNK", "BodyTorque", "Dynamics", "PointForce", "inverse_dynamics",
+           "kinetic_energy"]
 
 
 @dataclass(frozen=True)
@@ -296,6 +297,24 @@ class Dynamics(Result):
                 i += 1
         return out
 
+    def require_no_self_locking(self, needs: str) -> None:
+        """A ParameterError naming the joints' friction coefficients and the self-locking
+        ranges if the mechanism self-locks at some position: for a computation that ``needs``
+        the driving load everywhere (said in the message)."""
+        if not np.any(self.locked):
+            return
+        mech = self.kinematics.mechanism
+        coefs = ", ".join(f"{getattr(j, 'friction', 0.0):g} ({j.name})" for j in mech.joints
+                          if j.has_friction)
+        name, unit = mech.drivers[0].coordinate    # several drivers: over the first's
+        p = np.atleast_2d(np.asarray(self.phi1, dtype=float))[0]
+        order = np.argsort(p, kind="stable")  # positions in any order (several grids)
+        ranges = angle_ranges(p[order], np.asarray(self.locked)[order])
+        raise ParameterError(
+            "friction", coefs, f"makes the mechanism self-lock at {name} in "
+            f"{format_angle_ranges(ranges, unit)} (no finite driving load moves it there); "
+            f"{needs} (linkwork analyze shows the self-locking ranges)")
+
     def _scene(self) -> Any:
         """The mechanism drawn over the positions of its kinematics."""
         return self.kinematics._scene()
@@ -324,8 +343,17 @@ def kinetic_energy(kin: Kinematics) -> Arr:
 
 
 
-#: Elements (design, position) per block of a batch's inverse dynamics.
+#: Positions per chunk of :func:`inverse_dynamics` of one design, and (design, position)
+#: elements per block of a batch of designs (:func:`_blocks`): its temporaries are those of
+#: one chunk or block, whatever the cycle and the number of designs (four-bar, 10^6
+#: positions: the peak rose by 824 bytes per position unchunked, by the result's 345 in
+#: chunks; 7.1 s -> 3.8 s on the loaded machine).
 CHUNK = 8192
+
+#: Per-position result fields of :class:`Dynamics` (positions last), filled chunk by chunk.
+_PER_POSITION = ("fx", "fy", "mz", "px", "py", "Q", "shaking_fx", "shaking_fy", "shaking_m",
+                 "T", "Q_frictionless", "friction_fx", "friction_fy", "friction_mz",
+                 "friction_power", "locked", "kappa")
 
 
 def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
@@ -352,12 +380,23 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         See the module docstring for the sign conventions. For a batch of designs
         (:mod:`~linkwork.planar.designs`) every per-position array has the designs before the
         positions: ``fx`` (n_joints, m, n), ``Q`` (m, n), ``shaking_fx`` (m, n), ...; the
-        loads are the same for every design (evaluated design by design, as are friction and
-        gear pairs' separating forces; without them blocks of designs are solved at once).
+        loads are the same for every design.
+
+    Notes
+    -----
+    Positions are independent of one another, so the work runs in chunks of :data:`CHUNK`
+    positions into the result's arrays: memory beyond the result stays that of one chunk (a
+    long cycle that must not be held at all goes through
+    :func:`linkwork.studies.planar.analyze_chunked`). The friction law's sign width is taken
+    from the driver speed over all positions, as without chunks.
+
+    A batch of designs without loads, friction and gear pairs' separating forces is solved in
+    blocks of :data:`CHUNK` (design, position) elements flattened together (several designs
+    of a short cycle, or chunks of one design's positions), on the plan picked there; with
+    them, design by design (each in chunks of positions). Either way the temporaries are those
+    of at most :data:`CHUNK` elements.
     """
     require_kinematics(kin)
-    mech: Mechanism = kin.mechanism
-    n = kin.n
     g = (0.0, 0.0) if gravity is None else tuple(float(v) for v in require_finite(
         "gravity", gravity).ravel())
     if len(g) != 2:
@@ -367,7 +406,72 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         raise ParameterError("about", about, "must be a point (x, y) [m]")
     if kin.n_designs is not None:
         return _batch_dynamics(kin, (g[0], g[1]), (ab[0], ab[1]), loads)
+    # the loads are checked and evaluated over the whole cycle (a load diagram's rest band,
+    # a spring's length), once; the chunks take their slices
     applied = forces.apply(kin, loads)
+    n = kin.n
+    plan = kin.mechanism.plan
+    width = friction.sign_widths(plan, kin.omega1) if friction.has_friction(plan) else None
+    if n <= CHUNK:
+        return _inverse_dynamics(kin, (g[0], g[1]), (ab[0], ab[1]), applied, width)
+    parts: dict[str, Arr] = {}
+    iterations = 0
+    first: Dynamics | None = None
+    for lo in range(0, n, CHUNK):
+        sl = slice(lo, min(lo + CHUNK, n))
+        d = _inverse_dynamics(_kinematics_slice(kin, sl), (g[0], g[1]), (ab[0], ab[1]),
+                              [_applied_slice(ap, sl) for ap in applied], width)
+        if first is None:
+            first = d
+            parts = {k: np.empty((*getattr(d, k).shape[:-1], n), dtype=getattr(d, k).dtype)
+                     for k in _PER_POSITION}
+        for k in _PER_POSITION:
+            parts[k][..., sl] = getattr(d, k)
+        iterations = max(iterations, d.friction_iterations)
+    assert first is not None
+    return Dynamics(kin, kin.phi1, first.joints, about=first.about, gravity=first.gravity,
+                    friction_iterations=iterations, friction_static=first.friction_static,
+                    loads=applied, load_power=_load_power(applied, n),
+                    V=sum((ap.energy for ap in applied), np.zeros(n)), **parts)
+
+
+def _load_power(applied: Sequence[AppliedLoad], n: int) -> Arr:
+    return np.array([ap.power for ap in applied]).reshape(-1, n)
+
+
+def _part(v: Any, sl: slice) -> Any:
+    """The positions ``sl`` of an array over the positions (a number as it is)."""
+    return v[sl] if np.ndim(v) else v
+
+
+def _applied_slice(ap: AppliedLoad, sl: slice) -> AppliedLoad:
+    """The positions ``sl`` of a load evaluated over the cycle: its value, power, energy,
+    length and wrenches."""
+    return replace(ap, value=_part(ap.value, sl), power=_part(ap.power, sl),
+                   energy=_part(ap.energy, sl),
+                   length=None if ap.length is None else _part(ap.length, sl),
+                   wrenches=tuple(replace(w, fx=_part(w.fx, sl), fy=_part(w.fy, sl),
+                                          px=_part(w.px, sl), py=_part(w.py, sl),
+                                          mz=_part(w.mz, sl)) for w in ap.wrenches))
+
+
+def _kinematics_slice(kin: Kinematics, sl: slice) -> Kinematics:
+    """The positions ``sl`` of a solved motion (views, no copies)."""
+    return Kinematics(kin.mechanism, kin.phi1[..., sl], kin.omega1[..., sl], kin.eps1[..., sl],
+                      kin.bodies,
+                      kin.x[:, sl], kin.y[:, sl], kin.theta[:, sl], kin.vx[:, sl],
+                      kin.vy[:, sl], kin.omega[:, sl], kin.ax[:, sl], kin.ay[:, sl],
+                      kin.eps[:, sl], kin.valid[sl], kin.branches)
+
+
+def _inverse_dynamics(kin: Kinematics, g: tuple[float, float], ab: tuple[float, float],
+                      applied: Sequence[AppliedLoad], width: tuple[float, float] | None
+                      ) -> Dynamics:
+    """:func:`inverse_dynamics` of one chunk of positions: ``applied`` the loads evaluated
+    there (:func:`linkwork.planar.forces.apply`), ``width`` the friction law's sign width over
+    the whole cycle (None without friction)."""
+    mech: Mechanism = kin.mechanism
+    n = kin.n
     st = _state_from(kin)
     nb = len(mech.body_names)
     # generalised applied-minus-inertia forces on each moving body (about its origin)
@@ -402,10 +506,16 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     else:
         with np.errstate(all="ignore"):
             fxr, fyr, mzr, Q = _group_reactions(plan, st, f)
-    fric = _with_friction(plan, st, f, kin, Q) if friction.has_friction(plan) else None
+    fric = _with_friction(plan, st, f, kin, Q, width) if width is not None else None
+    sfx, sfy, sm = _shaking(plan, st, mech.frame.name, (fxr, fyr, mzr, Q), pxr, pyr, ab,
+                            on_frame)
     if fric is not None:
         fxr, fyr, mzr, Q = fric.reactions
-    sfx, sfy, sm = _shaking(plan, st, (fxr, fyr, mzr, pxr, pyr), Q, on_frame, ab)
+        # friction is internal to the machine: the shaking loads equal the frictionless ones,
+        # which stay defined where it self-locks (reactions and Q undefined there)
+        with_f = _shaking(plan, st, mech.frame.name, fric.reactions, pxr, pyr, ab, on_frame)
+        sfx, sfy, sm = (np.where(fric.locked, s0, s1)
+                        for s0, s1 in zip((sfx, sfy, sm), with_f, strict=True))
     T = kinetic_energy(kin)
     one = mech.n_drivers == 1  # one driver: Q of shape (n,), as always
     if fric is None:  # no joint dissipates
@@ -419,27 +529,27 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
                     friction_fy=fric.sol.ffy, friction_mz=fric.sol.fmz,
                     friction_power=fric.power, locked=fric.locked, kappa=fric.sol.kappa,
                     friction_iterations=fric.sol.iterations,
-                    friction_static=fric.static, loads=applied,
-                    load_power=np.array([ap.power for ap in applied]).reshape(-1, n),
+                    friction_static=fric.static, loads=tuple(applied),
+                    load_power=_load_power(applied, n),
                     V=sum((ap.energy for ap in applied), np.zeros(n)))
 
 
-def _shaking(plan: Plan, st: State, reactions: tuple[Arr, Arr, Arr, Arr, Arr], Q: Arr,
-             on_frame: Sequence[forces.Wrench], ab: tuple[float, float]
+def _shaking(plan: Plan, st: State, fr: str, reactions: tuple[Arr, Arr, Arr, Arr],
+             pxr: Arr, pyr: Arr, ab: tuple[float, ...], on_frame: list[forces.Wrench]
              ) -> tuple[Arr, Arr, Arr]:
-    """Shaking force and moment about ``ab``: what the moving bodies exert on the frame through
-    its joints (``reactions``: fx, fy, mz by a on b and the points px, py; the motor's
-    reaction), with the loads' reactions ``on_frame``."""
-    fxr, fyr, mzr, pxr, pyr = reactions
-    n = st.n
-    sfx = np.zeros(n)
-    sfy = np.zeros(n)
-    sm = np.zeros(n)
+    """Shaking force (x, y) and moment about ``ab`` on the frame ``fr``: the frame joints'
+    reactions (by the moving bodies on the frame), the motors' reactions (``Q`` of shape
+    (n_drivers, n)) and the loads' reactions on the frame."""
+    fxr, fyr, mzr, Q = reactions
     kinds = plan.driver_kinds
+    sfx = np.zeros(st.n)
+    sfy = np.zeros(st.n)
+    sm = np.zeros(st.n)
     for ji, rj in enumerate(plan.joints):
-        if 0 not in (rj.ia, rj.ib):  # (the frame is body 0)
+        j = rj.joint
+        if fr not in (j.a, j.b):
             continue
-        sgn = -1.0 if rj.ia == 0 else 1.0
+        sgn = -1.0 if j.a == fr else 1.0
         fx, fy, mz = sgn * fxr[ji], sgn * fyr[ji], sgn * mzr[ji]
         linear = rj.drive and kinds[rj.drive_index] == "linear"
         if linear:  # the driving force along the guide
@@ -497,7 +607,7 @@ def _batch_dynamics(kin: Kinematics, g: tuple[float, float], ab: tuple[float, fl
                 fxr, fyr, mzr, q = _group_reactions(sub, st, f)
             pxr = np.array([p[0] + np.zeros(st.n) for p in points]).reshape(nj, -1)
             pyr = np.array([p[1] + np.zeros(st.n) for p in points]).reshape(nj, -1)
-            sh = _shaking(sub, st, (fxr, fyr, mzr, pxr, pyr), q, (), ab)
+            sh = _shaking(sub, st, mech.frame.name, (fxr, fyr, mzr, q), pxr, pyr, ab, [])
         for k, arr in enumerate((fxr, fyr, mzr, pxr, pyr)):
             react[k, :, ds, ps] = arr.reshape(nj, *shape)
         Q[:, ds, ps] = q.reshape(nd, *shape)
@@ -567,10 +677,8 @@ def _stacked(kin: Kinematics, parts: Sequence[Dynamics]) -> Dynamics:
                        length=None if aps[0].length is None else stack([a.length for a in aps]),
                        wrenches=ws)
 
-    arrays = {name: stack([getattr(p, name) for p in parts]) for name in (
-        "fx", "fy", "mz", "px", "py", "Q", "shaking_fx", "shaking_fy", "shaking_m", "T",
-        "Q_frictionless", "friction_fx", "friction_fy", "friction_mz", "friction_power",
-        "locked", "kappa", "load_power", "V")}
+    arrays = {name: stack([getattr(p, name) for p in parts])
+              for name in (*_PER_POSITION, "load_power", "V")}
     first = parts[0]
     return Dynamics(kin, kin.phi1, first.joints, about=first.about, gravity=first.gravity,
                     friction_iterations=max(p.friction_iterations for p in parts),
@@ -590,14 +698,15 @@ class _Friction:
     static: bool
 
 
-def _with_friction(plan: Plan, st: State, f: Arr, kin: Kinematics, Q0: Arr) -> _Friction:
+def _with_friction(plan: Plan, st: State, f: Arr, kin: Kinematics, Q0: Arr,
+                   width: tuple[float, float]) -> _Friction:
     """The reactions and driving load with Coulomb friction (:mod:`linkwork.planar.friction`),
-    the friction power of every joint and the self-locking positions."""
+    the friction power of every joint and the self-locking positions; ``width``: the sign
+    width of the friction law (:func:`~linkwork.planar.friction.sign_widths`)."""
     J, meta = _constraint_jacobian(plan, st)
     JT = np.swapaxes(J, 1, 2)
     good = np.asarray(kin.valid, dtype=bool)
     lam0 = batched_solve(JT, f, good)
-    width = friction.sign_widths(plan, kin.omega1)
     static = width == (0.0, 0.0)
     sol = friction.solve(plan, st, JT, f, lam0, good, meta, width)
     fxr, fyr, mzr, Q = _split(plan, st, sol.lam, meta)

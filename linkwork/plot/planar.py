@@ -213,8 +213,9 @@ def plot_driving_torque(dyn: Any, ax: Any = None, *, name: str | None = None
     mean = dyn.Q_mean / div
     peak = float(np.nanmax(np.abs(dyn.Q))) / div if np.isfinite(dyn.Q).any() else 0.0
     shown = 0.0 if abs(mean) <= 1e-9 * peak else mean  # round-off of a zero mean: 0
-    ax.axhline(mean, color="k", lw=0.8, ls=":",
-               label=f"mean {shown:.4g} {unit} (work / range)")
+    if np.isfinite(mean):  # undefined where Q is (self-locking, unassembled positions)
+        ax.axhline(mean, color="k", lw=0.8, ls=":",
+                   label=f"mean {shown:.4g} {unit} (work / range)")
     ax.set_xlabel(label)
     quantity = "driving torque Q" if crank else "driving force Q"
     ax.set_ylabel(f"{quantity} [{unit}]")
