@@ -419,3 +419,33 @@ def test_sketch_batch_names_the_design_that_is_not_drawn_assembled():
         pl.sketch(_batch_of(drawings), {"crank": ["O", "A"], "rod": ["A", "B"]},
                   ground=["O", "G1", "G2"], drivers="O",
                   sliders={"s": pl.Slider("B", "frame", along=("G1", "G2"))})
+
+
+def test_batch_inverse_dynamics_in_blocks_and_chunks_equals_designs_one_by_one():
+    """The batch's blocks and the one-design chunks of inverse_dynamics compose under one bound
+    (planar.dynamics.CHUNK elements): designs with more positions than a chunk (one design's
+    positions per block) and many designs of a short cycle (blocks across designs, both sides
+    of a block boundary) against each design alone, which is solved in chunks of positions
+    (to 1e-13 of each quantity's scale, as above); with a load, design by design inside the
+    call and each design chunked: bit for bit."""
+    chunk = importlib.import_module("linkwork.planar.dynamics").CHUNK
+    a = np.array([0.08, 0.1])
+    masses = (1.0, 3.0, 2.0)
+    long = np.linspace(0, 2 * np.pi, chunk + 77)
+    mech = fourbar_mechanism(a, 0.3, 0.2, 0.3, masses=masses)
+    dyn = pl.inverse_dynamics(kinematics(mech, long, 5.0), gravity=(0.0, -9.81))
+    for i in range(2):
+        one = pl.inverse_dynamics(kinematics(mech.design(i), long, 5.0), gravity=(0.0, -9.81))
+        assert_same_dynamics(dyn, one, i, 1e-13)
+    spring = pl.Spring("frame", (0.0, -0.2), "rocker", "B", stiffness=300.0, free_length=0.1)
+    dyn = pl.inverse_dynamics(kinematics(mech, long, 5.0), loads=[spring])
+    for i in range(2):
+        one = pl.inverse_dynamics(kinematics(mech.design(i), long, 5.0), loads=[spring])
+        assert_same_dynamics(dyn, one, i, 0.0)
+    many = fourbar_mechanism(np.linspace(0.06, 0.1, 700), 0.3, 0.2, 0.3, masses=masses)
+    phi = np.linspace(0, 2 * np.pi, 25)
+    dyn = pl.inverse_dynamics(kinematics(many, phi, 5.0), gravity=(0.0, -9.81))
+    assert dyn.fx.shape == (4, 700, 25)
+    for i in (0, 327, 328, 699):  # both sides of a block boundary (8192 // 25 = 327)
+        one = pl.inverse_dynamics(kinematics(many.design(i), phi, 5.0), gravity=(0.0, -9.81))
+        assert_same_dynamics(dyn, one, i, 1e-13)
