@@ -29,6 +29,14 @@ independent references and another program's output.
   5e-4 N m; measured 3.65e-4 at most). The book's inertia of the rod CE is computed with the
   block's mass (printed 6.007e-5 kg m^2 instead of 1.802e-4); the comparison uses the printed
   value, and the change the correct value brings is checked by hand (``docs/errata.md``).
+* A second R-RTR-RRT arrangement, "example 5.6" of a collection of textbook MATLAB programs in
+  the same contour method (public copy: github.com/xenakas/matlab_projects, commit 363c5aa,
+  ``dynamics/dynamics_MATLAB_programs/chapter5/E5_6.m``; the book is not named there): the
+  lever pivoted between the block and the rod's pin (AB = 0.15, AC = 0.30, CD = 0.20,
+  DE = 0.14, CF = 0.50 m, slider on the vertical x = -AC - 0.25 m, crank at 200 deg, 700 rpm).
+  Its printed kinematics (3 decimals: angles, angular velocities and accelerations of the
+  lever and the rod, the block's sliding velocity and acceleration in the lever, the velocity
+  and acceleration of D and E) reproduced to half a unit of the last digit.
 """
 
 from __future__ import annotations
@@ -338,3 +346,49 @@ def test_marghitu_rod_inertia_as_printed_and_corrected():
     dq = fixed.Q[0] - printed.Q[0]
     assert dq == pytest.approx(d_inertia * alpha4 * omega4 / kin.omega1[0], rel=1e-9)
     assert fixed.Q[0] == pytest.approx(111.516, abs=PRINTED)
+
+
+def test_r_rtr_rrt_example_5_6_printed_kinematics():
+    """The lever CF with its pivot C between the block's path and the rod's pin D (D on the
+    far side of C): every printed position, velocity and acceleration at 200 deg, 700 rpm, to
+    half a unit of the printed last digit. The program's relative motion of the lever's point
+    B3 seen from the block 2 is minus linkwork's slide of the block in the lever (``slide`` is
+    body b relative to body a), so its vB32 = -6.751 m/s and aB32 = -1086.945 m/s^2 are
+    ``-rate`` and ``-acceleration`` of the slide."""
+    AB, AC, CD, DE, CF, a = 0.15, 0.30, 0.20, 0.14, 0.50, 0.25
+    phi = math.radians(200.0)
+    B = (AB * math.cos(phi), AB * math.sin(phi))
+    C = (-AC, 0.0)
+    lever = math.atan2(B[1] - C[1], B[0] - C[0])
+    F = (C[0] + CF * math.cos(lever), C[1] + CF * math.sin(lever))
+    D = (C[0] - CD * math.cos(lever), C[1] - CD * math.sin(lever))
+    E = (-AC - a, D[1] + math.sqrt(DE ** 2 - (-AC - a - D[0]) ** 2))
+    mech = sketch({"A": (0.0, 0.0), "B": B, "C": C, "D": D, "E": E, "F": F},
+                  {"crank": ["A", "B"], "lever": ["C", "F", "D"], "rod": ["D", "E"]},
+                  ground=["A", "C"], drivers="A",
+                  sliders={"block": Slider("B", "lever", along=("D", "F")),
+                           "ram": Slider("E", "frame", angle=math.pi / 2)})
+    assert [g.kind for g in mech.structure.groups] == ["driver", "RPR", "RRP"]
+    kin = kinematics(mech, [phi], omega1=700 * math.pi / 30, eps1=0.0)
+    half = 5e-4
+    for p, body, xy in (("B", "crank", (-0.141, -0.051)), ("D", "lever", (-0.490, 0.061)),
+                        ("E", "ram", (-0.550, 0.188)), ("F", "lever", (0.176, -0.153))):
+        pm = kin.point(body, p)
+        assert (pm.x[0], pm.y[0]) == pytest.approx(xy, abs=half), p
+    assert math.degrees(kin.angle("lever")[0]) == pytest.approx(-17.878, abs=half)
+    rod_angle = math.degrees(kin.angle("rod")[0])  # printed as atan of the slope: mod 180
+    assert (rod_angle + 90.0) % 180.0 - 90.0 == pytest.approx(-64.778, abs=half)
+    lever_i, rod_i = mech.index["lever"], mech.index["rod"]
+    assert kin.omega[lever_i, 0] == pytest.approx(-51.934, abs=half)
+    assert kin.eps[lever_i, 0] == pytest.approx(7157.347, abs=half)
+    assert kin.omega[rod_i, 0] == pytest.approx(25.176, abs=half)
+    assert kin.eps[rod_i, 0] == pytest.approx(882.339, abs=half)
+    _, rate, accel = kin.slide("block")
+    assert -rate[0] == pytest.approx(-6.751, abs=half)
+    assert -accel[0] == pytest.approx(-1086.945, abs=half)
+    d = kin.point("lever", "D")
+    assert (d.vx[0], d.vy[0]) == pytest.approx((3.189, 9.885), abs=half)
+    assert (d.ax[0], d.ay[0]) == pytest.approx((73.937, -1527.948), abs=half)
+    e = kin.point("ram", "E")
+    assert (e.vx[0], e.vy[0]) == pytest.approx((0.0, 8.383), abs=half)
+    assert (e.ax[0], e.ay[0]) == pytest.approx((0.0, -1660.866), abs=half)
