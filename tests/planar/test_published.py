@@ -252,7 +252,8 @@ def _check_marghitu_printed(kin, dyn, k):
 
 def test_marghitu_r_rtr_rrt_printed_kinematics():
     """The drawing's motion at 45 deg against the printed positions, velocities and
-    accelerations (printed to the digits compared)."""
+    accelerations, those of the centres of mass included (printed to the digits compared:
+    half a unit of the last)."""
     mech, kin, _ = _marghitu()
     assert [g.kind for g in mech.structure.groups] == ["driver", "RPR", "RRP"]
     assert math.degrees(kin.angle("lever")[0]) == pytest.approx(75.361, abs=5e-4)
@@ -270,6 +271,12 @@ def test_marghitu_r_rtr_rrt_printed_kinematics():
     assert (e.x[0], e.y[0]) == pytest.approx((-0.114, 0.350), abs=5e-4)
     assert (e.vx[0], e.vy[0]) == pytest.approx((-4.660, 0.0), abs=5e-4)
     assert (e.ax[0], e.ay[0]) == pytest.approx((-17.464, 0.0), abs=5e-4)
+    # the accelerations of the centres of mass the book's inertia forces are made of
+    for body, acc in (("crank", (-31.017, -31.017)), ("block", (-62.034, -62.034)),
+                      ("lever", (-13.974, -11.441)), ("rod", (-22.705, -11.441)),
+                      ("ram", (-17.464, 0.0))):
+        c = kin.point(body, "com")
+        assert (c.ax[0], c.ay[0]) == pytest.approx(acc, abs=5e-4), body
 
 
 def test_marghitu_r_rtr_rrt_printed_forces():
