@@ -44,9 +44,9 @@ from linkwork.errors import ParameterError, angle_ranges, format_angle_ranges
 from linkwork.planar import forces, friction
 from linkwork.planar.designs import pick
 from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
-from linkwork.planar.inertia import inertia_couple, inertia_force, inertia_wrenches
+from linkwork.planar.inertia import inertia_couple, inertia_force, wrenches_of
 from linkwork.planar.joints import ResolvedJoint, row_entries
-from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
+from linkwork.planar.kinematics import Kinematics, PointMotion, require_kinematics, state_of
 from linkwork.planar.model import Mechanism
 from linkwork.planar.rates import RatePar, batched_solve, closure_rows, cramer, group_pars
 from linkwork.planar.state import Arr, State
@@ -334,11 +334,17 @@ def _state_from(kin: Kinematics) -> State:
 
 def kinetic_energy(kin: Kinematics) -> Arr:
     """Kinetic energy of all moving bodies [J] at every position."""
-    m = require_kinematics(kin).mechanism
+    return _kinetic_energy(require_kinematics(kin), kin.centres_of_mass())
+
+
+def _kinetic_energy(kin: Kinematics, com: PointMotion) -> Arr:
+    """:func:`kinetic_energy` from the motion of the centres of mass ``com`` (rows in the
+    order of the moving bodies, the same numbers as ``kin.point(body, "com")``)."""
+    m = kin.mechanism
     T = np.zeros(kin.n)
-    for b in m.bodies:
-        c = kin.point(b.name, "com")
-        T += 0.5 * b.mass * (c.vx**2 + c.vy**2) + 0.5 * b.inertia * kin.omega[m.index[b.name]]**2
+    for k, b in enumerate(m.bodies):
+        T += (0.5 * b.mass * (com.vx[k]**2 + com.vy[k]**2)
+              + 0.5 * b.inertia * kin.omega[m.index[b.name]]**2)
     return T
 
 
@@ -476,7 +482,8 @@ def _inverse_dynamics(kin: Kinematics, g: tuple[float, float], ab: tuple[float, 
     nb = len(mech.body_names)
     # generalised applied-minus-inertia forces on each moving body (about its origin)
     f = np.zeros((n, 3 * (nb - 1)))
-    iw = inertia_wrenches(kin, g)  # weight + inertia force at C, inertia couple
+    com = kin.centres_of_mass()  # (bodies, positions): the wrenches and the kinetic energy
+    iw = wrenches_of(kin, g, com)  # weight + inertia force at C, inertia couple
     for k, b in enumerate(mech.bodies):
         i = mech.index[b.name]
         rx, ry = iw.cx[k] - kin.x[i], iw.cy[k] - kin.y[i]
@@ -516,7 +523,7 @@ def _inverse_dynamics(kin: Kinematics, g: tuple[float, float], ab: tuple[float, 
         with_f = _shaking(plan, st, mech.frame.name, fric.reactions, pxr, pyr, ab, on_frame)
         sfx, sfy, sm = (np.where(fric.locked, s0, s1)
                         for s0, s1 in zip((sfx, sfy, sm), with_f, strict=True))
-    T = kinetic_energy(kin)
+    T = _kinetic_energy(kin, com)
     one = mech.n_drivers == 1  # one driver: Q of shape (n,), as always
     if fric is None:  # no joint dissipates
         zeros = np.zeros((nj, n))

@@ -26,10 +26,11 @@ from numpy.typing import ArrayLike
 
 from linkwork.checks import require_finite
 from linkwork.errors import ParameterError
-from linkwork.planar.kinematics import Kinematics, require_kinematics
+from linkwork.planar.kinematics import Kinematics, PointMotion, require_kinematics
 from linkwork.planar.state import Arr
 
-__all__ = ["InertiaWrenches", "inertia_couple", "inertia_force", "inertia_wrenches"]
+__all__ = ["InertiaWrenches", "inertia_couple", "inertia_force", "inertia_wrenches",
+           "wrenches_of"]
 
 
 def inertia_force(mass: ArrayLike, ax: ArrayLike, ay: ArrayLike, gx: float = 0.0,
@@ -113,7 +114,7 @@ def inertia_wrenches(kin: Kinematics, gravity: ArrayLike | None = None) -> Inert
         ``fx, fy = m (g - a_C)`` at the centre of mass and ``mz = -J_C eps`` per body and
         position.
     """
-    mech = require_kinematics(kin).mechanism
+    require_kinematics(kin)
     if gravity is None:
         g = (0.0, 0.0)
     else:
@@ -121,9 +122,16 @@ def inertia_wrenches(kin: Kinematics, gravity: ArrayLike | None = None) -> Inert
         if gv.shape != (2,):
             raise ParameterError("gravity", gravity, "must be a vector (gx, gy) [m/s^2]")
         g = (float(gv[0]), float(gv[1]))
+    return wrenches_of(kin, g, kin.centres_of_mass())
+
+
+def wrenches_of(kin: Kinematics, g: tuple[float, float], c: PointMotion) -> InertiaWrenches:
+    """:func:`inertia_wrenches` (checked arguments) from the motion ``c`` of the centres of
+    mass (:meth:`~linkwork.planar.kinematics.Kinematics.centres_of_mass`), which the inverse
+    dynamics also takes the kinetic energy from."""
+    mech = kin.mechanism
     mass = np.array([b.mass for b in mech.bodies], dtype=float)
     inertia = np.array([b.inertia for b in mech.bodies], dtype=float)
-    c = kin.centres_of_mass()  # (bodies, positions), rows 1.. of the kinematics
     fx, fy = inertia_force(mass[:, None], c.ax, c.ay, g[0], g[1])
     mz = inertia_couple(inertia[:, None], kin.eps[1:1 + len(mech.bodies)])
     cx, cy = c.x, c.y

@@ -415,6 +415,8 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         bad[sl] = st.bad
         for i in range(1, nb):
             bad[sl] |= ~np.isfinite(st.W[i])
+        if step >= n and _stack_into(block, st, keys):
+            continue  # (one chunk: one copy of all rows, not 9 x nb)
         for kk, key in enumerate(keys):
             for i, arr in enumerate(getattr(st, key)):
                 block[kk, i, sl] = arr
@@ -440,6 +442,20 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     return Kinematics(mech, q, w1.copy(), e1.copy(), mech.body_names, out["X"], out["Y"],
                       out["T"], out["VX"], out["VY"], out["W"], out["AX"], out["AY"], out["E"],
                       ~bad, used)
+
+
+def _stack_into(block: Arr, st: State, keys: tuple[str, ...]) -> bool:
+    """Copy the rows of ``st`` (each of the arrays ``keys`` of every body, over all of the
+    positions of ``block``) into ``block`` in one assignment; False (nothing copied) where a
+    row is not an array over those positions."""
+    try:
+        rows = np.array([arr for key in keys for arr in getattr(st, key)], dtype=float)
+    except ValueError:  # rows of different shapes
+        return False
+    if rows.shape != (block.shape[0] * block.shape[1], block.shape[2]):
+        return False
+    block[...] = rows.reshape(block.shape)
+    return True
 
 
 def _batch_inputs(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None,
