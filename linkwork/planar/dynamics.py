@@ -360,6 +360,9 @@ CHUNK = 8192
 _PER_POSITION = ("fx", "fy", "mz", "px", "py", "Q", "shaking_fx", "shaking_fy", "shaking_m",
                  "T", "Q_frictionless", "friction_fx", "friction_fy", "friction_mz",
                  "friction_power", "locked", "kappa")
+#: the friction arrays of a chunk without friction: all this value
+_NO_FRICTION = {"friction_fx": 0.0, "friction_fy": 0.0, "friction_mz": 0.0,
+                "friction_power": 0.0, "locked": False, "kappa": 1.0}
 
 
 def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
@@ -423,15 +426,19 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     parts: dict[str, Arr] = {}
     iterations = 0
     first: Dynamics | None = None
+    # without friction its arrays are constants (no joint dissipates): made whole, not copied
+    copied = _PER_POSITION if width is not None else tuple(
+        k for k in _PER_POSITION if k not in _NO_FRICTION)
     for lo in range(0, n, CHUNK):
         sl = slice(lo, min(lo + CHUNK, n))
         d = _inverse_dynamics(_kinematics_slice(kin, sl), (g[0], g[1]), (ab[0], ab[1]),
                               [_applied_slice(ap, sl) for ap in applied], width)
         if first is None:
             first = d
-            parts = {k: np.empty((*getattr(d, k).shape[:-1], n), dtype=getattr(d, k).dtype)
+            parts = {k: (np.empty if k in copied else np.zeros if not _NO_FRICTION[k]
+                         else np.ones)((*getattr(d, k).shape[:-1], n), dtype=getattr(d, k).dtype)
                      for k in _PER_POSITION}
-        for k in _PER_POSITION:
+        for k in copied:
             parts[k][..., sl] = getattr(d, k)
         iterations = max(iterations, d.friction_iterations)
     assert first is not None
