@@ -824,6 +824,8 @@ def _group_reactions(plan: Plan, st: State, f: Arr) -> tuple[Arr, Arr, Arr, Arr]
                           for i in range(1, nb)]
 
     def apply(i: int, fx: Arr, fy: Arr, px: Arr, py: Arr, mz: Arr | float = 0.0) -> None:
+        if i == 0:
+            return  # the frame's own balance is never needed
         Fx[i] = Fx[i] + fx
         Fy[i] = Fy[i] + fy
         M0[i] = M0[i] + px * fy - py * fx + mz
@@ -858,7 +860,8 @@ def _group_reactions(plan: Plan, st: State, f: Arr) -> tuple[Arr, Arr, Arr, Arr]
                 torque = -(M0[b] - (A[0] * Fy[b] - A[1] * Fx[b]))
                 Q[k] = sgn * torque
                 M0[b] = M0[b] + torque
-                M0[other] = M0[other] - torque
+                if other:
+                    M0[other] = M0[other] - torque
                 record(rj, b, -Fx[b], -Fy[b], 0.0, A[0], A[1])
             else:  # a force along the guide at the slider point
                 P = st.wpt(rj.ib, rj.pb)

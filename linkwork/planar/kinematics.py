@@ -24,6 +24,7 @@ rest of the public names.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from functools import cached_property
@@ -387,10 +388,14 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         raise ParameterError("on_failure", on_failure, "must be 'raise' or 'nan'")
     n = q.shape[-1]
     drivers = mech.drivers
-    w1 = mech.driver_values("omega1", np.array([d.omega1 for d in drivers]) if omega1 is None
-                            else omega1, n)
-    e1 = mech.driver_values("eps1", np.array([d.eps1 for d in drivers]) if eps1 is None
-                            else eps1, n)
+    w1 = _driver_default(drivers, "omega1", n) if omega1 is None else None
+    if w1 is None:
+        w1 = mech.driver_values("omega1", np.array([d.omega1 for d in drivers])
+                                if omega1 is None else omega1, n)
+    e1 = _driver_default(drivers, "eps1", n) if eps1 is None else None
+    if e1 is None:
+        e1 = mech.driver_values("eps1", np.array([d.eps1 for d in drivers]) if eps1 is None
+                                else eps1, n)
     q2, w2, e2 = q.reshape(nd, n), w1.reshape(nd, n), e1.reshape(nd, n)
     used = _branches_used(mech, branches)
     structure = mech.structure
@@ -442,6 +447,16 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     return Kinematics(mech, q, w1.copy(), e1.copy(), mech.body_names, out["X"], out["Y"],
                       out["T"], out["VX"], out["VY"], out["W"], out["AX"], out["AY"], out["E"],
                       ~bad, used)
+
+
+def _driver_default(drivers: tuple[Any, ...], name: str, n: int) -> Arr | None:
+    """The one driver's own speed or acceleration ``name`` at the ``n`` positions when it is a
+    finite Python float (what :meth:`Mechanism.driver_values` gives for it, without its
+    checks); None otherwise (several drivers, or a value for the checks to judge)."""
+    if len(drivers) != 1:
+        return None
+    v = getattr(drivers[0], name)
+    return np.full(n, v) if type(v) is float and math.isfinite(v) else None
 
 
 def _stack_into(block: Arr, st: State, keys: tuple[str, ...]) -> bool:

@@ -428,7 +428,7 @@ class Mechanism:
         """Number of drivers (the mobility the mechanism must have)."""
         return len(self.drivers)
 
-    @property
+    @cached_property
     def driver_units(self) -> Mapping[str, str]:
         """Units of the driver fields ``phi1, omega1, eps1, Q``: those of the driver, or of
         all drivers when they are of one kind; else each key's units in driver order, joined

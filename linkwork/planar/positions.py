@@ -48,9 +48,9 @@ def _finish_side(st: State, body: int, kind: str, data: Any, p_int: tuple[float,
         phi0 = np.arctan2(p_int[1] - p_ext[1], p_int[0] - p_ext[0])
         if phi0.ndim == 0:
             phi0 = float(phi0)
-        c0, s0 = np.cos(phi0), np.sin(phi0)
         th = np.arctan2(ey, ex)
         if isinstance(phi0, np.ndarray) or phi0 != 0.0:
+            c0, s0 = np.cos(phi0), np.sin(phi0)
             st.set_angle(body, th - phi0, ex * c0 + ey * s0, ey * c0 - ex * s0)
         else:
             st.set_angle(body, th, ex, ey)
@@ -64,10 +64,10 @@ def _intersect(st: State, l1: tuple[str, Any], l2: tuple[str, Any], branch: int)
         (A, r1, _), (C, r2, _) = d1, d2
         ex, ey = C[0] - A[0], C[1] - A[1]
         dd = np.hypot(ex, ey)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            a = (r1 * r1 - r2 * r2 + dd * dd) / (2 * dd)
-            h = _sqrt_checked(st, r1 * r1 - a * a, r1)
-            ux, uy = ex / dd, ey / dd
+        # (the solvers run under the caller's np.errstate(all="ignore"))
+        a = (r1 * r1 - r2 * r2 + dd * dd) / (2 * dd)
+        h = _sqrt_checked(st, r1 * r1 - a * a, r1)
+        ux, uy = ex / dd, ey / dd
         return A[0] + a * ux - branch * h * uy, A[1] + a * uy + branch * h * ux
     if k1 == "line" and k2 == "line":
         (P, u), (Q, v) = d1, d2

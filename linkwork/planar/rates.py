@@ -190,21 +190,21 @@ def cramer(st: State, rows: list[tuple[list[Arr | float], Arr]], scale: Arr | fl
     A 2 x 2 system is singular (a toggle) where ``|det|`` is below 1e-7 times the product of its
     column norms (the sine of the angle between the columns); a 1 x 1 one where the coefficient
     is below 1e-7 ``scale`` (a length). Near a toggle rounding alone leaves that sine near
-    1e-8, so such positions would otherwise give arbitrary finite rates.
+    1e-8, so such positions would otherwise give arbitrary finite rates. Called under the
+    solver's ``np.errstate(all="ignore")`` (kinematics, inverse dynamics).
     """
-    with np.errstate(invalid="ignore", divide="ignore"):
-        if len(rows) == 1:
-            (a,), r = rows[0]
-            a = np.asarray(a) + np.zeros(st.n)
-            sing = ~(np.abs(a) > 1e-7 * np.asarray(scale))
-            return [np.where(sing, np.nan, r / np.where(sing, 1.0, a))]
-        (a11, a12), r1 = rows[0]
-        (a21, a22), r2 = rows[1]
-        det = np.asarray(a11 * a22 - a12 * a21) + np.zeros(st.n)
-        norm = np.hypot(a11, a21) * np.hypot(a12, a22)
-        sing = ~(np.abs(det) > 1e-7 * norm)
-        inv = 1.0 / np.where(sing, np.nan, det)
-        return [(r1 * a22 - r2 * a12) * inv, (a11 * r2 - a21 * r1) * inv]
+    if len(rows) == 1:
+        (a,), r = rows[0]
+        a = np.asarray(a) + np.zeros(st.n)
+        sing = ~(np.abs(a) > 1e-7 * np.asarray(scale))
+        return [np.where(sing, np.nan, r / np.where(sing, 1.0, a))]
+    (a11, a12), r1 = rows[0]
+    (a21, a22), r2 = rows[1]
+    det = np.asarray(a11 * a22 - a12 * a21) + np.zeros(st.n)
+    norm = np.hypot(a11, a21) * np.hypot(a12, a22)
+    sing = ~(np.abs(det) > 1e-7 * norm)
+    inv = 1.0 / np.where(sing, np.nan, det)
+    return [(r1 * a22 - r2 * a12) * inv, (a11 * r2 - a21 * r1) * inv]
 
 
 def group_pars(st: State, g: PlanGroup, nb: int
