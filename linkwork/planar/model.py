@@ -428,17 +428,22 @@ class Mechanism:
         """Number of drivers (the mobility the mechanism must have)."""
         return len(self.drivers)
 
-    @cached_property
+    @property
     def driver_units(self) -> Mapping[str, str]:
         """Units of the driver fields ``phi1, omega1, eps1, Q``: those of the driver, or of
         all drivers when they are of one kind; else each key's units in driver order, joined
         by ``", "`` (``"rad, m"``)."""
+        return MappingProxyType(self._driver_units)
+
+    @cached_property
+    def _driver_units(self) -> dict[str, str]:
+        """:attr:`driver_units`, worked out once (a dict: the mechanism stays picklable)."""
         units = [d.field_units for d in self.drivers]
         out = {}
         for k in units[0]:
             vals = [u[k] for u in units]
             out[k] = vals[0] if len(set(vals)) == 1 else ", ".join(vals)
-        return MappingProxyType(out)
+        return out
 
     @cached_property
     def body_names(self) -> tuple[str, ...]:
