@@ -799,3 +799,26 @@ def test_mean_driving_torque_over_a_closed_cycle_is_zero_without_loads():
     part = inverse_dynamics(pl.kinematics(mech, phi[:181]))
     dT = part.T[-1] - part.T[0]
     assert part.Q_mean == pytest.approx(dT / (phi[180] - phi[0]), rel=2e-4)
+
+
+def test_chunks_without_friction_give_every_array_of_the_whole_cycle(monkeypatch):
+    """inverse_dynamics in chunks (positions > CHUNK) of a frictionless four-bar with gravity
+    against the same cycle in one piece: every per-position array, the friction fields too
+    (zeros, kappa 1, locked False: made whole, not copied chunk by chunk), bit for bit, with
+    the same shapes and dtypes; and T is kinetic_energy(kin) bit for bit (taken from the
+    centres' motion computed for the inertia wrenches)."""
+    import linkwork.planar.dynamics as dynamics
+    from linkwork.planar import kinetic_energy
+
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0), omega1=10.0)
+    kin = kinematics(mech, np.linspace(0.1, 2 * np.pi + 0.1, 61)[:-1])
+    whole = inverse_dynamics(kin, gravity=(0.0, -9.81), about=(0.05, -0.02))
+    monkeypatch.setattr(dynamics, "CHUNK", 7)
+    chunked = inverse_dynamics(kin, gravity=(0.0, -9.81), about=(0.05, -0.02))
+    for name in dynamics._PER_POSITION:
+        a, b = getattr(whole, name), getattr(chunked, name)
+        assert a.shape == b.shape and a.dtype == b.dtype, name
+        assert a.tobytes() == b.tobytes(), name
+    assert not chunked.locked.any() and np.all(chunked.kappa == 1.0)
+    assert not np.any(chunked.friction_fx) and not np.any(chunked.friction_power)
+    assert whole.T.tobytes() == kinetic_energy(kin).tobytes()
