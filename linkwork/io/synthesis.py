@@ -9,6 +9,7 @@ Example (path generation, Kunjur and Krishnamurty's six points on a line)::
     points = [["20 mm", "20 mm"], ["20 mm", "25 mm"], ["20 mm", "30 mm"],
               ["20 mm", "35 mm"], ["20 mm", "40 mm"], ["20 mm", "45 mm"]]
     # timing = ["30 deg", "45 deg", ...]   # crank angles from the frame line (optional)
+    # free_start = true                    # with timing: only its advances prescribed
     closed = false
     constraints = ["grashof", "order"]
     min_transmission = "30 deg"            # optional
@@ -126,6 +127,7 @@ class PathSection(FileModel):
 
     points: list[XY]
     timing: list[Angle] | None = None
+    free_start: bool = False
     closed: bool = False
     constraints: list[Literal["grashof", "order"]] = Field(default_factory=_default_constraints)
     min_transmission: Annotated[Angle, Field(gt=0, lt=math.pi / 2)] | None = None
@@ -133,6 +135,9 @@ class PathSection(FileModel):
 
     @model_validator(mode="after")
     def _check(self) -> PathSection:
+        if self.free_start and self.timing is None:
+            raise PydanticCustomError("free_start", "free_start needs timing (the crank's "
+                                      "advances between the points)")
         for k in self.bounds:
             if k not in (*PARAMS, "theta2"):
                 raise PydanticCustomError("bounds", "bounds.{k}: unknown parameter; known: "

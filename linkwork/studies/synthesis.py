@@ -70,7 +70,8 @@ def run(doc: SynthesisFile, kind: str, *, client: Any = None, progress: Any = Fa
         res: Any = pa.path(
             section.points, timing=section.timing, bounds=section.si_bounds() or None,
             constraints=section.constraint_tuple(), objective=doc.objective.objective(),
-            closed=section.closed, seed=s.seed if seed is None else seed, client=client,
+            closed=section.closed, free_start=section.free_start,
+            seed=s.seed if seed is None else seed, client=client,
             progress=progress, n_candidates=n_candidates or s.candidates,
             n_refine=s.refine, n_designs=s.designs)
     elif kind == "function":

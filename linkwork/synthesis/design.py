@@ -83,6 +83,66 @@ def _kernel(th2: Any, *geometry: Any) -> tuple[Any, Any, Any, Any]:
     return x0 + c0 * px - s0 * py, y0 + s0 * px + c0 * py, h2, cos_mu
 
 
+def _kernel_jacobian(th2: np.ndarray, *geometry: float) -> tuple[np.ndarray, np.ndarray]:
+    """Exact derivatives of the coupler point of :func:`_kernel` (one design, crank angles
+    ``th2`` (n,)) with respect to ``r1 r2 r3 r4 rcx rcy x0 y0 theta0`` and the crank angle:
+    ``dx, dy`` of shape (n, 10).
+
+    By implicit differentiation of the loop closure ``|B - A| = r3``, ``|B - O4| = r4``:
+    ``[u; w] dB = [r3 dr3 + u . dA; r4 dr4 + w . dO4]`` with ``u = B - A``, ``w = B - O4``
+    (singular at a toggle, where the coupler point's derivatives are unbounded), then
+    ``P = A + (rcx u + rcy u_perp) / r3`` and the frame placement. Finite differences fail
+    near a toggle, where optima of the literature's problems often sit (the square root of
+    the assembly condition changes faster than any fixed step resolves).
+    """
+    r1, r2, r3, r4, rcx, rcy, _x0, _y0, t0, br = geometry
+    c, s = np.cos(th2), np.sin(th2)
+    ax, ay = r2 * c, r2 * s
+    sx, sy = r1 - ax, -ay
+    f2 = sx * sx + sy * sy
+    k = (r3 * r3 - r4 * r4 + f2) / (2.0 * f2)
+    h = br * np.sqrt(np.maximum(r3 * r3 / f2 - k * k, 0.0))
+    ux, uy = k * sx - h * sy, k * sy + h * sx
+    wx, wy = ux - sx, uy - sy
+    det = ux * wy - uy * wx
+    tiny = 1e-12 * r3 * r4
+    det = np.where(np.abs(det) < tiny, np.where(det < 0, -tiny, tiny), det)
+    n = len(th2)
+    zero, one = np.zeros(n), np.ones(n)
+    # columns: r1 r2 r3 r4 rcx rcy x0 y0 theta0 theta2
+    dA = [(zero, zero), (c, s), (zero, zero), (zero, zero), (zero, zero), (zero, zero),
+          (zero, zero), (zero, zero), (zero, zero), (-ay, ax)]
+    dO4 = [(one, zero)] + [(zero, zero)] * 9
+    dr3 = [zero, zero, one] + [zero] * 7
+    dr4 = [zero, zero, zero, one] + [zero] * 6
+    px_l = (rcx * ux - rcy * uy) / r3
+    py_l = (rcx * uy + rcy * ux) / r3
+    c0, s0 = math.cos(t0), math.sin(t0)
+    dx = np.empty((n, 10))
+    dy = np.empty((n, 10))
+    for j in range(10):
+        (dax, day), (dox, doy) = dA[j], dO4[j]
+        b1 = r3 * dr3[j] + ux * dax + uy * day
+        b2 = r4 * dr4[j] + wx * dox + wy * doy
+        dbx = (wy * b1 - uy * b2) / det
+        dby = (ux * b2 - wx * b1) / det
+        dux, duy = dbx - dax, dby - day
+        dpx = dax + (rcx * dux - rcy * duy) / r3 - px_l * dr3[j] / r3
+        dpy = day + (rcx * duy + rcy * dux) / r3 - py_l * dr3[j] / r3
+        if j == 4:
+            dpx, dpy = dpx + ux / r3, dpy + uy / r3
+        elif j == 5:
+            dpx, dpy = dpx - uy / r3, dpy + ux / r3
+        dx[:, j] = c0 * dpx - s0 * dpy
+        dy[:, j] = s0 * dpx + c0 * dpy
+    px, py = ax + px_l, ay + py_l
+    dx[:, 6], dy[:, 6] = 1.0, 0.0
+    dx[:, 7], dy[:, 7] = 0.0, 1.0
+    dx[:, 8] = -(s0 * px + c0 * py)
+    dy[:, 8] = c0 * px - s0 * py
+    return dx, dy
+
+
 def coupler_point(theta2: ArrayLike, params: Mapping[str, Any], branch: int = 1
                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The coupler point of a design at crank angles ``theta2`` from the frame line [rad].

@@ -61,6 +61,7 @@ from linkwork.synthesis.design import (
     PARAMS,
     FourbarDesign,
     SynthesisResult,
+    _kernel_jacobian,
     coupler_point,
 )
 from linkwork.synthesis.design import _kernel as _kernel
@@ -101,6 +102,7 @@ class PathTask:
     order: bool
     mu_min: float | None
     scale: float
+    free_start: bool = False
 
     @property
     def free(self) -> np.ndarray:
@@ -110,6 +112,21 @@ class PathTask:
     @property
     def n(self) -> int:
         return len(self.points)
+
+    @property
+    def theta0_periodic(self) -> bool:
+        """The bounds of ``theta0`` span a full turn: it is searched as the angle it is (the
+        refinement does not stop at 0 or 2 pi), and returned within the bounds."""
+        return bool(self.hi[8] - self.lo[8] >= TWO_PI * (1 - 1e-12))
+
+    def angles(self, start: np.ndarray | float) -> np.ndarray:
+        """Crank angles at the points of a task with timing, for the first crank angle
+        ``start`` ((m,) -> (m, n)): the timing itself, or with :attr:`free_start` its advances
+        from ``start``."""
+        assert self.timing is not None
+        if not self.free_start:
+            return np.broadcast_to(self.timing, (*np.shape(start), self.n))
+        return np.asarray(start)[..., None] + (self.timing - self.timing[0])
 
     def constraint_names(self) -> tuple[str, ...]:
         out = [k for k, on in (("grashof", self.grashof), ("order", self.order)) if on]
@@ -165,7 +182,8 @@ def _parse_constraints(constraints: Any) -> tuple[bool, bool, float | None]:
 
 def task(points: ArrayLike, *, timing: ArrayLike | None = None,
          bounds: Mapping[str, tuple[float, float]] | None = None,
-         constraints: Any = ("grashof", "order"), closed: bool = False) -> PathTask:
+         constraints: Any = ("grashof", "order"), closed: bool = False,
+         free_start: bool = False) -> PathTask:
     """Check a path-generation task and return it (see :func:`path` for the arguments).
 
     Raises
@@ -191,6 +209,9 @@ def task(points: ArrayLike, *, timing: ArrayLike | None = None,
         if len(tim) != len(pts):
             raise ParameterError("timing", len(tim), f"must give one crank angle per point "
                                  f"({len(pts)})")
+    elif free_start:
+        raise ParameterError("free_start", free_start, "needs timing (the crank's advances "
+                             "between the points); without timing every crank angle is free")
     grashof, order, mu = _parse_constraints(constraints)
     base = default_bounds(pts)
     th2b: tuple[float, float] | None = None
@@ -216,7 +237,8 @@ def task(points: ArrayLike, *, timing: ArrayLike | None = None,
     lo_a = np.array([base[k][0] for k in PARAMS])
     hi_a = np.array([base[k][1] for k in PARAMS])
     return PathTask(points=pts.astype(float), timing=tim, closed=bool(closed), lo=lo_a, hi=hi_a,
-                    theta2_bounds=th2b, grashof=grashof, order=order, mu_min=mu, scale=span)
+                    theta2_bounds=th2b, grashof=grashof, order=order, mu_min=mu, scale=span,
+                    free_start=bool(free_start) and tim is not None)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -308,10 +330,11 @@ def _screen(chunk: dict[str, np.ndarray], *, tk: PathTask, n_samples: int, keep:
     Xo, bo = X[ok], br[ok]
     pts = tk.points
     if tk.timing is not None:
-        x, y, h2, _ = _kernel(tk.timing[None, :], *_cols(Xo), bo[:, None])
+        th = tk.angles(np.asarray(chunk["start"], dtype=float)[ok] if tk.free_start
+                       else np.zeros(len(Xo))).copy()
+        x, y, h2, _ = _kernel(th, *_cols(Xo), bo[:, None])
         valid = (h2 >= 0).all(axis=1)
         err = ((x - pts[:, 0]) ** 2 + (y - pts[:, 1]) ** 2).sum(axis=1)
-        th = np.broadcast_to(tk.timing, (len(Xo), tk.n)).copy()
     else:
         ths = np.linspace(0.0, TWO_PI, n_samples, endpoint=False)
         x, y, h2, _ = _kernel(ths[None, :], *_cols(Xo), bo[:, None])
@@ -355,7 +378,7 @@ def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]
     free = tk.free
     k = int(free.sum())
     m = max(4, math.ceil(math.log2(max(n, 2))))
-    U = qmc.Sobol(max(k, 1), scramble=True, seed=seed).random_base2(m)[:n]
+    U = qmc.Sobol(max(k + tk.free_start, 1), scramble=True, seed=seed).random_base2(m)[:n]
     # half the sample in the bounds cut to the targets' scale (default_bounds), where wide
     # bounds (the literature's 50 times the path) would leave few useful candidates; half in
     # the whole box, link lengths log-uniform where the bounds span more than a decade
@@ -386,6 +409,8 @@ def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]
         u2 = U[:, int(free[:1].sum())]
         X[ok, 1] = tk.lo[1] + u2[ok] * (ub[ok] - tk.lo[1])
     br = np.where(np.arange(len(U)) % 2 == 0, 1.0, -1.0)
+    if tk.free_start:  # the first crank angle of a timing given by its advances
+        return {"X": X, "branch": br, "start": TWO_PI * U[:, k]}
     return {"X": X, "branch": br}
 
 
@@ -399,7 +424,7 @@ def _unpack(V: np.ndarray, x9: np.ndarray, free: np.ndarray, tk: PathTask, s: fl
     k = int(free.sum())
     X[:, free] = V[:, :k]
     if tk.timing is not None:
-        return X, np.broadcast_to(tk.timing, (len(V), tk.n))
+        return X, tk.angles(V[:, k] if tk.free_start else np.zeros(len(V)))
     inc = np.concatenate([np.zeros((len(V), 1)), np.cumsum(V[:, k + 1:], axis=1)], axis=1)
     return X, V[:, k:k + 1] + s * inc
 
@@ -430,11 +455,26 @@ def _residuals(V: np.ndarray, x9: np.ndarray, free: np.ndarray, tk: PathTask, s:
 
 
 def _jacobian(v: np.ndarray, *args: Any) -> np.ndarray:
-    """Forward differences of :func:`_residuals`, all columns in one vectorised call."""
+    """Jacobian of :func:`_residuals`: the coupler-point rows exact
+    (:func:`~linkwork.synthesis.design._kernel_jacobian`, chained through the refinement
+    vector), the penalty rows by forward differences, all columns in one vectorised call."""
+    x9, free, tk, s, br = args[:5]
     h = 1.5e-8 * np.maximum(np.abs(v), 1.0)
     V = np.vstack([v, v + np.diag(h)])
     R = _residuals(V, *args)
-    return ((R[1:] - R[0]) / h[:, None]).T
+    J = ((R[1:] - R[0]) / h[:, None]).T
+    X, th = _unpack(v[None, :], x9, free, tk, s)
+    dx, dy = _kernel_jacobian(th[0], *X[0], br)
+    n, k = tk.n, int(free.sum())
+    dth = np.zeros((n, len(v) - k))  # d theta2_i / d (the angle entries of v)
+    if tk.timing is None:
+        dth[:, 0] = 1.0
+        dth[:, 1:] = s * np.tri(n, n - 1, -1)
+    elif tk.free_start:
+        dth[:, 0] = 1.0
+    J[:n, :k], J[n:2 * n, :k] = dx[:, :9][:, free], dy[:, :9][:, free]
+    J[:n, k:], J[n:2 * n, k:] = dx[:, 9:] * dth, dy[:, 9:] * dth
+    return J
 
 
 def _refine(x9: np.ndarray, br: float, th: np.ndarray, tk: PathTask, max_nfev: int
@@ -444,18 +484,9 @@ def _refine(x9: np.ndarray, br: float, th: np.ndarray, tk: PathTask, max_nfev: i
     from scipy.optimize import least_squares
 
     free = tk.free
-    lo, hi = tk.lo[free], tk.hi[free]
-    v0 = [np.clip(x9[free], lo, hi)]
-    vlo, vhi = [lo], [hi]
-    s = 1.0
-    if tk.timing is None:
-        d = np.diff(th)
-        s = 1.0 if d.sum() >= 0 else -1.0
-        v0 += [[th[0]], np.abs(d) + 1e-6]
-        vlo += [[-np.inf], np.zeros(len(d))]
-        vhi += [[np.inf], np.full(len(d), TWO_PI)]
-    v = np.concatenate(v0).astype(float)
-    blo, bhi = np.concatenate(vlo).astype(float), np.concatenate(vhi).astype(float)
+    v, s = _vector(x9, th, tk, pad=1e-6)
+    v[:int(free.sum())] = np.clip(v[:int(free.sum())], tk.lo[free], tk.hi[free])
+    blo, bhi = _vector_bounds(tk)
     fin = np.isfinite(blo) & np.isfinite(bhi)
     span = np.where(fin, bhi - blo, 0.0)
     v = np.clip(v, np.where(fin, blo + 1e-12 * span, blo), np.where(fin, bhi - 1e-12 * span, bhi))
@@ -471,7 +502,42 @@ def _refine(x9: np.ndarray, br: float, th: np.ndarray, tk: PathTask, max_nfev: i
         if not np.any(pen > 0):
             break
     X, th_r = _unpack(v[None, :], x9, free, tk, s)
+    if tk.theta0_periodic:  # searched unbounded: back within the bounds, the same linkage
+        X[0, 8] = tk.lo[8] + np.mod(X[0, 8] - tk.lo[8], TWO_PI)
     return X[0], th_r[0].copy(), nfev
+
+
+def _vector(x9: np.ndarray, th: np.ndarray, tk: PathTask, pad: float = 0.0
+            ) -> tuple[np.ndarray, float]:
+    """The refinement vector of a design (parameters ``x9``, crank angles ``th``): its free
+    parameters, then without timing the first crank angle and the increments between
+    consecutive points (their absolute values plus ``pad``: the sense of rotation ``s``,
+    returned, stays fixed), or with a timing of free start the first crank angle."""
+    parts = [x9[tk.free]]
+    s = 1.0
+    if tk.timing is None:
+        d = np.diff(th)
+        s = 1.0 if d.sum() >= 0 else -1.0
+        parts += [[th[0]], np.abs(d) + pad]
+    elif tk.free_start:
+        parts.append([th[0]])
+    return np.concatenate(parts).astype(float), s
+
+
+def _vector_bounds(tk: PathTask) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of the refinement vector (:func:`_vector`); a frame angle free over a whole turn
+    and the first crank angle are unbounded (angles)."""
+    lo, hi = tk.lo[tk.free].copy(), tk.hi[tk.free].copy()
+    if tk.theta0_periodic and tk.free[8]:
+        lo[-1], hi[-1] = -np.inf, np.inf  # theta0 is the last of PARAMS
+    vlo, vhi = [lo], [hi]
+    if tk.timing is None:
+        vlo += [[-np.inf], np.zeros(tk.n - 1)]
+        vhi += [[np.inf], np.full(tk.n - 1, TWO_PI)]
+    elif tk.free_start:
+        vlo.append([-np.inf])
+        vhi.append([np.inf])
+    return np.concatenate(vlo).astype(float), np.concatenate(vhi).astype(float)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -593,8 +659,9 @@ def _wrap_theta2(th: np.ndarray) -> list[float]:
 def path(points: ArrayLike, *, timing: ArrayLike | None = None,
          bounds: Mapping[str, tuple[float, float]] | None = None,
          constraints: Any = ("grashof", "order"), objective: Any = "sum_squares",
-         closed: bool = False, seed: int | None = None, client: Any = None,
-         progress: Any = True, n_candidates: int = 2**16, n_samples: int = 120,
+         closed: bool = False, free_start: bool = False, seed: int | None = None,
+         client: Any = None, progress: Any = True, n_candidates: int = 2**16,
+         n_samples: int = 120,
          n_refine: int = 24, n_designs: int = 5, chunk_size: int = 2048,
          max_nfev: int = 1000) -> SynthesisResult:
     """Four-bars whose coupler point passes through ``points``, defect-free, best first.
@@ -620,6 +687,10 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
         (weighted, or a Pareto set of accuracy against dynamics).
     closed : bool
         A closed path: the crank turns fully and the points are reached cyclically.
+    free_start : bool
+        With ``timing``: only the crank's advances between the points are prescribed
+        (``timing - timing[0]``); the first crank angle is searched (as in the literature's
+        18-point closed path, the crank 20 deg between points from a free start).
     seed : int, optional
         Seed of the Sobol sample (the search is reproducible with a seed).
     client : dask.distributed.Client or str, optional
@@ -644,7 +715,8 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
         No defect-free design found: names what cannot be met and the closest value reached.
     """
     t_start = time.perf_counter()
-    tk = task(points, timing=timing, bounds=bounds, constraints=constraints, closed=closed)
+    tk = task(points, timing=timing, bounds=bounds, constraints=constraints, closed=closed,
+              free_start=free_start)
     obj = Objective.parse(objective)
     for name, val, least in (("n_candidates", n_candidates, 1), ("n_samples", n_samples, 8),
                              ("n_refine", n_refine, 1), ("n_designs", n_designs, 1),
@@ -679,9 +751,8 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
         br = float(res["branch"][i])
         X, th, nf = _refine(res["X"][i], br, res["theta2"][i], tk, max(int(max_nfev) // 4, 10))
         nres += nf
-        r = _residuals(np.concatenate([X[tk.free], [th[0]], np.abs(np.diff(th))])[None, :]
-                       if tk.timing is None else X[tk.free][None, :], X, tk.free, tk,
-                       1.0 if np.diff(th).sum() >= 0 else -1.0, br, 1e4)
+        vec, sense = _vector(X, th, tk)
+        r = _residuals(vec[None, :], X, tk.free, tk, sense, br, 1e4)
         first.append((float(np.sum(r ** 2)), X, th, br))
     first.sort(key=lambda f: f[0])
     keep_n = max(3, len(first) // 3)

@@ -201,3 +201,61 @@ def test_bounds_that_exclude_every_assembled_design_say_so():
     with pytest.raises(InfeasibleError, match="assembles") as ex:
         path(pts, bounds=b, constraints=("order",), **FAST)
     assert "no candidate assembles" in str(ex.value)
+
+
+def test_refinement_jacobian_equals_central_differences():
+    """The coupler-point rows of the refinement's Jacobian (exact, by implicit differentiation
+    of the loop closure) against central differences of the residuals (step 1e-6), for free
+    timing, prescribed timing and timing with a free start: to 1e-7 of the largest entry."""
+    from linkwork.synthesis import path as pa
+
+    th = np.linspace(0.2, 5.5, 8)
+    pts = _targets(th) + 0.01
+    x9 = np.array([PLANT[k] for k in pa.PARAMS])
+    for kw in ({}, {"timing": th}, {"timing": th, "free_start": True}):
+        tk = task(pts, constraints=("order",), **kw)
+        for br in (1.0, -1.0):
+            v, s = pa._vector(x9, th, tk)
+            args = (x9, tk.free, tk, s, br, 1e2)
+            J = pa._jacobian(v, *args)
+            Jc = np.empty_like(J)
+            for j in range(len(v)):
+                e = np.zeros(len(v))
+                e[j] = 1e-6 * max(1.0, abs(v[j]))
+                Jc[:, j] = (pa._residuals((v + e)[None, :], *args)[0]
+                            - pa._residuals((v - e)[None, :], *args)[0]) / (2 * e[j])
+            rows = slice(0, 2 * tk.n)
+            assert np.abs(J[rows] - Jc[rows]).max() <= 1e-7 * np.abs(Jc[rows]).max()
+
+
+def test_planted_timing_with_a_free_start_is_recovered():
+    """Only the crank's advances between the points are prescribed (the literature's 18-point
+    problem does this): the planted crank-rocker is found with the advances kept."""
+    th = 1.1 + np.linspace(0.0, 4.0, 7)
+    pts = _targets(th)
+    res = path(pts, timing=th - 1.1, free_start=True, **FAST)
+    L = float(np.hypot(*np.ptp(pts, axis=0)))
+    assert res.best.error < 1e-20 * L * L
+    _independent(res)
+    for d in res.designs:
+        adv = np.mod(np.diff(d.theta2) + math.pi, 2 * math.pi) - math.pi
+        assert np.allclose(adv, np.diff(th), atol=1e-12)
+    with pytest.raises(ParameterError, match="free_start"):
+        path(pts, free_start=True, progress=False)
+
+
+def test_frame_angle_bounded_by_a_full_turn_is_refined_across_zero():
+    """theta0 of the planted linkage just below 2 pi (= -0.05 rad), bounds (0, 2 pi), the
+    refinement started at theta0 = 0.02: it does not stop at the bound 0 (as a box bound
+    would make it) but reaches the exact design, returned with theta0 inside the bounds."""
+    from linkwork.synthesis import path as pa
+
+    p = dict(PLANT, theta0=-0.05)
+    th = np.linspace(0.2, 5.5, 8)
+    pts = _targets(th, p)
+    tk = task(pts, timing=th, bounds={"theta0": (0.0, 2 * math.pi)})
+    x9 = np.array([dict(PLANT, theta0=0.02)[k] for k in pa.PARAMS])
+    X, th_r, _ = pa._refine(x9, 1.0, th, tk, 200)
+    assert X[8] == pytest.approx(2 * math.pi - 0.05, abs=1e-9)
+    assert np.allclose(X[:8], [PLANT[k] for k in pa.PARAMS[:8]], atol=1e-9)
+    assert np.array_equal(th_r, th)
