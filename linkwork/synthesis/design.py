@@ -54,17 +54,14 @@ PARAMS = ("r1", "r2", "r3", "r4", "rcx", "rcy", "x0", "y0", "theta0")
 # ---------------------------------------------------------------------------------------------
 # the closed form, vectorised over designs x crank angles
 # ---------------------------------------------------------------------------------------------
-def _kernel(th2: Any, *geometry: Any) -> tuple[Any, Any, Any, Any]:
-    """Coupler point (x, y) in the task's frame, ``h2`` (>= 0 where it assembles) and the
-    cosine of the transmission angle at B, for crank angles ``th2`` from the frame line.
+def _loop(th2: Any, r1: Any, r2: Any, r3: Any, r4: Any, br: Any) -> tuple[Any, ...]:
+    """The loop of a four-bar in the frame of the frame line (origin O2, x along O2 -> O4) at
+    crank angles ``th2``: the crank pin ``A``, ``s = O4 - A``, the coupler vector ``u = B - A``
+    and ``h2`` (>= 0 where it assembles): ``ax, ay, sx, sy, ux, uy, h2``.
 
-    In the frame of the frame line (origin O2, x along O2 -> O4): ``A = r2 (cos th2, sin
-    th2)``, ``s = O4 - A``, ``B = A + k s + h s_perp`` with ``k = (r3^2 - r4^2 + |s|^2) /
-    (2 |s|^2)``, ``h = br sqrt(h2)``, ``h2 = r3^2/|s|^2 - k^2`` (the closed form of
-    :func:`linkwork.models.fourbar.fourbar`); ``P = A + (rcx e3 + rcy e3_perp)``.
-    ``geometry``: ``r1 r2 r3 r4 rcx rcy x0 y0 theta0`` and the branch ``br``.
-    """
-    r1, r2, r3, r4, rcx, rcy, x0, y0, t0, br = geometry
+    ``B = A + k s + h s_perp`` with ``k = (r3^2 - r4^2 + |s|^2) / (2 |s|^2)``,
+    ``h = br sqrt(h2)``, ``h2 = r3^2/|s|^2 - k^2`` (the closed form of
+    :func:`linkwork.models.fourbar.fourbar`)."""
     ax = r2 * np.cos(th2)
     ay = r2 * np.sin(th2)
     sx = r1 - ax
@@ -73,8 +70,18 @@ def _kernel(th2: Any, *geometry: Any) -> tuple[Any, Any, Any, Any]:
     k = (r3 * r3 - r4 * r4 + f2) / (2.0 * f2)
     h2 = r3 * r3 / f2 - k * k
     h = br * np.sqrt(np.maximum(h2, 0.0))
-    ux = k * sx - h * sy
-    uy = k * sy + h * sx
+    return ax, ay, sx, sy, k * sx - h * sy, k * sy + h * sx, h2
+
+
+def _kernel(th2: Any, *geometry: Any) -> tuple[Any, Any, Any, Any]:
+    """Coupler point (x, y) in the task's frame, ``h2`` (>= 0 where it assembles) and the
+    cosine of the transmission angle at B, for crank angles ``th2`` from the frame line.
+
+    The loop by :func:`_loop`, then ``P = A + (rcx e3 + rcy e3_perp)`` and the frame
+    placement. ``geometry``: ``r1 r2 r3 r4 rcx rcy x0 y0 theta0`` and the branch ``br``.
+    """
+    r1, r2, r3, r4, rcx, rcy, x0, y0, t0, br = geometry
+    ax, ay, sx, sy, ux, uy, h2 = _loop(th2, r1, r2, r3, r4, br)
     px = ax + (rcx * ux - rcy * uy) / r3
     py = ay + (rcx * uy + rcy * ux) / r3
     c0, s0 = np.cos(t0), np.sin(t0)
@@ -97,12 +104,7 @@ def _kernel_jacobian(th2: np.ndarray, *geometry: float) -> tuple[np.ndarray, np.
     """
     r1, r2, r3, r4, rcx, rcy, _x0, _y0, t0, br = geometry
     c, s = np.cos(th2), np.sin(th2)
-    ax, ay = r2 * c, r2 * s
-    sx, sy = r1 - ax, -ay
-    f2 = sx * sx + sy * sy
-    k = (r3 * r3 - r4 * r4 + f2) / (2.0 * f2)
-    h = br * np.sqrt(np.maximum(r3 * r3 / f2 - k * k, 0.0))
-    ux, uy = k * sx - h * sy, k * sy + h * sx
+    ax, ay, sx, sy, ux, uy, _ = _loop(th2, r1, r2, r3, r4, br)
     wx, wy = ux - sx, uy - sy
     det = ux * wy - uy * wx
     tiny = 1e-12 * r3 * r4
@@ -251,12 +253,16 @@ class FourbarDesign:
 
     def run_range(self, n: int = 361) -> np.ndarray:
         """Crank angles from the frame line [rad] the design runs through: a full turn from the
-        first point when the crank rotates fully, else from the first to the last point."""
+        first point when the crank rotates fully, else from the first to the last point in
+        the sense the points are reached (``checks["direction"]``; the angles themselves are
+        kept within a turn)."""
         t = self.theta2
+        s = float(self.checks.get("direction", 1.0 if len(t) < 2 or t[-1] >= t[0] else -1.0))
         if self.checks.get("crank_rotates", False) or self.closed:
-            s = 1.0 if len(t) < 2 or t[-1] >= t[0] else -1.0
             return t[0] + s * np.linspace(0.0, 2 * math.pi, n)
-        return np.linspace(t[0], t[-1], n)
+        # the crank angles are kept within a turn: the points follow in the design's sense
+        total = float(np.sum(np.mod(s * np.diff(t), 2 * math.pi)))
+        return t[0] + s * np.linspace(0.0, total, n)
 
     # -- engine model and file ----------------------------------------------------------------
     def mechanism(self, masses: LinkMasses | None = None, omega1: float | None = None
@@ -415,6 +421,10 @@ class SynthesisResult(Result):
     pareto : tuple of int
         Indices (into ``designs``) of the Pareto set of accuracy against dynamics (empty
         unless the objective was Pareto).
+    scales : dict
+        What each metric was measured against when judged by forces (``error`` [m^2]: n
+        (0.01 L)^2; ``peak_torque`` [N m], ``peak_bearing``, ``rms_shaking`` [N]: their
+        medians over the screened candidates); empty for the literature's objective.
     """
 
     designs: tuple[FourbarDesign, ...]
@@ -430,6 +440,7 @@ class SynthesisResult(Result):
     time_global: float
     objective: str = "sum_squares"
     pareto: tuple[int, ...] = ()
+    scales: Mapping[str, float] = field(default_factory=dict)
 
     units: ClassVar[dict[str, str]] = {
         "r1": "m", "r2": "m", "r3": "m", "r4": "m", "rcx": "m", "rcy": "m", "x0": "m",
@@ -475,7 +486,7 @@ class SynthesisResult(Result):
                 "n_refined": self.n_refined,
                 "n_residual_evaluations": self.n_residual_evaluations, "time": self.time,
                 "time_global": self.time_global, "objective": self.objective,
-                "pareto": list(self.pareto),
+                "pareto": list(self.pareto), "scales": dict(self.scales),
                 "points": [[float(x), float(y)] for x, y in self.points]}
 
     def to_dict(self) -> dict[str, Any]:

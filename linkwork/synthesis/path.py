@@ -65,7 +65,7 @@ from linkwork.synthesis.design import (
     coupler_point,
 )
 from linkwork.synthesis.design import _kernel as _kernel
-from linkwork.synthesis.forces import Objective, judge
+from linkwork.synthesis.forces import ForceModel, Objective, force_metrics, judge
 
 __all__ = ["CONSTRAINTS", "DEFECTS", "MAX_CANDIDATES", "PathTask", "check_design",
            "coupler_point", "path", "task"]
@@ -429,10 +429,33 @@ def _unpack(V: np.ndarray, x9: np.ndarray, free: np.ndarray, tk: PathTask, s: fl
     return X, V[:, k:k + 1] + s * inc
 
 
+@dataclass(frozen=True)
+class _Judged:
+    """The refinement's objective judged by forces: the point residuals (and the penalties)
+    times ``point`` = sqrt(w_error / ref_error), then one residual sqrt(w_k m_k / ref_k) per
+    metric of ``terms`` (``(metric, w_k / ref_k)``; the transmission angle enters as
+    (pi/2) / mu_min), the metrics by :func:`~linkwork.synthesis.forces.force_metrics`."""
+
+    model: ForceModel
+    point: float
+    terms: tuple[tuple[str, float], ...]
+
+    def rows(self, X: np.ndarray, br: float, th: np.ndarray, tk: PathTask) -> np.ndarray:
+        rotates = (_crank_rocker_margin(X) < 0) | tk.closed
+        m = force_metrics(X, np.full(len(X), br), th, rotates, self.model)
+        out = []
+        for k, c in self.terms:
+            v = m[k] if k != "min_transmission_angle" else (math.pi / 2) / np.maximum(
+                m[k], 1e-9)
+            out.append(np.sqrt(np.where(np.isfinite(v), c * v, 1e6)))
+        return np.stack(out, axis=1)
+
+
 def _residuals(V: np.ndarray, x9: np.ndarray, free: np.ndarray, tk: PathTask, s: float,
-               br: float, weight: float) -> np.ndarray:
+               br: float, weight: float, judged: _Judged | None = None) -> np.ndarray:
     """Residuals of refinement vectors ``V`` (m, nv), one row each: coupler point minus
-    target (x then y), then the penalties (zero where the constraints hold)."""
+    target (x then y), then the penalties (zero where the constraints hold), then with
+    ``judged`` the forces' residuals (the others scaled, see :class:`_Judged`)."""
     X, th = _unpack(V, x9, free, tk, s)
     x, y, h2, cos_mu = _kernel(th, *(X[:, i:i + 1] for i in range(9)), br)
     L = tk.scale
@@ -451,7 +474,10 @@ def _residuals(V: np.ndarray, x9: np.ndarray, free: np.ndarray, tk: PathTask, s:
         if tk.theta2_bounds is not None:
             lo, hi = tk.theta2_bounds
             pen.append(wl * (np.maximum(lo - th, 0.0) + np.maximum(th - hi, 0.0)))
-    return np.concatenate([x - tk.points[:, 0], y - tk.points[:, 1], *pen], axis=1)
+    R = np.concatenate([x - tk.points[:, 0], y - tk.points[:, 1], *pen], axis=1)
+    if judged is None:
+        return R
+    return np.concatenate([judged.point * R, judged.rows(X, br, th, tk)], axis=1)
 
 
 def _jacobian(v: np.ndarray, *args: Any) -> np.ndarray:
@@ -472,13 +498,14 @@ def _jacobian(v: np.ndarray, *args: Any) -> np.ndarray:
         dth[:, 1:] = s * np.tri(n, n - 1, -1)
     elif tk.free_start:
         dth[:, 0] = 1.0
-    J[:n, :k], J[n:2 * n, :k] = dx[:, :9][:, free], dy[:, :9][:, free]
-    J[:n, k:], J[n:2 * n, k:] = dx[:, 9:] * dth, dy[:, 9:] * dth
+    c = args[6].point if len(args) > 6 and args[6] is not None else 1.0
+    J[:n, :k], J[n:2 * n, :k] = c * dx[:, :9][:, free], c * dy[:, :9][:, free]
+    J[:n, k:], J[n:2 * n, k:] = c * dx[:, 9:] * dth, c * dy[:, 9:] * dth
     return J
 
 
-def _refine(x9: np.ndarray, br: float, th: np.ndarray, tk: PathTask, max_nfev: int
-            ) -> tuple[np.ndarray, np.ndarray, int]:
+def _refine(x9: np.ndarray, br: float, th: np.ndarray, tk: PathTask, max_nfev: int,
+            judged: _Judged | None = None) -> tuple[np.ndarray, np.ndarray, int]:
     """Refine one start; returns (parameters, crank angles, residual evaluations, counting
     each finite-difference column as one)."""
     from scipy.optimize import least_squares
@@ -492,13 +519,14 @@ def _refine(x9: np.ndarray, br: float, th: np.ndarray, tk: PathTask, max_nfev: i
     v = np.clip(v, np.where(fin, blo + 1e-12 * span, blo), np.where(fin, bhi - 1e-12 * span, bhi))
     nfev = 0
     for weight in (1e2, 1e4):
-        args = (x9, free, tk, s, br, weight)
+        args = (x9, free, tk, s, br, weight, judged)
         res = least_squares(lambda u, *a: _residuals(u[None, :], *a)[0], v, jac=_jacobian,
                             bounds=(blo, bhi), method="trf", x_scale="jac",
                             max_nfev=max_nfev, args=args, ftol=1e-15, xtol=1e-15, gtol=1e-15)
         nfev += int(res.nfev) + int(res.njev or 0) * len(v)
         v = res.x
-        pen = _residuals(v[None, :], *args)[0, 2 * tk.n:]
+        R = _residuals(v[None, :], *args)[0]
+        pen = R[2 * tk.n:len(R) - (len(judged.terms) if judged else 0)]
         if not np.any(pen > 0):
             break
     X, th_r = _unpack(v[None, :], x9, free, tk, s)
@@ -742,26 +770,19 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
     span = tk.hi - tk.lo
     starts = _distinct(res["X"], range(len(res["err"])), span, int(n_refine))
     pool: list[FourbarDesign] = []
-    nres = 0
     rejected_refined = dict.fromkeys(DEFECTS, 0)
     last_checks: list[tuple[str, dict[str, Any]]] = []
-    # successive halving: every start refined briefly, the better third then to convergence
-    first = []
-    for i in starts:
-        br = float(res["branch"][i])
-        X, th, nf = _refine(res["X"][i], br, res["theta2"][i], tk, max(int(max_nfev) // 4, 10))
-        nres += nf
-        vec, sense = _vector(X, th, tk)
-        r = _residuals(vec[None, :], X, tk.free, tk, sense, br, 1e4)
-        first.append((float(np.sum(r ** 2)), X, th, br))
-    first.sort(key=lambda f: f[0])
-    keep_n = max(3, len(first) // 3)
-    refined = []
-    for _, X, th, br in first[:keep_n]:
-        X, th, nf = _refine(X, br, th, tk, int(max_nfev))
-        nres += nf
-        refined.append((X, th, br))
-    refined += [(X, th, br) for _, X, th, br in first[keep_n:]]
+    scales = _scales(res, tk, obj)
+    judged = _judged(obj, scales, tk) if obj.kind == "weighted" else None
+    refined, nres = _refine_starts(res, starts, tk, int(max_nfev), judged)
+    if obj.kind == "pareto":  # accuracy traded for dynamics by growing weights on them
+        base = refined[:max(2, int(n_refine) // 6)]
+        for lam in PARETO_WEIGHTS:
+            judged = _judged(obj, scales, tk, lam)
+            for X, th, br in base:
+                Xr, thr, nf = _refine(X, br, th, tk, int(max_nfev), judged)
+                nres += nf
+                refined.append((Xr, thr, br))
     for X, th, br in refined:
         params: dict[str, Any] = {k: float(v) for k, v in zip(PARAMS, X, strict=True)}
         params["theta2"] = [float(v) for v in th]
@@ -783,12 +804,76 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
     Xp = np.array([[d.params[k] for k in PARAMS] + [d.branch] for d in pool])
     order = _distinct(Xp, range(len(pool)), np.append(span, 2.0), len(pool))
     pool = [pool[i] for i in order]
-    designs, pareto = judge(pool, obj, int(n_designs))
+    designs, pareto = judge(pool, obj, int(n_designs), scales)
     return SynthesisResult(designs=tuple(designs), points=tk.points, timing=tk.timing,
                            closed=tk.closed, constraints=tk.constraint_names(),
                            n_evaluated=n_eval, rejected=counts, n_refined=len(starts),
                            n_residual_evaluations=nres, time=time.perf_counter() - t_start,
-                           time_global=t_global, objective=obj.kind, pareto=pareto)
+                           time_global=t_global, objective=obj.kind, pareto=pareto,
+                           scales=scales)
+
+
+#: The weights on the dynamics (each normalised, the error by n (0.01 L)^2) of the refinements
+#: that trace a Pareto set, continued from the most accurate designs.
+PARETO_WEIGHTS = (1e-3, 1e-2, 1e-1, 1.0, 10.0)
+
+
+def _refine_starts(res: Mapping[str, np.ndarray], starts: Sequence[int], tk: PathTask,
+                   max_nfev: int, judged: _Judged | None
+                   ) -> tuple[list[tuple[np.ndarray, np.ndarray, float]], int]:
+    """Successive halving: every start refined briefly, the better third then to
+    convergence; the refined (parameters, crank angles, branch), best first, and the
+    residual evaluations."""
+    nres = 0
+    first = []
+    for i in starts:
+        br = float(res["branch"][i])
+        X, th, nf = _refine(res["X"][i], br, res["theta2"][i], tk, max(max_nfev // 4, 10),
+                            judged)
+        nres += nf
+        vec, sense = _vector(X, th, tk)
+        r = _residuals(vec[None, :], X, tk.free, tk, sense, br, 1e4, judged)
+        first.append((float(np.sum(r ** 2)), X, th, br))
+    first.sort(key=lambda f: f[0])
+    keep_n = max(3, len(first) // 3)
+    refined = []
+    for _, X, th, br in first[:keep_n]:
+        X, th, nf = _refine(X, br, th, tk, max_nfev, judged)
+        nres += nf
+        refined.append((X, th, br))
+    return refined + [(X, th, br) for _, X, th, br in first[keep_n:]], nres
+
+
+def _scales(res: Mapping[str, np.ndarray], tk: PathTask, obj: Objective) -> dict[str, float]:
+    """What the metrics are measured against when judged by forces: the error against
+    n (0.01 L)^2 (an RMS deviation of 1 % of the targets' size L), each force against its
+    median over the screened candidates (:func:`~linkwork.synthesis.forces.force_metrics`),
+    the transmission angle as (pi/2) / mu_min against 1. Empty for the literature's objective."""
+    if obj.kind == "sum_squares":
+        return {}
+    out = {"error": tk.n * (0.01 * tk.scale) ** 2, "min_transmission_angle": 1.0}
+    X = np.asarray(res["X"])
+    rotates = (_crank_rocker_margin(X) < 0) | tk.closed
+    m = force_metrics(X, np.asarray(res["branch"]), np.asarray(res["theta2"]), rotates,
+                      obj.forces)
+    for k in ("peak_torque", "peak_bearing", "rms_shaking"):
+        v = m[k][np.isfinite(m[k]) & (m[k] > 0)]
+        out[k] = float(np.median(v)) if len(v) else 1.0
+    return out
+
+
+def _judged(obj: Objective, scales: Mapping[str, float], tk: PathTask,
+            lam: float | None = None) -> _Judged:
+    """The refinement's objective of a weighted search (``obj.weights``, the error's weight 1
+    when not given), or of a Pareto search with the weight ``lam`` on each metric but the
+    error."""
+    if lam is None:
+        w = dict(obj.weights) or {"peak_torque": 1.0}
+    else:
+        w = {k: lam for k in obj.metrics if k != "error"}
+    we = w.pop("error", 1.0)
+    terms = tuple((k, v / scales[k]) for k, v in w.items() if v > 0)
+    return _Judged(model=obj.forces, point=math.sqrt(we / scales["error"]), terms=terms)
 
 
 def _infeasible_screen(tk: PathTask, counts: Mapping[str, int], closest: Mapping[str, float],

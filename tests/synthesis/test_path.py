@@ -259,3 +259,27 @@ def test_frame_angle_bounded_by_a_full_turn_is_refined_across_zero():
     assert X[8] == pytest.approx(2 * math.pi - 0.05, abs=1e-9)
     assert np.allclose(X[:8], [PLANT[k] for k in pa.PARAMS[:8]], atol=1e-9)
     assert np.array_equal(th_r, th)
+
+
+def test_run_range_of_a_rocker_whose_points_straddle_zero(tmp_path):
+    """A triple rocker (the crank swings from -1.65 to 1.65 rad) through points at crank
+    angles -0.8 ... 0.8, kept within a turn as designs keep them (5.48, 5.98, 0.3, 0.8): the
+    range it runs is the short way from the first point to the last (1.6 rad, assembled
+    throughout), not back through pi; its planar file runs through the engine."""
+    from linkwork import io
+    from linkwork.planar.kinematics import kinematics
+    from linkwork.synthesis.design import FourbarDesign
+
+    rocker = dict(r1=2.0, r2=1.5, r3=1.2, r4=1.4, rcx=0.5, rcy=0.3, x0=0.0, y0=0.0,
+                  theta0=0.0)
+    th = np.array([-0.8, -0.3, 0.3, 0.8])
+    pts = _targets(th, rocker)
+    params = dict(rocker, theta2=list(np.mod(th, 2 * math.pi)))
+    defect, checks = check_design(params, 1, task(pts, timing=th, constraints=("order",)))
+    assert defect is None and not checks["crank_rotates"]
+    d = FourbarDesign(params=params, branch=1, error=0.0, points=pts, checks=checks)
+    run = d.run_range(9)
+    assert np.allclose(np.mod(run - run[0], 2 * math.pi)[-1], 1.6)
+    assert coupler_point(run, rocker, 1)[2].all()
+    doc = io.load(d.to_toml(tmp_path / "rocker.toml"))
+    assert kinematics(doc.mechanism(), doc.positions()).valid.all()
