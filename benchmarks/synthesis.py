@@ -435,15 +435,14 @@ def run_dask(name: str, n: int) -> dict[int, float]:
 
 
 def throughput(n_closed: int = 8192, n_engine: int = 200) -> dict[str, float]:
-    """Candidate-points per second: the four-bar closed form screening (designs x 120 crank
-    angles, broadcast), the planar engine on one four-bar design at a time, and on one six-bar
-    (examples/loom_sixbar.toml, its crank length varied) at a time, 120 positions each. The
-    engine's batch over designs (a later change) would replace the per-design loop."""
-    import dataclasses
-
-    from linkwork import io
+    """Candidate-points per second (designs x 120 crank angles): the four-bar's closed form
+    screening (broadcast, with the ordered timing assignment) and the planar engine on one
+    four-bar design at a time; the six-bar's (Stephenson III) closed form screening and the
+    engine on one six-bar at a time (:func:`linkwork.synthesis.sixbar.coupler_points`: a model
+    built per design, the engine taking no dimensions as arrays)."""
     from linkwork.planar.kinematics import kinematics
     from linkwork.synthesis import path as pa
+    from linkwork.synthesis import sixbar as sb
     from linkwork.synthesis.design import FourbarDesign
 
     pb = PROBLEMS["ellipse-10"]
@@ -461,19 +460,18 @@ def throughput(n_closed: int = 8192, n_engine: int = 200) -> dict[str, float]:
                           points=pb["points"])
         kinematics(d.mechanism(), phi + p["theta0"], on_failure="nan")
     engine4 = n_engine * 120 / (time.perf_counter() - t)
-    doc = io.load(Path(__file__).resolve().parents[1] / "examples" / "loom_sixbar.toml")
-    mech = doc.mechanism()
-    crank = mech.body("crank")
+    tk6 = sb._task(pb["points"], "stephenson", None, None, ("order",), True, False)
+    c6 = sb._candidates(tk6, n_closed, 0, "stephenson")
     t = time.perf_counter()
-    for k in range(n_engine // 2):
-        L = 0.055 + 0.01 * k / n_engine
-        body = dataclasses.replace(crank, points={**crank.points, "A": (L, 0.0)})
-        m = dataclasses.replace(mech, bodies=tuple(body if b.name == "crank" else b
-                                                   for b in mech.bodies))
-        kinematics(m, phi, on_failure="nan")
-    engine6 = (n_engine // 2) * 120 / (time.perf_counter() - t)
-    return {"closed form (four-bar, broadcast)": closed,
+    sb._screen(c6, tk=tk6, kind="stephenson", n_samples=120, keep=64)
+    closed6 = n_closed * 120 / (time.perf_counter() - t)
+    br6 = sb._BRANCHES[c6["branch"][:n_engine].astype(int)]
+    t = time.perf_counter()
+    sb.coupler_points(c6["X"][:n_engine], br6, phi, "stephenson")
+    engine6 = n_engine * 120 / (time.perf_counter() - t)
+    return {"four-bar closed form (broadcast)": closed,
             "engine, one four-bar at a time": engine4,
+            "six-bar closed form (broadcast)": closed6,
             "engine, one six-bar at a time": engine6}
 
 

@@ -72,6 +72,28 @@ def _path_table(study: SynthesisStudy) -> Table:
     return t
 
 
+def _sixbar_table(study: SynthesisStudy) -> Table:
+    res = study.result
+    rej = ", ".join(f"{v} {k}" for k, v in res.rejected.items() if v) or "none"
+    t = Table(title=escape(
+        f"{study.doc.name}: {len(res.designs)} defect-free {res.kind} six-bars of "
+        f"{res.n_evaluated} candidates, {res.n_refined} refined ({res.time:.3g} s; "
+        f"rejected: {rej})"))
+    lengths = ("r1", "r2", "r3", "r4", "x0", "y0", "cx", "cy", "r5", "r6", "x6", "y6", "px",
+               "py")
+    cols = ["#", "error [mm²]", "max dev. [mm]", *(f"{k} [mm]" for k in lengths), "θ0 [deg]",
+            "branches B, D", "μmin [deg]"]
+    for c in cols:
+        t.add_column(escape(c), justify="right")
+    for i, d in enumerate(res.designs):
+        p = d.params
+        t.add_row(str(i + 1), fmt(d.error * 1e6), _mm(d.checks.get("max_deviation", math.nan)),
+                  *(_mm(p[k]) for k in lengths), _deg(p["theta0"]),
+                  f"{d.branches[0]:+d}, {d.branches[1]:+d}",
+                  _deg(d.checks.get("min_transmission_angle", math.nan)))
+    return t
+
+
 def _function_table(study: SynthesisStudy) -> Table:
     res = study.result
     four = res.kind == "fourbar"
@@ -115,7 +137,9 @@ def render(study: SynthesisStudy, *, out: Path, console: Any) -> list[Path]:
     from linkwork.plot import save
 
     res = study.result
-    table = {"path": _path_table, "function": _function_table,
+    six = study.kind == "path" and study.doc.path is not None and \
+        study.doc.path.linkage != "fourbar"
+    table = {"path": _sixbar_table if six else _path_table, "function": _function_table,
              "motion": _motion_table}[study.kind](study)
     print_table(console, table)
     written = [res.to_csv(out / "synthesis.csv"), write_json(out / "synthesis.json",
@@ -171,7 +195,8 @@ _FILE = Annotated[Path, typer.Argument(help="synthesis task file (TOML)")]
 @sub.command("path")
 def path_cmd(file: _FILE, out: _OUT = Path("linkwork-output"), scheduler: _SCHED = None,
              seed: _SEED = None, candidates: _CAND = None) -> None:
-    """Four-bars whose coupler point passes through the [path] targets, defect-free, ranked."""
+    """Four-bars (or Watt / Stephenson six-bars: [path] linkage) whose coupler point passes
+    through the [path] targets, defect-free, ranked."""
     _run("path", file, out, scheduler, seed, candidates)
 
 

@@ -16,6 +16,7 @@ from linkwork.io.synthesis import SynthesisFile
 from linkwork.synthesis import function as fn
 from linkwork.synthesis import motion as mo
 from linkwork.synthesis import path as pa
+from linkwork.synthesis import sixbar
 
 __all__ = ["KINDS", "SynthesisStudy", "run"]
 
@@ -31,7 +32,7 @@ class SynthesisStudy:
     ----------
     doc : SynthesisFile
     kind : {"function", "motion", "path"}
-    result : SynthesisResult, FunctionResult or MotionResult
+    result : SynthesisResult, SixbarResult, FunctionResult or MotionResult
         Designs best first, each with ``.mechanism()`` and ``.to_toml(path)``.
     """
 
@@ -66,8 +67,15 @@ def run(doc: SynthesisFile, kind: str, *, client: Any = None, progress: Any = Fa
         raise ParameterError(f"[{kind}]", "missing", f"the file has no [{kind}] section "
                              f"(it has {', '.join(f'[{k}]' for k in have)})")
     s = doc.search
-    if kind == "path":
-        res: Any = pa.path(
+    if kind == "path" and section.linkage != "fourbar":
+        res: Any = sixbar.sixbar_path(
+            section.points, kind=section.linkage, timing=section.timing,
+            bounds=section.si_bounds() or None, constraints=section.constraint_tuple(),
+            closed=section.closed, free_start=section.free_start,
+            seed=s.seed if seed is None else seed, client=client, progress=progress,
+            n_candidates=n_candidates or s.candidates, n_refine=s.refine, n_designs=s.designs)
+    elif kind == "path":
+        res = pa.path(
             section.points, timing=section.timing, bounds=section.si_bounds() or None,
             constraints=section.constraint_tuple(), objective=doc.objective.objective(),
             closed=section.closed, free_start=section.free_start,

@@ -43,7 +43,7 @@ if TYPE_CHECKING:
     from linkwork.plot import Figure
 
 __all__ = ["PARAMS", "FourbarDesign", "LinkMasses", "SynthesisResult", "coupler_point",
-           "write_planar_toml"]
+           "design_columns", "run_range", "write_planar_toml"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -160,6 +160,20 @@ def coupler_point(theta2: ArrayLike, params: Mapping[str, Any], branch: int = 1
 
 
 
+def run_range(theta2: np.ndarray, checks: Mapping[str, Any], closed: bool, n: int
+              ) -> np.ndarray:
+    """Crank angles a design runs through (see :meth:`FourbarDesign.run_range`): a full turn
+    from the first point when ``checks["crank_rotates"]`` or ``closed``, else from the first
+    point to the last in the sense ``checks["direction"]`` (the angles are kept within a
+    turn)."""
+    t = np.asarray(theta2, dtype=float)
+    s = float(checks.get("direction", 1.0 if len(t) < 2 or t[-1] >= t[0] else -1.0))
+    if checks.get("crank_rotates", False) or closed:
+        return t[0] + s * np.linspace(0.0, 2 * math.pi, n)
+    total = float(np.sum(np.mod(s * np.diff(t), 2 * math.pi)))
+    return t[0] + s * np.linspace(0.0, total, n)
+
+
 @dataclass(frozen=True)
 class LinkMasses:
     """Masses, centres of mass and centroidal inertias of crank, coupler, rocker.
@@ -251,18 +265,19 @@ class FourbarDesign:
         b = np.array([np.nan, np.nan]) if nan else np.array([bx[0], by[0]])
         return {"O2": o2, "A": a, "B": b, "O4": o4, "P": np.array([px[0], py[0]])}
 
+    def skeleton(self, theta2: float) -> tuple[list[np.ndarray], np.ndarray]:
+        """The links at the crank angle ``theta2`` as polylines [m] (O2-A-B-O4 and the coupler
+        triangle A-P-B) and the fixed pivots (O2, O4)."""
+        j = self.joints_at(theta2)
+        return ([np.array([j["O2"], j["A"], j["B"], j["O4"]]), np.array([j["A"], j["P"], j["B"]])],
+                np.array([j["O2"], j["O4"]]))
+
     def run_range(self, n: int = 361) -> np.ndarray:
         """Crank angles from the frame line [rad] the design runs through: a full turn from the
         first point when the crank rotates fully, else from the first to the last point in
         the sense the points are reached (``checks["direction"]``; the angles themselves are
         kept within a turn)."""
-        t = self.theta2
-        s = float(self.checks.get("direction", 1.0 if len(t) < 2 or t[-1] >= t[0] else -1.0))
-        if self.checks.get("crank_rotates", False) or self.closed:
-            return t[0] + s * np.linspace(0.0, 2 * math.pi, n)
-        # the crank angles are kept within a turn: the points follow in the design's sense
-        total = float(np.sum(np.mod(s * np.diff(t), 2 * math.pi)))
-        return t[0] + s * np.linspace(0.0, total, n)
+        return run_range(self.theta2, self.checks, self.closed, n)
 
     # -- engine model and file ----------------------------------------------------------------
     def mechanism(self, masses: LinkMasses | None = None, omega1: float | None = None
@@ -464,17 +479,7 @@ class SynthesisResult(Result):
         return self.n_evaluated / self.time_global if self.time_global > 0 else math.inf
 
     def columns(self) -> dict[str, np.ndarray]:
-        cols: dict[str, np.ndarray] = {"rank": self.rank}
-        for k in (*PARAMS, "branch", "error"):
-            cols[k] = np.array([d.summary()[k] for d in self.designs], dtype=float)
-        for k in ("max_deviation", "min_transmission_angle"):
-            cols[k] = np.array([float(d.checks.get(k, math.nan)) for d in self.designs])
-        for k in ("peak_torque", "peak_bearing", "rms_shaking"):
-            if any(k in d.forces for d in self.designs):
-                cols[k] = np.array([float(d.forces.get(k, math.nan)) for d in self.designs])
-        for i in range(len(self.points)):
-            cols[f"theta2_{i + 1}"] = np.array([float(d.theta2[i]) for d in self.designs])
-        return cols
+        return design_columns(self, (*PARAMS, "branch", "error"))
 
     def _unit_of(self, column: str) -> str:
         return "rad" if column.startswith("theta2_") else self.units.get(column, "")
@@ -500,6 +505,24 @@ class SynthesisResult(Result):
         from linkwork.plot.synthesis import path_figure
 
         return path_figure(self, ax=ax, n_designs=n_designs, **kw)
+
+
+def design_columns(res: Any, keys: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """The table of a synthesis result's designs: rank, ``keys`` of each design's summary,
+    what the checks measured, the forces when judged by them, the crank angles at the
+    points."""
+    ds = res.designs
+    cols: dict[str, np.ndarray] = {"rank": np.arange(1, len(ds) + 1)}
+    for k in keys:
+        cols[k] = np.array([d.summary()[k] for d in ds], dtype=float)
+    for k in ("max_deviation", "min_transmission_angle"):
+        cols[k] = np.array([float(d.checks.get(k, math.nan)) for d in ds])
+    for k in ("peak_torque", "peak_bearing", "rms_shaking"):
+        if any(k in getattr(d, "forces", {}) for d in ds):
+            cols[k] = np.array([float(d.forces.get(k, math.nan)) for d in ds])
+    for i in range(len(res.points)):
+        cols[f"theta2_{i + 1}"] = np.array([float(d.theta2[i]) for d in ds])
+    return cols
 
 
 def check_design_params(params: Mapping[str, Any], n: int) -> None:

@@ -103,6 +103,8 @@ class PathTask:
     mu_min: float | None
     scale: float
     free_start: bool = False
+    #: Where ``theta0`` is in the parameter vector (8 of :data:`PARAMS`; the six-bar's 6).
+    theta0_index: int = 8
 
     @property
     def free(self) -> np.ndarray:
@@ -117,7 +119,8 @@ class PathTask:
     def theta0_periodic(self) -> bool:
         """The bounds of ``theta0`` span a full turn: it is searched as the angle it is (the
         refinement does not stop at 0 or 2 pi), and returned within the bounds."""
-        return bool(self.hi[8] - self.lo[8] >= TWO_PI * (1 - 1e-12))
+        i = self.theta0_index
+        return bool(self.hi[i] - self.lo[i] >= TWO_PI * (1 - 1e-12))
 
     def angles(self, start: np.ndarray | float) -> np.ndarray:
         """Crank angles at the points of a task with timing, for the first crank angle
@@ -180,6 +183,20 @@ def _parse_constraints(constraints: Any) -> tuple[bool, bool, float | None]:
     return grashof, order, mu
 
 
+def check_bound(name: str, value: Any, length: bool) -> tuple[float, float]:
+    """The bound ``(low, high)`` of parameter ``name``, checked: finite, low <= high, and for a
+    ``length`` low > 0."""
+    try:
+        lo, hi = (float(x) for x in value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"bounds[{name}]", value, "must be (low, high)") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
+        raise ParameterError(f"bounds[{name}]", (lo, hi), "needs finite low <= high")
+    if length and not lo > 0:
+        raise ParameterError(f"bounds[{name}]", (lo, hi), "a link length needs low > 0")
+    return lo, hi
+
+
 def task(points: ArrayLike, *, timing: ArrayLike | None = None,
          bounds: Mapping[str, tuple[float, float]] | None = None,
          constraints: Any = ("grashof", "order"), closed: bool = False,
@@ -225,15 +242,7 @@ def task(points: ArrayLike, *, timing: ArrayLike | None = None,
         if k not in PARAMS:
             raise ParameterError("bounds", k, f"unknown parameter; known: "
                                  f"{', '.join((*PARAMS, 'theta2'))}")
-        try:
-            lo, hi = (float(x) for x in v)
-        except (TypeError, ValueError):
-            raise ParameterError(f"bounds[{k}]", v, "must be (low, high)") from None
-        if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
-            raise ParameterError(f"bounds[{k}]", (lo, hi), "needs finite low <= high")
-        if k in ("r1", "r2", "r3", "r4") and not lo > 0:
-            raise ParameterError(f"bounds[{k}]", (lo, hi), "a link length needs low > 0")
-        base[k] = (lo, hi)
+        base[k] = check_bound(k, v, k in ("r1", "r2", "r3", "r4"))
     lo_a = np.array([base[k][0] for k in PARAMS])
     hi_a = np.array([base[k][1] for k in PARAMS])
     return PathTask(points=pts.astype(float), timing=tim, closed=bool(closed), lo=lo_a, hi=hi_a,
@@ -370,6 +379,18 @@ def _keep_best(keep: int) -> Callable[[dict[str, np.ndarray], dict[str, np.ndarr
     return combine
 
 
+def crank_rockers(X: np.ndarray, u: np.ndarray, tk: PathTask) -> None:
+    """Crank-rockers by construction, in place: the crank ``r2`` (column 1 of ``X``, the links
+    ``r1 r2 r3 r4`` its first columns) redrawn from ``u`` in [0, 1) below the largest value
+    that keeps it the shortest link and r2 + l < p + q (the others as drawn); where even its
+    lower bound breaks that, the candidate stays as drawn and is rejected by the screening."""
+    others = X[:, [0, 2, 3]]
+    cap = np.minimum(others.min(axis=1), others.sum(axis=1) - 2 * others.max(axis=1))
+    ub = np.minimum(tk.hi[1], cap * (1 - 1e-9))
+    ok = ub > tk.lo[1]
+    X[ok, 1] = tk.lo[1] + u[ok] * (ub[ok] - tk.lo[1])
+
+
 def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]:
     """A scrambled Sobol sample of the free parameters (fixed ones at their value), the two
     branches alternating."""
@@ -399,15 +420,7 @@ def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]
         u = U[rows, int(free[:i].sum())]
         X[rows, i] = tk.lo[i] * (tk.hi[i] / tk.lo[i]) ** u
     if (tk.grashof or tk.closed) and free[1]:
-        # crank-rockers by construction: the crank r2 drawn below the largest value that keeps
-        # it the shortest link and r2 + l < p + q (the others as drawn); where even its lower
-        # bound breaks that, the candidate stays as drawn and is rejected by the screening
-        others = X[:, [0, 2, 3]]
-        cap = np.minimum(others.min(axis=1), others.sum(axis=1) - 2 * others.max(axis=1))
-        ub = np.minimum(tk.hi[1], cap * (1 - 1e-9))
-        ok = ub > tk.lo[1]
-        u2 = U[:, int(free[:1].sum())]
-        X[ok, 1] = tk.lo[1] + u2[ok] * (ub[ok] - tk.lo[1])
+        crank_rockers(X, U[:, int(free[:1].sum())], tk)
     br = np.where(np.arange(len(U)) % 2 == 0, 1.0, -1.0)
     if tk.free_start:  # the first crank angle of a timing given by its advances
         return {"X": X, "branch": br, "start": TWO_PI * U[:, k]}
@@ -419,7 +432,8 @@ def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]
 # ---------------------------------------------------------------------------------------------
 def _unpack(V: np.ndarray, x9: np.ndarray, free: np.ndarray, tk: PathTask, s: float
             ) -> tuple[np.ndarray, np.ndarray]:
-    """Parameters (m, 9) and crank angles (m, n) of refinement vectors ``V`` (m, nv)."""
+    """Parameters (m, 9; the six-bar's 15) and crank angles (m, n) of refinement vectors
+    ``V`` (m, nv)."""
     X = np.tile(x9, (len(V), 1))
     k = int(free.sum())
     X[:, free] = V[:, :k]
@@ -511,18 +525,14 @@ def _refine(x9: np.ndarray, br: float, th: np.ndarray, tk: PathTask, max_nfev: i
     from scipy.optimize import least_squares
 
     free = tk.free
-    v, s = _vector(x9, th, tk, pad=1e-6)
-    v[:int(free.sum())] = np.clip(v[:int(free.sum())], tk.lo[free], tk.hi[free])
-    blo, bhi = _vector_bounds(tk)
-    fin = np.isfinite(blo) & np.isfinite(bhi)
-    span = np.where(fin, bhi - blo, 0.0)
-    v = np.clip(v, np.where(fin, blo + 1e-12 * span, blo), np.where(fin, bhi - 1e-12 * span, bhi))
+    v, s, blo, bhi = refinement_start(x9, th, tk)
     nfev = 0
     for weight in (1e2, 1e4):
         args = (x9, free, tk, s, br, weight, judged)
         res = least_squares(lambda u, *a: _residuals(u[None, :], *a)[0], v, jac=_jacobian,
                             bounds=(blo, bhi), method="trf", x_scale="jac",
-                            max_nfev=max_nfev, args=args, ftol=1e-15, xtol=1e-15, gtol=1e-15)
+                            max_nfev=max_nfev, args=args, ftol=1e-15, xtol=1e-15, gtol=1e-15,
+                            callback=exact_stop(tk))
         nfev += int(res.nfev) + int(res.njev or 0) * len(v)
         v = res.x
         R = _residuals(v[None, :], *args)[0]
@@ -531,8 +541,38 @@ def _refine(x9: np.ndarray, br: float, th: np.ndarray, tk: PathTask, max_nfev: i
             break
     X, th_r = _unpack(v[None, :], x9, free, tk, s)
     if tk.theta0_periodic:  # searched unbounded: back within the bounds, the same linkage
-        X[0, 8] = tk.lo[8] + np.mod(X[0, 8] - tk.lo[8], TWO_PI)
+        wrap_theta0(X, tk)
     return X[0], th_r[0].copy(), nfev
+
+
+def refinement_start(x: np.ndarray, th: np.ndarray, tk: PathTask
+                     ) -> tuple[np.ndarray, float, np.ndarray, np.ndarray]:
+    """The refinement vector of a start (:func:`_vector`), its sense of rotation and bounds
+    (:func:`_vector_bounds`), the vector moved just inside them."""
+    v, s = _vector(x, th, tk, pad=1e-6)
+    blo, bhi = _vector_bounds(tk)
+    fin = np.isfinite(blo) & np.isfinite(bhi)
+    span = np.where(fin, bhi - blo, 0.0)
+    v = np.clip(v, np.where(fin, blo + 1e-12 * span, blo), np.where(fin, bhi - 1e-12 * span, bhi))
+    return v, s, blo, bhi
+
+
+def exact_stop(tk: PathTask) -> Callable[..., bool]:
+    """A ``least_squares`` callback that stops a refinement once its residuals are exact to
+    round-off (an RMS of 1e-13 of the targets' size: ``ftol`` cannot see that, the cost
+    falling towards 0 relative to itself)."""
+    tol = tk.n * (1e-13 * tk.scale) ** 2
+
+    def stop(intermediate_result: Any) -> bool:
+        return bool(2.0 * intermediate_result.cost <= tol)
+
+    return stop
+
+
+def wrap_theta0(X: np.ndarray, tk: PathTask) -> None:
+    """Frame angles of designs ``X`` (m, k) back within their bounds (a full turn), in place."""
+    i = tk.theta0_index
+    X[:, i] = tk.lo[i] + np.mod(X[:, i] - tk.lo[i], TWO_PI)
 
 
 def _vector(x9: np.ndarray, th: np.ndarray, tk: PathTask, pad: float = 0.0
@@ -556,8 +596,10 @@ def _vector_bounds(tk: PathTask) -> tuple[np.ndarray, np.ndarray]:
     """Bounds of the refinement vector (:func:`_vector`); a frame angle free over a whole turn
     and the first crank angle are unbounded (angles)."""
     lo, hi = tk.lo[tk.free].copy(), tk.hi[tk.free].copy()
-    if tk.theta0_periodic and tk.free[8]:
-        lo[-1], hi[-1] = -np.inf, np.inf  # theta0 is the last of PARAMS
+    i = tk.theta0_index
+    if tk.theta0_periodic and tk.free[i]:
+        j = int(tk.free[:i].sum())  # theta0's place among the free parameters
+        lo[j], hi[j] = -np.inf, np.inf
     vlo, vhi = [lo], [hi]
     if tk.timing is None:
         vlo += [[-np.inf], np.zeros(tk.n - 1)]
