@@ -96,12 +96,17 @@ def rms(phi: ArrayLike, values: ArrayLike, *, vector: bool | None = None) -> flo
 def mean_over_range(phi1: ArrayLike, values: ArrayLike) -> float:
     """Mean of ``values`` over the driver range: the trapezoid integral over ``phi1`` divided by
     the range (for the driving torque: the work per cycle over the angle turned), so that a
-    closed cycle sampled with its end repeating its start counts that position once; the mean
-    of the finite samples if some are NaN or there is a single position."""
+    closed cycle sampled with its end repeating its start counts that position once; the
+    sample itself if there is a single position. NaN (undefined) if a sample is NaN: the work
+    over a range where the value is undefined somewhere (a self-locking or unassembled
+    position) is undefined, and the mean of the other samples would be another quantity (a
+    press's driving torque without its locked phase can even average negative)."""
     q, p = np.asarray(values, dtype=float), np.asarray(phi1, dtype=float)
-    if q.size > 1 and p[-1] != p[0] and np.all(np.isfinite(q)):
+    if not np.all(np.isfinite(q)) or q.size == 0:
+        return float("nan")
+    if q.size > 1 and p[-1] != p[0]:
         return float(np.trapezoid(q, p) / (p[-1] - p[0]))
-    return float(np.nanmean(q))
+    return float(np.mean(q))
 
 
 def peak(values: ArrayLike, *, vector: bool | None = None) -> float:

@@ -132,6 +132,10 @@ class InfeasibleError(LinkworkError, ValueError):
         super().__init__(msg)
 
 
+class ExternalToolError(LinkworkError, RuntimeError):
+    """An external program linkwork runs (ffmpeg, for an MP4) failed; the message names it and
+    the last line it printed."""
+
 class MissingExtraError(LinkworkError, ImportError):
     """An optional dependency is not installed; the message names the install command.
 

@@ -13,6 +13,7 @@ import numpy as np
 from linkwork.planar import (
     BodyTorque,
     Crank,
+    GearPair,
     PointForce,
     Prismatic,
     Revolute,
@@ -79,13 +80,41 @@ def _rot(th, p):
     return np.array([c * p[0] - s * p[1], s * p[0] + c * p[1]])
 
 
+def gear_geometry(mech, j):
+    """A gear pair as written: (carrier, centre of a on a, centre of b on b, r_a, r_b, s) with
+    the centres the pivots on the carrier and the radii from the teeth and the centres'
+    distance (or as given)."""
+    carrier = j.carrier or mech.frame.name
+    on_gear, on_carrier = [], []
+    for gear in (j.a, j.b):
+        piv = next(p for p in mech.joints if isinstance(p, Revolute) and {p.a, p.b} ==
+                   {gear, carrier})
+        pa, pb, _ = mech.joint_geometry(piv)
+        on_gear.append(pa if piv.a == gear else pb)
+        on_carrier.append(pb if piv.a == gear else pa)
+    d = math.dist(on_carrier[0], on_carrier[1])
+    s = -1.0 if j.internal else 1.0
+    if j.teeth is not None:
+        za, zb = j.teeth
+        ra = d * za / (zb - za if j.internal else za + zb)
+        rb = ra * zb / za
+    else:
+        ra, rb = j.radii
+    return carrier, on_gear[0], on_gear[1], ra, rb, s
+
+
 def _pose_reference(mech, kin, k, w1, e1, step=2e-3):
-    """Poses and their rates of all moving bodies at position k, from the raw constraints."""
+    """Poses and their rates of all moving bodies at position k, from the raw constraints.
+
+    ``w1, e1``: the drivers' speeds and accelerations (a number for one driver, one per driver
+    for several); the drivers move as phi_d(t) = phi_d + w_d t + e_d t^2 / 2."""
     names = mech.body_names
     idx = {n: i for i, n in enumerate(names)}
     nb = len(names) - 1
-    phi0 = float(kin.phi1[k])
-    drv = mech.joint(mech.driver.joint)
+    drivers = mech.drivers
+    phi0 = np.atleast_2d(kin.phi1)[:, k].astype(float)
+    w1v = np.broadcast_to(np.asarray(w1, dtype=float), (len(drivers),))
+    e1v = np.broadcast_to(np.asarray(e1, dtype=float), (len(drivers),))
 
     def pose(q, i):
         if i == 0:
@@ -102,7 +131,12 @@ def _pose_reference(mech, kin, k, w1, e1, step=2e-3):
         for j in mech.joints:
             ia, ib = idx[j.a], idx[j.b]
             qa, pb, ang = mech.joint_geometry(j)
-            if isinstance(j, Revolute):
+            if isinstance(j, GearPair):
+                carrier, _, _, ra, rb, s = gear_geometry(mech, j)
+                tc = pose(q, idx[carrier])[2]
+                out.append(pose(q, ib)[2] - tc + s * ra / rb * (pose(q, ia)[2] - tc)
+                           - j.offset)
+            elif isinstance(j, Revolute):
                 out.extend(world(q, ia, qa) - world(q, ib, pb))
             else:
                 tha = pose(q, ia)[2]
@@ -111,14 +145,16 @@ def _pose_reference(mech, kin, k, w1, e1, step=2e-3):
                 out.append(dvec[0] * nvec[0] + dvec[1] * nvec[1])
                 if isinstance(j, Prismatic):
                     out.append(pose(q, ib)[2] - tha - j.rel_angle)
-        phi = phi0 + w1 * t + 0.5 * e1 * t * t
-        if isinstance(mech.driver, Crank):
-            out.append(pose(q, idx[drv.b])[2] - pose(q, idx[drv.a])[2] - phi)
-        else:  # linear driver: slide coordinate u . (P_b - Q_a)
-            qa, pb, ang = mech.joint_geometry(drv)
-            u = _rot(pose(q, idx[drv.a])[2], (math.cos(ang), math.sin(ang)))
-            dvec = world(q, idx[drv.b], pb) - world(q, idx[drv.a], qa)
-            out.append(dvec[0] * u[0] + dvec[1] * u[1] - phi)
+        for d, p0, w, e in zip(drivers, phi0, w1v, e1v, strict=True):
+            drv = mech.joint(d.joint)
+            phi = p0 + w * t + 0.5 * e * t * t
+            if isinstance(d, Crank):
+                out.append(pose(q, idx[drv.b])[2] - pose(q, idx[drv.a])[2] - phi)
+            else:  # linear driver: slide coordinate u . (P_b - Q_a)
+                qa, pb, ang = mech.joint_geometry(drv)
+                u = _rot(pose(q, idx[drv.a])[2], (math.cos(ang), math.sin(ang)))
+                dvec = world(q, idx[drv.b], pb) - world(q, idx[drv.a], qa)
+                out.append(dvec[0] * u[0] + dvec[1] * u[1] - phi)
         return np.array(out)
 
     q0 = np.concatenate([[kin.x[i, k], kin.y[i, k], kin.theta[i, k]] for i in range(1, nb + 1)])
@@ -126,7 +162,7 @@ def _pose_reference(mech, kin, k, w1, e1, step=2e-3):
     def position(t):
         return _newton(residual, q0, np.asarray(t, dtype=complex))
 
-    return _motion(position, hd=step / max(abs(w1), 1.0))
+    return _motion(position, hd=step / max(float(np.max(np.abs(w1v))), 1.0))
 
 
 def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
@@ -145,7 +181,16 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
         return np.array([x + r[0], y + r[1]])
 
     cols = []          # (joint index, kind, application point, direction or None)
+    separating = []    # gear pairs: (column, joint index, P, e, tan alpha)
     for ji, j in enumerate(mech.joints):
+        if isinstance(j, GearPair):  # the tangential tooth force at the pitch point
+            _, ca, cb, ra, _rb, s = gear_geometry(mech, j)
+            Oa, Ob = world(idx[j.a], ca), world(idx[j.b], cb)
+            e = s * (Ob - Oa) / np.hypot(*(Ob - Oa))
+            P = Oa + ra * e
+            separating.append((len(cols), ji, P, e, math.tan(j.pressure_angle)))
+            cols.append((ji, "n", P, np.array([-e[1], e[0]])))
+            continue
         _qa, pb, ang = mech.joint_geometry(j)
         P = world(idx[j.b], pb)
         if isinstance(j, Revolute):
@@ -156,7 +201,8 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
             cols.append((ji, "n", P, nvec))
             if isinstance(j, Prismatic):
                 cols.append((ji, "mz", P, None))
-    cols.append((-1, "Q", None, None))
+    for di in range(len(mech.drivers)):
+        cols.append((-1 - di, "Q", None, None))
     A = np.zeros((3 * nb, len(cols)))
     rhs = np.zeros(3 * nb)
 
@@ -166,9 +212,11 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
         r = slice(3 * i - 3, 3 * i)
         A[r, col] += [f[0], f[1], P[0] * f[1] - P[1] * f[0] + m]
 
-    drv = mech.joint(mech.driver.joint)
     for c, (ji, kind, P, dvec) in enumerate(cols):
-        if kind == "Q" and isinstance(mech.driver, Crank):
+        if kind == "Q":
+            d = mech.drivers[-1 - ji]
+            drv = mech.joint(d.joint)
+        if kind == "Q" and isinstance(d, Crank):
             add(idx[drv.b], c, (0.0, 0.0), (0.0, 0.0), 1.0)
             add(idx[drv.a], c, (0.0, 0.0), (0.0, 0.0), -1.0)
             continue
@@ -213,6 +261,17 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
             rhs[3 * i - 1] -= ld.mz
     sol, *_ = np.linalg.lstsq(A, rhs, rcond=None)
     assert np.linalg.matrix_rank(A) == A.shape[1] == A.shape[0]
+    if separating:  # the separating force |F_t| tan(alpha) along e, on b (and -e on a) at P
+        for c, ji, P, e, tan_a in separating:
+            j = mech.joints[ji]
+            fr = abs(sol[c]) * tan_a * e
+            for body, f in ((idx[j.b], fr), (idx[j.a], -fr)):
+                if body:
+                    rhs[3 * body - 3:3 * body] -= [f[0], f[1], P[0] * f[1] - P[1] * f[0]]
+        tangential = {ji: sol[c] for c, ji, *_ in separating}
+        sol, *_ = np.linalg.lstsq(A, rhs, rcond=None)
+        for c, ji, *_ in separating:  # no work at the pitch point: F_t unchanged
+            assert abs(sol[c] - tangential[ji]) <= 1e-9 * (1 + abs(tangential[ji]))
     assert np.max(np.abs(A @ sol - rhs)) < 1e-9 * (1 + np.max(np.abs(rhs)))
     nj = len(mech.joints)
     fx, fy, mz = np.zeros(nj), np.zeros(nj), np.zeros(nj)
@@ -226,7 +285,12 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
             fy[ji] += sol[c] * dvec[1]
         elif kind == "mz":
             mz[ji] = sol[c]
-    Q = sol[-1]
+    for c, ji, _P, e, tan_a in separating:
+        fx[ji] += abs(sol[c]) * tan_a * e[0]
+        fy[ji] += abs(sol[c]) * tan_a * e[1]
+    nd = len(mech.drivers)
+    Qs = sol[len(cols) - nd:]
+    Q = Qs[0] if nd == 1 else Qs
     # force and moment of the moving bodies on the frame (about 'about'), motor included
     sf = np.zeros(2)
     sm = 0.0
@@ -235,23 +299,26 @@ def _newton_euler(mech, q, v, acc, gravity, loads, about=(0.0, 0.0)):
         if fr not in (j.a, j.b):
             continue
         sgn = -1.0 if j.a == fr else 1.0
-        P = world(idx[j.b], mech.joint_geometry(j)[1])
+        P = (next(Pg for _c, jg, Pg, *_ in separating if jg == ji) if isinstance(j, GearPair)
+             else world(idx[j.b], mech.joint_geometry(j)[1]))
         f = sgn * np.array([fx[ji], fy[ji]])
         sf += f
         sm += (P[0] - about[0]) * f[1] - (P[1] - about[1]) * f[0] + sgn * mz[ji]
-    if isinstance(mech.driver, Crank):
-        if fr == drv.a:
-            sm -= Q
-        elif fr == drv.b:
-            sm += Q
-    elif fr in (drv.a, drv.b):  # the actuator's reaction on the frame
-        sgn = -1.0 if drv.a == fr else 1.0
-        _qa, pb, ang = mech.joint_geometry(drv)
-        u = _rot(pose(idx[drv.a])[2], (math.cos(ang), math.sin(ang)))
-        P = world(idx[drv.b], pb)
-        f = sgn * Q * u
-        sf += f
-        sm += (P[0] - about[0]) * f[1] - (P[1] - about[1]) * f[0]
+    for d, Qd in zip(mech.drivers, Qs, strict=True):
+        drv = mech.joint(d.joint)
+        if isinstance(d, Crank):
+            if fr == drv.a:
+                sm -= Qd
+            elif fr == drv.b:
+                sm += Qd
+        elif fr in (drv.a, drv.b):  # the actuator's reaction on the frame
+            sgn = -1.0 if drv.a == fr else 1.0
+            _qa, pb, ang = mech.joint_geometry(drv)
+            u = _rot(pose(idx[drv.a])[2], (math.cos(ang), math.sin(ang)))
+            P = world(idx[drv.b], pb)
+            f = sgn * Qd * u
+            sf += f
+            sm += (P[0] - about[0]) * f[1] - (P[1] - about[1]) * f[0]
     return dict(fx=fx, fy=fy, mz=mz, Q=Q, sf=sf, sm=sm, T=T)
 
 
@@ -259,31 +326,33 @@ def _check_engine(mech, phi, w1, e1, gravity, loads, about=(0.0, 0.0), label="",
     kin = kinematics(mech, phi, w1, e1)
     dyn = inverse_dynamics(kin, gravity=gravity, loads=loads, about=about)
     L = max(max(abs(v) for p in b.points.values() for v in p) for b in mech.bodies) + 1e-3
-    for k in range(len(phi)):
+    n = np.shape(phi)[-1]
+    for k in range(n):
         q, v, acc = _pose_reference(mech, kin, k, w1, e1, step)
         nb = len(mech.bodies)
         for i in range(1, nb + 1):
             _close(kin.x[i, k], q[3 * i - 3], L, label + "engine x,y")
             _close(kin.y[i, k], q[3 * i - 2], L, label + "engine x,y")
             _angle_close(kin.theta[i, k], q[3 * i - 1], label + "engine theta")
-            W = max(abs(w1), 1.0) * 5
+            W = max(float(np.max(np.abs(w1))), 1.0) * 5
             _close(kin.vx[i, k], v[3 * i - 3], L * W, label + "engine v")
             _close(kin.vy[i, k], v[3 * i - 2], L * W, label + "engine v")
             _close(kin.omega[i, k], v[3 * i - 1], W, label + "engine omega")
-            _close(kin.ax[i, k], acc[3 * i - 3], L * (W * W + abs(e1)), label + "engine a")
-            _close(kin.ay[i, k], acc[3 * i - 2], L * (W * W + abs(e1)), label + "engine a")
-            _close(kin.eps[i, k], acc[3 * i - 1], W * W + abs(e1), label + "engine eps")
+            E = float(np.max(np.abs(e1)))
+            _close(kin.ax[i, k], acc[3 * i - 3], L * (W * W + E), label + "engine a")
+            _close(kin.ay[i, k], acc[3 * i - 2], L * (W * W + E), label + "engine a")
+            _close(kin.eps[i, k], acc[3 * i - 1], W * W + E, label + "engine eps")
         ref = _newton_euler(mech, q, v, acc, gravity, [
-            PointForce(ld.body, ld.point, float(np.broadcast_to(ld.fx, phi.shape)[k]),
-                       float(np.broadcast_to(ld.fy, phi.shape)[k]))
+            PointForce(ld.body, ld.point, float(np.broadcast_to(ld.fx, (n,))[k]),
+                       float(np.broadcast_to(ld.fy, (n,))[k]))
             if isinstance(ld, PointForce) else
-            BodyTorque(ld.body, float(np.broadcast_to(ld.mz, phi.shape)[k])) for ld in loads],
+            BodyTorque(ld.body, float(np.broadcast_to(ld.mz, (n,))[k])) for ld in loads],
             about)
         F = max(np.max(np.abs(ref["fx"])), np.max(np.abs(ref["fy"])), 1.0)
         _close(dyn.fx[:, k], ref["fx"], F, label + "reactions")
         _close(dyn.fy[:, k], ref["fy"], F, label + "reactions")
         _close(dyn.mz[:, k], ref["mz"], F * L, label + "reactions mz")
-        _close(dyn.Q[k], ref["Q"], F * L, label + "Q")
+        _close(dyn.Q[..., k], ref["Q"], F * L, label + "Q")
         _close(dyn.shaking_fx[k], ref["sf"][0], F, label + "shaking force")
         _close(dyn.shaking_fy[k], ref["sf"][1], F, label + "shaking force")
         _close(dyn.shaking_m[k], ref["sm"], F * L, label + "shaking moment")
@@ -296,3 +365,16 @@ PHI7 = np.array([0.05, 0.9, 1.7, 2.6, 3.5, 4.6, 5.9])
 
 def _fb_full():
     return np.linspace(0, 2 * np.pi, 361)
+
+
+def energy_rate(mech, kin, g):
+    """dT/dt = sum m v_C.a_C + I w eps and the power of gravity sum m g.v_C, from the
+    kinematics alone."""
+    dT = np.zeros(kin.n)
+    p_g = np.zeros(kin.n)
+    for b in mech.bodies:
+        c = kin.point(b.name, "com")
+        i = mech.index[b.name]
+        dT += b.mass * (c.vx * c.ax + c.vy * c.ay) + b.inertia * kin.omega[i] * kin.eps[i]
+        p_g += b.mass * (g[0] * c.vx + g[1] * c.vy)
+    return dT, p_g

@@ -16,6 +16,10 @@ for f in examples/*.toml tests/data/*.toml; do
   t=$(sed -n 's/^type *= *"\(.*\)".*/\1/p' "$f" | head -1)
   case "$t" in
     swashplate) run "swashplate-analyze-$b" swashplate analyze "$f" ;;
+    synthesis)
+      for k in path function motion; do
+        if grep -q "^\[$k\]" "$f"; then run "synthesize-$k-$b" synthesize "$k" "$f"; fi
+      done ;;
     *) run "analyze-$b" analyze "$f" ;;
   esac
   if grep -q '^\[drive\]' "$f"; then

@@ -301,7 +301,7 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
     """
     crank, O = crank_axis(mech)
     frame_hinge(mech, crank)
-    if float(mech.driver.omega1) == 0.0:
+    if float(mech.drivers[0].omega1) == 0.0:
         raise ParameterError("driver.omega1", 0.0, "must be non-zero: the comparison is of "
                              "inertia loads at the crank's speed")
     tab = np.radians(np.arange(0.0, 360.0, 30.0)) if positions is None else np.atleast_1d(
@@ -358,6 +358,9 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
         d1g = inverse_dynamics(k1, about=O, gravity=gravity, loads=ext)
     else:
         d0g, d1g = d0, d1
+    for dyn in (d0g, d1g):
+        dyn.require_no_self_locking("balancing compares the driving torque and the bearing "
+                                    "loads over a full turn of the crank")
     r0 = _frame_reactions(d0g, mech)
     r1 = _frame_reactions(d1g, bal)
     # moving the axis: the counterweight's inertia (and weight) goes from O to O1
@@ -371,7 +374,7 @@ def compare_balancing(mech: Mechanism, positions: ArrayLike | None = None, *,
     ay = r_cw * (ep * ux - om**2 * uy)
     g = (0.0, 0.0) if gravity is None else tuple(float(v) for v in np.ravel(gravity))
     bx, by = m_cw * (ax - g[0]), m_cw * (ay - g[1])  # force the bearing applies to the cw
-    drv = mech.joint(mech.driver.joint)
+    drv = mech.joint(mech.drivers[0].joint)
     r3 = dict(r1)
     fx, fy = d1g.reaction(drv.name)
     sgn = 1.0 if drv.b == crank else -1.0  # reaction as force of the frame on the crank

@@ -39,6 +39,7 @@ __all__ = [
     "force_balance",
     "frame_hinge",
     "frame_hinged_links",
+    "one_crank_cycle",
     "shaking_loads",
     "with_counterweight",
 ]
@@ -52,7 +53,9 @@ def crank_axis(mech: Mechanism) -> tuple[str, tuple[float, float]]:
     ParameterError
         The driver is not a crank hinged to the frame.
     """
+    one_crank_cycle(mech, "paper 001's balancing")
     d = mech.driver
+    assert not isinstance(d, tuple)  # one_crank_cycle
     j = mech.joint(d.joint)
     if not isinstance(d, Crank) or not isinstance(j, Revolute) or mech.frame.name not in (
             j.a, j.b):
@@ -60,6 +63,17 @@ def crank_axis(mech: Mechanism) -> tuple[str, tuple[float, float]]:
     crank = j.b if j.a == mech.frame.name else j.a
     fp = mech.frame.point(j.pa if j.a == mech.frame.name else j.pb)
     return crank, fp
+
+
+def one_crank_cycle(mech: Mechanism, what: str) -> None:
+    """Refuse a mechanism of several drivers for ``what``, which runs over one turn of one
+    crank (ParameterError naming the drivers)."""
+    if mech.n_drivers != 1:
+        names = [d.joint for d in mech.drivers]
+        raise ParameterError("driver", names, f"{what} runs over one turn of one crank, and the "
+                             f"mechanism has {len(names)} drivers; its shaking loads over a path "
+                             "of its drivers: shaking_loads(kinematics(mech, phi1)), "
+                             "counterweights: add_counterweights")
 
 
 def frame_hinge(mech: Mechanism, link: str) -> tuple[float, float]:
@@ -152,7 +166,8 @@ class ShakingLoads(Result):
     Attributes
     ----------
     phi1 : ndarray (n,)
-        Driver positions [rad].
+        Driver positions [rad] ((n_drivers, n) for several drivers: then the cycle statistics
+        ``force_rms``/``moment_rms`` are undefined, the peaks are not).
     fx, fy : ndarray (n,)
         Shaking force :math:`-\\sum m_i a_{S_i}` [N] (exerted on the frame).
     moment : ndarray (n,)
@@ -347,6 +362,7 @@ def force_balance(mech: Mechanism, links: Sequence[str] | None = None,
             if key not in use:
                 raise ParameterError("radii", key, f"names no counterweighted link; links: "
                                      f"{list(use)}")
+    one_crank_cycle(mech, "force_balance")
     phi = cycle(n)
     kin = kinematics(mech, phi, 1.0, 0.0)  # unit constant speed: F scales with omega^2
     base = shaking_loads(kin)
@@ -358,7 +374,7 @@ def force_balance(mech: Mechanism, links: Sequence[str] | None = None,
     unit_before = base.force_rms()
     unit_after = rms(phi, (F0 + B @ q).reshape(-1, 2), vector=True)
     ratio = unit_after / unit_before if unit_before > 0 else 0.0
-    w2 = float(mech.driver.omega1) ** 2  # reported at the driver's speed
+    w2 = float(mech.drivers[0].omega1) ** 2  # reported at the driver's speed
     rms_before, rms_after = unit_before * w2, unit_after * w2
     full = ratio <= tol
     reason = "" if full else _not_balanceable(mech, use)

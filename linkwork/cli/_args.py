@@ -68,7 +68,12 @@ def parse_angles(text: str) -> np.ndarray:
 def table_positions(doc: PlanarFile, text: str) -> np.ndarray:
     """``--angles`` of a planar file: crank angles in degrees, or a linear driver's slide
     positions in mm, to SI [rad or m]."""
-    if doc.driver.type == "linear":
+    drivers = doc.drivers
+    if len(drivers) > 1:
+        raise ParameterError("--angles", text, f"gives one driver's positions; this file has "
+                             f"{len(drivers)} drivers, whose tables run at 12 positions along "
+                             "their path (each [[driver]]'s start to stop)")
+    if drivers[0].type == "linear":
         return np.array(parse_angles_deg(text, angles=False)) * 1e-3
     return parse_angles(text)
 

@@ -76,13 +76,31 @@ _SHOWN = {"rad": _Shown("φ1 [deg]", "deg", 180.0 / np.pi, "driving torque", "N�
 
 
 def _shown(study: PlanarStudy) -> _Shown:
-    return _SHOWN[study.mechanism.driver.coordinate[1]]
+    return _SHOWN[study.mechanism.drivers[0].coordinate[1]]
+
+
+def _driver_heads(study: PlanarStudy) -> list[tuple[str, _Shown, str]]:
+    """Per driver: the column head of its position, how it is shown, the head of its Q (one
+    driver: ``φ1 [deg]``, ``Q [N·m]``; several: ``φ1 O1 [deg]``, ``Q O1 [N·m]``)."""
+    drivers = study.mechanism.drivers
+    out = []
+    for d in drivers:
+        sh = _SHOWN[d.coordinate[1]]
+        if len(drivers) == 1:
+            out.append((sh.position, sh, f"Q [{sh.load_unit}]"))
+        else:
+            name, unit = sh.position.split(" ")
+            out.append((f"{name} {d.joint} {unit}", sh, f"Q {d.joint} [{sh.load_unit}]"))
+    return out
 
 
 def _structure_and_dead_centres(study: PlanarStudy, console: Any) -> None:
     s, shown = study.structure, _shown(study)
     title = escape(study.doc.name or "planar mechanism")
-    console.print(f"[bold]{title}[/bold]: mobility W = {s.mobility}; structure "
+    drivers = study.mechanism.drivers
+    given = "" if len(drivers) == 1 else (f" ({len(drivers)} drivers: "
+                                          f"{', '.join(d.joint for d in drivers)})")
+    console.print(f"[bold]{title}[/bold]: mobility W = {s.mobility}{escape(given)}; structure "
                   f"{escape(s.formula())}", highlight=False)
     if study.dead_centres:
         console.print("dead centres:", highlight=False)
@@ -102,22 +120,27 @@ def _scales(study: PlanarStudy) -> dict[str, float]:
 
 
 def _table(study: PlanarStudy) -> Table:
-    shown, tphi = _shown(study), study.table_positions
+    shown = _shown(study)
+    tphi = np.atleast_2d(study.table_positions)
     tk, td, trans = study.table_kinematics, study.table_dynamics, study.table_transmission
+    tq = np.atleast_2d(td.Q)
     scales = _scales(study)
-    f_q = scales.get(study.mechanism.driver.field_units["Q"], 0.0)
     f_n, f_nm = scales.get("N", 0.0), scales.get("N*m", 0.0)
     ab = np.asarray(study.dynamics.about, dtype=float) * 1e3
+    several = study.mechanism.n_drivers > 1
     table = Table(title=escape(
-        f"{shown.load}, joint reactions |R| (force of a on "
+        f"{'driving loads' if several else shown.load}, joint reactions |R| (force of a on "
         f"b), shaking force and moment (about ({ab[0]:g}, {ab[1]:g}) mm)"))
-    heads = [shown.position, f"Q [{shown.load_unit}]"]
+    dh = _driver_heads(study)
+    heads = [h for h, _, _ in dh] + [q for _, _, q in dh]
     heads += [f"|R {j}| [N]" for j in td.joints]
     heads += ["|F_sh| [N]", "M_sh [N·m]"] + [f"μ {key} [deg]" for key in trans]
     for h in heads:  # escape: "[mm]", "[deg]" would be read as Rich markup
         table.add_column(escape(h), justify="right", min_width=len(h), no_wrap=True)
     for i in range(tk.n):
-        row = [fmt(tphi[i] * shown.scale, decimals=1), fmt(td.Q[i], f_q)]
+        row = [fmt(tphi[k, i] * sh.scale, decimals=1) for k, (_, sh, _) in enumerate(dh)]
+        row += [fmt(tq[k, i], scales.get(d.field_units["Q"], 0.0))
+                for k, d in enumerate(study.mechanism.drivers)]
         row += [fmt(td.reaction_magnitude(j)[i], f_n) for j in td.joints]
         row += [fmt(np.hypot(td.shaking_fx[i], td.shaking_fy[i]), f_n),
                 fmt(td.shaking_m[i], f_nm)]
@@ -128,26 +151,36 @@ def _table(study: PlanarStudy) -> Table:
 
 def _extremes(study: PlanarStudy) -> Table:
     shown, scales = _shown(study), _scales(study)
+    several = study.mechanism.n_drivers > 1
     ptab = Table(title=escape(f"extremes over the cycle ({study.kinematics.n} positions of "
                               "[analysis])"))
     ptab.add_column("quantity", no_wrap=True)
-    for h in ("value", shown.position):
+    dh = _driver_heads(study)
+    for h in ("value", *(("position",) if several else ()), *(h for h, _, _ in dh)):
         ptab.add_column(escape(h), justify="right", no_wrap=True)
     for pk in study.peaks:
-        pos = pk["phi1"] * shown.scale
+        pos = ([fmt(x * sh.scale, decimals=1) for x, (_, sh, _) in zip(pk["phi1"], dh,
+                                                                      strict=True)]
+               if several else [fmt(pk["phi1"] * shown.scale, decimals=1)])
         value, unit = pk["value"], pk["unit"]
         scale = scales.get(unit, 0.0)
         if unit == "rad":  # transmission angles: shown in degrees, as in the table above
             value, unit = np.degrees(value), "deg"
         ptab.add_row(escape(f"{pk['name']} [{unit_label(unit)}]"), fmt(value, scale),
-                     fmt(pos, decimals=1))
+                     *((str(pk["position"]),) if several else ()), *pos)
     # over a closed cycle the work of the driver is round-off for a conservative mechanism:
     # its scale is that of the driving torque (force), and of the power over the cycle
-    ptab.add_row(escape(f"Q mean (work / range) [{shown.load_unit}]"),
-                 fmt(study.means["Q_mean"],
-                     scales.get(study.mechanism.driver.field_units["Q"], 0.0)), "")
-    ptab.add_row("driving power, mean [W]",
-                 fmt(study.means["power_mean"], scale_of(study.dynamics.power)), "")
+    blank = [""] * (len(dh) + (1 if several else 0))
+    means = study.means["Q_mean"]
+    for d, (_, sh, _) in zip(study.mechanism.drivers, dh, strict=True):
+        value = means[d.joint] if several else means
+        ptab.add_row(escape(f"Q{' ' + d.joint if several else ''} mean (work / range) "
+                            f"[{sh.load_unit}]"),
+                     fmt(np.nan if value is None else value,
+                         scales.get(d.field_units["Q"], 0.0)), *blank)
+    ptab.add_row("driving power, mean [W]" if not several else
+                 "driving power of all drivers, mean [W]",
+                 fmt(study.means["power_mean"], scale_of(study.dynamics.total_power)), *blank)
     return ptab
 
 

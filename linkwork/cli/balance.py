@@ -174,7 +174,7 @@ def _plots(study: BalanceStudy, out: Path, name: str | None = None) -> None:
         for ax, joint in zip(axes[:, 0], joints, strict=True):
             curves = {"unbalanced": c.reactions0[joint], "static": c.reactions1[joint],
                       "moved axis (paper 001)": c.reactions3[joint]}
-            if joint == study.mechanism.driver.joint and "O1" in c.reactions3:
+            if joint == study.mechanism.drivers[0].joint and "O1" in c.reactions3:
                 curves["moved counterweight's bearing O1"] = c.reactions3["O1"]
             plot_moments(c.phi1, curves, ax=ax, ylabel=f"|R| at {joint} [N]", title="")
             if ax is not axes[-1, 0]:
@@ -232,5 +232,11 @@ def register(app: typer.Typer) -> None:
                 console.print("note: the file's external loads enter the driving torque and "
                               "the bearing reactions, not the shaking-moment table (inertia "
                               "forces)", highlight=False)
-            render(study_balance.run(doc, angles=table, pareto=pareto), out=out,
-                   console=console, name=doc.name or None)
+            try:
+                study = study_balance.run(doc, angles=table, pareto=pareto)
+            except ParameterError as exc:  # the joints' friction locks it: the file's keys
+                if exc.parameter != "friction":
+                    raise
+                raise FileFormatError(str(file), "joint friction", str(exc).removeprefix(
+                    "friction = ")) from None
+            render(study, out=out, console=console, name=doc.name or None)

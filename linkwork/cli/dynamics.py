@@ -277,5 +277,8 @@ def register(app: typer.Typer) -> None:
                 except ParameterError as exc:
                     if exc.parameter in ("drive", "press", "driver"):
                         raise FileFormatError(str(file), exc.parameter, str(exc)) from None
+                    if exc.parameter == "friction":  # the joints' friction locks it
+                        raise FileFormatError(str(file), "joint friction", str(exc).removeprefix(
+                            "friction = ")) from None
                     raise
             render(study, out=out, console=make_console())

@@ -254,6 +254,13 @@ def register(app: typer.Typer) -> None:
         table = None if angles is None else table_positions(doc, angles)
         with output_run(out, command="reactions", file=file), load_errors(file, doc):
             study = study_reactions.run(doc, angles=table, method=method)
-            _report(study, out=out, console=make_console(), plots=plots,
+            console = make_console()
+            rubbing = [j.name for j in doc.mechanism().joints if j.has_friction]
+            if rubbing:  # said, not silently left out: Q differs from analyze's
+                console.print(escape(
+                    f"note: the spatial reactions are frictionless (paper 004's equations): "
+                    f"the friction of joint{'s' * (len(rubbing) > 1)} {', '.join(rubbing)} is "
+                    "not used here (linkwork analyze includes it)"), highlight=False)
+            _report(study, out=out, console=console, plots=plots,
                     n=tolerance_study or 0, seed=seed, scheduler=scheduler,
                     chunk_size=chunk_size, mechanism=doc.name or None)

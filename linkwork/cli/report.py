@@ -19,10 +19,11 @@ import typer
 from rich.markup import escape
 
 from linkwork import io
-from linkwork.cli._args import output_run
+from linkwork.cli._args import load_errors, output_run
 from linkwork.cli._console import console as make_console
 from linkwork.cli._console import steps
-from linkwork.errors import ParameterError
+from linkwork.errors import ExternalToolError, ParameterError
+from linkwork.io.toml import MAGNITUDE_LIMITS
 from linkwork.plot.scene import MAX_ANIMATION_FRAMES, PointSpec
 from linkwork.report import Options, animation, build, write
 
@@ -43,6 +44,10 @@ def parse_path(text: str, doc: object) -> PointSpec:
         except ValueError:
             raise ParameterError("--path", text, "must be BODY:X,Y with X, Y in mm (local "
                                  "coordinates of the body's frame)") from None
+        limit = MAGNITUDE_LIMITS["length"]
+        if not (abs(x) <= limit and abs(y) <= limit):  # NaN too
+            raise ParameterError("--path", text, f"X, Y must be finite and within "
+                                 f"+-{limit * 1e3:g} mm, far beyond any machine mechanism")
         point: str | tuple[float, float] = (x, y)
     else:
         body, dot, name = text.partition(".")
@@ -90,16 +95,24 @@ def register(app: typer.Typer) -> None:
         with output_run(out, command="report", file=file):
             with steps(2 + len(movies) * animate + 2,
                        console=make_console(stderr=True)) as step:
-                page = build(doc, path=file, options=options, step=step)
+                with load_errors(file, doc):  # a load's error names the file and key
+                    page = build(doc, path=file, options=options, step=step)
                 step("writing the HTML")
                 written = [write(page, out / f"{stem}.html")]
+                movie_notes = []
                 if animate:
                     for suffix in movies:
                         step(f"drawing {stem}{suffix}")
-                        written.append(animation(page, out / f"{stem}{suffix}", frames=frames))
+                        try:
+                            written.append(animation(page, out / f"{stem}{suffix}",
+                                                     frames=frames))
+                        except ExternalToolError as exc:  # the MP4 is the optional one
+                            movie_notes.append(f"note: {exc}: no MP4 (the GIF is written)")
             console = make_console()
             for w in page.warnings:
                 console.print(escape(f"note: {w}"), highlight=False)
+            for note in movie_notes:
+                console.print(escape(note), highlight=False)
             if animate and len(movies) == 1:
                 console.print("note: ffmpeg is not installed: no MP4 (the GIF is written)",
                               highlight=False)

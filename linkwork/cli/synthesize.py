@@ -11,7 +11,6 @@ Burmester points and four-bars).
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -22,13 +21,12 @@ from rich.table import Table
 from linkwork import io
 from linkwork.cli._args import output_run, reach_scheduler
 from linkwork.cli._console import console as make_console
-from linkwork.cli._format import fmt
 from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.synthesis import SynthesisFile
 from linkwork.results import write_json
 from linkwork.studies import synthesis as study_synthesis
-from linkwork.studies.synthesis import SynthesisStudy
+from linkwork.studies.synthesis import SynthesisStudy, design_summary, design_table
 from linkwork.sweep import check_client, rich_progress
 
 __all__ = ["register", "render", "sub"]
@@ -38,96 +36,15 @@ sub = typer.Typer(name="synthesize", no_args_is_help=True, add_completion=False,
                        "generation from a task file.")
 
 
-def _mm(x: float) -> str:
-    return fmt(float(x) * 1e3)
-
-
-def _deg(x: float) -> str:
-    return fmt(math.degrees(float(x)))
-
-
-def _path_table(study: SynthesisStudy) -> Table:
-    res = study.result
-    rej = ", ".join(f"{v} {k}" for k, v in res.rejected.items() if v) or "none"
-    t = Table(title=escape(
-        f"{study.doc.name}: {len(res.designs)} defect-free four-bars of {res.n_evaluated} "
-        f"candidates, {res.n_refined} refined ({res.time:.3g} s; rejected: {rej})"))
-    cols = ["#", "error [mm²]", "max dev. [mm]", "r1 [mm]", "r2 [mm]", "r3 [mm]", "r4 [mm]",
-            "rcx [mm]", "rcy [mm]", "x0 [mm]", "y0 [mm]", "θ0 [deg]", "branch", "μmin [deg]"]
-    forces = any(d.forces for d in res.designs)
-    if forces:
-        cols += ["peak Q [N·m]", "peak bearing [N]", "RMS shaking [N]"]
-    for c in cols:
-        t.add_column(escape(c), justify="right")
-    for i, d in enumerate(res.designs):
-        p = d.params
-        row = [str(i + 1), fmt(d.error * 1e6), _mm(d.checks.get("max_deviation", math.nan)),
-               *(_mm(p[k]) for k in ("r1", "r2", "r3", "r4", "rcx", "rcy", "x0", "y0")),
-               _deg(p["theta0"]), f"{d.branch:+d}",
-               _deg(d.checks.get("min_transmission_angle", math.nan))]
-        if forces:
-            row += [fmt(d.forces.get(k, math.nan)) for k in
-                    ("peak_torque", "peak_bearing", "rms_shaking")]
-        t.add_row(*row)
-    return t
-
-
-def _sixbar_table(study: SynthesisStudy) -> Table:
-    res = study.result
-    rej = ", ".join(f"{v} {k}" for k, v in res.rejected.items() if v) or "none"
-    t = Table(title=escape(
-        f"{study.doc.name}: {len(res.designs)} defect-free {res.kind} six-bars of "
-        f"{res.n_evaluated} candidates, {res.n_refined} refined ({res.time:.3g} s; "
-        f"rejected: {rej})"))
-    lengths = ("r1", "r2", "r3", "r4", "x0", "y0", "cx", "cy", "r5", "r6", "x6", "y6", "px",
-               "py")
-    cols = ["#", "error [mm²]", "max dev. [mm]", *(f"{k} [mm]" for k in lengths), "θ0 [deg]",
-            "branches B, D", "μmin [deg]"]
-    for c in cols:
-        t.add_column(escape(c), justify="right")
-    for i, d in enumerate(res.designs):
-        p = d.params
-        t.add_row(str(i + 1), fmt(d.error * 1e6), _mm(d.checks.get("max_deviation", math.nan)),
-                  *(_mm(p[k]) for k in lengths), _deg(p["theta0"]),
-                  f"{d.branches[0]:+d}, {d.branches[1]:+d}",
-                  _deg(d.checks.get("min_transmission_angle", math.nan)))
-    return t
-
-
-def _function_table(study: SynthesisStudy) -> Table:
-    res = study.result
-    four = res.kind == "fourbar"
-    t = Table(title=escape(f"{study.doc.name}: {len(res.designs)} {res.kind.replace('_', '-')} "
-                           "function generators (structural error over the whole range)"))
-    names = ("a", "b", "c", "d") if four else ("L1", "L2", "e", "Y0")
-    cols = ["#", "method", *(f"{n} [mm]" for n in names), "branch",
-            "max error [deg]" if four else "max error [mm]",
-            "RMS error [deg]" if four else "RMS error [mm]"]
-    for c in cols:
-        t.add_column(escape(c), justify="right" if c != "method" else "left")
-    for i, d in enumerate(res.designs):
-        conv = math.degrees if four else (lambda v: v * 1e3)
-        t.add_row(str(i + 1), escape(d.method), *(_mm(d.params[n]) for n in names),
-                  f"{d.branch:+d}", fmt(conv(d.max_error)), fmt(conv(d.rms_error)))
-    return t
-
-
-def _motion_table(study: SynthesisStudy) -> Table:
-    res = study.result
-    rej = ", ".join(f"{v} {k}" for k, v in res.rejected.items() if v) or "none"
-    t = Table(title=escape(f"{study.doc.name}: {len(res.designs)} four-bars through "
-                           f"{len(res.poses)} poses from {res.n_dyads} dyads, {res.n_pairs} "
-                           f"pairs checked (rejected: {rej})"))
-    cols = ["#", "O2 x [mm]", "O2 y [mm]", "O4 x [mm]", "O4 y [mm]", "r1 [mm]", "r2 [mm]",
-            "r3 [mm]", "r4 [mm]", "μmin [deg]", "pose error [mm]"]
-    for c in cols:
-        t.add_column(escape(c), justify="right")
-    for i, d in enumerate(res.designs):
-        p = d.fourbar.params
-        t.add_row(str(i + 1), _mm(d.c1[0]), _mm(d.c1[1]), _mm(d.c2[0]), _mm(d.c2[1]),
-                  *(_mm(p[k]) for k in ("r1", "r2", "r3", "r4")),
-                  _deg(d.fourbar.checks.get("min_transmission_angle", math.nan)),
-                  fmt(d.pose_error * 1e3))
+def _table(study: SynthesisStudy) -> Table:
+    """The ranked designs (:func:`linkwork.studies.synthesis.design_table`) under a title of
+    what the search did."""
+    head, rows = design_table(study)
+    t = Table(title=escape(f"{study.doc.name}: {design_summary(study)}"))
+    for c in head:
+        t.add_column(escape(c), justify="left" if c == "method" else "right")
+    for row in rows:
+        t.add_row(*(escape(v) for v in row))
     return t
 
 
@@ -137,11 +54,7 @@ def render(study: SynthesisStudy, *, out: Path, console: Any) -> list[Path]:
     from linkwork.plot import save
 
     res = study.result
-    six = study.kind == "path" and study.doc.path is not None and \
-        study.doc.path.linkage != "fourbar"
-    table = {"path": _sixbar_table if six else _path_table, "function": _function_table,
-             "motion": _motion_table}[study.kind](study)
-    print_table(console, table)
+    print_table(console, _table(study))
     written = [res.to_csv(out / "synthesis.csv"), write_json(out / "synthesis.json",
                                                               study.to_dict())]
     for i, d in enumerate(res.designs):

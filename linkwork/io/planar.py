@@ -24,9 +24,12 @@ Example (the four-bar of ``examples/fourbar_paper001.toml``)::
 
     [[joint]]
     name = "O"                     # revolute: point O of a on point O of b (point_a/point_b)
-    type = "revolute"              # "revolute" | "prismatic" | "slot"
+    type = "revolute"              # "revolute" | "prismatic" | "slot" | "gear"
     a = "frame"
     b = "crank"
+    # gear: a, b the gears (each hinged to the carrier at its centre), teeth = [30, 50] or
+    # radii = ["60 mm", "100 mm"], internal = false, carrier (default the frame),
+    # pressure_angle = "20 deg", efficiency = 0.98, offset (b's angle when a's is 0)
     # prismatic / slot: angle (of the line in a), through (point name or [x, y]), point (of b),
     # rel_angle (prismatic: theta_b - theta_a)
     # Coulomb friction (docs/friction.md), all optional, default none: friction = 0.1 (the
@@ -143,15 +146,16 @@ from __future__ import annotations
 import math
 import re
 from pathlib import Path
-from typing import Annotated, Any, Literal, Self
+from typing import TYPE_CHECKING, Annotated, Any, Literal, Self
 
 import numpy as np
 import pydantic
-from pydantic import Field, PrivateAttr, field_validator, model_validator
+from pydantic import Discriminator, Field, PrivateAttr, Tag, field_validator, model_validator
 
 from linkwork.errors import FileFormatError, LinkworkError, ParameterError
 from linkwork.io.drive import DriveSection
 from linkwork.io.toml import (
+    MAGNITUDE_LIMITS,
     Acceleration,
     Angle,
     AngularAcceleration,
@@ -183,6 +187,7 @@ from linkwork.planar.forces import (
 from linkwork.planar.model import (
     Body,
     Crank,
+    GearPair,
     Joint,
     Linear,
     Mechanism,
@@ -252,13 +257,25 @@ class BodySection(FileModel):
                     inertia=0.0 if self.inertia is None else self.inertia, guess=self.guess)
 
 
-class JointSection(FileModel):
+class _GearKeys(FileModel):
+    """The keys of a gear pair (:class:`linkwork.planar.GearPair`)."""
+
+    teeth: tuple[int, int] | None = None
+    radii: tuple[Length, Length] | None = None
+    internal: bool = False
+    carrier: str | None = None
+    pressure_angle: Angle = math.radians(20.0)
+    efficiency: Dimensionless = 1.0
+
+
+class JointSection(_GearKeys):
     """A joint between bodies ``a`` and ``b`` (reactions: force of a on b)."""
 
     name: str
-    type: Literal["revolute", "prismatic", "slot"]
+    type: Literal["revolute", "prismatic", "slot", "gear"]
     a: str
     b: str
+    offset: Angle = 0.0
     point_a: str | None = None
     point_b: str | None = None
     angle: Angle = 0.0
@@ -274,21 +291,31 @@ class JointSection(FileModel):
     def _friction_keys_of_type(self) -> JointSection:
         """Friction keys of another joint type are refused (see :mod:`linkwork.planar.joints`)."""
         takes = {"revolute": "friction, radius, friction_torque",
-                 "prismatic": "friction, length", "slot": "friction, radius"}
+                 "prismatic": "friction, length", "slot": "friction, radius",
+                 "gear": "efficiency"}
         unused = {"revolute": ("length",), "prismatic": ("radius", "friction_torque"),
-                  "slot": ("length", "friction_torque")}
+                  "slot": ("length", "friction_torque"),
+                  "gear": ("friction", "radius", "friction_torque", "length")}
         _refuse_keys(self, unused[self.type], f"the friction keys {takes[self.type]}")
         return self
 
     def _friction(self) -> dict[str, float]:
         """The friction keyword arguments of the joint (only those given)."""
         keys = {"revolute": ("friction", "radius", "friction_torque"),
-                "prismatic": ("friction", "length"), "slot": ("friction", "radius")}
+                "prismatic": ("friction", "length"), "slot": ("friction", "radius"),
+                "gear": ("efficiency",)}
         return {k: getattr(self, k) for k in keys[self.type] if k in self.model_fields_set}
 
     @model_validator(mode="after")
     def _keys_of_type(self) -> JointSection:
         line = ("angle", "through", "point")
+        gear = ("teeth", "radii", "internal", "carrier", "pressure_angle", "offset")
+        if self.type == "gear":
+            _refuse_keys(self, (*line, "rel_angle", "point_a", "point_b"),
+                         "teeth or radii, internal, carrier, pressure_angle, efficiency, offset")
+            return self
+        _refuse_keys(self, (*gear, "efficiency"), f"the keys of a {self.type} joint (the gear "
+                     "keys belong to type = 'gear')")
         if self.type == "revolute":
             _refuse_keys(self, (*line, "rel_angle"), "point_a and point_b")
         else:
@@ -305,6 +332,10 @@ class JointSection(FileModel):
         if self.type == "prismatic":
             return Prismatic(self.name, self.a, self.b, self.angle, self.through, self.point,
                              self.rel_angle, **fr)
+        if self.type == "gear":
+            return GearPair(self.name, self.a, self.b, teeth=self.teeth, radii=self.radii,
+                            internal=self.internal, carrier=self.carrier,
+                            pressure_angle=self.pressure_angle, offset=self.offset, **fr)
         return PinInSlot(self.name, self.a, self.b, self.angle, self.through, self.point, **fr)
 
 
@@ -320,6 +351,8 @@ class DriverSection(FileModel):
     eps1: AngularAcceleration = 0.0
     v1: Velocity = 1.0
     a1: Acceleration = 0.0
+    start: float | str | None = None
+    stop: float | str | None = None
 
     @model_validator(mode="after")
     def _keys_of_type(self) -> DriverSection:
@@ -337,6 +370,23 @@ class DriverSection(FileModel):
             return Crank(self.joint, self.omega1, self.eps1)
         return Linear(self.joint, self.v1, self.a1)
 
+    def span(self, key: str) -> tuple[float, float]:
+        """``start`` and ``stop`` of one of several drivers in SI [rad or m] (required)."""
+        kind = "angle" if self.type == "crank" else "length"
+        out = []
+        for name in ("start", "stop"):
+            v = getattr(self, name)
+            if v is None:
+                raise ParameterError(f"{key}.{name}", "missing", "each of several [[driver]] "
+                                     "gives its own start and stop (its positions run from "
+                                     "start to stop over the [analysis] n positions)")
+            si = to_si(v, kind, f"{key}.{name}")
+            if not math.isfinite(si) or (kind == "angle" and not abs(si) <= MAX_ANGLE):
+                raise ParameterError(f"{key}.{name}", v, "must be finite" + (
+                    f" and within +-{MAX_ANGLE:g} rad" if kind == "angle" else ""))
+            out.append(si)
+        return out[0], out[1]
+
     def sketch_spec(self) -> str | tuple[str, str]:
         """The driver as :func:`linkwork.planar.sketch` names it."""
         return self.joint if self.link is None else (self.joint, self.link)
@@ -344,6 +394,26 @@ class DriverSection(FileModel):
     def speeds(self) -> tuple[float, float]:
         """(speed, acceleration) of the driver [rad/s, rad/s^2, or m/s, m/s^2]."""
         return (self.omega1, self.eps1) if self.type == "crank" else (self.v1, self.a1)
+
+
+class DriverTables(list):
+    """Several ``[[driver]]`` tables (``PlanarFile.driver`` then holds them): a list whose
+    one-driver keys (``type``, ``joint``, ``omega1``, ...) raise a ParameterError naming the
+    drivers, so that code written for one driver refuses several clearly."""
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise ParameterError("driver", [d.joint for d in self],
+                             f"the file has {len(self)} [[driver]] tables; this needs one "
+                             f"driver (its '{name}')")
+
+
+def _driver_tables(value: Any) -> str:
+    """``[[driver]]`` (several drivers, a list) or ``[driver]`` (one): validated as that one
+    member of the union only, so that its errors are not doubled (the tags, with brackets,
+    are left out of the error's key)."""
+    return "[[driver]]" if isinstance(value, list) else "[driver]"
 
 
 class SliderSection(FileModel):
@@ -363,6 +433,24 @@ class SlotSection(FileModel):
     guide: str
     angle: Angle | None = None
     along: tuple[str, str] | None = None
+
+
+class CylinderSection(FileModel):
+    """``[sketch.cylinders.NAME]``: a linear actuator between two drawn pivots
+    (:class:`linkwork.planar.Cylinder`): bodies ``NAME_barrel``, ``NAME_rod``, its length the
+    slide of the prismatic pair ``NAME``."""
+
+    start: str
+    end: str
+
+
+class GearSection(_GearKeys):
+    """``[sketch.gears.NAME]``: a gear pair between two drawn links (their centres: their
+    pivots on the carrier), ratio by ``teeth`` or ``radii``, phase from the drawing
+    (:class:`linkwork.planar.GearPair`)."""
+
+    a: str
+    b: str
 
 
 class LinkMassSection(FileModel):
@@ -385,19 +473,23 @@ class SketchSection(FileModel):
     links: dict[str, list[str]]
     sliders: dict[str, SliderSection] = Field(default_factory=dict)
     slots: dict[str, SlotSection] = Field(default_factory=dict)
+    cylinders: dict[str, CylinderSection] = Field(default_factory=dict)
+    gears: dict[str, GearSection] = Field(default_factory=dict)
     masses: dict[str, LinkMassSection | Mass] = Field(default_factory=dict)
 
     def build(self, drivers: list[DriverSection]) -> Mechanism:
         """The mechanism of the drawing (errors name the ``sketch.`` key)."""
+        linear = {*self.sliders, *self.cylinders}
         for i, d in enumerate(drivers):
             key = "driver" if len(drivers) == 1 else f"driver.{i}"
-            if (d.type == "linear") != (d.joint in self.sliders):
+            if (d.type == "linear") != (d.joint in linear):
                 raise ParameterError(f"{key}.type", d.type,
-                                     f"must be {'linear' if d.joint in self.sliders else 'crank'}"
+                                     f"must be {'linear' if d.joint in linear else 'crank'}"
                                      f" for joint {d.joint!r}, " + (
-                                         "a slider of the sketch" if d.joint in self.sliders
-                                         else "which is not a slider of the sketch (a linear "
-                                         "driver drives a [sketch.sliders] entry)"))
+                                         "a slider or cylinder of the sketch"
+                                         if d.joint in linear else "which is not a slider or "
+                                         "cylinder of the sketch (a linear driver drives a "
+                                         "[sketch.sliders] or [sketch.cylinders] entry)"))
         masses = {k: (v.model_dump() if isinstance(v, LinkMassSection) else v)
                   for k, v in self.masses.items()}
         try:
@@ -405,6 +497,9 @@ class SketchSection(FileModel):
                           drivers=[d.sketch_spec() for d in drivers],
                           sliders={k: v.model_dump() for k, v in self.sliders.items()},
                           slots={k: v.model_dump() for k, v in self.slots.items()},
+                          cylinders={k: v.model_dump() for k, v in self.cylinders.items()},
+                          gears={k: v.model_dump(exclude_defaults=True)
+                                 for k, v in self.gears.items()},
                           masses=masses, frame=self.frame,
                           speeds={d.joint: d.speeds() for d in drivers})
         except ParameterError as exc:
@@ -459,24 +554,51 @@ class DiagramSection(FileModel):
     when: Literal["always", "increasing", "decreasing"] = "always"
     outside: Literal["zero", "error"] = "zero"
 
+    _diagrams: dict[tuple[str, bool, str], LoadDiagram] = PrivateAttr(default_factory=dict)
+
     def build(self, key: str, linear: bool, value_kind: str) -> LoadDiagram:
         """The diagram in SI: positions are crank angles (a plain number in radians) when it is
         over a crank, slides [m] otherwise; values of ``value_kind``. ``key``: the dotted key of
-        this table (``load.2.diagram``), which every error names (a row: ``table.3``)."""
+        this table (``load.2.diagram``), which every error names (a row: ``table.3``). Built
+        once per (key, driver, kind): the file's check and every analysis share it."""
+        done = self._diagrams.get((key, linear, value_kind))
+        if done is None:
+            done = self._diagrams[key, linear, value_kind] = self._build(key, linear, value_kind)
+        return done
+
+    def _column(self, col: int, kind: str, key: str) -> np.ndarray:
+        """Column ``col`` of the table in SI, checked as :func:`quantity` checks a value: plain
+        numbers at once (a measured curve of 10^6 rows took 8 s a column one by one), strings
+        with their units one by one; an error names the first bad row."""
+        raw = [row[col] for row in self.table]
+        plain = np.array([isinstance(v, int | float) and not isinstance(v, bool) for v in raw],
+                         dtype=bool)
+        out = np.zeros(len(raw))
+        out[plain] = [v for v, p in zip(raw, plain, strict=True) if p]
+        bad = plain & ~(np.abs(out) <= MAGNITUDE_LIMITS.get(kind, math.inf))  # NaN too
+        first_bad = int(np.argmax(bad)) if bad.any() else len(raw)
+        for r in np.flatnonzero(~plain[:first_bad]):  # the rows before it, in order
+            out[r] = quantity(raw[r], kind, f"{key}.table.{r}.{col}")
+        if first_bad < len(raw):  # its error, worded as quantity() words it
+            quantity(raw[first_bad], kind, f"{key}.table.{first_bad}.{col}")
+        return out
+
+    def _build(self, key: str, linear: bool, value_kind: str) -> LoadDiagram:
         kind = "angle" if self.over == "driver" and not linear else "length"
-        xs = [quantity(x, kind, f"{key}.table.{r}.0") for r, (x, _) in enumerate(self.table)]
-        ys = [quantity(y, value_kind, f"{key}.table.{r}.1")
-              for r, (_, y) in enumerate(self.table)]
-        for r, x in enumerate(xs):
-            if kind == "angle" and not abs(x) <= MAX_ANGLE:
+        xs = self._column(0, kind, key)
+        ys = self._column(1, value_kind, key)
+        far = ~(np.abs(xs) <= MAX_ANGLE) if kind == "angle" else np.zeros(xs.size, bool)
+        back = np.concatenate([[False], ~(xs[1:] > xs[:-1])])
+        if far.any() or back.any():
+            r = int(np.argmax(far | back))
+            if far[r]:
                 raise ParameterError(f"{key}.table.{r}.0", self.table[r][0],
                                      f"must lie within +-{MAX_ANGLE:g} rad")
-            if r and not x > xs[r - 1]:
-                raise ParameterError(f"{key}.table.{r}.0", self.table[r][0], (
-                    f"the table's positions must increase strictly: it must be > "
-                    f"{self.table[r - 1][0]} (row {r - 1})"))
+            raise ParameterError(f"{key}.table.{r}.0", self.table[r][0], (
+                f"the table's positions must increase strictly: it must be > "
+                f"{self.table[r - 1][0]} (row {r - 1})"))
         try:
-            return LoadDiagram(xs, ys, self.over, self.when, self.outside)
+            return LoadDiagram(xs.tolist(), ys.tolist(), self.over, self.when, self.outside)
         except ParameterError as exc:
             row = exc.parameter.removeprefix("position[").removesuffix("]")
             where = f"table.{row}.0" if row.isdigit() else "table"
@@ -874,7 +996,12 @@ class PlanarFile(FileModel):
     body: list[BodySection] = Field(default_factory=list)
     joint: list[JointSection] = Field(default_factory=list)
     sketch: SketchSection | None = None
-    driver: DriverSection
+    if TYPE_CHECKING:  # the one [driver] for the code written for one (several: DriverTables)
+        driver: DriverSection
+    else:
+        driver: Annotated[Annotated[DriverSection, Tag("[driver]")]
+                          | Annotated[list[DriverSection], Tag("[[driver]]")],
+                          Discriminator(_driver_tables)]
     analysis: AnalysisSection = Field(default_factory=lambda: AnalysisSection())
     load: list[LoadSection] = Field(default_factory=list)
     spring: list[SpringSection] = Field(default_factory=list)
@@ -922,6 +1049,15 @@ class PlanarFile(FileModel):
                                   "range for the reactions")
 
     @model_validator(mode="after")
+    def _as_driver_tables(self) -> PlanarFile:
+        """Several ``[[driver]]``: a :class:`DriverTables` list (one-driver keys refused by
+        name)."""
+        d: Any = self.driver
+        if isinstance(d, list):
+            self.__dict__["driver"] = DriverTables(d)
+        return self
+
+    @model_validator(mode="after")
     def _one_description(self) -> PlanarFile:
         """The mechanism is described either by ``[frame]``, ``[[body]]``, ``[[joint]]`` or by
         a ``[sketch]`` (its drawing), not both."""
@@ -956,6 +1092,12 @@ class PlanarFile(FileModel):
         self._check_loads()
         return self
 
+    @property
+    def drivers(self) -> list[DriverSection]:
+        """The ``[driver]`` table, or each ``[[driver]]`` of several, in order."""
+        d: Any = self.driver
+        return list(d) if isinstance(d, list) else [d]
+
     def mechanism(self) -> Mechanism:
         """The engine model described by the file (built once: an immutable Mechanism whose
         structure analysis is cached with it)."""
@@ -964,7 +1106,7 @@ class PlanarFile(FileModel):
                 a is b for a, b in zip(self._built[0], sources, strict=True)):
             return self._built[1]
         if self.sketch is not None:
-            mech = self.sketch.build([self.driver])
+            mech = self.sketch.build(self.drivers)
             if self.analysis.branches:  # explicit branches override the drawing's
                 mech = mech.with_branches(**self.analysis.branches)
             self._built = (sources, mech)
@@ -973,14 +1115,30 @@ class PlanarFile(FileModel):
         frame = Body(self.frame.name, self.frame.points)
         bodies = tuple(b.build() for b in self.body)
         joints = tuple(j.build() for j in self.joint)
-        mech = Mechanism(frame, bodies, joints, self.driver.build(),
+        drivers: Any = tuple(d.build() for d in self.drivers)
+        mech = Mechanism(frame, bodies, joints, drivers[0] if len(drivers) == 1 else drivers,
                          dict(self.analysis.branches))
         self._built = (sources, mech)
         return mech
 
     def positions(self) -> np.ndarray:
-        """Driver positions [rad, or m for a linear driver]."""
-        kind = "angle" if self.driver.type == "crank" else "length"
+        """Driver positions [rad, or m for a linear driver]: shape (n,) for one driver (from
+        ``[analysis] start`` to ``stop``); (n_drivers, n) for several, each driver from its
+        own ``start`` to ``stop``."""
+        drivers = self.drivers
+        if len(drivers) > 1:
+            given = [k for k in ("start", "stop") if k in self.analysis.model_fields_set]
+            if given:
+                raise ParameterError(f"analysis.{given[0]}", getattr(self.analysis, given[0]),
+                                     "is the one driver's; with several drivers each "
+                                     "[[driver]] gives its own start and stop")
+            spans = [d.span(f"driver.{i}") for i, d in enumerate(drivers)]
+            return np.array([np.linspace(a, b, self.analysis.n) for a, b in spans])
+        for key in ("start", "stop"):
+            if getattr(drivers[0], key) is not None:
+                raise ParameterError(f"driver.{key}", getattr(drivers[0], key),
+                                     "give the one driver's range as [analysis] start, stop")
+        kind = "angle" if drivers[0].type == "crank" else "length"
         lo = to_si(self.analysis.start, kind, "analysis.start")
         hi = to_si(self.analysis.stop, kind, "analysis.stop")
         for key, v, si in (("analysis.start", self.analysis.start, lo),
@@ -1009,7 +1167,7 @@ class PlanarFile(FileModel):
             (``load.<i>.point``), ... (checked when the file is read).
         """
         self._check_loads()
-        linear = self.driver.type == "linear"
+        linear = self.drivers[0].type == "linear"
         return [*(ld.build(phi1, i, linear) for i, ld in enumerate(self.load)),
                 *(sp.build(i) for i, sp in enumerate(self.spring)),
                 *(dp.build(i) for i, dp in enumerate(self.damper))]
@@ -1041,9 +1199,13 @@ class PlanarFile(FileModel):
         diagrams; checked when the file loads, so that the error carries the file's name and
         its keys); names are unique."""
         mech = self.mechanism()
-        linear = self.driver.type == "linear"
+        linear = self.drivers[0].type == "linear"
         moving = {b.name: b for b in mech.bodies}
         for i, ld in enumerate(self.load):
+            if ld.phi_range is not None and len(self.drivers) > 1:
+                raise ParameterError(f"load.{i}.phi_range", list(ld.phi_range),
+                                     "is a range of the one driver's positions; with several "
+                                     "drivers a load acts over the whole path")
             if ld.body is not None and ld.body not in moving:
                 why = ("loads act on moving bodies, not on the frame"
                        if ld.body == mech.frame.name else "no such moving body")

@@ -248,9 +248,14 @@ def _file_key(data: dict[str, Any], key: str) -> tuple[str, Any] | None:
             if isinstance(entry, dict) and entry.get("name") == parts[0] and len(parts) > 1:
                 try:
                     return f"{table}.{i}.{'.'.join(parts[1:])}", _lookup(entry, parts[1:])
-                except KeyError:
-                    return None
+                except KeyError:  # a key the entry leaves out (a default that is wrong here)
+                    return (f"{table}.{i}.{'.'.join(parts[1:])}", _ABSENT) if len(parts) == 2 \
+                        else None
     return None
+
+
+#: The value of a key an entry of the file does not give (:func:`_file_key`).
+_ABSENT = object()
 
 
 def _written(raw: Any) -> str | None:
@@ -281,6 +286,8 @@ def _as_written(err: FileFormatError, data: dict[str, Any],
     if file_key != err.key:  # the entry's name: body.0.length (crank)
         file_key = f"{file_key} ({err.key.split('.')[0].split(' ')[-1]})"
     msg = err.problem
+    if raw is _ABSENT:  # its default does not do here: "required", not "0 is invalid"
+        return FileFormatError(err.file, file_key, f"is required here: {cause.limit}")
     written = _written(raw)
     if isinstance(raw, list) and not isinstance(cause.value, list | tuple):
         written = None  # the key names a list and the message one of its items: keep it

@@ -243,9 +243,6 @@ def friction_moment(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike, eps1: A
         return np.zeros(phi.shape)
     kin = kinematics(mech, phi, omega1, eps1)
     dyn = inverse_dynamics(kin, gravity=gravity, loads=load_list(loads, phi))
-    if np.any(dyn.locked):
-        bad = phi[np.asarray(dyn.locked, dtype=bool)]
-        raise ParameterError("mechanism", "with friction", f"self-locks at phi1 = "
-                             f"{np.degrees(bad[0]):.4g} deg ({bad.size} positions): no driving "
-                             "torque moves it there")
+    dyn.require_no_self_locking("the machine's motion needs the driving torque at every "
+                                "position of the turn")
     return np.asarray(dyn.Q_frictionless - dyn.Q, dtype=float)

@@ -89,6 +89,7 @@ from linkwork.planar.model import (
     Body,
     Crank,
     Drawing,
+    GearPair,
     Joint,
     Linear,
     Mechanism,
@@ -102,7 +103,7 @@ from linkwork.planar.model import (
     fourbar_mechanism,
 )
 from linkwork.planar.self_locking import WorkingRange, working_range
-from linkwork.planar.sketch import LinkMass, Slider, Slot, sketch
+from linkwork.planar.sketch import Cylinder, LinkMass, Slider, Slot, sketch
 from linkwork.planar.structure import Group, Structure, analyse, mobility
 
 __all__ = [
@@ -110,11 +111,13 @@ __all__ = [
     "Body",
     "BodyTorque",
     "Crank",
+    "Cylinder",
     "Damper",
     "DeadCentre",
     "Drag",
     "Drawing",
     "Dynamics",
+    "GearPair",
     "Group",
     "Joint",
     "Kinematics",

@@ -40,11 +40,11 @@ from numpy.typing import ArrayLike
 
 from linkwork.checks import require_finite
 from linkwork.cycles import mean_over_range
-from linkwork.errors import ParameterError
+from linkwork.errors import ParameterError, angle_ranges, format_angle_ranges
 from linkwork.planar import forces, friction
 from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
 from linkwork.planar.inertia import inertia_wrenches
-from linkwork.planar.joints import ResolvedJoint
+from linkwork.planar.joints import ResolvedJoint, row_entries
 from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
 from linkwork.planar.model import Mechanism
 from linkwork.planar.rates import RatePar, batched_solve, closure_rows, cramer, group_pars
@@ -76,8 +76,9 @@ class Dynamics(Result):
         Couple exerted by ``a`` on ``b`` [N m] (prismatic joints; zero for the others).
     px, py : ndarray (n_joints, n)
         Point of application of the reaction force [m].
-    Q : ndarray (n,)
-        Driving torque [N m] (or force [N] for a Linear driver) on the driver joint's body b.
+    Q : ndarray (n,), or (n_drivers, n) for several drivers
+        Driving torque [N m] (or force [N] for a Linear driver) on the driver joint's body b;
+        one row per driver in the order of ``Mechanism.drivers``.
     shaking_fx, shaking_fy : ndarray (n,)
         Force exerted by the moving bodies on the frame [N].
     shaking_m : ndarray (n,)
@@ -151,7 +152,7 @@ class Dynamics(Result):
         "friction_power": "W", "locked": "1", "kappa": "", "load_power": "W", "V": "J"}
 
     def __post_init__(self) -> None:
-        du = self.kinematics.mechanism.driver.field_units  # a linear driver: slide, force
+        du = self.kinematics.mechanism.driver_units  # a linear driver: slide, force
         units = {k: du[k] for k in ("phi1", "Q")}
         units["Q_frictionless"] = du["Q"]
         if any(self.units[k] != v for k, v in units.items()):
@@ -180,14 +181,28 @@ class Dynamics(Result):
 
     @property
     def power(self) -> Arr:
-        """Driving power ``Q * omega1`` [W]."""
+        """Driving power ``Q * omega1`` [W] (per driver, shape (n_drivers, n), with several)."""
         return self.Q * self.kinematics.omega1
 
     @property
-    def Q_mean(self) -> float:
+    def total_power(self) -> Arr:
+        """The power of all drivers together [W], shape (n,)."""
+        p = self.power
+        return p if p.ndim == 1 else np.sum(p, axis=0)
+
+    @property
+    def Q_mean(self) -> Any:
         """Mean driving torque (force) over the analysed range: the work of ``Q`` over the
-        range of the driver divided by it [N m] ([N]); :func:`linkwork.cycles.mean_over_range`."""
-        return mean_over_range(self.kinematics.phi1, self.Q)
+        range of the driver divided by it [N m] ([N]); :func:`linkwork.cycles.mean_over_range`.
+        With several drivers an array, one per driver (NaN for a driver that does not move)."""
+        phi, Q = self.kinematics.phi1, self.Q
+        if Q.ndim == 1:
+            return mean_over_range(phi, Q)
+        out = np.full(Q.shape[0], np.nan)
+        for k in range(Q.shape[0]):
+            if phi[k, -1] != phi[k, 0]:
+                out[k] = mean_over_range(phi[k], Q[k])
+        return out
 
     @property
     def has_friction(self) -> bool:
@@ -197,48 +212,58 @@ class Dynamics(Result):
     @property
     def efficiency(self) -> Arr:
         """Instantaneous efficiency ``1 - sum(friction_power) / (Q omega1)`` [-]: the useful
-        power (driving power less the friction losses) over the driving power, where the driver
-        delivers power (``Q omega1 > 0``); NaN (undefined, written empty/null) where it
-        delivers none or takes power back, and at self-locking positions."""
-        p = self.power
+        power (driving power less the friction losses) over the driving power (of all drivers
+        together), where the drivers deliver power (``Q omega1 > 0``); NaN (undefined, written
+        empty/null) where they deliver none or take power back, and at self-locking
+        positions."""
+        p = self.total_power
         loss = np.sum(self.friction_power, axis=0)
         with np.errstate(all="ignore"):
             return np.where(p > 0, 1.0 - loss / np.where(p > 0, p, 1.0), np.nan)
+
+    def _clock(self) -> tuple[Arr, Arr, float]:
+        """The driver coordinate and speed that give time along the positions (the first
+        driver that moves with a speed of one sign; several drivers), and the order: +1 if the
+        positions are listed in the order the driver passes them in time (``omega1 *
+        (phi1[-1] - phi1[0]) > 0``), -1 if in the reverse order, 0 if undefined (fewer than 2
+        positions, or the driver stops or reverses)."""
+        phi = np.atleast_2d(self.phi1)
+        w1 = np.broadcast_to(np.atleast_2d(np.asarray(self.kinematics.omega1, dtype=float)),
+                             phi.shape)
+        for k in range(phi.shape[0]):
+            span = float(phi[k, -1] - phi[k, 0]) if phi.shape[1] >= 2 else 0.0
+            if span != 0.0 and (np.all(w1[k] > 0) or np.all(w1[k] < 0)):
+                return phi[k], w1[k], float(np.sign(w1[k, 0] * span))
+        return phi[0], w1[0], 0.0
 
     @property
     def friction_losses(self) -> Arr:
         """Work dissipated in each joint over the analysed range [J] (n_joints,): the integral
         of ``friction_power`` over time, ``trapezoid(friction_power / omega1, phi1)`` (taken
-        in the order the driver passes the positions); NaN (undefined) if the driver stops or
-        reverses (``omega1`` zero or of both signs) or a position is locked or unassembled."""
-        w1 = np.asarray(self.kinematics.omega1, dtype=float)
+        in the order the driver passes the positions; with several drivers the time of the
+        first that moves); NaN (undefined) if the driver stops or reverses (``omega1`` zero
+        or of both signs) or a position is locked or unassembled."""
+        phi, w1, order = self._clock()
         nj = len(self.joints)
-        order = self._time_order()
         if order == 0:
             return np.full(nj, np.nan)
         with np.errstate(all="ignore"):
-            return order * np.asarray(np.trapezoid(self.friction_power / w1, self.phi1,
-                                                   axis=-1))
+            return order * np.asarray(np.trapezoid(self.friction_power / w1, phi, axis=-1))
 
     def _time_order(self) -> float:
-        """+1 if the positions are listed in the order the driver passes them in time
-        (``omega1 * (phi1[-1] - phi1[0]) > 0``), -1 if in the reverse order, 0 if undefined
-        (fewer than 2 positions, or the driver stops or reverses)."""
-        w1 = np.broadcast_to(np.asarray(self.kinematics.omega1, dtype=float), self.phi1.shape)
-        span = float(self.phi1[-1] - self.phi1[0]) if self.phi1.size >= 2 else 0.0
-        if span == 0.0 or not (np.all(w1 > 0) or np.all(w1 < 0)):
-            return 0.0
-        return float(np.sign(w1[0] * span))
+        """+1 if the positions are listed in the order the driver passes them in time, -1 if
+        in the reverse order, 0 if undefined (see :meth:`_clock`)."""
+        return self._clock()[2]
 
     @property
     def driving_work(self) -> float:
         """Work of the driver over the analysed range, in the order the driver passes the
-        positions [J]: ``+-trapezoid(Q, phi1)`` (NaN if some position is locked or
-        unassembled, or the driver stops or reverses)."""
+        positions [J]: ``+-trapezoid(Q, phi1)``, summed over the drivers (NaN if some
+        position is locked or unassembled, or the driver stops or reverses)."""
         order = self._time_order()
         if order == 0:
             return float("nan")
-        return order * float(np.trapezoid(self.Q, self.phi1))
+        return order * float(np.sum(np.trapezoid(self.Q, self.phi1, axis=-1)))
 
     @property
     def efficiency_cycle(self) -> float | None:
@@ -269,6 +294,24 @@ class Dynamics(Result):
             else:
                 i += 1
         return out
+
+    def require_no_self_locking(self, needs: str) -> None:
+        """A ParameterError naming the joints' friction coefficients and the self-locking
+        ranges if the mechanism self-locks at some position: for a computation that ``needs``
+        the driving load everywhere (said in the message)."""
+        if not np.any(self.locked):
+            return
+        mech = self.kinematics.mechanism
+        coefs = ", ".join(f"{getattr(j, 'friction', 0.0):g} ({j.name})" for j in mech.joints
+                          if j.has_friction)
+        name, unit = mech.drivers[0].coordinate    # several drivers: over the first's
+        p = np.atleast_2d(np.asarray(self.phi1, dtype=float))[0]
+        order = np.argsort(p, kind="stable")  # positions in any order (several grids)
+        ranges = angle_ranges(p[order], np.asarray(self.locked)[order])
+        raise ParameterError(
+            "friction", coefs, f"makes the mechanism self-lock at {name} in "
+            f"{format_angle_ranges(ranges, unit)} (no finite driving load moves it there); "
+            f"{needs} (linkwork analyze shows the self-locking ranges)")
 
     def _scene(self) -> Any:
         """The mechanism drawn over the positions of its kinematics."""
@@ -358,54 +401,74 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     pyr = np.zeros((nj, n))
     plan = mech.plan
     for ji, rj in enumerate(plan.joints):
-        pxr[ji], pyr[ji] = st.wpt(rj.ib, rj.pb)
-    if plan.newton:
+        pxr[ji], pyr[ji] = rj.joint.reaction_point(st, rj)
+    if friction.has_separation(plan) and not friction.has_friction(plan):
+        fxr, fyr, mzr, Q = _separated_reactions(plan, st, f, kin.valid)
+    elif plan.global_reactions:
         fxr, fyr, mzr, Q = _global_reactions(plan, st, f, kin.valid)
     else:
         with np.errstate(all="ignore"):
             fxr, fyr, mzr, Q = _group_reactions(plan, st, f)
     fric = _with_friction(plan, st, f, kin, Q) if friction.has_friction(plan) else None
+    sfx, sfy, sm = _shaking(plan, st, mech.frame.name, (fxr, fyr, mzr, Q), pxr, pyr, ab,
+                            on_frame)
     if fric is not None:
         fxr, fyr, mzr, Q = fric.reactions
-    # shaking force and moment on the frame
-    sfx = np.zeros(n)
-    sfy = np.zeros(n)
-    sm = np.zeros(n)
-    fr = mech.frame.name
-    for ji, rj in enumerate(plan.joints):
-        j = rj.joint
-        if fr not in (j.a, j.b):
-            continue
-        sgn = -1.0 if j.a == fr else 1.0
-        fx, fy, mz = sgn * fxr[ji], sgn * fyr[ji], sgn * mzr[ji]
-        if rj.drive and plan.driver_kind == "linear":  # the driving force along the guide
-            ux, uy = st.rot(rj.ia, rj.u_loc)
-            fx = fx + sgn * Q * ux
-            fy = fy + sgn * Q * uy
-        sfx += fx
-        sfy += fy
-        sm += (pxr[ji] - ab[0]) * fy - (pyr[ji] - ab[1]) * fx + mz
-        if rj.drive and plan.driver_kind != "linear":  # the motor's reaction torque
-            sm += sgn * Q
-    for w in on_frame:
-        sfx += w.fx
-        sfy += w.fy
-        sm += (w.px - ab[0]) * w.fy - (w.py - ab[1]) * w.fx + w.mz
+        # friction is internal to the machine: the shaking loads equal the frictionless ones,
+        # which stay defined where it self-locks (reactions and Q undefined there)
+        with_f = _shaking(plan, st, mech.frame.name, fric.reactions, pxr, pyr, ab, on_frame)
+        sfx, sfy, sm = (np.where(fric.locked, s0, s1)
+                        for s0, s1 in zip((sfx, sfy, sm), with_f, strict=True))
     T = kinetic_energy(kin)
+    one = mech.n_drivers == 1  # one driver: Q of shape (n,), as always
     if fric is None:  # no joint dissipates
         zeros = np.zeros((nj, n))
         fric = _Friction((fxr, fyr, mzr, Q), Q, friction.FrictionSolution(
             np.zeros((n, 0)), zeros, zeros, zeros, np.ones(n, dtype=bool), np.ones(n), 0),
             zeros, np.zeros(n, dtype=bool), False)
     return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), fxr, fyr, mzr, pxr, pyr,
-                    Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]),
-                    Q_frictionless=fric.Q0, friction_fx=fric.sol.ffx,
+                    Q[0] if one else Q, sfx, sfy, sm, (ab[0], ab[1]), T, (g[0], g[1]),
+                    Q_frictionless=fric.Q0[0] if one else fric.Q0, friction_fx=fric.sol.ffx,
                     friction_fy=fric.sol.ffy, friction_mz=fric.sol.fmz,
                     friction_power=fric.power, locked=fric.locked, kappa=fric.sol.kappa,
                     friction_iterations=fric.sol.iterations,
                     friction_static=fric.static, loads=applied,
                     load_power=np.array([ap.power for ap in applied]).reshape(-1, n),
                     V=sum((ap.energy for ap in applied), np.zeros(n)))
+
+
+def _shaking(plan: Plan, st: State, fr: str, reactions: tuple[Arr, Arr, Arr, Arr],
+             pxr: Arr, pyr: Arr, ab: tuple[float, ...], on_frame: list[forces.Wrench]
+             ) -> tuple[Arr, Arr, Arr]:
+    """Shaking force (x, y) and moment about ``ab`` on the frame ``fr``: the frame joints'
+    reactions (by the moving bodies on the frame), the motors' reactions (``Q`` of shape
+    (n_drivers, n)) and the loads' reactions on the frame."""
+    fxr, fyr, mzr, Q = reactions
+    kinds = plan.driver_kinds
+    sfx = np.zeros(st.n)
+    sfy = np.zeros(st.n)
+    sm = np.zeros(st.n)
+    for ji, rj in enumerate(plan.joints):
+        j = rj.joint
+        if fr not in (j.a, j.b):
+            continue
+        sgn = -1.0 if j.a == fr else 1.0
+        fx, fy, mz = sgn * fxr[ji], sgn * fyr[ji], sgn * mzr[ji]
+        linear = rj.drive and kinds[rj.drive_index] == "linear"
+        if linear:  # the driving force along the guide
+            ux, uy = st.rot(rj.ia, rj.u_loc)
+            fx = fx + sgn * Q[rj.drive_index] * ux
+            fy = fy + sgn * Q[rj.drive_index] * uy
+        sfx += fx
+        sfy += fy
+        sm += (pxr[ji] - ab[0]) * fy - (pyr[ji] - ab[1]) * fx + mz
+        if rj.drive and not linear:  # the motor's reaction torque
+            sm += sgn * Q[rj.drive_index]
+    for w in on_frame:
+        sfx += w.fx
+        sfy += w.fy
+        sm += (w.px - ab[0]) * w.fy - (w.py - ab[1]) * w.fx + w.mz
+    return sfx, sfy, sm
 
 
 @dataclass(frozen=True)
@@ -431,11 +494,12 @@ def _with_friction(plan: Plan, st: State, f: Arr, kin: Kinematics, Q0: Arr) -> _
     static = width == (0.0, 0.0)
     sol = friction.solve(plan, st, JT, f, lam0, good, meta, width)
     fxr, fyr, mzr, Q = _split(plan, st, sol.lam, meta)
-    fxr, fyr, mzr = fxr + sol.ffx, fyr + sol.ffy, mzr + sol.fmz
+    sx, sy = friction.separating_forces(plan, st, sol.lam, meta)
+    fxr, fyr, mzr = fxr + sol.ffx + sx, fyr + sol.ffy + sy, mzr + sol.fmz
     locked = good & ~(sol.converged & (sol.kappa > 0))
     for arr in (fxr, fyr, mzr):
         arr[:, locked] = np.nan
-    Q = np.where(locked, np.nan, Q)
+    Q = np.where(locked[None, :], np.nan, Q)
     power = np.zeros((len(plan.joints), st.n))
     for rj in plan.joints:
         if rj.joint.has_friction:
@@ -455,13 +519,13 @@ def _constraint_jacobian(plan: Plan, st: State) -> tuple[Arr, list[tuple[Resolve
     meta: list[tuple[ResolvedJoint, str]] = []  # (joint, row kind)
     r = 0
     for rj in plan.joints:
-        rows = rj.joint.constraint_rows(st, rj, need_gamma=False)
+        rows = rj.joint.equilibrium_rows(st, rj)
         ia, ib = rj.ia, rj.ib
         for k, row in enumerate(rows):
-            for body, key in ((ia, "ja"), (ib, "jb")):
+            for body, coef in row_entries(ia, ib, row):
                 if body > 0:
                     for comp in range(3):
-                        J[:, r, 3 * body - 3 + comp] += row[key][comp]
+                        J[:, r, 3 * body - 3 + comp] += coef[comp]
             meta.append((rj, "drive" if row.get("drive") else rj.joint.row_kinds[k]))
             r += 1
     return J, meta
@@ -475,17 +539,31 @@ def _global_reactions(plan: Plan, st: State, f: Arr, good: Arr
     return _split(plan, st, lam, meta)
 
 
+def _separated_reactions(plan: Plan, st: State, f: Arr, good: Arr
+                         ) -> tuple[Arr, Arr, Arr, Arr]:
+    """The reactions with the separating forces of gear pairs (no friction): the tooth force
+    along the line of action."""
+    J, meta = _constraint_jacobian(plan, st)
+    JT = np.swapaxes(J, 1, 2)
+    lam0 = batched_solve(JT, f, good)
+    lam = friction.separated(plan, st, JT, f, lam0, good, meta)
+    fxr, fyr, mzr, Q = _split(plan, st, lam, meta)
+    sx, sy = friction.separating_forces(plan, st, lam, meta)
+    return fxr + sx, fyr + sy, mzr, Q
+
+
 def _split(plan: Plan, st: State, lam: Arr, meta: list[tuple[ResolvedJoint, str]]
            ) -> tuple[Arr, Arr, Arr, Arr]:
-    """The reactions (fx, fy, mz by a on b) and the driving load Q the multipliers carry."""
+    """The reactions (fx, fy, mz by a on b) and the driving loads Q (n_drivers, n) the
+    multipliers carry."""
     n = st.n
     nj = len(plan.joints)
     out = {"fx": np.zeros((nj, n)), "fy": np.zeros((nj, n)), "mz": np.zeros((nj, n))}
-    Q = np.zeros(n)
+    Q = np.zeros((len(plan.drivers), n))
     for r, (rj, kind) in enumerate(meta):
         lr = lam[:, r]
         if kind == "drive":  # the driver's row: its torque (force) on body b
-            Q = -lr
+            Q[rj.drive_index] = -lr
             continue
         for key, v in rj.joint.reaction_components(st, rj, kind, lr).items():
             out[key][rj.index] += v
@@ -502,14 +580,13 @@ def _group_reactions(plan: Plan, st: State, f: Arr) -> tuple[Arr, Arr, Arr, Arr]
     opposite is added to the known body it acts on. The driver (a crank's torque about its
     pivot, a linear driver's force along its guide) balances its body's motion along the joint.
     """
-    linear = plan.driver_kind == "linear"
     n = st.n
     nb = plan.nb
     nj = len(plan.joints)
     fxr = np.zeros((nj, n))
     fyr = np.zeros((nj, n))
     mzr = np.zeros((nj, n))
-    Q = np.zeros(n)
+    Q = np.zeros((len(plan.drivers), n))
     # generalised forces with moments about the world origin
     Fx = [np.zeros(n)] + [f[:, 3 * i - 3].copy() for i in range(1, nb)]
     Fy = [np.zeros(n)] + [f[:, 3 * i - 2].copy() for i in range(1, nb)]
@@ -545,10 +622,11 @@ def _group_reactions(plan: Plan, st: State, f: Arr) -> tuple[Arr, Arr, Arr, Arr]
             sgn = 1.0 if b == rj.ib else -1.0
             par = RatePar(st, rj, b, 0)
             other = rj.ia if sgn > 0 else rj.ib
-            if not linear:  # a torque about the pivot
+            k = rj.drive_index
+            if plan.driver_kinds[k] != "linear":  # a torque about the pivot
                 A = par.A
                 torque = -(M0[b] - (A[0] * Fy[b] - A[1] * Fx[b]))
-                Q = sgn * torque
+                Q[k] = sgn * torque
                 M0[b] = M0[b] + torque
                 M0[other] = M0[other] - torque
                 record(rj, b, -Fx[b], -Fy[b], 0.0, A[0], A[1])
@@ -556,7 +634,7 @@ def _group_reactions(plan: Plan, st: State, f: Arr) -> tuple[Arr, Arr, Arr, Arr]
                 P = st.wpt(rj.ib, rj.pb)
                 ux, uy = par.u
                 drive = -(Fx[b] * ux + Fy[b] * uy)
-                Q = sgn * drive
+                Q[k] = sgn * drive
                 apply(b, drive * ux, drive * uy, P[0], P[1])
                 apply(other, -drive * ux, -drive * uy, P[0], P[1])
                 ext_reaction(par, rj)

@@ -15,7 +15,7 @@ import numpy as np
 
 from linkwork.planar.rates import group_pars, vel_at
 from linkwork.planar.state import Arr, State
-from linkwork.planar.structure import Plan, PlanGroup
+from linkwork.planar.structure import HUNG, Plan, PlanGroup
 
 __all__ = ["DeadCentre", "dead_centres_of", "group_rate", "transmission_angles_of"]
 
@@ -42,7 +42,7 @@ def transmission_angles_of(plan: Plan, st: State) -> dict[str, tuple[Arr, Arr]]:
     """
     out: dict[str, tuple[Arr, Arr]] = {}
     for g in plan.groups:
-        if g.kind in ("driver", "newton"):
+        if g.kind not in HUNG:
             continue
         _pars, rc, unk = group_pars(st, g, plan.nb)
         out_par = unk[-1]
@@ -107,7 +107,7 @@ def dead_centres_of(plan: Plan, st: State, q: Arr, resolve: Resolve | None
     interpolation only). See :func:`linkwork.planar.kinematics.dead_centres`."""
     found: list[DeadCentre] = []
     for g in plan.groups:
-        if g.kind in ("driver", "newton"):
+        if g.kind not in HUNG:
             continue
         b, rate = group_rate(plan, st, g)
         tiny = 1e-12 * float(np.nanmax(np.abs(rate))) if np.isfinite(rate).any() else 0.0

@@ -159,6 +159,10 @@ class LoadDiagram:
         """Refuse a coordinate the mechanism does not have (a joint that is not prismatic or
         pin-in-slot) and a crank-angle table longer than one turn; ``key`` prefixes the names."""
         if self.over == "driver":
+            if mech.n_drivers > 1:
+                raise ParameterError(f"{key}.over", "driver", f"the mechanism has "
+                                     f"{mech.n_drivers} drivers: a diagram runs over one "
+                                     "coordinate, give a slide (a prismatic joint) instead")
             span = self.position[-1] - self.position[0]
             if isinstance(mech.driver, Crank) and span > 2 * math.pi * (1 + 1e-12):
                 raise ParameterError(f"{key}.position", f"{math.degrees(span):.6g} deg span",

@@ -61,6 +61,9 @@ __all__ = [
     "TOL",
     "FrictionSolution",
     "has_friction",
+    "has_separation",
+    "separated",
+    "separating_forces",
     "sign_widths",
     "solve",
 ]
@@ -81,14 +84,24 @@ def has_friction(plan: Plan) -> bool:
     return any(rj.joint.has_friction for rj in plan.joints)
 
 
+def has_separation(plan: Plan) -> bool:
+    """Some joint's reaction has a part set by the magnitude of its multiplier (a gear pair's
+    separating force)."""
+    return any(rj.joint.has_separation for rj in plan.joints)
+
+
 def sign_widths(plan: Plan, omega1: Arr) -> tuple[float, float]:
-    """Widths of the smooth sign: rotation [rad/s] and sliding [m/s] (see the module doc)."""
-    top = float(np.max(np.abs(omega1), initial=0.0)) if np.size(omega1) else 0.0
+    """Widths of the smooth sign: rotation [rad/s] and sliding [m/s] (see the module doc); with
+    several drivers from the fastest (a slide speed counted as a rotation over the mechanism's
+    length scale)."""
+    L = plan.length_scale
+    w = np.atleast_2d(np.asarray(omega1, dtype=float))
+    top = 0.0
+    for k, kind in enumerate(plan.driver_kinds or (plan.driver_kind,)):
+        v = float(np.max(np.abs(w[k]), initial=0.0)) if w[k].size else 0.0
+        top = max(top, v / L if kind == "linear" else v)  # linear: omega1 a slide speed [m/s]
     if not np.isfinite(top):
         top = 0.0
-    L = plan.length_scale
-    if plan.driver_kind == "linear":  # omega1 is a slide speed [m/s]
-        return SIGN_WIDTH * top / L, SIGN_WIDTH * top
     return SIGN_WIDTH * top, SIGN_WIDTH * top * L
 
 
@@ -112,10 +125,11 @@ class FrictionSolution:
 
 
 def _joint_rows(plan: Plan, meta: Meta) -> list[tuple[ResolvedJoint, list[tuple[int, str]]]]:
-    """The joints with friction and their multiplier rows (drive rows excluded)."""
+    """The joints with friction (or a separating force) and their multiplier rows (drive rows
+    excluded)."""
     out = []
     for rj in plan.joints:
-        if rj.joint.has_friction:
+        if rj.joint.has_friction or rj.joint.has_separation:
             rows = [(r, kind) for r, (rj2, kind) in enumerate(meta)
                     if rj2 is rj and kind != "drive"]
             out.append((rj, rows))
@@ -123,8 +137,10 @@ def _joint_rows(plan: Plan, meta: Meta) -> list[tuple[ResolvedJoint, list[tuple[
 
 
 def _wrenches(st: State, lam: Arr, jrows: list[tuple[ResolvedJoint, list[tuple[int, str]]]],
-              width: tuple[float, float]) -> list[tuple[Arr, Arr, Arr]]:
-    """Friction (Fx, Fy, Mz) by a on b of every joint with friction."""
+              width: tuple[float, float], separation: bool = True
+              ) -> list[tuple[Arr, Arr, Arr]]:
+    """Friction (Fx, Fy, Mz) by a on b of every joint in ``jrows`` (zero for one without),
+    with its separating force added (``separation``)."""
     out = []
     n = lam.shape[0]
     for rj, rows in jrows:
@@ -132,8 +148,41 @@ def _wrenches(st: State, lam: Arr, jrows: list[tuple[ResolvedJoint, list[tuple[i
         for r, kind in rows:
             for key, v in rj.joint.reaction_components(st, rj, kind, lam[:, r]).items():
                 comp[key] = comp[key] + v
-        out.append(rj.joint.friction_wrench(st, rj, comp["fx"], comp["fy"], comp["mz"], width))
+        j = rj.joint
+        wr = (j.friction_wrench(st, rj, comp["fx"], comp["fy"], comp["mz"], width)
+              if j.has_friction else (np.zeros(n), np.zeros(n), np.zeros(n)))
+        if separation and j.has_separation:
+            sx, sy = j.separation(st, rj, comp["fx"], comp["fy"])
+            wr = (wr[0] + sx, wr[1] + sy, wr[2])
+        out.append(wr)
     return out
+
+
+def separating_forces(plan: Plan, st: State, lam: Arr, meta: Meta) -> tuple[Arr, Arr]:
+    """The separating forces (fx, fy) on b of every joint (n_joints, n) for the multipliers
+    ``lam`` (zero for the joints without)."""
+    nj, n = len(plan.joints), st.n
+    sfx, sfy = np.zeros((nj, n)), np.zeros((nj, n))
+    for rj, rows in _joint_rows(plan, meta):
+        if rj.joint.has_separation:
+            fx, fy = np.zeros(n), np.zeros(n)
+            for r, kind in rows:
+                comp = rj.joint.reaction_components(st, rj, kind, lam[:, r])
+                fx = fx + comp.get("fx", 0.0)
+                fy = fy + comp.get("fy", 0.0)
+            sfx[rj.index], sfy[rj.index] = rj.joint.separation(st, rj, fx, fy)
+    return sfx, sfy
+
+
+def separated(plan: Plan, st: State, JT: Arr, f: Arr, lam0: Arr, good: Arr, meta: Meta
+              ) -> Arr:
+    """The multipliers with the separating forces of frictionless joints: they do no work, so
+    they leave the multipliers they depend on unchanged and one more linear solve, ``J^T lam
+    = f + G(lam0)``, gives the others."""
+    jrows = _joint_rows(plan, meta)
+    G = _generalised(st, f.shape[1], jrows, _wrenches(st, np.nan_to_num(lam0), jrows,
+                                                       (0.0, 0.0)))
+    return batched_solve(JT, f + G, good)
 
 
 def _generalised(st: State, size: int, jrows: list[tuple[ResolvedJoint, list[tuple[int, str]]]],
@@ -142,7 +191,7 @@ def _generalised(st: State, size: int, jrows: list[tuple[ResolvedJoint, list[tup
     the wrench on body b, its opposite on body a, at the joint's reaction point."""
     G = np.zeros((st.n, size))
     for (rj, _), (Fx, Fy, Mz) in zip(jrows, wr, strict=True):
-        Px, Py = st.wpt(rj.ib, rj.pb)
+        Px, Py = rj.joint.reaction_point(st, rj)
         for body, sgn in ((rj.ib, 1.0), (rj.ia, -1.0)):
             if body == 0:
                 continue
@@ -201,7 +250,7 @@ def solve(plan: Plan, st: State, JT: Arr, f: Arr, lam0: Arr, good: Arr, meta: Me
         det0 = np.linalg.det(np.where(converged[:, None, None], JT, np.eye(size)))
         kappa = np.where(converged, det_aug / det0, np.nan)
     lam[~converged] = np.nan
-    wr = _wrenches(st, lam, jrows, width)
+    wr = _wrenches(st, lam, jrows, width, separation=False)
     nj = len(plan.joints)
     ffx, ffy, fmz = (np.zeros((nj, n)) for _ in range(3))
     for (rj, _), (Fx, Fy, Mz) in zip(jrows, wr, strict=True):

@@ -21,6 +21,7 @@ so a new joint type is one class here plus its tests.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any, ClassVar, Protocol
@@ -28,10 +29,11 @@ from typing import Any, ClassVar, Protocol
 import numpy as np
 
 from linkwork.checks import require_number, require_point
-from linkwork.errors import ParameterError, StructureError
+from linkwork.errors import AssemblyError, ParameterError, StructureError
 from linkwork.planar.state import Arr, State, Vec
 
-__all__ = ["Joint", "PinInSlot", "Prismatic", "ResolvedJoint", "Revolute", "smooth_sign"]
+__all__ = ["GearPair", "Joint", "PinInSlot", "Prismatic", "ResolvedJoint", "Revolute",
+           "row_entries", "smooth_sign"]
 
 Point = tuple[float, float]
 #: a constraint row: ``ja``, ``jb`` (d/dx, d/dy, d/dtheta of bodies a and b), ``gam``
@@ -79,7 +81,9 @@ class Hung(Protocol):
 class ResolvedJoint:
     """A joint of a compiled plan: the joint, its index in ``Mechanism.joints``, the indices of
     its bodies, its local geometry (point on a, point on b [m], line angle in a [rad] and the
-    line's unit direction in a) and whether the driver acts on it."""
+    line's unit direction in a), whether a driver acts on it and which (``drive_index``: its
+    place in ``Mechanism.drivers``, -1 for none); a gear pair's carrier index ``ic`` and
+    ``params`` (r_a, r_b, s, offset)."""
 
     joint: Joint
     index: int
@@ -90,6 +94,9 @@ class ResolvedJoint:
     ang: float
     u_loc: tuple[float, float]
     drive: bool
+    drive_index: int = -1
+    ic: int = -1
+    params: tuple[float, ...] = ()
 
     def other(self, body: int) -> int:
         """The index of the joint's other body."""
@@ -141,11 +148,43 @@ class Joint:
             raise ParameterError(f"joint {self.name}.{key}", point, f"no such point of body "
                                  f"{body.name!r}; known: {sorted(body.points)}")
 
+    def carrier_of(self, frame: str) -> str | None:
+        """A third body the joint's constraint involves (a gear pair's carrier), or None."""
+        return None
+
+    def resolve(self, mech: Any) -> tuple[Point, Point, float, int, tuple[float, ...]]:
+        """Local geometry (point on a, point on b, line angle), a third body's index (-1: none)
+        and further parameters, given the whole mechanism (a gear pair finds its centres)."""
+        qa, pb, ang = self.local_geometry(mech.body(self.a), mech.body(self.b))
+        return qa, pb, ang, -1, ()
+
     # -- constraints ------------------------------------------------------------------------
     def constraint_rows(self, st: State, r: ResolvedJoint, need_gamma: bool = True
                         ) -> list[Row]:
         """The joint's constraint rows (and the driver's row when ``r.drive``)."""
         raise NotImplementedError
+
+    def equilibrium_rows(self, st: State, r: ResolvedJoint) -> list[Row]:
+        """The rows whose multipliers are the joint's reaction components (``J^T lambda``
+        = the applied loads): the constraint rows, unless the joint says otherwise (a gear
+        pair: the rolling of the pitch circles, whose multiplier is the tooth force)."""
+        return self.constraint_rows(st, r, need_gamma=False)
+
+    def reaction_point(self, st: State, r: ResolvedJoint) -> Vec:
+        """Where the reaction force acts: the point of b of the joint (a gear pair's pitch
+        point)."""
+        return st.wpt(r.ib, r.pb)
+
+    @property
+    def has_separation(self) -> bool:
+        """The reaction has a part that depends on the magnitude of the multiplier but does no
+        work (a gear pair's separating force)."""
+        return False
+
+    def separation(self, st: State, r: ResolvedJoint, fx: Arr, fy: Arr) -> tuple[Arr, Arr]:
+        """That part, a force on b at the reaction point, for the constraint force (fx, fy)."""
+        z = np.zeros(st.n)
+        return z, z
 
     def closure_rows(self, st: State, r: ResolvedJoint, pa_: Hung, pb_: Hung, n_unk: int,
                      level: str) -> list[ClosureRow]:
@@ -368,7 +407,8 @@ class Revolute(Joint):
              "res": res[1]}]
         if r.drive:
             rows.append({"ja": (zero, zero, -one), "jb": (zero, zero, one), "gam": zero,
-                         "drive": True, "res": st.T[ib] - st.T[ia]})
+                         "drive": True, "drive_index": r.drive_index,
+                         "res": st.T[ib] - st.T[ia]})
         return rows
 
     def closure_rows(self, st: State, r: ResolvedJoint, pa_: Hung, pb_: Hung, n_unk: int,
@@ -515,6 +555,7 @@ class _LineJoint(Joint):
         if r.drive:
             drive = line_row(ux, uy)
             drive["drive"] = True
+            drive["drive_index"] = r.drive_index
         return line_row(nx, ny), drive
 
     def constraint_rows(self, st: State, r: ResolvedJoint, need_gamma: bool = True
@@ -773,3 +814,246 @@ class PinInSlot(_LineJoint):
         sg = smooth_sign(slip, width[1])
         ft = -self.friction * np.abs(N) * sg
         return ft * ux, ft * uy, -self.radius * self.friction * N * sg
+
+
+def row_entries(ia: int, ib: int, row: Row) -> list[tuple[int, Any]]:
+    """The (body index, (d/dx, d/dy, d/dtheta)) entries of a constraint row: its bodies a and b
+    and, for a gear pair, its carrier (``"jc"``: (index, coefficients))."""
+    out = [(ia, row["ja"]), (ib, row["jb"])]
+    if "jc" in row:
+        out.append(row["jc"])
+    return out
+
+
+@dataclass(frozen=True)
+class GearPair(Joint):
+    """Gear pair (higher pair): gear ``b`` meshes with gear ``a``, both turning on ``carrier``.
+
+    Both gears are hinged to the carrier by revolute joints (their centres); ``carrier`` is a
+    moving arm (a planetary train) or, by default (None), the frame. The pair keeps the pitch
+    circles rolling: relative to the carrier, ``omega_b' = -s k omega_a'`` with ``k = r_a /
+    r_b`` and ``s = +1`` for an external pair (opposite senses), ``-1`` for an internal one
+    (``b`` the ring with internal teeth, ``a`` the pinion inside it: the same sense);
+    positions ``theta_b' = offset - s k theta_a'`` (angles relative to the carrier; ``offset``
+    the angle of b when a's is 0, taken from the drawing by :func:`~linkwork.planar.sketch`).
+
+    Parameters
+    ----------
+    name, a, b : str
+        Joint name, first gear, second gear (the ring of an internal pair).
+    teeth : (int, int), optional
+        Tooth numbers of a and b: the ratio; the pitch radii then follow from the distance of
+        the centres (``r_a + r_b`` or ``r_b - r_a``).
+    radii : (float, float), optional
+        Or the pitch radii [m]; the distance of the centres must equal their sum (difference).
+    internal : bool
+        An internal pair (b the ring).
+    carrier : str, optional
+        The body carrying both gears' pivots; default the frame.
+    pressure_angle : float
+        Pressure angle alpha [rad] of the teeth (default 20 deg): the tooth force acts along
+        the line of action, its radial (separating) part ``|F_t| tan(alpha)`` pushing the
+        gears apart, carried by their pivots.
+    efficiency : float
+        Mesh efficiency eta (0 < eta <= 1; 1: no losses): the power the driven gear receives
+        through the mesh is eta times what the driving gear gives (relative to the carrier);
+        the loss is a couple pair on the gears opposing their relative rotation
+        (``docs/friction.md``).
+    offset : float
+        Angle of b relative to the carrier when a's is 0 [rad].
+
+    Reaction (by a on b) at the pitch point P: the tangential tooth force ``F_t`` along the
+    common tangent t (the constraint's multiplier) plus the separating force ``|F_t|
+    tan(alpha)`` along the line of centres, i.e. the force along the line of action; with
+    eta < 1 also the loss couple ``mz``.
+    """
+
+    teeth: tuple[int, int] | None = None
+    radii: tuple[float, float] | None = None
+    internal: bool = False
+    carrier: str | None = None
+    pressure_angle: float = math.radians(20.0)
+    efficiency: float = 1.0
+    offset: float = 0.0
+    n_constraints = 1
+    code = "G"
+    row_kinds: ClassVar[tuple[str, ...]] = ("t",)
+
+    def __post_init__(self) -> None:
+        if (self.teeth is None) == (self.radii is None):
+            raise ParameterError(f"joint {self.name}.teeth", self.teeth,
+                                 "give the ratio either by teeth (z_a, z_b) or by radii "
+                                 "(r_a, r_b) [m], not both or neither")
+        pair = self.teeth if self.teeth is not None else self.radii
+        key = "teeth" if self.teeth is not None else "radii"
+        try:
+            va, vb = (require_number(f"joint {self.name}.{key}", v) for v in pair)  # type: ignore[union-attr]
+        except (TypeError, ValueError):
+            raise ParameterError(f"joint {self.name}.{key}", pair, "must be a pair") from None
+        for v in (va, vb):
+            if not v > 0 or (key == "teeth" and v != int(v)):
+                raise ParameterError(f"joint {self.name}.{key}", pair, "must be two positive "
+                                     + ("whole numbers" if key == "teeth" else "radii [m]"))
+        if self.internal and not va < vb:
+            raise ParameterError(f"joint {self.name}.{key}", pair, "an internal pair's ring "
+                                 "(b) must be larger than its pinion (a)")
+        alpha = require_number(f"joint {self.name}.pressure_angle", self.pressure_angle)
+        if not 0.0 <= alpha < math.radians(45.0):
+            raise ParameterError(f"joint {self.name}.pressure_angle", alpha,
+                                 "must lie in [0, 45 deg) [rad] (20 deg is usual)")
+        eta = require_number(f"joint {self.name}.efficiency", self.efficiency)
+        if not 0.0 < eta <= 1.0:
+            raise ParameterError(f"joint {self.name}.efficiency", eta, "must lie in (0, 1]")
+        if self.internal and eta < 1.0 and va / vb >= eta:
+            raise ParameterError(f"joint {self.name}.efficiency", eta, f"must exceed the "
+                                 f"internal pair's ratio r_a/r_b = {va / vb:g} (a pinion "
+                                 "nearly as large as its ring)")
+        require_number(f"joint {self.name}.offset", self.offset)
+        object.__setattr__(self, "pressure_angle", alpha)
+        object.__setattr__(self, "efficiency", eta)
+
+    # -- description ------------------------------------------------------------------------
+    def carrier_of(self, frame: str) -> str:
+        """The body carrying both gears' pivots."""
+        return self.carrier if self.carrier is not None else frame
+
+    def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
+        pass  # the centres are the pivots on the carrier (checked by resolve)
+
+    def local_geometry(self, ba: _BodyLike, bb: _BodyLike) -> tuple[Point, Point, float]:
+        raise NotImplementedError("a gear pair's geometry needs its mechanism: resolve()")
+
+    def resolve(self, mech: Any) -> tuple[Point, Point, float, int, tuple[float, ...]]:
+        """Centres of the gears on a and b (their pivots on the carrier), the carrier's index
+        and (r_a, r_b, s, offset); raises ParameterError when a gear is not hinged to the
+        carrier or the radii do not fit the distance of the centres."""
+        carrier = self.carrier_of(mech.frame.name)
+        if carrier not in mech.body_names:
+            raise ParameterError(f"joint {self.name}.carrier", carrier,
+                                 f"no such body; known: {list(mech.body_names)}")
+        if carrier in (self.a, self.b):
+            raise ParameterError(f"joint {self.name}.carrier", carrier, "must differ from the "
+                                 "two gears (the body both are hinged to)")
+        centres = []
+        for gear in (self.a, self.b):
+            pivot = next((j for j in mech.joints if j.is_pivot and {j.a, j.b} == {gear, carrier}),
+                         None)
+            if pivot is None:
+                raise ParameterError(f"joint {self.name}", gear, f"gear {gear!r} must be hinged "
+                                     f"to the carrier {carrier!r} by a revolute joint (its "
+                                     "centre)")
+            qa, pb, _ = pivot.local_geometry(mech.body(pivot.a), mech.body(pivot.b))
+            on_gear, on_carrier = (qa, pb) if pivot.a == gear else (pb, qa)
+            centres.append((on_gear, on_carrier))
+        (ca, oa), (cb, ob) = centres
+        d = math.hypot(ob[0] - oa[0], ob[1] - oa[1])
+        s = -1.0 if self.internal else 1.0
+        if self.teeth is not None:
+            za, zb = self.teeth
+            if d == 0.0:
+                raise ParameterError(f"joint {self.name}", "centres", "the gears' centres "
+                                     "coincide on the carrier")
+            ra = d * za / (zb - za) if self.internal else d * za / (za + zb)
+            rb = ra * zb / za
+        else:
+            ra, rb = self.radii  # type: ignore[misc]
+            want = rb - ra if self.internal else ra + rb
+            if abs(d - want) > 1e-6 * max(d, want):
+                raise AssemblyError(f"joint {self.name}: the gears are not assembled: their "
+                                    f"centres are {d * 1e3:.6g} mm apart on the carrier, the "
+                                    f"pitch radii ({ra * 1e3:g}, {rb * 1e3:g} mm) need "
+                                    f"{want * 1e3:.6g} mm")
+        return ca, cb, 0.0, mech.index[carrier], (float(ra), float(rb), s, float(self.offset))
+
+    # -- constraints ------------------------------------------------------------------------
+    def _frame(self, st: State, r: ResolvedJoint) -> tuple[Vec, Vec, Vec]:
+        """Pitch point P, unit e along the line of centres (from a's centre towards b's for an
+        external pair, from b's towards a's for an internal one) and the tangent t = k x e."""
+        ra, _, s, _ = r.params
+        Oa, Ob = st.wpt(r.ia, r.qa), st.wpt(r.ib, r.pb)
+        dx, dy = Ob[0] - Oa[0], Ob[1] - Oa[1]
+        d = np.hypot(dx, dy)
+        ex, ey = s * dx / d, s * dy / d
+        return (Oa[0] + ra * ex, Oa[1] + ra * ey), (ex, ey), (-ey, ex)
+
+    def constraint_rows(self, st: State, r: ResolvedJoint, need_gamma: bool = True
+                        ) -> list[Row]:
+        """``theta_b' + s k theta_a' - offset = 0`` (angles relative to the carrier)."""
+        ra, rb, s, off = r.params
+        k = s * ra / rb
+        zero = np.zeros(st.n)
+        res = st.T[r.ib] - st.T[r.ic] + k * (st.T[r.ia] - st.T[r.ic]) - off
+        return [{"ja": (zero, zero, zero + k), "jb": (zero, zero, zero + 1.0),
+                 "jc": (r.ic, (zero, zero, zero - 1.0 - k)), "gam": zero, "res": res}]
+
+    def equilibrium_rows(self, st: State, r: ResolvedJoint) -> list[Row]:
+        """The rolling of the pitch circles, ``t . (v_b(P) - v_a(P)) = 0``: its multiplier is
+        the tangential tooth force at P (equal to ``-r_b`` times the angle row on the motions
+        the pivots allow)."""
+        P, _, (tx, ty) = self._frame(st, r)
+        rax, ray = P[0] - st.X[r.ia], P[1] - st.Y[r.ia]
+        rbx, rby = P[0] - st.X[r.ib], P[1] - st.Y[r.ib]
+        return [{"ja": (-tx, -ty, -(rax * ty - ray * tx)), "jb": (tx, ty, rbx * ty - rby * tx),
+                 "res": np.zeros(st.n)}]
+
+    def reaction_point(self, st: State, r: ResolvedJoint) -> Vec:
+        """The pitch point P."""
+        return self._frame(st, r)[0]
+
+    def reaction_components(self, st: State, r: ResolvedJoint, kind: str, lam: Arr
+                            ) -> dict[str, Arr]:
+        """The tangential tooth force ``-lam t`` on b at P."""
+        _, _, (tx, ty) = self._frame(st, r)
+        return {"fx": -lam * tx, "fy": -lam * ty}
+
+    @property
+    def has_separation(self) -> bool:
+        return self.pressure_angle > 0.0
+
+    def separation(self, st: State, r: ResolvedJoint, fx: Arr, fy: Arr) -> tuple[Arr, Arr]:
+        """The separating force ``|F_t| tan(alpha) e`` on b (along the line of centres, so the
+        same at P and at the centres) for the tangential force (fx, fy) on b."""
+        _, (ex, ey), (tx, ty) = self._frame(st, r)
+        fr = np.abs(fx * tx + fy * ty) * math.tan(self.pressure_angle)
+        return fr * ex, fr * ey
+
+    # -- friction: the mesh efficiency ------------------------------------------------------
+    @property
+    def has_friction(self) -> bool:
+        return self.efficiency < 1.0
+
+    def friction_wrench(self, st: State, r: ResolvedJoint, fx: Arr, fy: Arr, mz: Arr,
+                        width: tuple[float, float]) -> tuple[Arr, Arr, Arr]:
+        """The loss couple M on b (-M on a): with the tangential force F_t on b and a's
+        rotation w_a' relative to the carrier, the mesh passes Pi = F_t r_a w_a' to b; when a
+        drives (Pi > 0) ``M = (1 - eta) F_t r_a / (s k + eta)``, when b drives ``M = -(1 -
+        eta) F_t r_a / (1 + eta s k)``: then the driven gear receives eta times the power the
+        driving one gives (relative to the carrier), and M opposes the relative rotation."""
+        ra, rb, s, _ = r.params
+        k = ra / rb
+        eta = self.efficiency
+        _, _, (tx, ty) = self._frame(st, r)
+        ft = fx * tx + fy * ty
+        wa = st.W[r.ia] - st.W[r.ic]
+        sg = smooth_sign(wa, width[0])
+        drive = ft * sg  # > 0: a drives b
+        m = np.where(drive >= 0.0, (1 - eta) * ft * ra / (s * k + eta),
+                     -(1 - eta) * ft * ra / (1 + eta * s * k)) * np.abs(sg)
+        z = np.zeros(st.n)
+        return z, z, m
+
+    def transmitted_direction(self, st: State, r: ResolvedJoint, first: Any, P: Vec) -> Vec:
+        _, _, t = self._frame(st, r)
+        return t
+
+    def scene_shapes(self, ctx: Any) -> list[Any]:
+        """The drawing of the pair (:mod:`linkwork.plot.scene`): the two pitch circles, b's
+        named ``joint <name>``, a's ``gear <name> <a>``, each in its gear's colour."""
+        from linkwork.plot.scene import Shape  # drawing only: the plot layer, lazily
+
+        qa, pb, _, _, params = self.resolve(ctx.mechanism)
+        ra, rb = params[0], params[1]
+        return [Shape("circle", "weight", f"gear {self.name} {self.a}",
+                      ctx.world(self.a, [qa]), size=ra, colour=ctx.colours.get(self.a, -1)),
+                Shape("circle", "weight", f"joint {self.name}", ctx.world(self.b, [pb]),
+                      size=rb, label=self.name, colour=ctx.colours.get(self.b, -1))]

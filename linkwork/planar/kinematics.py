@@ -32,9 +32,9 @@ from typing import TYPE_CHECKING, Any, ClassVar, Literal
 import numpy as np
 from numpy.typing import ArrayLike
 
-from linkwork.checks import per_position, require_finite, require_point
+from linkwork.checks import require_finite, require_point
 from linkwork.deprecation import renamed_attribute, renamed_keywords
-from linkwork.errors import AssemblyError, ParameterError, angle_ranges
+from linkwork.errors import AssemblyError, ParameterError, angle_ranges, format_angle_ranges
 from linkwork.planar.extremes import DeadCentre, dead_centres_of, transmission_angles_of
 from linkwork.planar.model import Mechanism
 from linkwork.planar.positions import solve_group
@@ -85,9 +85,10 @@ class Kinematics(Result):
     ----------
     mechanism : Mechanism
         The analysed mechanism.
-    phi1, omega1, eps1 : ndarray (n,)
+    phi1, omega1, eps1 : ndarray (n,), or (n_drivers, n) for several drivers
         Driver position [rad], speed [rad/s], acceleration [rad/s^2] (for a Linear driver: slide
-        coordinate [m], speed [m/s], acceleration [m/s^2]).
+        coordinate [m], speed [m/s], acceleration [m/s^2]); rows in the order of
+        ``Mechanism.drivers``.
     bodies : tuple of str
         Body names, frame first.
     x, y, theta : ndarray (nb, n)
@@ -126,7 +127,7 @@ class Kinematics(Result):
     assembled = renamed_attribute("valid", "assembled")
 
     def __post_init__(self) -> None:
-        du = self.mechanism.driver.field_units  # a linear driver: slide, speed, acceleration
+        du = self.mechanism.driver_units  # a linear driver: slide, speed, acceleration
         units = {k: du[k] for k in ("phi1", "omega1", "eps1")}
         if any(self.units[k] != v for k, v in units.items()):
             self._relabel_units(**units)
@@ -138,7 +139,7 @@ class Kinematics(Result):
     @property
     def n(self) -> int:
         """Number of positions."""
-        return int(self.phi1.shape[0])
+        return int(self.phi1.shape[-1])
 
     def _row(self, body: str) -> int:
         try:
@@ -228,7 +229,7 @@ _CHUNK = 8192
 
 def _solve_chunk(plan: Plan, branches: dict[str, int], q: Arr, w1: Arr, e1: Arr) -> State:
     """Positions, velocities, accelerations of all bodies for the positions ``q``."""
-    st = State(plan.nb, q.shape[0])
+    st = State(plan.nb, q.shape[-1])
     with np.errstate(all="ignore"):
         for g in plan.groups:
             b = branches[g.key]
@@ -251,20 +252,20 @@ _PATH_STEP = (np.radians(3.0), 0.02)
 
 
 def _from_drawing(mech: Mechanism, plan: Plan, used: dict[str, int], q: Arr) -> Plan:
-    """The plan whose Newton groups start at the first position ``q[..., 0]`` from the poses
+    """The plan whose Newton groups start at the first position ``q[:, 0]`` from the poses
     continued there from the drawing (the drawn poses if the continuation fails)."""
     drawing = mech.drawing
     assert drawing is not None
     ref = np.array(drawing.positions)
-    first = np.atleast_1d(q[..., 0]).astype(float)
-    crank = np.array([d.kind == "crank" for d in (mech.driver,)])
+    first = q[:, 0]
+    crank = np.array([d.kind == "crank" for d in mech.drivers])
     # a crank reaches the first position the short way (the mechanism repeats every turn)
     delta = np.where(crank, np.remainder(first - ref + np.pi, 2 * np.pi) - np.pi, first - ref)
     step = np.where(crank, _PATH_STEP[0], _PATH_STEP[1] * plan.length_scale)
     m = int(min(max(np.max(np.ceil(np.abs(delta) / step)), 1), 100))
     path = ref[:, None] + delta[:, None] * np.linspace(0.0, 1.0, m + 1)[None, :]
-    zero = np.zeros(m + 1)
-    st = _solve_chunk(plan, used, path[0], zero, zero)
+    zero = np.zeros_like(path)
+    st = _solve_chunk(plan, used, path, zero, zero)
     if st.pos_bad[-1]:
         return plan
     groups = []
@@ -302,18 +303,21 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     ----------
     mech : Mechanism
         The mechanism (its structure is analysed first; StructureError if wrong).
-    phi1 : array_like (n,)
+    phi1 : array_like (n,), or (n_drivers, n) for several drivers
         Driver positions: crank angle [rad] (``theta_b - theta_a`` of the driver joint) or, for
-        a Linear driver, the slide coordinate [m].
+        a Linear driver, the slide coordinate [m]; with several drivers one row per driver in
+        the order of ``Mechanism.drivers`` (column k: the drivers' positions at position k).
     omega1, eps1 : float or array_like (n,), optional
         Driver speed and acceleration per position (default: the driver's ``omega1``,
-        ``eps1``; for a Linear driver ``v1``, ``a1``).
+        ``eps1``; for a Linear driver ``v1``, ``a1``); with several drivers a scalar for all,
+        one value per driver ``(n_drivers,)`` or ``(n_drivers, n)``.
     branches : mapping, optional
         Group key -> +1/-1, overriding ``mech.branches``.
     on_failure : {"raise", "nan"}
         Where some positions cannot be assembled: raise AssemblyError listing the driver ranges
-        (default), or return NaN there with ``valid`` False. (``on_fail`` is its deprecated
-        name.)
+        (default; with several drivers the ranges of the position index, each driver's values
+        named in the message), or return NaN there with ``valid`` False. (``on_fail`` is its
+        deprecated name.)
 
     Returns
     -------
@@ -321,15 +325,23 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     """
     if not isinstance(mech, Mechanism):
         raise ParameterError("mech", mech, "must be a Mechanism")
+    nd = mech.n_drivers
     q = np.atleast_1d(require_finite("phi1", phi1)).astype(float)
-    if q.ndim != 1:
+    if nd == 1 and q.ndim != 1:
         raise ParameterError("phi1", q.shape, "must be a 1-D array of driver positions")
+    if nd > 1 and (q.ndim != 2 or q.shape[0] != nd):
+        raise ParameterError("phi1", q.shape, f"must have shape ({nd}, n): the positions of "
+                             f"the {nd} drivers "
+                             f"({', '.join(d.joint for d in mech.drivers)}), in order")
     if on_failure not in ("raise", "nan"):
         raise ParameterError("on_failure", on_failure, "must be 'raise' or 'nan'")
-    n = q.shape[0]
-    drv = mech.driver
-    w1 = per_position("omega1", drv.omega1 if omega1 is None else omega1, n)
-    e1 = per_position("eps1", drv.eps1 if eps1 is None else eps1, n)
+    n = q.shape[-1]
+    drivers = mech.drivers
+    w1 = mech.driver_values("omega1", np.array([d.omega1 for d in drivers]) if omega1 is None
+                            else omega1, n)
+    e1 = mech.driver_values("eps1", np.array([d.eps1 for d in drivers]) if eps1 is None
+                            else eps1, n)
+    q2, w2, e2 = q.reshape(nd, n), w1.reshape(nd, n), e1.reshape(nd, n)
     if branches is not None and not isinstance(branches, Mapping):
         raise ParameterError("branches", branches, "must map group keys to +1 or -1")
     br = dict(mech.branches)
@@ -354,12 +366,12 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     failed: set[str] = set()
     parallel: set[str] = set()
     if plan.newton and mech.drawing is not None and n:
-        plan = _from_drawing(mech, plan, used, q)
+        plan = _from_drawing(mech, plan, used, q2)
     # chunks keep the temporaries in cache; Newton groups need the whole sequence
     step = n if plan.newton else _CHUNK
     for lo in range(0, n, step):
         sl = slice(lo, min(lo + step, n))
-        st = _solve_chunk(plan, used, q[sl], w1[sl], e1[sl])
+        st = _solve_chunk(plan, used, q2[:, sl], w2[:, sl], e2[:, sl])
         pos_bad[sl] = st.pos_bad
         failed.update(st.failed)
         parallel.update(st.parallel_groups)
@@ -369,7 +381,6 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         for kk, key in enumerate(keys):
             for i, arr in enumerate(getattr(st, key)):
                 block[kk, i, sl] = arr
-    coordinate, unit = drv.coordinate
     if pos_bad.any() and on_failure == "raise":
         groups = [f"{g.kind}({', '.join(g.bodies)}) with joints {', '.join(g.joints)}"
                   + _newton_hint(mech, g) + (_PARALLEL if g.key in parallel else "")
@@ -381,19 +392,38 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
                  f"{'; '.join(groups)})" if groups else "")
         what = ("Newton iteration did not assemble the mechanism" if only_newton
                 else "mechanism cannot be assembled")
-        raise AssemblyError(f"{what} at {int(pos_bad.sum())} of {n} driver positions{which}",
-                            angle_ranges(q, pos_bad),
-                            driver=coordinate, unit=unit)
+        raise _assembly_error(mech, q2, pos_bad, f"{what} at {int(pos_bad.sum())} of {n} "
+                              f"driver positions{which}")
     if bad.any() and on_failure == "raise":
-        raise AssemblyError("mechanism is at a singular (toggle) position where velocities are "
-                            "undefined", angle_ranges(q, bad),
-                            driver=coordinate, unit=unit)
+        raise _assembly_error(mech, q2, bad, "mechanism is at a singular (toggle) position "
+                              "where velocities are undefined")
     if bad.any():
         block[:, :, bad] = np.nan
     out = dict(zip(keys, block, strict=True))
     return Kinematics(mech, q, w1.copy(), e1.copy(), mech.body_names, out["X"], out["Y"],
                       out["T"], out["VX"], out["VY"], out["W"], out["AX"], out["AY"], out["E"],
                       ~bad, used)
+
+
+def _assembly_error(mech: Mechanism, q2: Arr, mask: Arr, what: str) -> AssemblyError:
+    """The AssemblyError for the positions ``mask``: its ranges of the driver coordinate (one
+    driver), or of the position index with each driver's values there (several drivers)."""
+    if mech.n_drivers == 1:
+        coordinate, unit = mech.driver.coordinate
+        return AssemblyError(what, angle_ranges(q2[0], mask), driver=coordinate, unit=unit)
+    ranges = angle_ranges(np.arange(q2.shape[1]), mask)
+    parts = []
+    for lo, hi in ranges[:8]:
+        i, j = int(lo), int(hi)
+        vals = "; ".join(
+            f"{d.joint} {format_angle_ranges([(q2[k, i], q2[k, j])], d.coordinate[1])}"
+            for k, d in enumerate(mech.drivers))
+        parts.append(f"{i}" + (f"-{j}" if j > i else "") + f" ({vals})")
+    more = f" and {len(ranges) - 8} more" if len(ranges) > 8 else ""
+    err = AssemblyError(f"{what}; cannot assemble at positions {', '.join(parts)}{more}")
+    err.ranges = [(float(a), float(b)) for a, b in ranges]
+    err.driver = "position index"
+    return err
 
 
 # ---------------------------------------------------------------------------------------------
@@ -441,9 +471,13 @@ def dead_centres(kin: Kinematics) -> list[DeadCentre]:
     coupler collinear); for a crank-slider, the slider's.  Each sign change of the output's
     rate between two samples is located to ~1e-13 by Brent's method on single-position
     analyses (for mechanisms without Newton-solved groups; with them, linearly interpolated).
+    Defined for one driver (a position where the output reverses as the driver advances);
+    with several drivers the list is empty.
     """
     kin = require_kinematics(kin)
     mech = kin.mechanism
+    if mech.n_drivers > 1:
+        return []
     refine = not mech.plan.newton
     br = dict(kin.branches)
 

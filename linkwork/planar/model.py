@@ -30,20 +30,27 @@ from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
 from types import MappingProxyType
-from typing import Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar
 
 import numpy as np
 
-from linkwork.checks import require_finite, require_number, require_point, require_positive
+from linkwork.checks import (
+    per_position,
+    require_finite,
+    require_number,
+    require_point,
+    require_positive,
+)
 from linkwork.deprecation import renamed_function
 from linkwork.errors import ParameterError, StructureError
-from linkwork.planar.joints import Joint, PinInSlot, Point, Prismatic, Revolute
+from linkwork.planar.joints import GearPair, Joint, PinInSlot, Point, Prismatic, Revolute
 from linkwork.planar.structure import Plan, Structure, analyse, compile_plan
 
 __all__ = [
     "Body",
     "Crank",
     "Drawing",
+    "GearPair",
     "Joint",
     "Linear",
     "Mechanism",
@@ -216,6 +223,19 @@ class Linear:
         return self.a1
 
 
+class Drivers(tuple):
+    """The drivers of a mechanism with several (``Mechanism.driver`` then holds them): a tuple
+    whose one-driver attributes (``joint``, ``kind``, ``omega1``, ...) raise a ParameterError
+    naming the drivers, so that code written for one driver refuses several clearly."""
+
+    def __getattr__(self, name: str) -> Any:
+        if name.startswith("__"):
+            raise AttributeError(name)
+        raise ParameterError("driver", [d.joint for d in self],
+                             f"has {len(self)} drivers; this needs one driver (its '{name}'): "
+                             "Mechanism.drivers lists them")
+
+
 @dataclass(frozen=True)
 class Drawing:
     """The drawn position a mechanism was described from (:func:`linkwork.planar.sketch`).
@@ -252,8 +272,11 @@ class Mechanism:
         The moving links.
     joints : sequence of Revolute, Prismatic, PinInSlot
         The kinematic pairs.
-    driver : Crank or Linear
-        The input.
+    driver : Crank, Linear or a sequence of them
+        The input; several drivers (cranks and linear actuators) for a mechanism of mobility
+        W > 1, one per degree of freedom (``Mechanism.drivers`` always gives the tuple). With
+        several drivers the driver positions, speeds and accelerations of an analysis have
+        shape ``(n_drivers, n)``, in this order.
     branches : mapping str -> +1/-1
         Assembly branch of each Assur group, keyed by the group's key (see
         :mod:`linkwork.planar.structure`; for a dyad the name of the joint between its two bodies).
@@ -266,7 +289,10 @@ class Mechanism:
     frame: Body
     bodies: tuple[Body, ...]
     joints: tuple[Joint, ...]
-    driver: Crank | Linear
+    if TYPE_CHECKING:  # one driver for the code written for one (several: a Drivers tuple)
+        driver: Crank | Linear
+    else:
+        driver: Crank | Linear | tuple[Crank | Linear, ...]
     branches: Mapping[str, int] = field(default_factory=dict)
     drawing: Drawing | None = None
 
@@ -287,15 +313,24 @@ class Mechanism:
         object.__setattr__(self, "branches", MappingProxyType(dict(self.branches)))
         if self.drawing is not None and not isinstance(self.drawing, Drawing):
             raise ParameterError("drawing", self.drawing, "must be a Drawing or None")
-        if not isinstance(self.driver, Crank | Linear):
-            raise ParameterError("driver", self.driver, "must be Crank or Linear")
+        if isinstance(self.driver, Sequence) and not isinstance(self.driver, str):
+            drivers = tuple(self.driver)
+            if not drivers:
+                raise ParameterError("driver", self.driver, "must name at least one driver")
+            object.__setattr__(self, "driver",
+                               drivers[0] if len(drivers) == 1 else Drivers(drivers))
+        for d in self.drivers:
+            if not isinstance(d, Crank | Linear):
+                raise ParameterError("driver", d, "must be Crank or Linear (or a sequence of "
+                                     "them)")
         names = [self.frame.name] + [b.name for b in self.bodies]
         dup = {n for n in names if names.count(n) > 1}
         if dup:
             raise ParameterError("bodies", sorted(dup)[0], "body names must be unique")
         for j in self.joints:  # a concrete joint type (the base class has no behaviour)
             if not isinstance(j, Joint) or j.code == Joint.code:
-                raise ParameterError("joints", j, "must be Revolute, Prismatic or PinInSlot")
+                raise ParameterError("joints", j, "must be Revolute, Prismatic, PinInSlot or "
+                                     "GearPair")
         jn = [j.name for j in self.joints]
         dupj = {n for n in jn if jn.count(n) > 1}
         if dupj:
@@ -310,20 +345,50 @@ class Mechanism:
         for k, v in self.branches.items():
             if isinstance(v, bool) or v not in (1, -1):  # True == 1
                 raise ParameterError(f"branches.{k}", v, "must be +1 or -1")
-        d = self.driver
         jmap = {j.name: j for j in self.joints}
-        if d.joint not in jmap:
-            raise ParameterError("driver.joint", d.joint, f"no such joint; known: {jn}")
-        if jmap[d.joint].code != d.joint_code:
-            raise ParameterError("driver.joint", d.joint,
-                                 "a Crank driver needs a revolute joint" if isinstance(d, Crank)
-                                 else "a Linear driver needs a prismatic joint")
+        driven = [d.joint for d in self.drivers]
+        for d in self.drivers:
+            if d.joint not in jmap:
+                raise ParameterError("driver.joint", d.joint, f"no such joint; known: {jn}")
+            if jmap[d.joint].code != d.joint_code:
+                raise ParameterError("driver.joint", d.joint,
+                                     "a Crank driver needs a revolute joint"
+                                     if isinstance(d, Crank)
+                                     else "a Linear driver needs a prismatic joint")
+            if driven.count(d.joint) > 1:
+                raise ParameterError("driver.joint", d.joint, "is driven twice")
 
     def _check_joint_points(self, j: Joint) -> None:
+        if j.carrier_of(self.frame.name) is not None:
+            j.resolve(self)  # a gear pair: its pivots on the carrier, its radii
+            return
         j.check_points(self.body(j.a), self.body(j.b))
         j.check_fit([self.body(s) for s in (j.a, j.b) if s != self.frame.name])
 
     # -- look-ups ---------------------------------------------------------------------------
+    @property
+    def drivers(self) -> tuple[Crank | Linear, ...]:
+        """The drivers, in order (one or more)."""
+        d: Any = self.driver
+        return tuple(d) if isinstance(d, tuple) else (d,)
+
+    @property
+    def n_drivers(self) -> int:
+        """Number of drivers (the mobility the mechanism must have)."""
+        return len(self.drivers)
+
+    @property
+    def driver_units(self) -> Mapping[str, str]:
+        """Units of the driver fields ``phi1, omega1, eps1, Q``: those of the driver, or of
+        all drivers when they are of one kind; else each key's units in driver order, joined
+        by ``", "`` (``"rad, m"``)."""
+        units = [d.field_units for d in self.drivers]
+        out = {}
+        for k in units[0]:
+            vals = [u[k] for u in units]
+            out[k] = vals[0] if len(set(vals)) == 1 else ", ".join(vals)
+        return MappingProxyType(out)
+
     @cached_property
     def body_names(self) -> tuple[str, ...]:
         """Names of all bodies, the frame first (index 0)."""
@@ -357,7 +422,7 @@ class Mechanism:
         Revolute: the two coincident points and 0. Prismatic/PinInSlot: the line's point on
         ``a``, the slider/pin point on ``b`` and the line's angle in ``a``.
         """
-        return j.local_geometry(self.body(j.a), self.body(j.b))
+        return j.resolve(self)[:3]
 
     def branch(self, key: str) -> int:
         """Assembly branch of the group with this key (+1 unless set in ``branches``)."""
@@ -368,6 +433,22 @@ class Mechanism:
         new = dict(self.branches)
         new.update(branches)
         return Mechanism(self.frame, self.bodies, self.joints, self.driver, new, self.drawing)
+
+    def driver_values(self, name: str, value: Any, n: int) -> np.ndarray:
+        """A driver speed or acceleration given per position, as an array: shape ``(n,)`` for
+        one driver (a scalar or ``n`` values), ``(n_drivers, n)`` for several (a scalar for
+        all, one value per driver ``(n_drivers,)``, or ``(n_drivers, n)``)."""
+        nd = self.n_drivers
+        if nd == 1:
+            return per_position(name, value, n)
+        a = require_finite(name, value)
+        if a.ndim == 1 and a.shape[0] == nd:
+            a = a[:, None]
+        try:
+            return np.broadcast_to(a, (nd, n)).astype(float)
+        except ValueError:
+            raise ParameterError(name, a.shape, f"must be a scalar, one value per driver "
+                                 f"({nd},) or have shape ({nd}, {n})") from None
 
     @cached_property
     def structure(self) -> Structure:

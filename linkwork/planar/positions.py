@@ -16,12 +16,12 @@ from typing import Any
 import numpy as np
 
 from linkwork.errors import StructureError
-from linkwork.planar.joints import ResolvedJoint
+from linkwork.planar.joints import ResolvedJoint, row_entries
 from linkwork.planar.state import Arr, State, Vec
-from linkwork.planar.structure import Plan, PlanGroup, length_scale
+from linkwork.planar.structure import CYLINDER, Plan, PlanGroup, length_scale
 
-__all__ = ["assemble_jacobian", "group_rows", "length_scale", "solve_driver", "solve_dyad",
-           "solve_group", "solve_newton", "solve_slot_group"]
+__all__ = ["assemble_jacobian", "group_rows", "length_scale", "solve_cylinder", "solve_driver",
+           "solve_dyad", "solve_gear", "solve_group", "solve_newton", "solve_slot_group"]
 
 #: rows of a group with the indices of their joint's bodies a and b
 Rows = list[tuple[int, int, dict[str, Any]]]
@@ -86,9 +86,9 @@ def _intersect(st: State, l1: tuple[str, Any], l2: tuple[str, Any], branch: int)
 
 
 def solve_driver(st: State, g: PlanGroup, q: Arr) -> None:
-    """Pose of the driven body for the driver coordinates ``q``."""
+    """Pose of the driven body for the driver coordinates ``q`` (n_drivers, n)."""
     r = g.joints[0]
-    r.joint.place_driven(st, r, g.bodies[0], q)
+    r.joint.place_driven(st, r, g.bodies[0], q[r.drive_index])
 
 
 def _solve_two_lines(st: State, body: int, r1: ResolvedJoint, r2: ResolvedJoint) -> None:
@@ -209,15 +209,89 @@ def solve_slot_group(st: State, g: PlanGroup, branch: int) -> None:
 
 
 def solve_group(plan: Plan, st: State, g: PlanGroup, branch: int, q: Arr) -> None:
-    """Poses of the bodies of group ``g`` (the groups before it solved) on ``branch``."""
+    """Poses of the bodies of group ``g`` (the groups before it solved) on ``branch``; ``q``
+    the driver positions, shape (n_drivers, n)."""
     if g.kind == "driver":
         solve_driver(st, g, q)
     elif g.kind in ("RS", "PS"):
         solve_slot_group(st, g, branch)
     elif g.kind == "newton":
         solve_newton(plan, st, g, q)
+    elif g.kind in CYLINDER:
+        solve_cylinder(st, g, branch, q, plan.body_names)
+    elif g.kind == "RG":
+        solve_gear(st, g)
     else:
         solve_dyad(st, g, branch, plan.body_names)
+
+
+def solve_gear(st: State, g: PlanGroup) -> None:
+    """A gear turning on its carrier (revolute ``rt``) against a known gear (pair ``rg``): its
+    angle relative to the carrier from ``theta_b' + s k theta_a' = offset``, its centre on the
+    pivot."""
+    rt, rg = g.joints
+    body = g.bodies[0]
+    ra, rb, s, off = rg.params
+    k = s * ra / rb
+    tc = st.T[rg.ic]
+    if body == rg.ib:
+        st.set_angle(body, tc + off - k * (st.T[rg.ia] - tc))
+    else:
+        st.set_angle(body, tc + (off - (st.T[rg.ib] - tc)) / k)
+    A, a_loc = rt.joint.pivot(st, rt, body)
+    st.place(body, a_loc, A)
+
+
+def solve_cylinder(st: State, g: PlanGroup, branch: int, q: Arr,
+                   body_names: tuple[str, ...]) -> None:
+    """A driven cylinder with the body X it moves (``cyl-RRR``, ``cyl-RRP``), in closed form.
+
+    For the given slide s of the cylinder's prismatic pair, its two bodies form one rigid
+    "virtual link" from the pivot A (hinged to a known body) to the pivot C (on X): the vector
+    from A to C in the frame of the pair's body a is ``qa + s u + R(rel) (p - pb)`` for a point
+    p of body b (or p itself on body a). C is the intersection of the circle about A with
+    radius |AC| and X's locus (a circle about its pivot, or a line along its guide), on the
+    branch of the dyad with the virtual link as first body (C on the left of A -> X's pivot;
+    further along the guide).
+    """
+    ra, rd, rc, rx = g.joints
+    c1, c2 = rd.ia, rd.ib
+    x = next(b for b in g.bodies if b not in (c1, c2))
+    s = q[rd.drive_index]
+    rel = rd.joint.rel_angle  # type: ignore[attr-defined]  # a prismatic pair's
+    cr, sr = np.cos(rel), np.sin(rel)
+    ux, uy = rd.u_loc
+    ox, oy = rd.qa[0] + s * ux, rd.qa[1] + s * uy  # body b's point pb, in body a's frame
+
+    def in_c1(body: int, p: tuple[float, float]) -> Vec:
+        if body == c1:
+            return np.full_like(s, p[0]), np.full_like(s, p[1])
+        dx, dy = p[0] - rd.pb[0], p[1] - rd.pb[1]
+        return ox + cr * dx - sr * dy, oy + sr * dx + cr * dy
+
+    ca = ra.ia if ra.ia in (c1, c2) else ra.ib  # the cylinder body hinged at A
+    a_loc = ra.qa if ca == ra.ia else ra.pb
+    A, _ = ra.joint.pivot(st, ra, ca)
+    cc = rc.ia if rc.ia in (c1, c2) else rc.ib  # the cylinder body hinged at C
+    c_loc = rc.qa if cc == rc.ia else rc.pb
+    x_loc = rc.pb if cc == rc.ia else rc.qa
+    A1 = in_c1(ca, a_loc)
+    C1 = in_c1(cc, c_loc)
+    vx, vy = C1[0] - A1[0], C1[1] - A1[1]
+    ell = np.hypot(vx, vy)
+    L2 = rx.joint.locus(st, rx, x, x_loc, body_names[x])
+    C = _intersect(st, ("circle", (A, ell, a_loc)), L2, branch)
+    _finish_side(st, x, L2[0], L2[1], x_loc, C)
+    th1 = np.arctan2(C[1] - A[1], C[0] - A[0]) - np.arctan2(vy, vx)
+    st.set_angle(c1, th1)
+    c, sn = st.C[c1], st.S[c1]
+    st.X[c1] = A[0] - (c * A1[0] - sn * A1[1])
+    st.Y[c1] = A[1] - (sn * A1[0] + c * A1[1])
+    st.set_angle(c2, th1 + rel)
+    st.X[c2] = st.X[c1] + c * (ox - (cr * rd.pb[0] - sr * rd.pb[1])) - sn * (
+        oy - (sr * rd.pb[0] + cr * rd.pb[1]))
+    st.Y[c2] = st.Y[c1] + sn * (ox - (cr * rd.pb[0] - sr * rd.pb[1])) + c * (
+        oy - (sr * rd.pb[0] + cr * rd.pb[1]))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -237,11 +311,11 @@ def assemble_jacobian(st: State, g: PlanGroup, rows: Rows) -> tuple[Arr, Rows]:
     m = 3 * len(g.bodies)
     J = np.zeros((st.n, m, m))
     for r, (ia, ib, row) in enumerate(rows):
-        for body, key in ((ia, "ja"), (ib, "jb")):
+        for body, coef in row_entries(ia, ib, row):
             if body in cols:
                 c = cols[body]
                 for k in range(3):
-                    J[:, r, c + k] += row[key][k]
+                    J[:, r, c + k] += coef[k]
     return J, rows
 
 
@@ -267,7 +341,8 @@ def _newton_iterate(sub: State, g: PlanGroup, members: list[int], q: Arr,
             sub.set_angle(bi, z[:, k, 2])
         rows = group_rows(sub, g, need_gamma=False)
         J, _ = assemble_jacobian(sub, g, rows)
-        res = np.stack([r["res"] - (q if r.get("drive") else 0.0) for _, _, r in rows], axis=1)
+        res = np.stack([r["res"] - (q[r["drive_index"]] if r.get("drive") else 0.0)
+                        for _, _, r in rows], axis=1)
         with np.errstate(invalid="ignore"):
             done = np.max(np.abs(res), axis=1) < tol
         todo = ~done & np.isfinite(res).all(axis=1)
@@ -308,7 +383,7 @@ def solve_newton(plan: Plan, st: State, g: PlanGroup, q: Arr, tol: float = 1e-12
         z = start
         for t, i in enumerate(pos):
             sub = _newton_state(nb, st, members, np.array([i]))
-            zi, conv = _newton_iterate(sub, g, members, q[i:i + 1], z[None], tol, max_iter)
+            zi, conv = _newton_iterate(sub, g, members, q[:, i:i + 1], z[None], tol, max_iter)
             if conv[0]:
                 out[t], okk[t] = zi[0], True
                 z = zi[0]

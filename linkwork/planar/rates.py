@@ -12,10 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from linkwork.planar.joints import ClosureRow, ResolvedJoint
+from linkwork.planar.joints import ClosureRow, ResolvedJoint, row_entries
 from linkwork.planar.positions import Rows, assemble_jacobian, group_rows
 from linkwork.planar.state import Arr, State, Vec
-from linkwork.planar.structure import Plan, PlanGroup
+from linkwork.planar.structure import HUNG, Plan, PlanGroup
 
 __all__ = ["RatePar", "acc_at", "batched_solve", "closure_rows", "cramer", "group_pars",
            "group_rates", "known_part", "vel_at"]
@@ -23,13 +23,15 @@ __all__ = ["RatePar", "acc_at", "batched_solve", "closure_rows", "cramer", "grou
 
 # velocities and accelerations
 def group_rates(plan: Plan, st: State, g: PlanGroup, w1: Arr, e1: Arr) -> None:
-    """Velocities and accelerations of the bodies of group ``g`` (the groups before it known)."""
+    """Velocities and accelerations of the bodies of group ``g`` (the groups before it known);
+    ``w1, e1`` the drivers' speeds and accelerations, shape (n_drivers, n)."""
     if g.kind == "driver":
         rd = g.joints[0]
-        if not rd.joint.driven_rates(st, rd, g.bodies[0], w1, e1):
-            _hung_driver_rates(st, g, w1, e1)
+        k = rd.drive_index
+        if not rd.joint.driven_rates(st, rd, g.bodies[0], w1[k], e1[k]):
+            _hung_driver_rates(st, g, w1[k], e1[k])
         return
-    if g.kind != "newton":
+    if g.kind in HUNG:
         _closed_rates(plan, st, g)
         return
     members = list(g.bodies)
@@ -38,7 +40,7 @@ def group_rates(plan: Plan, st: State, g: PlanGroup, w1: Arr, e1: Arr) -> None:
     rhs = -known_part(st, g, rows, "v")
     for r, (_, _, row) in enumerate(rows):
         if row.get("drive"):
-            rhs[:, r] += w1
+            rhs[:, r] += w1[row["drive_index"]]
     good = ~st.bad
     sol = batched_solve(J, rhs, good)
     for k, b in enumerate(members):
@@ -48,7 +50,7 @@ def group_rates(plan: Plan, st: State, g: PlanGroup, w1: Arr, e1: Arr) -> None:
     for r, (_, _, row) in enumerate(rows):
         rhs[:, r] += row["gam"]
         if row.get("drive"):
-            rhs[:, r] += e1
+            rhs[:, r] += e1[row["drive_index"]]
     sol = batched_solve(J, rhs, good)
     for k, b in enumerate(members):
         st.AX[b], st.AY[b], st.E[b] = sol[:, 3 * k], sol[:, 3 * k + 1], sol[:, 3 * k + 2]
@@ -59,13 +61,12 @@ def known_part(st: State, g: PlanGroup, rows: Rows, level: str) -> Arr:
     members = set(g.bodies)
     out = np.zeros((st.n, len(rows)))
     for r, (ia, ib, row) in enumerate(rows):
-        for body, key in ((ia, "ja"), (ib, "jb")):
+        for body, ja in row_entries(ia, ib, row):
             if body not in members:
                 if level == "v":
                     q = (st.VX[body], st.VY[body], st.W[body])
                 else:
                     q = (st.AX[body], st.AY[body], st.E[body])
-                ja = row[key]
                 out[:, r] += ja[0] * q[0] + ja[1] * q[1] + ja[2] * q[2]
     return out
 

@@ -157,6 +157,8 @@ def working_range(make: Callable[[float], Mechanism], bounds: tuple[float, float
             runs_a = bool(ok[i])
             while b - a > eps:
                 m = 0.5 * (a + b)
+                if not a < m < b:  # adjacent floats: a tol below their spacing is reached
+                    break
                 if (state(m)[0] == 0) == runs_a:
                     a = m
                 else:

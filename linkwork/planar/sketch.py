@@ -45,6 +45,7 @@ points and no inertia unless given; a slider block its centre of mass at its poi
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -54,13 +55,13 @@ import numpy as np
 
 from linkwork.checks import require_number, require_point
 from linkwork.errors import AssemblyError, ParameterError, StructureError
-from linkwork.planar.joints import Joint, PinInSlot, Prismatic, Revolute
+from linkwork.planar.joints import GearPair, Joint, PinInSlot, Prismatic, Revolute
 from linkwork.planar.kinematics import kinematics
 from linkwork.planar.model import Body, Crank, Drawing, Linear, Mechanism
 from linkwork.planar.positions import solve_group
 from linkwork.planar.state import State
 
-__all__ = ["BRANCH_TOLERANCE", "LinkMass", "Slider", "Slot", "drawn_state", "sketch"]
+__all__ = ["BRANCH_TOLERANCE", "Cylinder", "LinkMass", "Slider", "Slot", "drawn_state", "sketch"]
 
 Point = tuple[float, float]
 
@@ -75,7 +76,7 @@ ROUND_TRIP_TOLERANCE = 1e-9
 ON_LINE_TOLERANCE = 1e-6
 
 #: Groups whose solution is unique (no branch to choose).
-_UNIQUE = {"driver", "newton", "PRP", "RPP", "PPR", "PS"}
+_UNIQUE = {"driver", "newton", "PRP", "RPP", "PPR", "PS", "RG"}
 
 
 @dataclass(frozen=True)
@@ -116,6 +117,19 @@ class Slot:
     guide: str
     angle: float | None = None
     along: tuple[str, str] | None = None
+
+
+@dataclass(frozen=True)
+class Cylinder:
+    """A linear actuator as drawn between two pivots: its barrel hinged at ``start``, its rod
+    at ``end`` (each a drawn point held by a link or the frame). It makes the bodies
+    ``<name>_barrel`` (origin at ``start``, x-axis towards ``end``) and ``<name>_rod`` and the
+    prismatic pair ``<name>`` between them, whose slide coordinate is the pin-to-pin length
+    |start end| [m]; named in ``drivers`` it is driven by that length (a closed-form
+    ``cyl-RRR``/``cyl-RRP`` group when it moves one hinged or sliding body)."""
+
+    start: str
+    end: str
 
 
 @dataclass(frozen=True)
@@ -189,8 +203,10 @@ def _line_geometry(pose: tuple[float, float, float], P: Point, angle: float
 def _frame_pose(name: str, order: list[str], pts: Mapping[str, Point], origin: str
                 ) -> tuple[float, float, float]:
     """Pose of a link's frame: origin at ``origin``, x-axis towards the next listed point at
-    another place."""
+    another place (a gear of one point: along the world x-axis)."""
     ox, oy = pts[origin]
+    if len(order) == 1:
+        return ox, oy, 0.0
     rest = order[order.index(origin) + 1:] + order[:order.index(origin)]
     for p in rest:
         dx, dy = pts[p][0] - ox, pts[p][1] - oy
@@ -252,7 +268,7 @@ def _branches(mech: Mechanism, scale: float) -> dict[str, int]:
     """The branch of every closed-form group that reproduces the drawing."""
     assert mech.drawing is not None
     plan = mech.plan
-    q = np.array(mech.drawing.positions)[:1]
+    q = np.array(mech.drawing.positions)[:, None]
     out: dict[str, int] = {}
     for g in plan.groups:
         if g.kind in _UNIQUE:
@@ -318,7 +334,8 @@ def _driver_specs(drivers: Any) -> list[Any]:
 def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
            ground: Sequence[str], drivers: Any, sliders: Mapping[str, Any] | None = None,
            slots: Mapping[str, Any] | None = None, masses: Mapping[str, Any] | None = None,
-           frame: str = "frame", speeds: Mapping[str, tuple[float, float]] | None = None
+           frame: str = "frame", speeds: Mapping[str, tuple[float, float]] | None = None,
+           cylinders: Mapping[str, Any] | None = None, gears: Mapping[str, Any] | None = None
            ) -> Mechanism:
     """A mechanism from its drawing (see the module docstring for the conventions).
 
@@ -345,6 +362,16 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     speeds : mapping str -> (speed, acceleration), optional
         The default speed and acceleration of a driver, by its name as in ``drivers`` (a
         crank's [rad/s, rad/s^2], a slider's [m/s, m/s^2]); default (1, 0).
+    cylinders : mapping str -> Cylinder (or (start, end), or a mapping of its fields), optional
+        Linear actuators between two pivots, by name (a driver by that name drives its
+        length).
+    gears : mapping str -> mapping, optional
+        Gear pairs by name: ``a``, ``b`` (two links, each hinged to the carrier at its
+        centre; a gear link may hold that one point), ``teeth=(z_a, z_b)`` or ``radii=(r_a,
+        r_b)``, ``internal``, ``carrier`` (a link; default the frame), ``pressure_angle``,
+        ``efficiency`` (:class:`~linkwork.planar.GearPair`); the relative phase of the gears
+        is taken from the drawing, and drawn centres that do not fit given radii are
+        refused.
 
     Returns
     -------
@@ -382,9 +409,12 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
         dup = sorted({p for p in order if order.count(p) > 1})
         if dup:
             raise ParameterError(f"links.{name}", dup[0], "listed twice on the link")
-        if len(order) < 2:
+        if len(order) < 2 and not any(name in (g.get("a"), g.get("b"))
+                                       for g in dict(gears or {}).values()
+                                       if isinstance(g, Mapping)):
             raise ParameterError(f"links.{name}", order, "a link needs at least two points (its "
-                                 "direction is taken from the drawing)")
+                                 "direction is taken from the drawing); only a gear may hold "
+                                 "just its centre")
         link_pts[name] = order
     gnd = _names("ground", ground)
     for p in gnd:
@@ -399,6 +429,34 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     so: dict[str, Slot] = {}
     for key, spec in slots.items():
         so[str(key)] = spec if isinstance(spec, Slot) else Slot(**dict(spec))
+    cy: dict[str, Cylinder] = {}
+    for key, spec in dict(cylinders or {}).items():
+        if isinstance(spec, Cylinder):
+            cy[str(key)] = spec
+        elif isinstance(spec, Mapping):
+            cy[str(key)] = Cylinder(**dict(spec))
+        else:
+            try:
+                if isinstance(spec, str):
+                    raise TypeError(spec)
+                a, b = spec
+            except (TypeError, ValueError):
+                raise ParameterError(f"cylinders.{key}", spec, "must be (start, end): the "
+                                     "points of its two pivots") from None
+            cy[str(key)] = Cylinder(str(a), str(b))
+    for key, c in cy.items():
+        for end in ("start", "end"):
+            if getattr(c, end) not in pts:
+                raise ParameterError(f"cylinders.{key}.{end}", getattr(c, end),
+                                     f"no such point; known: {sorted(pts)}")
+        if pts[c.start] == pts[c.end]:
+            raise ParameterError(f"cylinders.{key}", [c.start, c.end], "its pivots coincide: "
+                                 "a cylinder has a length")
+        taken = {*link_pts, frame, *sl, *so}
+        for name in (key, f"{key}_barrel", f"{key}_rod"):
+            if name in taken:
+                raise ParameterError("cylinders", key, f"the name {name!r} is taken by a link, "
+                                     "a slider or a slot")
     bodies_known = {frame, *link_pts, *(k for k, v in sl.items() if v.body is None)}
     for kind, table in (("sliders", sl), ("slots", so)):
         for key, spec in table.items():
@@ -433,6 +491,13 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
             holders[p].append(name)
     for key in blocks:
         holders[sl[key].point].append(key)
+    for key, c in cy.items():
+        for end, part in ((c.start, "barrel"), (c.end, "rod")):
+            if not holders[end]:
+                raise ParameterError(f"cylinders.{key}", end, f"no link (nor the frame) holds "
+                                     f"this point, so the cylinder's {part} is hinged to "
+                                     "nothing")
+            holders[end].append(f"{key}_{part}")
     for key, t in so.items():
         if t.guide in holders[t.point]:
             raise ParameterError(f"slots.{key}.guide", t.guide,
@@ -456,12 +521,13 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
                                      "(point, link)")
             spec, link = str(spec[0]), str(spec[1])
         spec = str(spec)
-        if spec in sl:
+        if spec in sl or spec in cy:
             driver_joints.append((spec, "linear", spec))
             continue
         if spec not in pts:
-            raise ParameterError("drivers", spec, f"is neither a point nor a slider; points: "
-                                 f"{sorted(pts)}, sliders: {sorted(sl)}")
+            raise ParameterError("drivers", spec, f"is neither a point nor a slider or cylinder; "
+                                 f"points: {sorted(pts)}, sliders: {sorted(sl)}, cylinders: "
+                                 f"{sorted(cy)}")
         if spec not in gnd:
             raise ParameterError("drivers", spec, "is not a frame pivot (not in ground): a crank "
                                  "turns about a point of the frame")
@@ -487,6 +553,10 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     for key in blocks:
         s = sl[key]
         poses[key] = (*pts[s.point], _direction(f"sliders.{key}", s, pts, scale))
+    for key, c in cy.items():
+        axis = math.atan2(pts[c.end][1] - pts[c.start][1], pts[c.end][0] - pts[c.start][0])
+        poses[f"{key}_barrel"] = (*pts[c.start], axis)
+        poses[f"{key}_rod"] = (*pts[c.end], axis)
     frame_pose = (0.0, 0.0, 0.0)
 
     def pose_of(body: str) -> tuple[float, float, float]:
@@ -496,7 +566,8 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     joints: list[Joint] = []
     for p, hs in holders.items():
         for k, h in enumerate(hs[1:], start=1):
-            joints.append(Revolute(p if k == 1 else f"{p}:{h}", hs[0], h))
+            joints.append(Revolute(p if k == 1 else f"{p}:{h}", hs[0], h, point_a=p,
+                                   point_b=p))
     for key, s in sl.items():
         ang = _direction(f"sliders.{key}", s, pts, scale)
         through, local_angle = _line_geometry(pose_of(s.guide), pts[s.point], ang)
@@ -504,12 +575,16 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
         rel = pose_of(body)[2] - pose_of(s.guide)[2]
         joints.append(Prismatic(key, s.guide, body, angle=local_angle, through=through,
                                 point=s.point, rel_angle=rel))
+    for key, c in cy.items():  # s = u . (end - start) = the pin-to-pin length
+        joints.append(Prismatic(key, f"{key}_barrel", f"{key}_rod", angle=0.0,
+                                through=(0.0, 0.0), point=c.end, rel_angle=0.0))
     for key, t in so.items():
         ang = _direction(f"slots.{key}", t, pts, scale)
         through, local_angle = _line_geometry(pose_of(t.guide), pts[t.point], ang)
         pin = next(h for h in holders[t.point] if h != t.guide)
         joints.append(PinInSlot(key, t.guide, pin, angle=local_angle, through=through,
                                 point=t.point))
+    joints += _gear_pairs(dict(gears or {}), frame, pose_of, set(link_pts))
     names = [j.name for j in joints]
     dup = sorted({n for n in names if names.count(n) > 1})
     if dup:
@@ -534,8 +609,11 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
         if name not in poses:
             raise ParameterError("masses", name, f"no such link; known: {sorted(poses)}")
     bodies = []
+    ends = {f"{k}_{part}": getattr(c, end) for k, c in cy.items()
+            for part, end in (("barrel", "start"), ("rod", "end"))}
     for name, pose in poses.items():
-        order = link_pts.get(name, [sl[name].point] if name in sl else [])
+        order = link_pts.get(name, [sl[name].point] if name in sl else [ends[name]]
+                             if name in ends else [])
         local = {p: _local(pose, pts[p]) for p in order}
         if name in link_pts and len(order) == 2:
             a, b = local[order[0]], local[order[1]]
@@ -560,6 +638,35 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     mech = mech.with_branches(**_branches(mech, scale))
     _round_trip(mech, scale)
     return mech
+
+
+def _gear_pairs(gears: dict[str, Any], frame: str, pose_of: Any, links: set[str]
+                ) -> list[Joint]:
+    """The gear pairs, their phase taken from the drawn angles of the gears and carrier."""
+    out: list[Joint] = []
+    for key, spec in gears.items():
+        if not isinstance(spec, Mapping):
+            raise ParameterError(f"gears.{key}", spec, "must be a mapping (a, b, teeth or "
+                                 "radii, ...)")
+        spec = dict(spec)
+        for side in ("a", "b"):
+            if spec.get(side) not in links:
+                raise ParameterError(f"gears.{key}.{side}", spec.get(side),
+                                     f"must be a link; known: {sorted(links)}")
+        carrier = spec.get("carrier") or frame
+        if carrier != frame and carrier not in links:
+            raise ParameterError(f"gears.{key}.carrier", carrier,
+                                 f"must be a link or the frame; links: {sorted(links)}")
+        try:
+            pair = GearPair(str(key), **{**spec, "carrier": carrier})
+        except TypeError as exc:
+            raise ParameterError(f"gears.{key}", sorted(spec), f"unknown key ({exc})") from None
+        va, vb = pair.teeth if pair.teeth is not None else pair.radii  # type: ignore[misc]
+        s = -1.0 if pair.internal else 1.0
+        tc = pose_of(carrier)[2]
+        offset = (pose_of(pair.b)[2] - tc) + s * va / vb * (pose_of(pair.a)[2] - tc)
+        out.append(dataclasses.replace(pair, offset=offset))
+    return out
 
 
 def _drawn_position(mech: Mechanism, d: Crank | Linear, pose_of: Any) -> float:

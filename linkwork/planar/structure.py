@@ -5,7 +5,8 @@ Mobility by the Chebyshev-Gruebler formula for planar chains,
 .. math:: W = 3 n - 2 p_5 - p_4,
 
 with ``n`` moving bodies, ``p_5`` lower pairs (revolute, prismatic: 2 constraints each) and
-``p_4`` higher pairs (pin-in-slot: 1 constraint). One driver is supported, so ``W`` must be 1.
+``p_4`` higher pairs (pin-in-slot: 1 constraint). ``W`` must equal the number of drivers (one
+per degree of freedom: cranks and linear actuators).
 
 The decomposition repeatedly takes the smallest set of not-yet-solved bodies whose joints to
 each other and to solved bodies impose exactly ``3 k`` constraints (the driver adds one to its
@@ -19,6 +20,13 @@ once the bodies before it are known. Group kinds:
 * one body with a pin-in-slot pair (the pin-in-slot variants of the RPR/RRP/RPP dyads with
   the slider block removed): ``"RS"`` (revolute + slot), ``"PS"`` (prismatic + slot); closed
   form.
+* a gear turning on its carrier and meshing with a known gear: ``"RG"``; closed form (its
+  angle from the gear ratio).
+* a driven cylinder (a linear driver on the prismatic pair between two moving bodies, each
+  hinged at one pivot) with the body it moves: ``"cyl-RRR"`` (that body hinged to a known body:
+  the cylinder triangle, circle about the cylinder's pivot with the cylinder's length as radius
+  intersected with the body's circle) or ``"cyl-RRP"`` (the body sliding on a known guide);
+  closed form, its branch keyed by the joint between the cylinder and the body.
 * anything else (class III and higher, groups with several slots): ``"newton"``, solved by
   Newton's method continued from the previous position. A driver placed on a joint between two
   moving bodies ends up inside such a group (it is then not an Assur group; its class is
@@ -46,10 +54,14 @@ import numpy as np
 from linkwork.errors import ParameterError, StructureError
 from linkwork.planar.joints import Joint, Point, ResolvedJoint
 
-__all__ = ["Group", "Plan", "PlanGroup", "Structure", "analyse", "compile_plan", "length_scale",
-           "mobility"]
+__all__ = ["CYLINDER", "HUNG", "Group", "Plan", "PlanGroup", "Structure", "analyse",
+           "compile_plan", "length_scale", "mobility"]
 
 _CLOSED = {"RRR", "RRP", "PRR", "RPR", "RPP", "PPR", "PRP"}
+#: the group kinds whose rates and reactions the hung-body closure (Cramer) solves
+HUNG = _CLOSED | {"RS", "PS"}
+#: the driven-cylinder groups (closed-form positions, rates and reactions by the Jacobian)
+CYLINDER = {"cyl-RRR", "cyl-RRP"}
 
 
 class _BodyLike(Protocol):
@@ -81,6 +93,9 @@ class Mechanism(Protocol):
 
     @property
     def driver(self) -> Any: ...
+
+    @property
+    def drivers(self) -> tuple[Any, ...]: ...
 
     @property
     def body_names(self) -> tuple[str, ...]: ...
@@ -146,8 +161,12 @@ class Structure:
         return " -> ".join(parts)
 
 
+def _driven(mech: Mechanism) -> set[str]:
+    return {d.joint for d in mech.drivers}
+
+
 def _cons(mech: Mechanism, j: Joint) -> int:
-    return j.n_constraints + (1 if j.name == mech.driver.joint else 0)
+    return j.n_constraints + (1 if j.name in _driven(mech) else 0)
 
 
 def mobility(mech: Mechanism) -> int:
@@ -206,14 +225,23 @@ def analyse(mech: Mechanism) -> Structure:
             f"{'have' if len(jointless) > 1 else 'has'} no joints: connect "
             f"{'them' if len(jointless) > 1 else 'it'} to the frame or another body, or "
             f"leave {'them' if len(jointless) > 1 else 'it'} out")
+    nd = len(mech.drivers)
+    given = ", ".join(d.joint for d in mech.drivers)
+    drivers = f"one driver ({given}) is" if nd == 1 else f"{nd} drivers ({given}) are"
     if w < 1:
         raise StructureError(
             f"mechanism is locked: mobility W = 3*{n} - 2*{p5} - {p4} = {w} < 1 "
             f"({_describe(mech, everything)})")
-    if w > 1:
+    if w > nd:
         raise StructureError(
-            f"mechanism is under-driven: mobility W = 3*{n} - 2*{p5} - {p4} = {w} but one "
-            f"driver ({mech.driver.joint}) is given ({_describe(mech, everything)})")
+            f"mechanism is under-driven: mobility W = 3*{n} - 2*{p5} - {p4} = {w} but "
+            f"{drivers} given: give {w} drivers, one per degree of freedom "
+            f"({_describe(mech, everything)})")
+    if w < nd:
+        raise StructureError(
+            f"mechanism is over-driven: mobility W = 3*{n} - 2*{p5} - {p4} = {w} but "
+            f"{drivers} given: give {w} driver{'s' if w > 1 else ''} "
+            f"({_describe(mech, everything)})")
     known = {mech.frame.name}
     unknown = list(mech.body_names[1:])
     groups: list[Group] = []
@@ -223,7 +251,8 @@ def analyse(mech: Mechanism) -> Structure:
             for combo in itertools.combinations(unknown, k):
                 s = set(combo)
                 js = [j for j in mech.joints
-                      if (j.a in s or j.b in s) and j.a in s | known and j.b in s | known]
+                      if (j.a in s or j.b in s) and j.a in s | known and j.b in s | known
+                      and _carrier(mech, j) in s | known]
                 c = sum(_cons(mech, j) for j in js)
                 if c > 3 * k:
                     raise StructureError(
@@ -246,6 +275,12 @@ def analyse(mech: Mechanism) -> Structure:
     return Structure(n, p5, p4, w, tuple(groups))
 
 
+def _carrier(mech: Mechanism, j: Joint) -> str:
+    """The third body a joint involves (a gear pair's carrier), else its body a."""
+    c = j.carrier_of(mech.frame.name)
+    return j.a if c is None else c
+
+
 def _connected(bodies: tuple[str, ...], joints: list[Joint]) -> bool:
     seen = {bodies[0]}
     changed = True
@@ -263,12 +298,13 @@ def _make_group(mech: Mechanism, combo: tuple[str, ...], js: list[Joint],
     order = [b for b in mech.body_names if b in combo]
     ext = [j for j in js if not (j.a in combo and j.b in combo)]
     internal = [j for j in js if j.a in combo and j.b in combo]
-    if len(order) == 1 and any(j.name == mech.driver.joint for j in js) and len(js) == 1:
+    driven = _driven(mech)
+    if len(order) == 1 and any(j.name in driven for j in js) and len(js) == 1:
         return Group("driver", tuple(order), (js[0].name,), (js[0].name,), 1, 1, js[0].name)
     kind = "newton"
     key = order[0]
     joints = [j.name for j in js]
-    drv = any(j.name == mech.driver.joint for j in js)
+    drv = any(j.name in driven for j in js)
     if len(order) == 2 and len(js) == 3 and len(internal) == 1 and not drv:
         b1, b2 = order
         e1 = [j for j in ext if b1 in (j.a, j.b)]
@@ -281,9 +317,17 @@ def _make_group(mech: Mechanism, combo: tuple[str, ...], js: list[Joint],
     elif len(order) == 1 and len(js) == 2 and not drv:
         two = [j for j in js if j.n_constraints == 2]
         one = [j for j in js if j.n_constraints == 1]
-        if len(two) == 1 and len(one) == 1:
+        if len(two) == 1 and len(one) == 1 and one[0].code == "G":
+            if two[0].is_pivot and _carrier(mech, one[0]) in (two[0].a, two[0].b):
+                kind, key = "RG", one[0].name  # a gear turning on its carrier
+                joints = [two[0].name, one[0].name]
+        elif len(two) == 1 and len(one) == 1:
             kind, key = two[0].code + "S", one[0].name
             joints = [two[0].name, one[0].name]
+    if kind == "newton" and len(order) == 3 and len(js) == 4 and drv:
+        cyl = _cylinder(order, js, driven, mech.frame.name)
+        if cyl is not None:
+            kind, key, joints = cyl
     if kind == "newton":
         cyc = _largest_cycle(tuple(order), js)
         deg = max(sum(1 for j in js if b in (j.a, j.b)) for b in order)
@@ -292,6 +336,30 @@ def _make_group(mech: Mechanism, combo: tuple[str, ...], js: list[Joint],
         cls = 2
     return Group(kind, tuple(order), tuple(joints), tuple(j.name for j in ext), cls, len(ext),
                  key)
+
+
+def _cylinder(order: list[str], js: list[Joint], driven: set[str], frame: str
+              ) -> tuple[str, str, list[str]] | None:
+    """A driven cylinder and the body it moves: (kind, key, joints (A, cylinder, C, X's
+    external joint)), or None for another group of three bodies."""
+    cyl = [j for j in js if j.name in driven and j.code == "P" and j.a in order and j.b in order]
+    if len(cyl) != 1:
+        return None
+    d = cyl[0]
+    x = next(b for b in order if b not in (d.a, d.b))
+    rest = [j for j in js if j is not d]
+    to_x = [j for j in rest if x in (j.a, j.b) and ({j.a, j.b} & {d.a, d.b})]
+    ext_x = [j for j in rest if x in (j.a, j.b) and not ({j.a, j.b} & {d.a, d.b})]
+    ext_c = [j for j in rest if x not in (j.a, j.b)]
+    if (len(to_x), len(ext_x), len(ext_c)) != (1, 1, 1):
+        return None
+    jc, jx, ja = to_x[0], ext_x[0], ext_c[0]
+    if not (ja.is_pivot and jc.is_pivot and jx.n_constraints == 2):
+        return None
+    if ({ja.a, ja.b} & {d.a, d.b}) == ({jc.a, jc.b} & {d.a, d.b}):
+        return None  # both pivots on one cylinder body: the other one is not held
+    kind = "cyl-RRR" if jx.is_pivot else "cyl-RRP"
+    return kind, jc.name, [ja.name, d.name, jc.name, jx.name]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -322,14 +390,22 @@ class Plan:
     groups : tuple of PlanGroup
         The groups in solution order.
     driver : ResolvedJoint
-        The driver's joint.
+        The (first) driver's joint.
     driver_kind : str
-        ``"crank"`` (a torque about a pivot) or ``"linear"`` (a force along a guide).
+        ``"crank"`` (a torque about a pivot) or ``"linear"`` (a force along a guide): the first
+        driver's.
+    drivers : tuple of ResolvedJoint
+        Every driver's joint, in the order of ``Mechanism.drivers`` (``drive_index`` 0, 1, ...).
+    driver_kinds : tuple of str
+        Their kinds.
     length_scale : float
         The largest point coordinate [m] (at least 1 mm): the scale of Newton's tolerance and
         of the singularity tests.
     newton : bool
         Some group is solved by Newton iteration (positions are then solved as one sequence).
+    global_reactions : bool
+        Some group is not a hung-body group (Newton, driven cylinder): the reactions are solved
+        with the whole constraint Jacobian.
     """
 
     body_names: tuple[str, ...]
@@ -339,6 +415,12 @@ class Plan:
     driver_kind: str
     length_scale: float
     newton: bool
+    drivers: tuple[ResolvedJoint, ...] = ()
+    driver_kinds: tuple[str, ...] = ()
+
+    @property
+    def global_reactions(self) -> bool:
+        return any(g.kind not in HUNG and g.kind != "driver" for g in self.groups)
 
     @property
     def nb(self) -> int:
@@ -356,17 +438,22 @@ def compile_plan(mech: Mechanism) -> Plan:
     """The plan of ``mech``: its structure with joints and bodies resolved to indices and local
     geometry (raises StructureError as :func:`analyse`)."""
     index = mech.index
+    drive_index = {d.joint: i for i, d in enumerate(mech.drivers)}
     resolved: dict[str, ResolvedJoint] = {}
     for k, j in enumerate(mech.joints):
-        qa, pb, ang = j.local_geometry(mech.body(j.a), mech.body(j.b))
+        qa, pb, ang, ic, params = j.resolve(mech)
         resolved[j.name] = ResolvedJoint(j, k, index[j.a], index[j.b], qa, pb, ang,
                                          (float(np.cos(ang)), float(np.sin(ang))),
-                                         j.name == mech.driver.joint)
+                                         j.name in drive_index, drive_index.get(j.name, -1),
+                                         ic, params)
     groups = tuple(
         PlanGroup(g, g.kind, g.key, tuple(index[b] for b in g.bodies),
                   tuple(resolved[n] for n in g.joints),
                   tuple(mech.body(b).guess for b in g.bodies))
         for g in mech.structure.groups)
+    first = mech.drivers[0]
     return Plan(mech.body_names, tuple(resolved[j.name] for j in mech.joints), groups,
-                resolved[mech.driver.joint], mech.driver.kind, length_scale(mech),
-                any(g.kind == "newton" for g in groups))
+                resolved[first.joint], first.kind, length_scale(mech),
+                any(g.kind == "newton" for g in groups),
+                tuple(resolved[d.joint] for d in mech.drivers),
+                tuple(d.kind for d in mech.drivers))

@@ -32,11 +32,11 @@ from typing import Any
 import numpy as np
 
 from linkwork.plot.numbers import fmt, unit_label
-from linkwork.plot.scene import PALETTE, Scene, Shape
+from linkwork.plot.scene import FORCE_ROLES, PALETTE, Scene, Shape
 
-__all__ = ["MAX_DIAGRAM_SAMPLES", "MAX_FRAMES", "Diagram", "Page", "Section", "Table",
-           "diagram_svg", "page_html", "peaks_table", "result_table", "scene_data", "scene_svg",
-           "summary_table", "view_html"]
+__all__ = ["MAX_DIAGRAM_SAMPLES", "MAX_FRAMES", "Diagram", "Page", "RefLine", "Section",
+           "Table", "diagram_svg", "page_html", "peaks_table", "result_table", "scene_data",
+           "scene_svg", "summary_table", "view_html"]
 
 #: Most frames the animation of a page holds (more positions are sampled evenly).
 MAX_FRAMES = 720
@@ -183,11 +183,15 @@ def scene_data(scene: Scene, *, prefix: str = "lw", most: int = MAX_FRAMES) -> d
         shapes.append({"id": f"{prefix}-s{i}", "kind": s.kind, "k": int(s.xy.shape[0]),
                        "d": flat, "label": bool(s.label), "r": s.size * 1e3,
                        "role": s.role})
+    speed_f, speed_unit = (30.0 / math.pi, "rpm") if scene.unit == "rad" else (1.0, "m/s")
+    timings = [{"label": tm.label, "t": [round(float(v), 6) for v in tm.t[idx]],
+                "speed": [round(float(v) * speed_f, 4) for v in tm.speed[idx]],
+                "span": float(tm.span), "unit": speed_unit} for tm in scene.timings]
     return {"n": int(idx.size), "frames": idx.tolist(),
             "pos": [round(float(v) * f, 6) for v in scene.positions[idx]],
             "valid": [int(v) for v in scene.valid[idx]], "q": q, "unit": unit,
             "coordinate": scene.coordinate, "periodic": scene.periodic,
-            "period": _period(scene), "shapes": shapes}
+            "period": _period(scene), "shapes": shapes, "timings": timings}
 
 
 def _period(scene: Scene) -> float:
@@ -200,6 +204,21 @@ def _period(scene: Scene) -> float:
 
 # ---------------------------------------------------------------------------------------------
 # diagrams
+
+
+@dataclass(frozen=True)
+class RefLine:
+    """A reference curve of a :class:`Diagram` with its own abscissas (display units), not
+    linked to the animation: a limit, a mean, a tangent, another design's curve.
+
+    ``colour``: a palette index (-1: the next after the diagram's series); ``dotted``: dotted
+    instead of dashed (a second kind of line of the same colour)."""
+
+    name: str
+    x: np.ndarray
+    y: np.ndarray
+    colour: int = -1
+    dotted: bool = False
 
 
 @dataclass(frozen=True)
@@ -225,6 +244,17 @@ class Diagram:
     equal : bool
         Equal scales on both axes (a hodograph).
     note : str
+    lines : sequence of RefLine
+        Reference curves with their own abscissas (display units), dashed and not linked to
+        the animation: a limit, a tangent, another design's curve.
+    points : sequence of (name, x, y) or (name, x, y, colour)
+        Marked points (display units), not joined: targets, a Pareto set; ``colour`` a palette
+        index (default: the next after the series and lines).
+    marks : sequence of (x, label)
+        Vertical lines at ``x`` (display units) with a short label: switches, events.
+    scene : int
+        The page's drawing it is linked to (an index into :attr:`Page.choices`; 0: the
+        page's drawing).
     """
 
     title: str
@@ -237,6 +267,10 @@ class Diagram:
     angle: bool = False
     equal: bool = False
     note: str = ""
+    lines: Sequence[RefLine] = ()
+    points: Sequence[tuple[str, Any, Any] | tuple[str, Any, Any, int]] = ()
+    marks: Sequence[tuple[float, str]] = ()
+    scene: int = 0
 
 
 def _ticks(lo: float, hi: float, angle: bool = False, most: int = 8) -> list[float]:
@@ -256,6 +290,8 @@ def _ticks(lo: float, hi: float, angle: bool = False, most: int = 8) -> list[flo
 def _tick_text(v: float, ticks: Sequence[float]) -> str:
     step = abs(ticks[1] - ticks[0]) if len(ticks) > 1 else abs(v) or 1.0
     nd = max(0, -math.floor(math.log10(step) + 1e-9))
+    if abs(round(step, nd) - step) > 1e-9 * step:  # a step of 0.25, 0.025: one more decimal
+        nd += 1
     if nd > 6 or abs(v) >= 1e6:
         return f"{v:.3g}"
     s = f"{v:.{nd}f}"
@@ -307,8 +343,13 @@ def diagram_svg(diagram: Diagram, scene: Scene | None, *, ident: str
     keep = _decimate(len(diagram.x))
     x = np.asarray(diagram.x, dtype=float)[keep]
     ys = [np.asarray(y, dtype=float)[keep] for _, y in diagram.series]
-    xlo, xhi = _range([x])
-    ylo, yhi = _range(ys)
+    extra = [(ln, np.asarray(ln.x, dtype=float)[_decimate(len(ln.x))],
+              np.asarray(ln.y, dtype=float)[_decimate(len(ln.y))]) for ln in diagram.lines]
+    dots = [(p[0], np.asarray(p[1], dtype=float).reshape(-1),
+             np.asarray(p[2], dtype=float).reshape(-1)) for p in diagram.points]
+    xlo, xhi = _range([x, *(a for _, a, _ in extra), *(a for _, a, _ in dots),
+                       np.array([m for m, _ in diagram.marks], dtype=float)])
+    ylo, yhi = _range([*ys, *(b for _, _, b in extra), *(b for _, _, b in dots)])
     if not diagram.parametric:
         pad = 0.06 * (yhi - ylo)
         ylo, yhi = ylo - pad, yhi + pad
@@ -355,6 +396,22 @@ def diagram_svg(diagram: Diagram, scene: Scene | None, *, ident: str
                  f'text-anchor="middle">{_e(diagram.xlabel)}</text>')
     parts.append(f'<text class="lw-axis" transform="translate(13 {(mt + h - mb) / 2:.0f}) '
                  f'rotate(-90)" text-anchor="middle">{_e(diagram.ylabel)}</text>')
+    for k, (v, label) in enumerate(diagram.marks):
+        px = float(X(np.array(v)))
+        parts.append(f'<line class="lw-event" x1="{px:.1f}" x2="{px:.1f}" y1="{mt}" '
+                     f'y2="{h - mb}"><title>{_e(label)}</title></line>'
+                     f'<text class="lw-event-label" x="{px + 2:.1f}" y="{mt + 9 + 10 * (k % 3)}">'
+                     f"{_e(label)}</text>")  # staggered: marks close together stay legible
+    for k, (ln, a, b) in enumerate(extra):
+        pts = np.stack([X(a), Y(b)], axis=1)
+        parts.append(f'<path class="lw-curve {_ref_class(ln, len(ys) + k)}" '
+                     f'd="{_path_d(pts, 1)}"><title>{_e(ln.name)}</title></path>')
+    for k, (name, a, b) in enumerate(dots):
+        c = _point_colour(diagram, k)
+        for u, v in zip(X(a), Y(b), strict=True):
+            if math.isfinite(u) and math.isfinite(v):
+                parts.append(f'<circle class="lw-point lw-c{c}" cx="{u:.1f}" cy="{v:.1f}" '
+                             f'r="3.2"><title>{_e(name)}</title></circle>')
     pxs = X(x)
     for k, y in enumerate(ys):
         pts = np.stack([pxs, Y(y)], axis=1)
@@ -376,7 +433,7 @@ def diagram_svg(diagram: Diagram, scene: Scene | None, *, ident: str
                for y in ys],
         "vals": [[None if not math.isfinite(v) else float(f"{v:.5g}") for v in y] for y in ys],
         "names": [n for n, _ in diagram.series],
-        "box": [ml, w - mr, mt, h - mb]}
+        "box": [ml, w - mr, mt, h - mb], "scene": int(diagram.scene)}
     if linked and scene is not None and diagram.positions is not None:
         fi = scene.frames(MAX_FRAMES)
         pos = np.asarray(diagram.positions, dtype=float)[keep]
@@ -398,18 +455,23 @@ def diagram_svg(diagram: Diagram, scene: Scene | None, *, ident: str
 @dataclass(frozen=True)
 class Table:
     """A table of strings; ``positions`` (one per row, SI, or None) link rows to the
-    animation (a click on the row shows that position)."""
+    animation (a click on the row shows that position of the drawing ``scene``, an index
+    into :attr:`Page.choices`); ``chooses`` (one per row, or None) makes a click on the row
+    show that drawing of :attr:`Page.choices` (a design of a synthesis)."""
 
     caption: str
     head: Sequence[str]
     rows: Sequence[Sequence[str]]
     positions: Sequence[float | None] | None = None
     note: str = ""
+    scene: int = 0
+    chooses: Sequence[int | None] | None = None
 
 
 @dataclass(frozen=True)
 class Section:
-    """One part of a page: a study's diagrams, tables and notes (or why it is missing)."""
+    """One part of a page: a study's diagrams, tables and notes (or why it is missing), and
+    verdict lines ``(ok, text)`` shown under its introduction (a motor that is OK or not)."""
 
     title: str
     key: str
@@ -418,6 +480,7 @@ class Section:
     tables: Sequence[Table] = ()
     notes: Sequence[str] = ()
     error: str = ""
+    verdicts: Sequence[tuple[bool, str]] = ()
 
 
 @dataclass(frozen=True)
@@ -427,6 +490,8 @@ class Page:
     ``warnings`` are shown at the top (e.g. the ranges where the mechanism does not
     assemble); ``inputs`` are tables of the input data with units and ``source`` the input
     file as written; ``notes`` are (title, text) of the conventions and errata that apply.
+    ``choices`` are (label, drawing) the player switches between (the designs of a
+    synthesis; the first is ``scene``); diagrams and tables name the one they refer to.
     """
 
     title: str
@@ -441,6 +506,15 @@ class Page:
     version: str = ""
     date: str = ""
     extra: dict[str, Any] = field(default_factory=dict)
+    choices: Sequence[tuple[str, Scene]] = ()
+
+    @property
+    def scenes(self) -> list[Scene]:
+        """The drawings the player shows: the choices (the first is :attr:`scene`), or the
+        page's one drawing."""
+        if self.choices:
+            return [sc for _, sc in self.choices]
+        return [] if self.scene is None else [self.scene]
 
 
 def _table_html(t: Table, scene: Scene | None, tid: str) -> str:
@@ -452,9 +526,13 @@ def _table_html(t: Table, scene: Scene | None, tid: str) -> str:
     for i, r in enumerate(t.rows):
         attr = ""
         pos = t.positions[i] if t.positions is not None and i < len(t.positions) else None
+        pick = t.chooses[i] if t.chooses is not None and i < len(t.chooses) else None
         if fpos is not None and pos is not None and math.isfinite(pos):
             k, _ = _nearest(np.array([pos]), fpos, period)
-            attr = f' class="lw-goto" data-frame="{int(k[0])}" title="show this position"'
+            attr = (f' class="lw-goto" data-frame="{int(k[0])}" data-choice="{t.scene}" '
+                    'title="show this position"')
+        elif pick is not None:
+            attr = f' class="lw-goto" data-choice="{int(pick)}" title="show this design"'
         cells = "".join(f"<td>{_e(c)}</td>" for c in r)
         rows.append(f"<tr{attr}>{cells}</tr>")
     head = "".join(f"<th>{_e(h)}</th>" for h in t.head)
@@ -464,30 +542,67 @@ def _table_html(t: Table, scene: Scene | None, tid: str) -> str:
             f"<tbody>{''.join(rows)}</tbody></table>{note}</div>")
 
 
+def _point_colour(d: Diagram, k: int) -> int:
+    """Palette index of the ``k``-th marked points of ``d``."""
+    p = d.points[k]
+    c = p[3] if len(p) > 3 else len(d.series) + len(d.lines) + k
+    return int(c) % len(PALETTE)
+
+
+def _ref_class(ln: RefLine, k: int) -> str:
+    """CSS classes of a reference line (``k``: its default palette place)."""
+    c = (ln.colour if ln.colour >= 0 else k) % len(PALETTE)
+    return f"{'lw-ref lw-dotted' if ln.dotted else 'lw-ref'} lw-c{c}"
+
+
 def _diagram_html(d: Diagram, scene: Scene | None, ident: str) -> tuple[str, dict[str, Any]]:
     svg, data = diagram_svg(d, scene, ident=ident)
     legend = "".join(
         f'<span class="lw-key"><i class="lw-swatch lw-c{k % len(PALETTE)}"></i>{_e(n)}'
         f'<b id="{ident}-v{k}"></b></span>' for k, (n, _) in enumerate(d.series))
+    first = len(d.series)
+    legend += "".join(
+        f'<span class="lw-key"><i class="lw-swatch {_ref_class(ln, first + k)}"></i>'
+        f"{_e(ln.name)}</span>" for k, ln in enumerate(d.lines) if ln.name)
+    legend += "".join(
+        f'<span class="lw-key"><i class="lw-dotkey lw-c{_point_colour(d, k)}"></i>'
+        f"{_e(p[0])}</span>" for k, p in enumerate(d.points))
     note = f'<p class="lw-note">{_e(d.note)}</p>' if d.note else ""
     return (f'<figure class="lw-diagram"><figcaption>{_e(d.title)}</figcaption>{svg}'
             f'<div class="lw-legend">{legend}</div>{note}</figure>', data)
 
 
-def _player(scene: Scene, prefix: str) -> str:
+def _player(scene: Scene, prefix: str, choices: Sequence[tuple[str, Scene]] = ()) -> str:
     unit, _ = scene.display
     toggles = []
     roles = {s.role for s in scene.shapes}
+    for _, other in choices[1:]:
+        roles |= {s.role for s in other.shapes}
     if "path" in roles:
         toggles.append(("paths", "point paths", True))
     if "centre" in roles:
         toggles.append(("centres", "instant centres", True))
+    if roles & set(FORCE_ROLES):
+        toggles.append(("forces", "force elements and loads", True))
     toggles.append(("labels", "labels", True))
     boxes = "".join(f'<label><input type="checkbox" id="{prefix}-show-{k}" '
                     f'data-show="{k}"{" checked" if on else ""}> {_e(t)}</label>'
                     for k, t, on in toggles)
     notes = "".join(f'<p class="lw-note">{_e(n)}</p>' for n in scene.notes)
-    return (f'<div class="lw-player">{scene_svg(scene, _first_valid(scene), prefix=prefix)}'
+    constant = ", constant speed" if scene.timings else ""
+    timed = "".join(f'<option value="t{k}">real time: {_e(tm.label)}</option>'
+                    for k, tm in enumerate(scene.timings))
+    svgs = scene_svg(scene, _first_valid(scene), prefix=prefix)
+    chooser = ""
+    if len(choices) > 1:
+        for k, (_, other) in enumerate(choices[1:], start=1):
+            svgs += scene_svg(other, _first_valid(other), prefix=f"{prefix}-v{k}").replace(
+                "<svg ", '<svg style="display:none" ', 1)
+        chooser = (f'<label class="lw-choice">show <select id="{prefix}-choice">'
+                   + "".join(f'<option value="{k}">{_e(label)}</option>'
+                             for k, (label, _) in enumerate(choices))
+                   + "</select></label>")
+    return (f'<div class="lw-player">{chooser}{svgs}'
             f'<div class="lw-controls">'
             f'<button type="button" id="{prefix}-play" class="lw-play" aria-label="play">'
             f"&#9654; play</button>"
@@ -498,9 +613,10 @@ def _player(scene: Scene, prefix: str) -> str:
             f'<option value="0.1">0.1×</option><option value="0.25">0.25×</option>'
             f'<option value="0.5">0.5×</option><option value="1" selected>1×</option>'
             f'<option value="2">2×</option><option value="4">4×</option>'
-            f'<option value="real">real time</option></select></label></div>'
+            f'<option value="real">real time{constant}</option>{timed}</select></label></div>'
             f'<div class="lw-readout"><span id="{prefix}-pos">{_e(scene.coordinate)} '
-            f"[{_e(unit)}]</span> <span id=\"{prefix}-state\" class=\"lw-state\"></span></div>"
+            f"[{_e(unit)}]</span> <span id=\"{prefix}-time\" class=\"lw-time\"></span> "
+            f"<span id=\"{prefix}-state\" class=\"lw-state\"></span></div>"
             f'<div class="lw-toggles">{boxes}</div>{notes}</div>')
 
 
@@ -514,14 +630,25 @@ def _viewer(prefix: str, data: dict[str, Any]) -> str:
             f"<script>{_asset('viewer.js')}\nlinkworkViewer({_json(prefix)});</script>")
 
 
-def _view_data(scene: Scene | None, prefix: str, charts: list[dict[str, Any]]
-               ) -> dict[str, Any]:
-    return {"scene": scene_data(scene, prefix=prefix) if scene is not None else None,
-            "charts": charts}
+def _view_data(scene: Scene | None, prefix: str, charts: list[dict[str, Any]],
+               choices: Sequence[tuple[str, Scene]] = ()) -> dict[str, Any]:
+    data: dict[str, Any] = {
+        "scene": scene_data(scene, prefix=prefix) if scene is not None else None,
+        "charts": charts}
+    if len(choices) > 1:
+        data["alternatives"] = [scene_data(sc, prefix=f"{prefix}-v{k}")
+                                for k, (_, sc) in enumerate(choices) if k > 0]
+        data["labels"] = [label for label, _ in choices]
+    return data
+
+
+def _of(scenes: Sequence[Scene], k: int) -> Scene | None:
+    return scenes[k] if 0 <= k < len(scenes) else None
 
 
 def page_html(page: Page, *, prefix: str = "lw") -> str:
     """The whole report as one self-contained HTML document."""
+    scenes = page.scenes
     charts: list[dict[str, Any]] = []
     body: list[str] = []
     nav = "".join(f'<a href="#{prefix}-{_e(s.key)}">{_e(s.title)}</a>' for s in page.sections)
@@ -532,16 +659,20 @@ def page_html(page: Page, *, prefix: str = "lw") -> str:
         body += [f"<p>{_e(p)}</p>" for p in s.intro]
         if s.error:
             body.append(f'<p class="lw-error">{_e(s.error)}</p>')
+        if s.verdicts:
+            body.append('<ul class="lw-verdicts">' + "".join(
+                f'<li class="{"lw-ok" if ok else "lw-bad"}">{_e(t)}</li>'
+                for ok, t in s.verdicts) + "</ul>")
         if s.diagrams:
             body.append('<div class="lw-diagrams">')
             for d in s.diagrams:
                 ident = f"{prefix}-c{len(charts)}"
-                block, data = _diagram_html(d, page.scene, ident)
+                block, data = _diagram_html(d, _of(scenes, d.scene), ident)
                 charts.append(data)
                 body.append(block)
             body.append("</div>")
         for k, t in enumerate(s.tables):
-            body.append(_table_html(t, page.scene, f"{prefix}-{s.key}-t{k}"))
+            body.append(_table_html(t, _of(scenes, t.scene), f"{prefix}-{s.key}-t{k}"))
         body += [f'<p class="lw-note">{_e(n)}</p>' for n in s.notes]
         body.append("</section>")
     inputs = "".join(_table_html(t, None, f"{prefix}-in{k}") for k, t in enumerate(page.inputs))
@@ -550,10 +681,10 @@ def page_html(page: Page, *, prefix: str = "lw") -> str:
                    f"({_e(page.source_name)})</summary><pre>{_e(page.source)}</pre></details>")
     notes = "".join(f"<h3>{_e(t)}</h3><p>{_e(x)}</p>" for t, x in page.notes)
     warn = "".join(f'<p class="lw-warning">{_e(w)}</p>' for w in page.warnings)
-    player = (_player(page.scene, prefix) if page.scene is not None
+    player = (_player(scenes[0], prefix, page.choices) if scenes
               else '<div class="lw-player"><p class="lw-note">no drawing of this mechanism'
                    "</p></div>")
-    data = _view_data(page.scene, prefix, charts)
+    data = _view_data(scenes[0] if scenes else None, prefix, charts, page.choices)
     return (
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
         '<meta name="viewport" content="width=device-width, initial-scale=1">'

@@ -39,15 +39,24 @@ def _linear(result: Any) -> bool:
     return bool(result.units.get("phi1") == "m")
 
 
+def _several(result: Any) -> bool:
+    """Several drivers: their positions are rows of ``phi1``; figures run over the index of
+    the position along the drivers' path."""
+    return bool(np.ndim(result.phi1) == 2)
+
+
 def _x(kin: Any) -> tuple[np.ndarray, str]:
+    if _several(kin):
+        return np.arange(np.shape(kin.phi1)[-1], dtype=float), "position along the drivers' path"
     if not _linear(kin):
         return np.degrees(kin.phi1), "driver angle φ1 [deg]"
     return kin.phi1 * 1e3, "driver position s1 [mm]"
 
 
 def _angle(kin: Any, x: np.ndarray) -> np.ndarray | None:
-    """The degrees drawn on the x axis, or None for a linear driver (mm, not an angle)."""
-    return None if _linear(kin) else x
+    """The degrees drawn on the x axis, or None for a linear driver (mm, not an angle) or
+    several drivers (the position's index)."""
+    return None if _linear(kin) or _several(kin) else x
 
 
 #: line styles of the point paths (colours repeat after ten paths, the styles tell them apart)
@@ -186,6 +195,8 @@ def plot_driving_torque(dyn: Any, ax: Any = None, *, name: str | None = None
     ``"frictionless"`` with friction)."""
     ax = _ax(ax)
     x, label = _x(dyn.kinematics)
+    if _several(dyn.kinematics):
+        return _driving_loads(dyn, ax, x, label, name)
     crank = not _linear(dyn.kinematics)
     friction = bool(getattr(dyn, "has_friction", False))
     div, unit = _prefixed("N·m" if crank else "N", dyn.Q,
@@ -202,13 +213,31 @@ def plot_driving_torque(dyn: Any, ax: Any = None, *, name: str | None = None
     mean = dyn.Q_mean / div
     peak = float(np.nanmax(np.abs(dyn.Q))) / div if np.isfinite(dyn.Q).any() else 0.0
     shown = 0.0 if abs(mean) <= 1e-9 * peak else mean  # round-off of a zero mean: 0
-    ax.axhline(mean, color="k", lw=0.8, ls=":",
-               label=f"mean {shown:.4g} {unit} (work / range)")
+    if np.isfinite(mean):  # undefined where Q is (self-locking, unassembled positions)
+        ax.axhline(mean, color="k", lw=0.8, ls=":",
+                   label=f"mean {shown:.4g} {unit} (work / range)")
     ax.set_xlabel(label)
     quantity = "driving torque Q" if crank else "driving force Q"
     ax.set_ylabel(f"{quantity} [{unit}]")
     finish(ax, title=titled(name, "Dynamics", quantity), angle=_angle(dyn.kinematics, x))
     return {"ax": ax, "line": ln, **extra}
+
+
+def _driving_loads(dyn: Any, ax: Any, x: np.ndarray, label: str, name: str | None
+                   ) -> dict[str, Any]:
+    """Several drivers: each one's driving torque or force, in its own unit, over the
+    position along their path."""
+    drivers = dyn.kinematics.mechanism.drivers
+    lines = []
+    for k, d in enumerate(drivers):
+        unit = "N·m" if d.kind == "crank" else "N"
+        div, shown = _prefixed(unit, dyn.Q[k])
+        (ln,) = ax.plot(x, dyn.Q[k] / div, label=f"Q {d.joint} [{shown}]")
+        lines.append(ln)
+    ax.set_xlabel(label)
+    ax.set_ylabel("driving torque / force Q")
+    finish(ax, title=titled(name, "Dynamics", "driving loads Q of the drivers"))
+    return {"ax": ax, "line": lines[0], "lines": lines}
 
 
 def plot_reactions(dyn: Any, joints: Sequence[str] | None = None, ax: Any = None, *,
@@ -317,16 +346,15 @@ def point_motion_figure(pm: PointMotion, axes: Any = None, *, name: str | None =
     """Position [mm], velocity [m/s] and acceleration [m/s²] components of a point over the
     driver positions (3 axes, x and y in each); ``name`` (of the mechanism) heads the title."""
     ax = _pva_axes(axes)
-    linear = _linear(pm)
-    x = pm.phi1 * 1e3 if linear else np.degrees(pm.phi1)
+    x, label = _x(pm)
     for a, (qx, qy, ylab) in zip(ax, ((pm.x * 1e3, pm.y * 1e3, "position [mm]"),
                                       (pm.vx, pm.vy, "velocity [m/s]"),
                                       (pm.ax, pm.ay, "acceleration [m/s²]")), strict=True):
         a.plot(x, qx, label="x")
         a.plot(x, qy, label="y")
         a.set_ylabel(ylab)
-        finish(a, angle=None if linear else x)
-    ax[-1].set_xlabel("driver position s1 [mm]" if linear else "driver angle φ1 [deg]")
+        finish(a, angle=_angle(pm, x))
+    ax[-1].set_xlabel(label)
     figure_title(ax[0].figure, titled(name, "PointMotion", "motion of a point"))
     return Figure.of(ax)
 

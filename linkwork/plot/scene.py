@@ -26,15 +26,19 @@ check independently.
 
 from __future__ import annotations
 
+import contextlib
 import itertools
+import logging
 import math
-from collections.abc import Callable, Sequence
+import subprocess
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from linkwork.errors import ExternalToolError, ParameterError
 from linkwork.outputs import atomic_path
 from linkwork.plot._base import Figure, axes_or_new, pyplot, text
 from linkwork.plot.planar import named_point_paths
@@ -42,14 +46,21 @@ from linkwork.plot.planar import named_point_paths
 if TYPE_CHECKING:
     from linkwork.planar.kinematics import Kinematics
 
-__all__ = ["JOINT_SHAPES", "MAX_ANIMATION_FRAMES", "MAX_ANIMATION_PIXELS", "DrawContext",
-           "Scene", "Shape", "animate", "crank_slider_scene", "draw", "inclined_slot_scene",
-           "instant_centres", "mechanism_figure", "planar_scene", "sine_press_scene",
-           "swashplate_scene"]
+__all__ = ["FORCE_ROLES", "JOINT_SHAPES", "MAX_ANIMATION_FRAMES", "MAX_ANIMATION_PIXELS",
+           "DrawContext", "Scene", "Shape", "Timing", "animate", "crank_slider_scene",
+           "damper_parts", "draw", "force_arrow", "inclined_slot_scene", "instant_centres",
+           "load_shapes", "mechanism_figure", "planar_scene", "sine_press_scene",
+           "spring_zigzag", "swashplate_scene", "target_shapes", "torque_arrow",
+           "with_shapes"]
 
 #: Roles of shapes (the CSS class in the report; the matplotlib style in :func:`draw`).
-ROLES = ("axis", "path", "guide", "slot", "link", "ground", "block", "weight", "pin",
-         "tracer", "centre")
+ROLES = ("axis", "path", "range", "guide", "slot", "spring", "damper", "link", "ground",
+         "block", "weight", "pin", "tracer", "load", "target", "centre")
+
+#: Roles of the force elements and loads (one switch in the report's player shows or hides them).
+FORCE_ROLES = ("range", "spring", "damper", "load")
+
+TWO_PI = 2.0 * math.pi
 
 #: Most frames an animation file (GIF, MP4) holds, and the largest picture it has [pixels].
 MAX_ANIMATION_FRAMES = 180
@@ -66,7 +77,9 @@ class Shape:
         An open line, a closed outline (filled), or circles (one per vertex).
     role : str
         What it shows (:data:`ROLES`): link, pin, ground, guide, slot, block, path, tracer,
-        centre, weight, axis.
+        centre, weight, axis; the force elements and loads (:data:`FORCE_ROLES`): spring,
+        damper, load (an arrow), range (where a load acts); target (a synthesis task's
+        points and poses).
     name : str
         What it is, for people and tests (``"crank"``, ``"joint A"``, ``"path coupler.P"``,
         ``"I13"``).
@@ -100,6 +113,30 @@ class Shape:
 
 
 @dataclass(frozen=True)
+class Timing:
+    """When the real motion reaches each frame of a scene (machine dynamics: a crank that does
+    not turn at a constant speed), for playback in real time.
+
+    Attributes
+    ----------
+    label : str
+        What motion it is (``"1.5 kW induction: δ = 0.1"``).
+    t : ndarray (n,)
+        Time at each frame from the first frame [s], non-decreasing.
+    speed : ndarray (n,)
+        Driver speed at each frame [rad/s or m/s].
+    span : float
+        Time of one loop of the animation [s]: the period of a whole turn, or from the first
+        to the last frame.
+    """
+
+    label: str
+    t: np.ndarray
+    speed: np.ndarray
+    span: float
+
+
+@dataclass(frozen=True)
 class Scene:
     """A mechanism drawn over the frames of a cycle.
 
@@ -121,6 +158,8 @@ class Scene:
         Driver speed [rad/s or m/s] (real-time playback); 0 where not known.
     notes : tuple of str
         What the drawing leaves out or where it cannot show the mechanism.
+    timings : tuple of Timing
+        The real motions the animation can be played at in real time (:meth:`timed`).
     """
 
     title: str
@@ -132,6 +171,7 @@ class Scene:
     periodic: bool = False
     speed: float = 0.0
     notes: tuple[str, ...] = ()
+    timings: tuple[Timing, ...] = ()
 
     @property
     def n(self) -> int:
@@ -169,12 +209,48 @@ class Scene:
             return (-1.0, -1.0, 1.0, 1.0)
         return (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
 
+    def timed(self, label: str, phi: np.ndarray, t: np.ndarray, speed: np.ndarray,
+              period: float) -> Scene:
+        """The scene with one more real motion to play it at: the crank angles ``phi`` [rad]
+        of one turn (increasing, less than 2 pi apart), the time ``t`` [s] and the crank speed
+        ``speed`` [rad/s] there, and the ``period`` of the turn [s] (a steady state of
+        :mod:`linkwork.machine`). The time and speed of each frame are interpolated over the
+        turn (linearly, periodic); times count from the first frame.
+
+        Raises
+        ------
+        ParameterError
+            The scene's driver is not a crank, or ``phi`` does not increase within one turn.
+        """
+        p = np.asarray(phi, dtype=float)
+        tt = np.asarray(t, dtype=float)
+        w = np.asarray(speed, dtype=float)
+        if self.unit != "rad":
+            raise ParameterError("scene", self.coordinate, "a real motion over crank angles "
+                                 "needs a crank-driven scene")
+        if p.ndim != 1 or p.size < 2 or not (np.all(np.diff(p) > 0)
+                                              and p[-1] - p[0] < TWO_PI):
+            raise ParameterError("phi", p.size, "must increase over less than one turn")
+        rel_p = np.append(p - p[0], TWO_PI)
+        t_p = np.append(tt - tt[0], float(period))
+        w_p = np.append(w, w[0])
+        rel = np.mod(self.positions - p[0], TWO_PI)
+        at = np.interp(rel, rel_p, t_p)
+        frame_t = np.mod(at - at[0], float(period)) if self.n else at
+        if self.n > 1 and not self.periodic:  # a range less than a turn: run through it
+            frame_t = np.maximum.accumulate(frame_t)
+        span = float(period) if self.periodic else float(frame_t[-1]) + float(
+            np.median(np.diff(frame_t)) if self.n > 1 else 0.0)
+        timing = Timing(label, frame_t, np.interp(rel, rel_p, w_p), span)
+        return replace(self, timings=(*self.timings, timing))
+
     def take(self, frames: np.ndarray) -> Scene:
         """The scene at the frames ``frames`` (indices) only."""
         idx = np.asarray(frames, dtype=int)
         shapes = tuple(replace(s, xy=s.xy[:, :, idx]) if s.moving else s for s in self.shapes)
+        timings = tuple(replace(tm, t=tm.t[idx], speed=tm.speed[idx]) for tm in self.timings)
         return replace(self, positions=self.positions[idx], valid=self.valid[idx],
-                       shapes=shapes)
+                       shapes=shapes, timings=timings)
 
     def frames(self, most: int) -> np.ndarray:
         """At most ``most`` frame indices spread evenly over the cycle (all if fewer); a
@@ -234,7 +310,7 @@ class DrawContext:
 
     def full(self, v: np.ndarray) -> np.ndarray:
         """``v`` of shape ``(2,)`` (static) or ``(2, n)`` as ``(2, n)``."""
-        return v if v.ndim == 2 else np.broadcast_to(v[:, None], (2, self.kin.phi1.shape[0]))
+        return v if v.ndim == 2 else np.broadcast_to(v[:, None], (2, self.kin.n))
 
     def direction(self, body: str, angle: float) -> np.ndarray:
         """Unit vector at ``angle`` [rad] in ``body``'s frame, in world axes: ``(2,)`` or
@@ -326,6 +402,201 @@ JOINT_SHAPES: dict[str, Callable[[Any, DrawContext], list[Shape]]] = {
 }
 
 
+# ---------------------------------------------------------------------------------------------
+# force elements and loads (planar.forces), drawn from their evaluation on the motion
+
+#: Drawn size of the force elements, in fractions of the mechanism's extent: a spring's coil
+#: half-width and number of zigzags, a damper's half-width, the longest load arrow, its head.
+SPRING_WIDTH, SPRING_ZIGS = 0.018, 8
+DAMPER_WIDTH = 0.02
+ARROW_LENGTH, ARROW_HEAD = 0.16, 0.03
+
+
+def _ends(ap: Any) -> tuple[np.ndarray, np.ndarray]:
+    """The two ends ``(2, n)`` [m] of a spring or damper, on its bodies a and b: the points
+    where its forces act (its wrenches, :class:`~linkwork.planar.forces.AppliedLoad`)."""
+    by_body = {w.body: np.stack(np.broadcast_arrays(w.px, w.py)).astype(float)
+               for w in ap.wrenches}
+    return by_body[ap.load.a], by_body[ap.load.b]
+
+
+def _along(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Length ``(n,)``, unit vector ``(2, n)`` from a to b and its left normal ``(2, n)``."""
+    d = b - a
+    length = np.hypot(d[0], d[1])
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = d / length
+    return length, u, np.stack([-u[1], u[0]])
+
+
+def spring_zigzag(a: np.ndarray, b: np.ndarray, width: float, zigs: int = SPRING_ZIGS
+                  ) -> np.ndarray:
+    """A spring drawn between the points ``a`` and ``b`` ``(2, n)`` [m]: straight ends of a
+    tenth of its length each and ``zigs`` zigzags of half-width ``width`` [m] between them,
+    vertices ``(zigs + 3, 2, n)`` (it stretches and shortens with the distance of its ends)."""
+    _, _, v = _along(a, b)
+    t = np.concatenate([[0.0, 0.1], 0.1 + 0.8 * (np.arange(1, zigs) / zigs), [0.9, 1.0]])
+    side = np.concatenate([[0.0, 0.0], np.where(np.arange(1, zigs) % 2, 1.0, -1.0), [0.0, 0.0]])
+    return (a[None] + t[:, None, None] * (b - a)[None]
+            + (side * width)[:, None, None] * v[None])
+
+
+def damper_parts(a: np.ndarray, b: np.ndarray, width: float) -> tuple[np.ndarray, np.ndarray]:
+    """A dashpot between ``a`` and ``b`` ``(2, n)`` [m]: the cylinder (on a: a stem to its
+    bottom and its open walls towards b; rigid, of fixed length) and the piston (on b: its rod
+    and plate), each a polyline ``(k, 2, n)``. The plate stays inside the cylinder over the
+    positions (the lengths are taken from the shortest and longest distance of the ends)."""
+    length, u, v = _along(a, b)
+    ok = length[np.isfinite(length)]
+    lo, hi = (float(ok.min()), float(ok.max())) if ok.size else (1.0, 1.0)
+    stem, rod = 0.1 * lo, 0.8 * lo
+    wall = max(hi - 0.8 * lo, 0.3 * lo)               # the plate moves from 0.2 lo to hi - rod
+    c0 = a + stem * u
+    cyl = np.stack([a, c0, c0 + width * v, c0 + width * v + wall * u, c0 + width * v,
+                    c0 - width * v, c0 - width * v + wall * u])
+    plate = b - rod * u
+    piston = np.stack([b, plate, plate + 0.8 * width * v, plate - 0.8 * width * v])
+    return cyl, piston
+
+
+def force_arrow(at: np.ndarray, f: np.ndarray, longest: float, head: float) -> np.ndarray:
+    """Arrows ``(5, 2, n)`` [m] of the forces ``f`` ``(2, n)`` [N] pointing at the points
+    ``at`` ``(2, n)`` (where they act), of length ``longest`` [m] at the largest force and in
+    proportion below it (tail, tip, one barb, tip, the other barb); NaN where the force is zero
+    (the load does not act there)."""
+    mag = np.hypot(f[0], f[1])
+    top = float(np.nanmax(mag)) if np.any(np.isfinite(mag)) else 0.0
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = f / mag
+        length = longest * mag / top if top > 0 else np.zeros_like(mag)
+    off = ~(mag > 1e-12 * top) if top > 0 else np.ones(mag.shape, dtype=bool)
+    v = np.stack([-u[1], u[0]])
+    h = np.minimum(head, 0.6 * length)
+    tail = at - length * u
+    xy = np.stack([tail, at, at - h * u + 0.5 * h * v, at, at - h * u - 0.5 * h * v])
+    return np.where(off[None, None, :], np.nan, xy)
+
+
+def torque_arrow(at: np.ndarray, mz: np.ndarray, radius: float, head: float) -> np.ndarray:
+    """A couple ``mz`` ``(n,)`` [N m] as a three-quarter circle of ``radius`` [m] around
+    ``at`` ``(2, n)`` with its head the way it turns (counter-clockwise positive), vertices
+    ``(k, 2, n)``; NaN where the couple is zero."""
+    top = float(np.nanmax(np.abs(mz))) if np.any(np.isfinite(mz)) else 0.0
+    sign = np.where(mz < 0, -1.0, 1.0)
+    t = np.linspace(0.0, 1.5 * math.pi, 19)[:, None] * sign[None, :]      # (k, n)
+    arc = at[None] + radius * np.stack([np.cos(t), np.sin(t)], axis=1)   # (k, 2, n)
+    end = arc[-1]
+    tangent = np.stack([-np.sin(t[-1]), np.cos(t[-1])]) * sign           # along the turn
+    normal = np.stack([-tangent[1], tangent[0]])
+    barbs = [end - head * tangent + 0.5 * head * normal, end,
+             end - head * tangent - 0.5 * head * normal]
+    xy = np.concatenate([arc, np.stack(barbs)])
+    off = ~(np.abs(mz) > 1e-12 * top) if top > 0 else np.ones(mz.shape, dtype=bool)
+    return np.where(off[None, None, :], np.nan, xy)
+
+
+def _moving_wrench(ap: Any, frame: str) -> Any:
+    """The wrench a load exerts on its moving body (not its reaction on the frame)."""
+    return next((w for w in ap.wrenches if w.body != frame), None)
+
+
+def load_shapes(loads: Sequence[Any], ctx: DrawContext) -> tuple[list[Shape], list[Shape],
+                                                                  list[str]]:
+    """The force elements and loads of a cycle (``Dynamics.loads``, each an
+    :class:`~linkwork.planar.forces.AppliedLoad` evaluated on the motion), drawn where they
+    act: springs as zigzags and dampers as dashpots between their two points; point forces,
+    slide forces and drags as arrows pointing at their point (each scaled to its own largest
+    value, hidden where it is zero); couples as curved arrows; and where a load acts over
+    part of the cycle only, that stretch of its point's path and, for a crank, the arc of the
+    crank's turn over which it acts (role ``range``).
+
+    Returns the shapes drawn under the bodies (springs, dampers, the crank's arcs), those
+    drawn over them (the stretches of the paths, faint, and the arrows) and notes for the
+    drawing.
+    """
+    mech = ctx.mechanism
+    frame = mech.frame.name
+    n = ctx.kin.n
+    under: list[Shape] = []
+    over: list[Shape] = []
+    partial: list[tuple[str, np.ndarray]] = []
+    for ap in loads:
+        kind = ap.kind
+        if kind in ("spring", "damper"):
+            a, b = _ends(ap)
+            if kind == "spring":
+                under.append(Shape("polyline", "spring", f"spring {ap.name}",
+                                   spring_zigzag(a, b, SPRING_WIDTH * ctx.size)))
+            else:
+                cyl, piston = damper_parts(a, b, DAMPER_WIDTH * ctx.size)
+                under.append(Shape("polyline", "damper", f"damper {ap.name} cylinder", cyl))
+                under.append(Shape("polyline", "damper", f"damper {ap.name} piston", piston))
+            continue
+        w = _moving_wrench(ap, frame)
+        if w is None:
+            continue
+        value = np.broadcast_to(np.asarray(ap.value, dtype=float), (n,))
+        active = np.abs(value) > 1e-12 * (float(np.nanmax(np.abs(value)))
+                                          if np.any(np.isfinite(value)) else 0.0)
+        at = np.stack(np.broadcast_arrays(w.px, w.py)).astype(float)
+        if kind == "torque":
+            i = ctx.kin.bodies.index(w.body)
+            centre = np.stack([ctx.kin.x[i], ctx.kin.y[i]])
+            over.append(Shape("polyline", "load", f"load {ap.name}",
+                              torque_arrow(centre, value, 0.06 * ctx.size,
+                                           ARROW_HEAD * ctx.size)))
+        else:
+            f = np.stack(np.broadcast_arrays(w.fx, w.fy)).astype(float)
+            over.append(Shape("polyline", "load", f"load {ap.name}",
+                              force_arrow(at, f, ARROW_LENGTH * ctx.size,
+                                          ARROW_HEAD * ctx.size)))
+        valid = np.asarray(ctx.kin.valid, dtype=bool)
+        if active[valid].any() and not active[valid].all():
+            partial.append((ap.name, active))
+            if kind != "torque":  # over the bodies (a guide's block would hide it), faint
+                xy = np.where(active[None, :], at, np.nan).T
+                over.insert(0, Shape("polyline", "range", f"range {ap.name}", xy,
+                                   size=0.035 * ctx.size))
+    notes: list[str] = []
+    if partial and mech.driver.kind == "crank":
+        under += _crank_arcs(ctx, partial)
+    if over:
+        notes.append("load arrows point at where the load acts, each scaled to its own largest "
+                     "value, and are hidden where it is zero" + (
+                         "; the shaded stretches of a path and the arcs at the crank: where a "
+                         "load acts over part of the cycle" if partial else ""))
+    return under, over, notes
+
+
+def _crank_arcs(ctx: DrawContext, partial: list[tuple[str, np.ndarray]]) -> list[Shape]:
+    """Arcs around the crank's pivot, outside the path of the crank's farthest point, over the
+    crank angles where each load of ``partial`` acts (one ring per load)."""
+    mech = ctx.mechanism
+    joint = mech.joint(mech.driver.joint)
+    frame = mech.frame.name
+    if frame not in (joint.a, joint.b):
+        return []
+    crank = joint.b if joint.a == frame else joint.a
+    qa, pb, _ = mech.joint_geometry(joint)
+    pivot = ctx.world(frame, [qa if joint.a == frame else pb])[0]
+    pts = ctx.world(crank, list(mech.body(crank).points.values()))
+    if pts.ndim != 3:
+        return []
+    r = np.hypot(pts[:, 0] - pivot[0, None], pts[:, 1] - pivot[1, None])    # (k, n)
+    far = int(np.argmax(np.nanmax(r, axis=1)))
+    reach = float(np.nanmax(r[far]))
+    if not reach > 0:
+        return []
+    direction = (pts[far] - pivot[:, None]) / r[far]
+    out = []
+    for k, (name, active) in enumerate(partial):
+        ring = reach + (0.05 + 0.035 * k) * ctx.size
+        xy = pivot[:, None] + ring * direction
+        out.append(Shape("polyline", "range", f"range {name} (crank angles)",
+                         np.where(active[None, :], xy, np.nan).T, size=0.012 * ctx.size))
+    return out
+
+
 def _hull(points: np.ndarray) -> tuple[np.ndarray, bool]:
     """Order of the outline of a body's points: the convex hull (closed: True), or, for points
     on one line, all of them along it (an open polyline: False)."""
@@ -414,8 +685,8 @@ def _whole_turn(phi: np.ndarray) -> bool:
 
 def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
                  centres: bool = False, title: str | None = None,
-                 weights: Sequence[tuple[str, tuple[float, float], float, str]] = ()
-                 ) -> Scene:
+                 weights: Sequence[tuple[str, tuple[float, float], float, str]] = (),
+                 loads: Sequence[Any] = ()) -> Scene:
     """The scene of a planar engine mechanism over the positions of ``kin``.
 
     Parameters
@@ -433,6 +704,9 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
     weights : sequence of (body, (x, y), radius, label)
         Round masses drawn on bodies (counterweights): centre in the body's frame [m] and
         radius [m].
+    loads : sequence of AppliedLoad, optional
+        The loads evaluated on this motion (``Dynamics.loads``): springs, dampers, force
+        arrows and where each load acts (:func:`load_shapes`).
     """
     mech = kin.mechanism
     valid = np.asarray(kin.valid, dtype=bool)
@@ -461,6 +735,9 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
         shapes.append(Shape("circle", "tracer", f"point {body}.{label}",
                             np.stack([pm.x, pm.y])[None], size=0.6 * ctx.pin,
                             colour=colours.get(body, -1)))
+    under, over, load_notes = load_shapes(loads, ctx) if loads else ([], [], [])
+    shapes += under
+    notes += load_notes
     # bodies as the outlines of their named points
     for b in mech.bodies:
         local = np.array(list(b.points.values()), dtype=float).reshape(-1, 2)
@@ -485,6 +762,7 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
         else:
             notes.append(f"joint {joint.name} ({type(joint).__name__}) has no drawing; "
                          "not shown")
+    shapes += over
     if centres:
         far = 50.0 * ctx.size
         cx, cy = np.mean(flat, axis=0) if len(flat) else (0.0, 0.0)
@@ -509,6 +787,28 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
                  coordinate="φ1" if crank else "s1", unit="rad" if crank else "m",
                  valid=valid, shapes=tuple(shapes), periodic=periodic,
                  speed=speed if math.isfinite(speed) else 0.0, notes=tuple(notes))
+
+
+def target_shapes(points: Any, *, size: float, angles: Any = None) -> list[Shape]:
+    """A synthesis task's targets, static and numbered from 1: points ``(k, 2)`` [m] drawn as
+    rings of radius ``size`` [m]; with ``angles`` ``(k,)`` [rad] they are poses, each with a
+    line of length ``6 size`` along the pose's x axis (the coupler's orientation there)."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    out: list[Shape] = []
+    for i, p in enumerate(pts):
+        if angles is not None:
+            a = float(np.asarray(angles, dtype=float)[i])
+            tip = p + 6.0 * size * np.array([math.cos(a), math.sin(a)])
+            out.append(Shape("polyline", "target", f"pose {i + 1} axis", np.stack([p, tip])))
+        out.append(Shape("circle", "target", f"target {i + 1}", p[None], size=size,
+                         label=str(i + 1)))
+    return out
+
+
+def with_shapes(scene: Scene, shapes: Sequence[Shape], *, first: bool = False) -> Scene:
+    """``scene`` with ``shapes`` added (over the others, or under them with ``first``)."""
+    new = (*shapes, *scene.shapes) if first else (*scene.shapes, *shapes)
+    return replace(scene, shapes=tuple(new))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -743,7 +1043,7 @@ def draw(ax: Any, scene: Scene, k: int, *, centres: bool = True) -> list[Any]:
                            lw=1.0, alpha=0.5 if s.role == "weight" else 1.0, zorder=5)
                 ax.add_patch(c)
                 artists.append(c)
-                if s.label and s.role in ("pin", "centre", "weight"):
+                if s.label and s.role in ("pin", "centre", "weight", "target"):
                     artists.append(ax.annotate(text(s.label), (p[0], p[1]), fontsize=7,
                                                xytext=(4, 4), textcoords="offset points",
                                                zorder=6))
@@ -762,6 +1062,12 @@ def draw(ax: Any, scene: Scene, k: int, *, centres: bool = True) -> list[Any]:
                           "solid_capstyle": "butt", "zorder": 1},
                 "slot": {"lw": 7, "color": _colour(s, "0.5"), "alpha": 0.3,
                          "solid_capstyle": "round", "zorder": 2},
+                "range": {"lw": 7 if s.size else 3, "color": "#d97706", "alpha": 0.3,
+                          "solid_capstyle": "butt", "zorder": 1},
+                "spring": {"lw": 1.1, "color": "#2f6f3e", "zorder": 3},
+                "damper": {"lw": 1.3, "color": "#6b4f2a", "zorder": 3},
+                "load": {"lw": 1.4, "color": "#c2410c", "zorder": 6},
+                "target": {"lw": 1.4, "color": "k", "zorder": 6},
             }
             style = styles.get(s.role, {"lw": 3.0, "color": _colour(s, "k"), "zorder": 4,
                                         "solid_capstyle": "round"})
@@ -834,8 +1140,55 @@ def animate(scene: Scene, path: str | Path, *, frames: int = 120, fps: int = 20,
                                             extra_args=["-pix_fmt", "yuv420p"])
         else:
             writer = animation.PillowWriter(fps=fps)
-        with atomic_path(p) as tmp:
-            anim.save(str(tmp), writer=writer, dpi=dpi)
+        with atomic_path(p) as tmp, _movie_writer_log() as said:
+            try:
+                anim.save(str(tmp), writer=writer, dpi=dpi)
+            except (subprocess.CalledProcessError, OSError) as exc:
+                if _interrupted(exc):  # Ctrl-C stops ffmpeg too; the writer's cleanup hid it
+                    raise KeyboardInterrupt from None
+                if not isinstance(writer, animation.FFMpegWriter):
+                    raise
+                last = [ln for m in said for ln in m.splitlines()
+                        if ln.strip() and not ln.startswith("MovieWriter")]
+                why = last[-1].strip() if last else str(exc)
+                raise ExternalToolError(f"ffmpeg failed writing {p.name} ({why})") from None
     finally:
         plt.close(fig)
     return p
+
+
+def _interrupted(exc: BaseException) -> bool:
+    """A KeyboardInterrupt among the exceptions ``exc`` was raised while handling."""
+    seen: BaseException | None = exc
+    while seen is not None:
+        if isinstance(seen, KeyboardInterrupt):
+            return True
+        seen = seen.__context__
+    return False
+
+
+class _Said(logging.Handler):
+    """Keeps the messages of a logger (what ffmpeg printed, as matplotlib passes it on)."""
+
+    def __init__(self) -> None:
+        super().__init__(logging.DEBUG)
+        self.messages: list[str] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.messages.append(record.getMessage())
+
+
+@contextlib.contextmanager
+def _movie_writer_log() -> Iterator[list[str]]:
+    """What matplotlib's movie writers log (ffmpeg's stderr when it fails), kept for the
+    error's message instead of printed on the terminal."""
+    log = logging.getLogger("matplotlib.animation")
+    said = _Said()
+    propagate = log.propagate
+    log.addHandler(said)
+    log.propagate = False
+    try:
+        yield said.messages
+    finally:
+        log.removeHandler(said)
+        log.propagate = propagate

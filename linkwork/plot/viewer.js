@@ -3,7 +3,13 @@
    element `${prefix}-data` ({scene, charts}; see linkwork/plot/html.py) and wires the player
    (play/pause, position slider, speed), the diagrams (cursor follows the animation; a click
    or drag on a diagram shows the nearest position) and the table rows that carry a position.
-   The view's API is root.linkwork = {show(k), frame(), play(), pause(), playing(), n}. */
+   In real time the animation runs at the driver's constant speed, or at a real motion the
+   scene carries (scene.timings: the time and speed at each frame of a machine's steady
+   state), frame by frame as the time reaches it.
+   A page may hold several drawings (data.alternatives: the designs of a synthesis) that a
+   chooser switches between; a diagram and a table row name the drawing they refer to.
+   The view's API is root.linkwork = {show(k), frame(), play(), pause(), playing(), clock(),
+   choose(j), choice(), n}. */
 "use strict";
 function linkworkViewer(prefix) {
   var root = document.getElementById(prefix);
@@ -12,18 +18,24 @@ function linkworkViewer(prefix) {
   var data = JSON.parse(node.textContent);
   var sc = data.scene;
   var charts = data.charts || [];
-  var st = {k: 0, playing: false, t: 0, last: null, speed: 1, raf: 0};
+  var st = {k: 0, playing: false, t: 0, last: null, speed: 1, raf: 0, clock: 0};
   var BASE_SECONDS = 6;  // one cycle at speed 1x
   function $(id) { return document.getElementById(id); }
   var svg = $(prefix + "-scene");
+  var scenes = sc ? [sc].concat(data.alternatives || []) : [];
+  var svgs = scenes.map(function (_, j) {
+    return j === 0 ? svg : $(prefix + "-v" + j + "-scene");
+  });
+  var chosen = 0;  // the drawing shown (an index into scenes)
+  var chooser = $(prefix + "-choice");
   var slider = $(prefix + "-slider");
   var button = $(prefix + "-play");
   var speed = $(prefix + "-speed");
   var posText = $(prefix + "-pos");
   var stateText = $(prefix + "-state");
-  var shapes = [];
-  if (sc) {
-    sc.shapes.forEach(function (s) {
+  var timeText = $(prefix + "-time");
+  function build(scene) {  // the drawn elements of every moving shape of a drawing
+    return scene.shapes.map(function (s) {
       var nodes = [];
       var labels = [];
       if (s.kind === "circle") {
@@ -34,12 +46,17 @@ function linkworkViewer(prefix) {
       } else {
         nodes.push($(s.id));
       }
-      shapes.push({s: s, nodes: nodes, labels: labels});
+      return {s: s, nodes: nodes, labels: labels};
     });
-    if (speed && !(sc.period > 0)) {
-      var real = speed.querySelector('option[value="real"]');
-      if (real) { real.disabled = true; }
-    }
+  }
+  function realTime() {
+    var real = speed ? speed.querySelector('option[value="real"]') : null;
+    if (real) { real.disabled = !(sc.period > 0); }
+  }
+  var shapes = [];
+  if (sc) {
+    shapes = build(sc);
+    realTime();
   }
   function fmt(v) {
     if (v === null || v === undefined || !isFinite(v)) { return "–"; }
@@ -82,7 +99,7 @@ function linkworkViewer(prefix) {
   function setCharts(k) {
     charts.forEach(function (c) {
       if (!c.linked) { return; }
-      var s = c.f2s[k];
+      var s = (c.scene || 0) === chosen ? c.f2s[k] : -1;  // linked to another drawing: no cursor
       var cur = $(c.id + "-cursor");
       var j;
       if (s < 0 || s === undefined) {
@@ -114,6 +131,24 @@ function linkworkViewer(prefix) {
       }
     });
   }
+  function timing() {
+    if (typeof st.speed !== "string" || st.speed.charAt(0) !== "t" || !sc) { return null; }
+    return (sc.timings || [])[Number(st.speed.slice(1))] || null;
+  }
+  function frameAt(tm, clock) {  // the last frame the real motion has reached at `clock`
+    var lo = 0, hi = tm.t.length - 1;
+    while (lo < hi) {
+      var mid = (lo + hi + 1) >> 1;
+      if (tm.t[mid] <= clock) { lo = mid; } else { hi = mid - 1; }
+    }
+    return lo;
+  }
+  function showTime(k) {
+    if (!timeText) { return; }
+    var tm = timing();
+    timeText.textContent = tm ? "t = " + tm.t[k].toFixed(3) + " s of " + tm.span.toFixed(3) +
+      " s, speed " + fmt(tm.speed[k]) + " " + tm.unit : "";
+  }
   function show(k) {
     if (!sc || sc.n === 0) { return; }
     k = ((Math.round(k) % sc.n) + sc.n) % sc.n;
@@ -121,7 +156,9 @@ function linkworkViewer(prefix) {
     if (slider && Number(slider.value) !== k) { slider.value = String(k); }
     var ok = sc.valid[k] === 1;
     if (posText) {
-      posText.textContent = sc.coordinate + " = " + sc.pos[k].toFixed(sc.unit === "deg" ? 1 : 2) +
+      var p = sc.pos[k];
+      if (sc.periodic && sc.unit === "deg") { p = ((p % 360) + 360) % 360; }  // a whole turn
+      posText.textContent = sc.coordinate + " = " + p.toFixed(sc.unit === "deg" ? 1 : 2) +
         " " + sc.unit;
     }
     if (svg) { svg.classList.toggle("lw-off", !ok); }
@@ -131,6 +168,7 @@ function linkworkViewer(prefix) {
     }
     if (ok) { shapes.forEach(function (e) { setShape(e, k); }); }
     setCharts(k);
+    showTime(k);
     root.setAttribute("data-frame", String(k));
   }
   function nextValid(k, step) {
@@ -149,6 +187,17 @@ function linkworkViewer(prefix) {
     if (st.last === null) { st.last = now; }
     var dt = Math.min((now - st.last) / 1000, 0.25);
     st.last = now;
+    var tm = timing();
+    if (tm) {
+      st.clock += dt;
+      if (st.clock >= tm.span) { st.clock -= tm.span * Math.floor(st.clock / tm.span); }
+      var at = frameAt(tm, st.clock);
+      if (sc.valid[at] !== 1) { at = nextValid(at, 1); }
+      if (at < 0) { pause(); return; }
+      if (at !== st.k) { show(at); }
+      st.raf = window.requestAnimationFrame(tick);
+      return;
+    }
     st.t += dt * sc.n / cycleSeconds();
     var steps = Math.floor(st.t);
     if (steps >= 1) {
@@ -166,6 +215,8 @@ function linkworkViewer(prefix) {
     if (!sc || st.playing || nextValid(st.k, 0) < 0) { return; }
     st.playing = true; st.last = null; st.t = 0;
     if (sc.valid[st.k] !== 1) { show(nextValid(st.k, 1)); }
+    var tm = timing();
+    if (tm) { st.clock = tm.t[st.k]; }
     if (button) { button.innerHTML = "&#10074;&#10074; pause"; button.setAttribute("aria-label", "pause"); }
     st.raf = window.requestAnimationFrame(tick);
   }
@@ -179,7 +230,11 @@ function linkworkViewer(prefix) {
   if (slider) { slider.addEventListener("input", function () { pause(); show(Number(slider.value)); }); }
   if (speed) {
     speed.addEventListener("change", function () {
-      st.speed = speed.value === "real" ? "real" : Number(speed.value);
+      var v = speed.value;
+      st.speed = v === "real" || v.charAt(0) === "t" ? v : Number(v);
+      var tm = timing();
+      if (tm) { st.clock = tm.t[st.k]; }
+      if (sc) { showTime(st.k); }
     });
   }
   Array.prototype.forEach.call(root.querySelectorAll("input[data-show]"), function (box) {
@@ -187,8 +242,34 @@ function linkworkViewer(prefix) {
     box.addEventListener("change", apply);
     apply();
   });
-  Array.prototype.forEach.call(root.querySelectorAll("tr[data-frame]"), function (tr) {
-    tr.addEventListener("click", function () { pause(); show(Number(tr.getAttribute("data-frame"))); });
+  function firstValid(scene) {
+    if (scene.valid[0] === 1) { return 0; }
+    for (var i = 0; i < scene.n; i++) { if (scene.valid[i] === 1) { return i; } }
+    return 0;
+  }
+  function choose(j) {
+    j = Number(j);
+    if (!(j >= 0 && j < scenes.length) || j === chosen) { return; }
+    var was = st.playing;
+    pause();
+    if (svgs[chosen]) { svgs[chosen].style.display = "none"; }
+    if (svgs[j]) { svgs[j].style.display = ""; }
+    chosen = j; sc = scenes[j]; svg = svgs[j];
+    shapes = build(sc);
+    if (slider) { slider.max = String(Math.max(sc.n - 1, 0)); }
+    if (chooser && Number(chooser.value) !== j) { chooser.value = String(j); }
+    realTime();
+    show(firstValid(sc));
+    if (was) { play(); }
+  }
+  if (chooser) { chooser.addEventListener("change", function () { choose(chooser.value); }); }
+  Array.prototype.forEach.call(root.querySelectorAll("tr[data-frame], tr[data-choice]"), function (tr) {
+    tr.addEventListener("click", function () {
+      pause();
+      var j = tr.getAttribute("data-choice");
+      if (j !== null) { choose(j); }
+      if (tr.getAttribute("data-frame") !== null) { show(Number(tr.getAttribute("data-frame"))); }
+    });
   });
   function pick(c, el, ev) {
     var box = el.getBoundingClientRect();
@@ -208,7 +289,7 @@ function linkworkViewer(prefix) {
       }
       if (d < bd) { bd = d; best = i; }
     }
-    if (best >= 0) { pause(); show(c.s2f[best]); }
+    if (best >= 0) { pause(); choose(c.scene || 0); show(c.s2f[best]); }
   }
   charts.forEach(function (c) {
     if (!c.linked) { return; }
@@ -237,7 +318,10 @@ function linkworkViewer(prefix) {
     frame: function () { return st.k; },
     play: play, pause: pause,
     playing: function () { return st.playing; },
-    n: sc ? sc.n : 0
+    clock: function () { return st.clock; },
+    choose: function (j) { choose(j); },
+    choice: function () { return chosen; },
+    get n() { return sc ? sc.n : 0; }
   };
   root.linkwork = api;
   if (sc && sc.n > 0) {

@@ -251,14 +251,15 @@ class SpatialModel:
     bodies : sequence of str
         Names of the moving bodies (not the ground).
     joints : sequence of SpatialJoint
-    driver : str
+    driver : str or tuple of str
         Name of the joint that carries the driving torque (revolute family: a moment about z;
-        prismatic family: a force along the slide).
+        prismatic family: a force along the slide); several names for a mechanism with several
+        drivers (their unknowns come last, in this order).
     """
 
     bodies: tuple[str, ...]
     joints: tuple[SpatialJoint, ...]
-    driver: str
+    driver: str | tuple[str, ...]
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "bodies", tuple(self.bodies))
@@ -274,8 +275,29 @@ class SpatialModel:
             for b in (j.body_a, j.body_b):
                 if b not in known:
                     raise ParameterError(f"{j.name}.body", b, f"must be one of {sorted(known)}")
-        if self.driver not in names:
-            raise ParameterError("driver", self.driver, f"must be one of the joints {names}")
+        if not isinstance(self.driver, str):
+            object.__setattr__(self, "driver", tuple(self.driver))
+        for d in self.drivers:
+            if d not in names:
+                raise ParameterError("driver", d, f"must be one of the joints {names}")
+        if len(set(self.drivers)) != len(self.drivers) or not self.drivers:
+            raise ParameterError("driver", self.driver, "must name distinct joints")
+
+    @property
+    def drivers(self) -> tuple[str, ...]:
+        """The driver joints' names, in order."""
+        return (self.driver,) if isinstance(self.driver, str) else tuple(self.driver)
+
+    @property
+    def n_drivers(self) -> int:
+        """Number of drivers (driving unknowns, the last columns)."""
+        return len(self.drivers)
+
+    @property
+    def driver_indices(self) -> list[int]:
+        """Indices of the driver joints, in driver order."""
+        names = [j.name for j in self.joints]
+        return [names.index(d) for d in self.drivers]
 
     @property
     def n_bodies(self) -> int:
@@ -288,20 +310,19 @@ class SpatialModel:
 
     @property
     def driver_index(self) -> int:
-        """Index of the driver joint."""
-        return [j.name for j in self.joints].index(self.driver)
+        """Index of the (first) driver joint."""
+        return self.driver_indices[0]
 
     def labels(self) -> list[tuple[str, str]]:
-        """(joint, component) of every unknown of the equilibrium matrix, driver last."""
+        """(joint, component) of every unknown of the equilibrium matrix, drivers last."""
         out = [(j.name, c) for j in self.joints for c in j.local_names]
-        drv = self.joints[self.driver_index]
-        out.append((drv.name, "Q"))
+        out += [(d, "Q") for d in self.drivers]
         return out
 
     @property
     def n_unknowns(self) -> int:
-        """Number of reaction unknowns (all constrained components + the driver)."""
-        return sum(j.joint_class for j in self.joints) + 1
+        """Number of reaction unknowns (all constrained components + the drivers)."""
+        return sum(j.joint_class for j in self.joints) + self.n_drivers
 
     def stiffness_vector(self) -> np.ndarray:
         """Stiffness of every constrained component, in the order of :meth:`labels` (no driver)."""
@@ -429,23 +450,29 @@ def equilibrium_matrix(model: SpatialModel, geom: SpatialGeometry, *, driver: bo
     model : SpatialModel
     geom : SpatialGeometry
     driver : bool
-        Include the driver column (last).
+        Include the drivers' columns (last, in driver order).
 
     Returns
     -------
-    ndarray, shape (n, 6 n_bodies, n_unknowns) (one column less without the driver)
+    ndarray, shape (n, 6 n_bodies, n_unknowns) (n_drivers columns less without them)
     """
     _check_geometry(model, geom)
     n, nb = geom.n, model.n_bodies
     frames = _joint_frames(model, geom)
     cols = []
+    driven = model.driver_indices
+    drive_cols = []
+    k = 0
     for j, jt in enumerate(model.joints):
         p3 = np.concatenate([geom.points[:, j, :], np.full((n, 1), jt.z)], axis=-1)
         b = _transfer(p3) @ frames[j]                       # (n, 6, 6) local -> wrench at origin
         ia, ib = model.body_index(jt.body_a), model.body_index(jt.body_b)
         sel = list(jt.constrained)
-        if driver and j == model.driver_index:
+        k += len(sel)
+        if driver and j in driven:
             sel = [*sel, 5 if jt.family == "R" else 0]
+            drive_cols.append((driven.index(j), k))
+            k += 1
         block = np.zeros((n, 6 * nb, len(sel)))
         if ib >= 0:
             block[:, 6 * ib:6 * ib + 6, :] += b[:, :, sel]
@@ -453,9 +480,9 @@ def equilibrium_matrix(model: SpatialModel, geom: SpatialGeometry, *, driver: bo
             block[:, 6 * ia:6 * ia + 6, :] -= b[:, :, sel]
         cols.append(block)
     a = np.concatenate(cols, axis=-1)
-    if driver:  # move the driver column to the end
-        k = sum(jt.joint_class for jt in model.joints[:model.driver_index + 1])
-        order = [i for i in range(a.shape[-1]) if i != k] + [k]
+    if driver:  # move the drivers' columns to the end, in driver order
+        last = [c for _, c in sorted(drive_cols)]
+        order = [i for i in range(a.shape[-1]) if i not in last] + last
         a = a[..., order]
     return a
 
@@ -477,8 +504,8 @@ def misfit(model: SpatialModel, geom: SpatialGeometry, deviations: ArrayLike) ->
 
     Returns
     -------
-    ndarray, shape (..., n, n_unknowns - 1)
-        Misfits [m, rad] in the order of :meth:`SpatialModel.labels` (without the driver).
+    ndarray, shape (..., n, n_unknowns - n_drivers)
+        Misfits [m, rad] in the order of :meth:`SpatialModel.labels` (without the drivers).
     """
     _check_geometry(model, geom)
     d = require_finite("deviations", deviations)
@@ -512,8 +539,8 @@ def _scales(model: SpatialModel, geom: SpatialGeometry) -> tuple[float, np.ndarr
     for j in model.joints:
         loc = np.array([1, 1, 1, length, length, length])
         cols.append(loc[list(j.constrained)])
-    drv = model.joints[model.driver_index]
-    cols.append(np.array([length if drv.family == "R" else 1.0]))
+    for i in model.driver_indices:
+        cols.append(np.array([length if model.joints[i].family == "R" else 1.0]))
     return length, rows, np.concatenate(cols)
 
 
@@ -525,7 +552,7 @@ class Influence:
     ----------
     r0 : ndarray (n, n_unknowns)
         Unknowns (constrained components, driver last) without deviations [N, N·m].
-    h : ndarray (n, n_unknowns, n_unknowns - 1)
+    h : ndarray (n, n_unknowns, n_unknowns - n_drivers)
         Change of the unknowns per unit misfit [N/m, N·m/rad, ...].
     rank : int
         Rank of the equilibrium matrix.
@@ -579,12 +606,13 @@ def influence(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike) -
                              f"(use joints of higher class)")
     ur, sr, vr = u[:, :, :rank], s[:, :rank], np.swapaxes(vh[:, :rank, :], 1, 2)
     rp_t = -(vr @ ((np.swapaxes(ur, 1, 2) @ wt[..., None])[..., 0] / sr)[..., None])[..., 0]
-    sst = np.swapaxes(vh[:, rank:, :], 1, 2)                       # (n, m+1, q) scaled
-    m = a.shape[-1] - 1
+    sst = np.swapaxes(vh[:, rank:, :], 1, 2)                       # (n, m+nd, q) scaled
+    nd = model.n_drivers
+    m = a.shape[-1] - nd
     kvec = model.stiffness_vector()
     # flexibility in scaled units: r = D_c r~, s~ = D_c s -> F~ = D_c^-1 F D_c^-1... with
     # r = -K s: r~ = -(D_c^-1 K D_c^-1) s~, F~ = D_c F D_c
-    fl = np.concatenate([cols[:m] ** 2 / kvec, [0.0]])
+    fl = np.concatenate([cols[:m] ** 2 / kvec, np.zeros(nd)])
     q = sst.shape[-1]
     if q:
         sst_t = np.swapaxes(sst, 1, 2)
@@ -594,7 +622,7 @@ def influence(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike) -
         ht = -(sst @ ginv @ sst_t)                                  # (n, m+1, m+1) scaled
         r0_t = rp_t + (ht @ (fl * rp_t)[..., None])[..., 0]
     else:
-        ht = np.zeros((geom.n, m + 1, m + 1))
+        ht = np.zeros((geom.n, m + nd, m + nd))
         r0_t = rp_t
     # back to physical: r = D_c r~; misfit delta~ = D_c delta
     r0 = cols * r0_t
@@ -633,14 +661,15 @@ def _displacement(model: SpatialModel, geom: SpatialGeometry, w: np.ndarray,
     a = equilibrium_matrix(model, geom)
     _, rows, cols = _scales(model, geom)
     at = rows[:, None] * a * cols[None, :]
-    m = a.shape[-1] - 1
+    nd = model.n_drivers
+    m = a.shape[-1] - nd
     kvec = model.stiffness_vector()
     kt = kvec / cols[:m] ** 2
-    kt = np.concatenate([kt, [np.exp(np.mean(np.log(kt)))]])
+    kt = np.concatenate([kt, np.full(nd, np.exp(np.mean(np.log(kt))))])
     kt = kt / np.max(kt)                  # reactions do not depend on a common factor
     kfac = np.max(kvec / cols[:m] ** 2)
     wt = rows * w.reshape(w.shape[0], -1)
-    dt = np.concatenate([cols[:m] * dc, np.zeros((*dc.shape[:-1], 1))], axis=-1)
+    dt = np.concatenate([cols[:m] * dc, np.zeros((*dc.shape[:-1], nd))], axis=-1)
     # batched matmul, not 3-operand einsum (which loops without BLAS)
     at_k = at * kt
     stiff = at_k @ np.swapaxes(at, -1, -2)                        # A K A^T
@@ -674,8 +703,8 @@ class SpatialReactions(Result):
         Reaction forces [N].
     mx, my, mz : ndarray (n_joints, n)
         Reaction moments [N·m]; mx, my are the bending moments of the joint.
-    Q : ndarray (n,)
-        Driving torque [N·m].
+    Q : ndarray (n,), or (n_drivers, n) for several drivers
+        Driving torque [N·m] (force [N] of a prismatic driver).
     redundant : int
         Number of redundant constraints q (self-stress states).
     method : str
@@ -693,6 +722,7 @@ class SpatialReactions(Result):
     Q: np.ndarray
     redundant: int
     method: str
+    drivers: tuple[str, ...] = ()
 
     units: ClassVar[dict[str, str]] = {
         "phi1": "rad", "fx": "N", "fy": "N", "fz": "N", "mx": "N*m", "my": "N*m", "mz": "N*m",
@@ -715,6 +745,9 @@ class SpatialReactions(Result):
             row["bending"] = float(np.max(self.bending()[j]))
             out[name] = row
         out["driver"] = {"Q": float(np.max(np.abs(self.Q)))}
+        if np.ndim(self.Q) == 2:  # several drivers: each one's peak too
+            for k, name in enumerate(self.drivers):
+                out["driver"][f"Q {name}"] = float(np.max(np.abs(self.Q[k])))
         return out
 
     def columns(self) -> dict[str, np.ndarray]:
@@ -724,13 +757,22 @@ class SpatialReactions(Result):
         for j, name in enumerate(self.joints):
             for i, c in enumerate(COMPONENTS):
                 cols[f"{c}_{name}"] = comp[j, i]
-        cols["Q"] = np.asarray(self.Q)
+        if np.ndim(self.Q) == 2:
+            for k, name in enumerate(self.drivers):
+                cols[f"Q_{name}"] = np.asarray(self.Q[k])
+        else:
+            cols["Q"] = np.asarray(self.Q)
         return cols
 
     def _unit_of(self, column: str) -> str:
         """Unit of a CSV column: that of its component (``fz_B`` -> ``fz``); the CSV (written by
         :meth:`Result.to_csv`) has the columns of :meth:`columns`."""
-        return self.units.get(column.split("_")[0], "")
+        head = column.split("_")[0]
+        if head == "Q" and column != "Q":  # one driver's of several: its own unit
+            units = self.units.get("Q", "").split(", ")
+            k = list(self.drivers).index(column[2:])
+            return units[k] if len(units) > 1 else units[0]
+        return self.units.get(head, "")
 
     def plot(self, axes: Any = None, **kw: Any) -> Figure:
         """Axial forces fz, bending moments mx, my of every joint and the driving torque over
@@ -746,18 +788,22 @@ def _to_result(model: SpatialModel, geom: SpatialGeometry, r: np.ndarray, phi1: 
     frames = _joint_frames(model, geom)
     comp = np.zeros((len(model.joints), 6, geom.n))
     k = 0
+    nd = model.n_drivers
+    m = r.shape[-1] - nd
+    driven = model.driver_indices
     for j, jt in enumerate(model.joints):
         loc = np.zeros((geom.n, 6))
         sel = list(jt.constrained)
         loc[:, sel] = r[:, k:k + len(sel)]
         k += len(sel)
-        if j == model.driver_index:
-            loc[:, 5 if jt.family == "R" else 0] += r[:, -1]
+        if j in driven:
+            loc[:, 5 if jt.family == "R" else 0] += r[:, m + driven.index(j)]
         comp[j] = np.einsum("nij,nj->in", frames[j], loc)
+    Q = r[:, -1].copy() if nd == 1 else r[:, m:].T.copy()
     return SpatialReactions(
         phi1=phi1, joints=tuple(j.name for j in model.joints),
         fx=comp[:, 0], fy=comp[:, 1], fz=comp[:, 2], mx=comp[:, 3], my=comp[:, 4],
-        mz=comp[:, 5], Q=r[:, -1].copy(), redundant=q, method=method)
+        mz=comp[:, 5], Q=Q, redundant=q, method=method, drivers=model.drivers)
 
 
 def solve_reactions(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike,
@@ -797,7 +843,8 @@ def solve_reactions(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     """
     n = geom.n
     ph = np.arange(n, dtype=float) if phi1 is None else require_finite("phi1", phi1)
-    m = model.n_unknowns - 1
+    nd = model.n_drivers
+    m = model.n_unknowns - nd
     dc = (np.zeros((n, m)) if deviations is None else misfit(model, geom, deviations))
     if dc.ndim != 2:
         raise ParameterError("deviations", dc.shape[:-2],
@@ -805,7 +852,7 @@ def solve_reactions(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     if method == "force":
         inf = influence(model, geom, wrenches)
         r = inf.r0 + np.einsum("nij,nj->ni", inf.h, dc)
-        q = m + 1 - inf.rank
+        q = m + nd - inf.rank
     elif method == "displacement":
         w = require_finite("wrenches", wrenches)
         if w.shape != (n, model.n_bodies, 6):
@@ -820,7 +867,7 @@ def solve_reactions(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
             raise StructureError(f"the mechanism is movable in space: rank of the equilibrium "
                                  f"matrix {rank} < 6 x {model.n_bodies} bodies")
         r = _displacement(model, geom, w, dc)
-        q = m + 1 - rank
+        q = m + nd - rank
     else:
         raise ParameterError("method", method, "must be 'force' or 'displacement'")
     return _to_result(model, geom, r, ph, q, method)
@@ -911,7 +958,7 @@ def count_redundancy(model: SpatialModel, geom: SpatialGeometry, position: int =
     a = equilibrium_matrix(model, g1)[0]
     _, rows, cols = _scales(model, g1)
     at = rows[:, None] * a * cols[None, :]
-    m = at.shape[1] - 1
+    m = at.shape[1] - model.n_drivers
     s_c = np.linalg.svd(at[:, :m], compute_uv=False)
     rank_c = int(_rank(s_c[None, :])[0]) if s_c.size else 0
     _, s, vh = np.linalg.svd(at)

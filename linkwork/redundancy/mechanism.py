@@ -116,8 +116,9 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
     for j in mech.joints:
         family = j.spatial_family  # "R" revolute-like, "P" prismatic-like, None unsupported
         if family is None:
-            raise StructureError(f"joint {j.name}: pin-in-slot joints are not supported by the "
-                                 "spatial (redundancy) analysis; use revolute or prismatic joints")
+            what = "gear pairs" if j.code == "G" else "pin-in-slot joints"
+            raise StructureError(f"joint {j.name}: {what} are not supported by the spatial "
+                                 "(redundancy) analysis; use revolute or prismatic joints")
         kw = {**dict(default or {}), **dict(joints.get(j.name, {}))}
         kw.setdefault("kind", "prismatic" if family == "P" else "revolute")
         if kw["kind"] in JOINT_KINDS and JOINT_KINDS[kw["kind"]][0] != family:
@@ -127,7 +128,9 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
         a = "ground" if j.a == ground else j.a
         b = "ground" if j.b == ground else j.b
         out.append(SpatialJoint(j.name, a, b, **kw))
-    return SpatialModel(tuple(b.name for b in mech.bodies), tuple(out), mech.driver.joint)
+    drivers = tuple(d.joint for d in mech.drivers)
+    return SpatialModel(tuple(b.name for b in mech.bodies), tuple(out),
+                        drivers[0] if len(drivers) == 1 else drivers)
 
 
 def geometry(mech: Any, kin: Any) -> SpatialGeometry:
@@ -255,7 +258,7 @@ def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = 
                       out_of_plane=out_of_plane)
     dev = deviation_array(model, deviations, _ground(mech))
     res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
-    du = mech.driver.field_units  # a linear driver: positions are slides [m], Q a force [N]
+    du = mech.driver_units  # a linear driver: positions are slides [m], Q a force [N]
     units = {k: du[k] for k in ("phi1", "Q")}
     if any(res.units.get(k) != v for k, v in units.items()):
         res._relabel_units(**units)

@@ -183,8 +183,9 @@ def _global(model: SpatialModel, frames: list[np.ndarray], r: np.ndarray) -> np.
         sel = list(jt.constrained)
         loc[..., sel] = r[..., k:k + len(sel)]
         k += len(sel)
-        if j == model.driver_index:
-            loc[..., 5 if jt.family == "R" else 0] += r[..., -1]
+        if j in model.driver_indices:
+            m = r.shape[-1] - model.n_drivers
+            loc[..., 5 if jt.family == "R" else 0] += r[..., m + model.driver_indices.index(j)]
         out[..., j, :, :] = np.swapaxes(np.einsum("nij,...nj->...ni", frames[j], loc), -1, -2)
     return out
 

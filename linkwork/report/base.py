@@ -59,8 +59,8 @@ class Renderer:
         Anchor of its section (``"planar"``).
     title : str
         Heading of its section.
-    file_type : type
-        The :mod:`linkwork.io` file class it reads.
+    file_type : type or tuple of types
+        The :mod:`linkwork.io` file class (or classes) it reads.
     run : callable
         ``(doc, options) -> study`` (a function of :mod:`linkwork.studies`).
     section : callable
@@ -76,6 +76,14 @@ class Renderer:
         ``study -> list of (title, text)``: the conventions and errata that apply.
     warnings : callable, optional
         ``study -> list of str``: shown at the top of the page.
+    scenes : callable, optional
+        ``(study, options) -> list of (label, Scene)``: drawings to choose between (the
+        designs of a synthesis); its section's diagrams and tables refer to them by their
+        index in this list (``Diagram.scene``, ``Table.scene``, ``Table.chooses``).
+    timing : callable, optional
+        ``(study, scene) -> Scene``: the page's drawing with what this study knows of its
+        motion over time (the real speed of a machine: :meth:`Scene.timed`), applied after
+        every renderer has run.
     primary : bool
         The report cannot be made without it: its failure fails the report; any other
         renderer's failure is shown in its section.
@@ -83,7 +91,7 @@ class Renderer:
 
     key: str
     title: str
-    file_type: type
+    file_type: type | tuple[type, ...]
     run: Callable[[Any, Options], Any]
     section: Callable[[Any, Options], Section]
     applies: Callable[[Any], bool] = _always
@@ -91,6 +99,8 @@ class Renderer:
     inputs: Callable[[Any], list[Table]] | None = None
     notes: Callable[[Any], list[tuple[str, str]]] | None = None
     warnings: Callable[[Any], list[str]] | None = None
+    scenes: Callable[[Any, Options], list[tuple[str, Scene]]] | None = None
+    timing: Callable[[Any, Scene], Scene] | None = None
     primary: bool = False
     extra: dict[str, Any] = field(default_factory=dict)
 

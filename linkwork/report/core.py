@@ -9,6 +9,7 @@ failure of another (a ``[balance]`` that cannot be balanced) is shown in its sec
 
 from __future__ import annotations
 
+import dataclasses
 import datetime
 import os
 from collections.abc import Callable
@@ -20,7 +21,15 @@ from linkwork.errors import FileFormatError, LinkworkError
 from linkwork.outputs import atomic_path
 from linkwork.plot.html import Page, Section, Table, page_html
 from linkwork.plot.scene import MAX_ANIMATION_FRAMES, Scene, animate
-from linkwork.report import balance, planar, reactions, sine_press, swashplate
+from linkwork.report import (
+    balance,
+    dynamics,
+    planar,
+    reactions,
+    sine_press,
+    swashplate,
+    synthesis,
+)
 from linkwork.report.base import Options, Renderer
 
 __all__ = ["Options", "Renderer", "animation", "build", "html", "register", "renderers",
@@ -28,7 +37,8 @@ __all__ = ["Options", "Renderer", "animation", "build", "html", "register", "ren
 
 #: The renderers, in the order of the page's sections.
 _RENDERERS: list[Renderer] = [planar.RENDERER, balance.RENDERER, reactions.RENDERER,
-                              sine_press.RENDERER, swashplate.RENDERER]
+                              sine_press.RENDERER, dynamics.RENDERER, swashplate.RENDERER,
+                              *synthesis.RENDERERS]
 
 
 def register(renderer: Renderer, *, before: str | None = None) -> None:
@@ -67,12 +77,14 @@ def build(doc: Any, *, path: str | Path | None = None, options: Options | None =
         No renderer takes the file's type.
     LinkworkError
         The file type's own study failed (e.g. an AssemblyError: the mechanism assembles at no
-        position of the range).
+        position of the range), or every part of the report failed (the first one's error).
     """
     opts = options or Options(file=str(path) if path is not None else "file")
     todo = renderers(doc)
     if not todo:
-        known = sorted({r.file_type.__name__ for r in _RENDERERS})
+        known = sorted({t.__name__ for r in _RENDERERS
+                        for t in (r.file_type if isinstance(r.file_type, tuple)
+                                  else (r.file_type,))})
         raise FileFormatError(str(path or "file"), "type",
                               f"no report for a {type(doc).__name__}; reports exist for "
                               f"{known}")
@@ -81,6 +93,9 @@ def build(doc: Any, *, path: str | Path | None = None, options: Options | None =
     inputs: list[Table] = []
     notes: list[tuple[str, str]] = []
     warnings: list[str] = []
+    timed: list[tuple[Renderer, Any]] = []
+    choices: list[tuple[str, Scene]] = []
+    failed: list[LinkworkError] = []
     for r in todo:
         if step is not None:
             step(f"computing {r.title}")
@@ -89,18 +104,33 @@ def build(doc: Any, *, path: str | Path | None = None, options: Options | None =
         except LinkworkError as exc:
             if r.primary:
                 raise
+            failed.append(exc)
             sections.append(Section(title=r.title, key=r.key,
                                     error=f"not computed: {' '.join(str(exc).split())}"))
             continue
         if scene is None and r.scene is not None:
             scene = r.scene(study, opts)
-        sections.append(r.section(study, opts))
-        if not inputs and r.inputs is not None:
-            inputs = r.inputs(doc)
+        section = r.section(study, opts)
+        if r.scenes is not None:
+            if not choices and scene is not None:
+                choices.append(("the mechanism", scene))
+            section = _shifted(section, len(choices))
+            choices += r.scenes(study, opts)
+            scene = choices[0][1]
+        sections.append(section)
+        if r.inputs is not None:
+            inputs += r.inputs(doc)
         if r.notes is not None:
             notes += r.notes(study)
         if r.warnings is not None:
             warnings += r.warnings(study)
+        if r.timing is not None:
+            timed.append((r, study))
+    if failed and len(failed) == len(todo):
+        raise failed[0]
+    for r, study in timed:
+        if scene is not None and r.timing is not None and not choices:
+            scene = r.timing(study, scene)
     name = getattr(doc, "name", "") or (Path(path).stem if path is not None else "mechanism")
     source = ""
     if path is not None:
@@ -114,7 +144,21 @@ def build(doc: Any, *, path: str | Path | None = None, options: Options | None =
                 scene=scene, sections=sections, inputs=inputs, source=source,
                 source_name=Path(path).name if path is not None else "",
                 notes=notes, warnings=warnings, version=__version__,
-                date=opts.date or _today())
+                date=opts.date or _today(), choices=choices)
+
+
+def _shifted(section: Section, offset: int) -> Section:
+    """``section`` with its diagrams' and tables' drawing indices moved by ``offset`` (the
+    drawings of the renderers before it)."""
+    if offset == 0:
+        return section
+    return dataclasses.replace(
+        section,
+        diagrams=[dataclasses.replace(d, scene=d.scene + offset) for d in section.diagrams],
+        tables=[dataclasses.replace(t, scene=t.scene + offset, chooses=None if t.chooses is None
+                                    else [None if c is None else c + offset
+                                          for c in t.chooses])
+                for t in section.tables])
 
 
 def html(doc: Any, *, path: str | Path | None = None, options: Options | None = None,

@@ -132,10 +132,15 @@ def compare(mech: Mechanism, section: BalanceSection, *, pareto: bool = False,
 def check(doc: PlanarFile) -> None:
     """Refuse, before any work, a file that paper 001's balancing cannot take: its driver must
     be a crank turning about a frame joint (ParameterError naming ``driver``)."""
+    drivers = doc.drivers
+    if len(drivers) > 1:
+        raise ParameterError("driver", f"{len(drivers)} drivers ("
+                             f"{', '.join(d.joint for d in drivers)})",
+                             "balancing (paper 001) needs one crank turning about a frame joint")
     try:
         crank_axis(doc.mechanism())
     except ParameterError as exc:
-        raise ParameterError("driver", f"{doc.driver.type} driver on joint {exc.value}",
+        raise ParameterError("driver", f"{drivers[0].type} driver on joint {exc.value}",
                              "balancing (paper 001) needs a crank turning about a frame joint"
                              ) from None
 

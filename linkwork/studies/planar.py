@@ -37,7 +37,7 @@ from linkwork.planar.structure import Structure
 from linkwork.results import json_array
 
 __all__ = ["PlanarStudy", "analyze", "cycle_peaks", "dead_centre_label",
-           "default_table_positions", "distinct_paths", "dynamics_columns_of",
+           "default_table_positions", "distinct_paths", "driver_columns", "dynamics_columns_of",
            "friction_summary", "kinematics_columns_of", "load_summary", "named_columns",
            "reported_loads", "table_positions_error"]
 
@@ -56,6 +56,22 @@ def table_positions_error(exc: AssemblyError, positions: np.ndarray, linear: boo
                           "[analysis] range")
 
 
+def driver_columns(mech: Mechanism, fields: dict[str, np.ndarray]
+                   ) -> dict[str, tuple[np.ndarray, str]]:
+    """Columns of driver fields (``phi1, omega1, eps1, Q, Q_frictionless``): the field itself
+    for one driver, ``<field>.<driver joint>`` per driver for several, each in its unit."""
+    out: dict[str, tuple[np.ndarray, str]] = {}
+    drivers = mech.drivers
+    for key, arr in fields.items():
+        unit_key = "Q" if key.startswith("Q") else key
+        if len(drivers) == 1:
+            out[key] = (arr, drivers[0].field_units[unit_key])
+            continue
+        for k, d in enumerate(drivers):
+            out[f"{key}.{d.joint}"] = (arr[k], d.field_units[unit_key])
+    return out
+
+
 def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | None = None
                   ) -> dict[str, tuple[np.ndarray, str]]:
     """Readable per-position columns: name -> (values, unit). ``transmission``: the result of
@@ -65,7 +81,8 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
     axS/ayS``, then every named point of the body (frame axes, :meth:`Kinematics.point`):
     ``<body>.<point>.x/y`` [m], ``.vx/.vy`` [m/s], ``.ax/.ay`` [m/s^2]; a joint's point named
     on both of its bodies appears under each. Then the dynamics (:func:`dynamics_columns_of`)
-    and the transmission angles ``mu_<group>``."""
+    and the transmission angles ``mu_<group>``. Several drivers: ``phi1.<joint>``,
+    ``omega1.<joint>``, ``eps1.<joint>``, ``Q.<joint>`` per driver (:func:`driver_columns`)."""
     cols = kinematics_columns_of(kin)
     cols.update({k: v for k, v in dynamics_columns_of(kin, dyn).items() if k != "phi1"})
     trans = transmission_angles(kin) if transmission is None else transmission
@@ -77,12 +94,7 @@ def named_columns(kin: Kinematics, dyn: Dynamics, transmission: Transmission | N
 def kinematics_columns_of(kin: Kinematics) -> dict[str, tuple[np.ndarray, str]]:
     """The driver's and every body's and named point's motion (see :func:`named_columns`)."""
     mech = kin.mechanism
-    units = mech.driver.field_units  # rad, rad/s, rad/s^2, N*m of a crank; m, m/s, m/s^2, N
-    cols: dict[str, tuple[np.ndarray, str]] = {
-        "phi1": (kin.phi1, units["phi1"]),
-        "omega1": (kin.omega1, units["omega1"]),
-        "eps1": (kin.eps1, units["eps1"]),
-    }
+    cols = driver_columns(mech, {"phi1": kin.phi1, "omega1": kin.omega1, "eps1": kin.eps1})
     for b in mech.bodies:
         i = mech.index[b.name]
         c = kin.point(b.name, "com")
@@ -116,20 +128,20 @@ def dynamics_columns_of(kin: Kinematics, dyn: Dynamics) -> dict[str, tuple[np.nd
     diagrams (:func:`reported_loads`) each one's value ``F_<name>`` [N] (a couple ``M_<name>``
     [N m]), a spring's or damper's length ``L_<name>`` [m] and power ``P_<name>`` [W], and the
     energy in the springs ``V`` [J]."""
-    units = kin.mechanism.driver.field_units
-    cols: dict[str, tuple[np.ndarray, str]] = {"phi1": (kin.phi1, units["phi1"])}
+    mech = kin.mechanism
+    cols = driver_columns(mech, {"phi1": kin.phi1})
     for k, j in enumerate(dyn.joints):
         cols[f"R_{j}.x"] = (dyn.fx[k], "N")
         cols[f"R_{j}.y"] = (dyn.fy[k], "N")
         if np.any(dyn.mz[k] != 0):
             cols[f"R_{j}.mz"] = (dyn.mz[k], "N*m")
-    cols["Q"] = (dyn.Q, units["Q"])
+    cols.update(driver_columns(mech, {"Q": dyn.Q}))
     cols["shaking_fx"] = (dyn.shaking_fx, "N")
     cols["shaking_fy"] = (dyn.shaking_fy, "N")
     cols["shaking_m"] = (dyn.shaking_m, "N*m")
     cols["T"] = (dyn.T, "J")
     if dyn.has_friction:  # only then: frictionless files keep their columns
-        cols["Q_frictionless"] = (dyn.Q_frictionless, units["Q"])
+        cols.update(driver_columns(mech, {"Q_frictionless": dyn.Q_frictionless}))
         for k, j in enumerate(dyn.joints):
             if np.any(dyn.friction_power[k] != 0):
                 cols[f"Pf_{j}"] = (dyn.friction_power[k], "W")
@@ -212,9 +224,10 @@ def cycle_peaks(kin: Kinematics, dyn: Dynamics, transmission: Transmission | Non
     between them); unassembled positions (NaN) are skipped. ``transmission``: the result of
     :func:`~linkwork.planar.transmission_angles` of ``kin`` if already computed.
     """
-    unit_q = kin.mechanism.driver.field_units["Q"]
-    series: list[tuple[str, np.ndarray, str, str]] = [
-        ("Q max", dyn.Q, unit_q, "max"), ("Q min", dyn.Q, unit_q, "min")]
+    series: list[tuple[str, np.ndarray, str, str]] = []
+    for name, (q, unit_q) in driver_columns(kin.mechanism, {"Q": dyn.Q}).items():
+        label = name.replace(".", " ")  # several drivers: "Q O1 max"
+        series += [(f"{label} max", q, unit_q, "max"), (f"{label} min", q, unit_q, "min")]
     for k, j in enumerate(dyn.joints):
         series.append((f"|R {j}|", np.hypot(dyn.fx[k], dyn.fy[k]), "N", "max"))
         if np.any(dyn.mz[k] != 0):
@@ -228,8 +241,10 @@ def cycle_peaks(kin: Kinematics, dyn: Dynamics, transmission: Transmission | Non
         if not np.any(np.isfinite(v)):
             continue
         i = int(np.nanargmax(v) if kind == "max" else np.nanargmin(v))
-        peaks.append({"name": name, "value": float(v[i]), "unit": unit,
-                      "phi1": float(kin.phi1[i])})
+        at: Any = (float(kin.phi1[i]) if kin.phi1.ndim == 1  # several drivers: each one's, and
+                   else [float(x) for x in kin.phi1[:, i]])  # the position's index
+        peaks.append({"name": name, "value": float(v[i]), "unit": unit, "phi1": at,
+                      **({} if kin.phi1.ndim == 1 else {"position": i})})
     return peaks
 
 
@@ -304,7 +319,8 @@ class PlanarStudy:
     peaks : list of dict
         :func:`cycle_peaks` of the cycle.
     means : dict
-        ``Q_mean`` (work / range) [N m or N] and ``power_mean`` [W] over the cycle.
+        ``Q_mean`` (work / range) [N m or N] and ``power_mean`` [W] over the cycle (several
+        drivers: ``Q_mean`` per driver joint).
     friction : dict or None
         :func:`friction_summary` of the cycle (None: no joint has friction).
     loads : list of dict
@@ -324,13 +340,14 @@ class PlanarStudy:
     dead_centres: list[DeadCentre]
     dead_centre_labels: list[tuple[str, str]]
     peaks: list[dict[str, Any]]
-    means: dict[str, float]
+    means: dict[str, Any]
     friction: dict[str, Any] | None = None
     loads: list[dict[str, Any]] = field(default_factory=list)
 
     @property
     def crank(self) -> bool:
-        """True for a crank driver (angles [rad]), False for a linear one (slides [m])."""
+        """True for a crank driver (angles [rad]), False for a linear one (slides [m]) or
+        several drivers."""
         return isinstance(self.mechanism.driver, Crank)
 
     @property
@@ -366,19 +383,21 @@ class PlanarStudy:
         return dynamics_columns_of(self.kinematics, self.dynamics)
 
     def scene(self, *, paths: Any = None, centres: bool = False) -> Any:
-        """The mechanism drawn over the cycle (:func:`linkwork.plot.scene.planar_scene`):
-        ``paths`` of further points (coupler curves), ``centres`` the instant centres."""
+        """The mechanism drawn over the cycle (:func:`linkwork.plot.scene.planar_scene`) with
+        its force elements and loads where they act: ``paths`` of further points (coupler
+        curves), ``centres`` the instant centres."""
         from linkwork.plot.scene import planar_scene
 
         return planar_scene(self.kinematics, paths=paths, centres=centres,
-                            title=self.doc.name or "planar mechanism")
+                            title=self.doc.name or "planar mechanism",
+                            loads=self.dynamics.loads)
 
     def _repr_html_(self) -> str:
         """A notebook's display: the animated mechanism and the extremes over the cycle (a row
         shows its position)."""
         from linkwork.plot.html import peaks_table, view_html
 
-        unit = self.mechanism.driver.field_units["phi1"]
+        unit = self.mechanism.driver_units["phi1"]
         title = self.doc.name or "planar mechanism"
         return view_html(self.scene(), peaks_table(
             f"{title}: extremes over {self.kinematics.n} positions", self.peaks, unit))
@@ -400,33 +419,38 @@ class PlanarStudy:
     def to_dict(self) -> dict[str, Any]:
         """Everything of the study as JSON-able values (``planar.json``)."""
         mech, s, kin, dyn = self.mechanism, self.structure, self.kinematics, self.dynamics
-        crank = self.crank
         cols = self.columns()
         a_x, a_y = (float(v) for v in dyn.about)
-        drv = mech.joint(mech.driver.joint)
         extra: dict[str, Any] = {} if self.friction is None else {"friction": self.friction}
         if self.loads:
             extra["loads"] = self.loads
+        signs = []
+        for d in mech.drivers:
+            drv = mech.joint(d.joint)
+            turn = d.kind == "crank"
+            signs.append(f"{'torque' if turn else 'force along the guide'} on body {drv.b!r} "
+                         f"of driver joint {d.joint!r} through body {drv.a!r}"
+                         f"{', counter-clockwise +' if turn else ''}")
+        torque_sign = (f"Q: {signs[0]}; driving power Q*omega1" if len(signs) == 1 else
+                       "Q.<driver joint>: " + "; ".join(signs) + "; driving power of each "
+                       "Q*omega1")
         return {
             "name": self.doc.name, "mobility": s.mobility, "structure": s.formula(),
             "groups": [{"kind": g.kind, "bodies": list(g.bodies), "joints": list(g.joints),
                         "class": g.cls, "order": g.order, "key": g.key,
                         "branch": kin.branches.get(g.key, 1)} for g in s.groups],
             "reaction_sign": "force exerted by joint body a on joint body b, frame axes",
-            "torque_sign": (f"Q: {'torque' if crank else 'force along the guide'} on body "
-                            f"{drv.b!r} of driver joint {mech.driver.joint!r} through body "
-                            f"{drv.a!r}{', counter-clockwise +' if crank else ''}; driving "
-                            "power Q*omega1"),
+            "torque_sign": torque_sign,
             "shaking_sign": ("force and moment exerted by the moving bodies on the frame "
                              "(motor reaction included), moment counter-clockwise + about "
                              f"({a_x:g}, {a_y:g}) m"),
-            "positions_unit": mech.driver.field_units["phi1"],
+            "positions_unit": mech.driver_units["phi1"],
             "dead_centres": [{"group": d.group, "body": d.body, "phi1": d.phi1, "kind": d.kind,
                               "of": lab[0], "joint": lab[1]}
                              for d, lab in zip(self.dead_centres, self.dead_centre_labels,
                                                strict=True)],
             "peaks": self.peaks,
-            "means": {**self.means, "units": {"Q_mean": mech.driver.field_units["Q"],
+            "means": {**self.means, "units": {"Q_mean": mech.driver_units["Q"],
                                               "power_mean": "W"}},
             "units": {k: u for k, (_, u) in cols.items()},
             "columns": {k: json_array(v) for k, (v, _) in cols.items()},
@@ -466,6 +490,8 @@ def default_table_positions(doc: PlanarFile) -> np.ndarray:
     the file says the mechanism works, for either kind of driver.
     """
     phi = doc.positions()
+    if phi.ndim == 2:  # several drivers: 12 positions along their path, both ends included
+        return np.linspace(phi[:, 0], phi[:, -1], TABLE_COUNT, axis=1)
     lo, hi = float(phi[0]), float(phi[-1])
     if doc.driver.type == "crank":
         tol = 1e-9 * max(1.0, abs(lo), abs(hi))
@@ -476,6 +502,20 @@ def default_table_positions(doc: PlanarFile) -> np.ndarray:
         if len(steps) >= 4:
             return np.asarray(steps, float)
     return np.linspace(lo, hi, TABLE_COUNT)
+
+
+def _means(mech: Mechanism, kin: Kinematics, dyn: Dynamics) -> dict[str, Any]:
+    """``Q_mean`` (work / range) and ``power_mean`` over the cycle; several drivers: ``Q_mean``
+    per driver joint (None for a driver that does not move) and the mean of their total power
+    over the range of the first driver that moves."""
+    if mech.n_drivers == 1:
+        return {"Q_mean": dyn.Q_mean, "power_mean": mean_over_range(kin.phi1, dyn.power)}
+    qm = dyn.Q_mean
+    moving = [k for k in range(mech.n_drivers) if kin.phi1[k, -1] != kin.phi1[k, 0]]
+    power = (mean_over_range(kin.phi1[moving[0]], dyn.total_power) if moving
+             else float(np.mean(dyn.total_power)))
+    return {"Q_mean": {d.joint: (float(qm[k]) if np.isfinite(qm[k]) else None)
+                       for k, d in enumerate(mech.drivers)}, "power_mean": power}
 
 
 def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None,
@@ -515,6 +555,9 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None,
                             f"({_range_text(phi, crank)})")
     dcs = dead_centres(kin)
     tphi = default_table_positions(doc) if angles is None else np.asarray(angles, float)
+    if mech.n_drivers > 1 and (tphi.ndim != 2 or tphi.shape[0] != mech.n_drivers):
+        raise ParameterError("--angles", tphi.shape, f"must give the positions of the "
+                             f"{mech.n_drivers} drivers, one row each")
     try:
         tk, td = _solve(doc, mech, tphi, on_failure)
     except AssemblyError as exc:
@@ -526,6 +569,5 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None,
         table_transmission=transmission_angles(tk), dead_centres=dcs,
         dead_centre_labels=[dead_centre_label(mech, d) for d in dcs],
         peaks=cycle_peaks(kin, dyn, trans),
-        means={"Q_mean": dyn.Q_mean,
-               "power_mean": mean_over_range(kin.phi1, dyn.power)},
+        means=_means(mech, kin, dyn),
         friction=friction_summary(dyn), loads=load_summary(dyn))

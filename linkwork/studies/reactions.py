@@ -107,7 +107,7 @@ class ReactionsStudy:
     @property
     def linear(self) -> bool:
         """True for a linear driver (positions are slides [m], Q a force [N])."""
-        return bool(self.mechanism.driver.kind == "linear")
+        return bool(self.mechanism.drivers[0].kind == "linear")
 
     @property
     def cycle(self) -> np.ndarray:
@@ -145,7 +145,7 @@ def _reactions(mech: Mechanism, kin: Kinematics, model: SpatialModel, geom: Spat
                       out_of_plane=inputs["out_of_plane"])
     dev = deviation_array(model, inputs["deviations"], mech.frame.name)
     res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
-    if mech.driver.kind == "linear":  # positions are slides [m], the driving force is in N
+    if mech.drivers[0].kind == "linear":  # positions are slides [m], the driving force in N
         res._relabel_units(phi1="m", Q="N")
     return w, res
 
@@ -176,6 +176,11 @@ def solve(mech: Mechanism, spec: SpatialSpec, *, angles: ArrayLike,
     ParameterError
         The table positions leave the range where the mechanism assembles (``--angles``).
     """
+    if mech.n_drivers > 1:
+        raise ParameterError("driver", [d.joint for d in mech.drivers],
+                             "the reactions study tables one driver's positions; for several "
+                             "drivers call linkwork.redundancy.spatial_reactions(mech, phi1) "
+                             "with phi1 of shape (n_drivers, n)")
     inputs = model_inputs(spec)
     if cycle is None:
         cyc = np.linspace(0.0, 2 * np.pi, spec.positions or 360, endpoint=False)
@@ -196,7 +201,7 @@ def solve(mech: Mechanism, spec: SpatialSpec, *, angles: ArrayLike,
     try:
         kin_t = kinematics(mech, tphi)
     except AssemblyError as exc:
-        raise table_positions_error(exc, tphi, mech.driver.kind == "linear") from None
+        raise table_positions_error(exc, tphi, mech.drivers[0].kind == "linear") from None
     _, at = _reactions(mech, kin_t, model, geometry(mech, kin_t), inputs, gravity,
                        loads_at(tphi), method)
     count = count_redundancy(model, geom, position=len(cyc) // 7)

@@ -106,9 +106,17 @@ def test_mean_over_range_of_a_polynomial_is_its_integral_over_the_length() -> No
     # linear functions are exact: mean of 2x + 1 over [0, 4] is 5
     x = np.array([0.0, 0.5, 3.0, 4.0])
     assert cycles.mean_over_range(x, 2 * x + 1) == pytest.approx(5.0, rel=1e-15)
-    # NaN or a single position: the mean of the finite samples
-    assert cycles.mean_over_range([0.0, 1.0, 2.0], [1.0, np.nan, 3.0]) == 2.0
+    # a single position: its value
     assert cycles.mean_over_range([0.5], [4.0]) == 4.0
+
+
+def test_mean_over_range_with_an_undefined_sample_is_undefined() -> None:
+    """A NaN sample (a self-locking or unassembled position) makes the work over the range,
+    and so the mean, undefined: NaN, without a warning (also when no sample is finite); the
+    mean of the other samples (2.0 here) would be another quantity."""
+    assert np.isnan(cycles.mean_over_range([0.0, 1.0, 2.0], [1.0, np.nan, 3.0]))
+    assert np.isnan(cycles.mean_over_range([0.0, 1.0, 2.0], [np.nan] * 3))
+    assert np.isnan(cycles.mean_over_range([0.0], [np.nan]))
 
 
 def test_old_names_are_the_moved_functions() -> None:

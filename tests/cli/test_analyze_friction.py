@@ -51,3 +51,27 @@ def test_frictionless_files_print_no_friction(tmp_path, capsys, example):
     text = capsys.readouterr().out.split("\nwrote ")[0]  # (the paths name this test)
     assert "friction" not in text and "self-locking" not in text
     assert "friction" not in json.loads((out / "planar.json").read_text())
+
+
+def test_mean_driving_torque_is_undefined_where_it_self_locks(tmp_path, capsys):
+    """With the slot at 12 deg the press self-locks over part of the turn: the driver's work
+    over the range, and so the mean driving torque and power, are undefined (printed '-',
+    null in planar.json), not the mean of the other positions (-59 N·m for a press doing
+    work). Analysed over 160..200 deg only, where every position locks, the command prints
+    no warning and exits 0."""
+    out = tmp_path / "out"
+    path = sine_press_with_friction(tmp_path, '"12 deg"')
+    assert main(["analyze", str(path), "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    means = json.loads((out / "planar.json").read_text())["means"]
+    assert means["Q_mean"] is None and means["power_mean"] is None
+    rows = [ln for ln in text.splitlines() if "Q mean (work / range)" in ln
+            or "driving power, mean" in ln]
+    assert len(rows) == 2 and all(ln.split("│")[2].strip() == "-" for ln in rows), rows
+    text = path.read_text().replace('start = "0 deg"', 'start = "160 deg"').replace(
+        'stop = "360 deg"', 'stop = "200 deg"').replace("n = 361", "n = 41")
+    path.write_text(text)
+    assert main(["analyze", str(path), "--out", str(out)]) == 0
+    io = capsys.readouterr()
+    assert io.err == ""
+    assert "self-locking (no finite driving torque moves it) at φ1 = 160.0..200.0 deg" in io.out

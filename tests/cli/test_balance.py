@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from _balancing_cases import paper_fourbar
-from _cli_files import run_cli
+from _cli_files import run_cli, sine_press_with_friction
 from rich.console import Console
 
 from linkwork.cli import main
@@ -338,3 +338,20 @@ def test_cli_balance_linear_driver_refused_before_work_naming_file(tmp_path, cap
     assert code == 2 and text == "" and len(err.strip().splitlines()) == 1
     assert f"{f}: driver: linear driver on joint G is invalid: balancing (paper 001)" in err
     assert not (tmp_path / "o").exists() or not any((tmp_path / "o").iterdir())
+
+
+def test_cli_balance_of_a_self_locking_file_names_its_friction(tmp_path, capsys):
+    """The sine press with its slot at 12 deg self-locks at 151..206 and 283..357 deg with the
+    file's friction (docs/friction.md): balancing, which compares the driving torque and the
+    bearing loads over a full turn, stops with one line naming the file, the joints'
+    coefficients and the ranges (it failed with 'moment = nan is invalid'), and writes
+    nothing; at 60 deg the same file balances."""
+    out = tmp_path / "out"
+    path = sine_press_with_friction(tmp_path, '"12 deg"')
+    code, _, err = run_cli(["balance", str(path), "--out", str(out)], capsys)
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert f"{path}: joint friction: 0.05 (A), 0.1 (guide), 0.12 (slot) is invalid" in err
+    assert "makes the mechanism self-lock at phi1 in [151, 206 deg], [283, 357 deg]" in err
+    assert not list(out.glob("balanc*"))
+    path = sine_press_with_friction(tmp_path)
+    assert run_cli(["balance", str(path), "--out", str(out)], capsys)[0] == 0

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _cli_files import run_cli
+from _cli_files import run_cli, sine_press_with_friction
 
 from linkwork import io
 from linkwork.studies import dynamics as study
@@ -123,3 +123,20 @@ def test_failures_are_one_line_and_exit_2(tmp_path, capsys, drive, words):
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith("linkwork: error: ")
     assert re.search(words, lines[0]), lines[0]
+
+
+def test_a_file_whose_friction_self_locks_it_is_one_line(tmp_path, capsys):
+    """The sine press with its slot at 12 deg self-locks over part of the turn with the file's
+    friction (docs/friction.md): the machine's motion is undefined there; one line names the
+    file, the joints' coefficients and the ranges in order over the turn (it said 'mechanism =
+    with friction is invalid: self-locks at phi1 = 151 deg (264 positions)', no file)."""
+    path = sine_press_with_friction(tmp_path, '"12 deg"')
+    path.write_text(path.read_text() + '\n[drive]\nflywheel = "2 kg*m^2"\npositions = 360\n'
+                    "start_up = false\n" + MOTOR)
+    code, _, err = run_cli(["dynamics", str(path), "--out", str(tmp_path / "out")], capsys)
+    assert code == 2 and err.count("\n") == 1, err
+    assert f"{path}: joint friction: 0.05 (A), 0.1 (guide), 0.12 (slot) is invalid: makes the " \
+        "mechanism self-lock at phi1 in [" in err
+    found = [float(x) for r in re.findall(r"\[([0-9.]+), ([0-9.]+) deg\]", err) for x in r]
+    assert found and found == sorted(found) and 0 <= found[0] and found[-1] < 360, err
+    assert "the machine's motion needs the driving torque at every position" in err

@@ -4,7 +4,10 @@ KeyboardInterrupt, as Python does on SIGINT, and linkwork.cli.main is called."""
 
 from __future__ import annotations
 
+import os
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -89,3 +92,25 @@ def test_interrupted_examples_copy_leaves_no_partial_example(tmp_path, capsys, m
     _one_line(capsys.readouterr().err, "examples")
     (first,) = dest.iterdir()
     assert first.read_bytes() == (ROOT / "examples" / first.name).read_bytes()
+
+
+def test_ctrl_c_while_ffmpeg_writes_the_mp4(tmp_path):
+    """Ctrl-C in a terminal reaches ffmpeg too: it stops (exit 255) and matplotlib's writer,
+    cleaning up, raises its CalledProcessError over the KeyboardInterrupt. The command still
+    says it was interrupted (one line, exit 130), not that ffmpeg failed, and leaves no
+    partial MP4. Run as a process: a stand-in ffmpeg sends SIGINT to its parent, as the
+    terminal does to the whole process group."""
+    fake = tmp_path / "bin"
+    fake.mkdir()
+    (fake / "ffmpeg").write_text("#!/bin/sh\nkill -INT $PPID\nsleep 1\nexit 255\n")
+    (fake / "ffmpeg").chmod(0o755)
+    out = tmp_path / "out"
+    env = dict(os.environ, PATH=f"{fake}{os.pathsep}{os.environ['PATH']}")
+    run = subprocess.run([sys.executable, "-m", "linkwork", "report", str(FOURBAR), "-o",
+                          str(out), "--animate", "--frames", "3"],
+                         capture_output=True, text=True, env=env, timeout=300)
+    assert run.returncode == 130, run.stderr
+    _one_line(run.stderr, f"report {FOURBAR}")
+    assert "ffmpeg failed" not in run.stdout
+    assert sorted(p.name for p in out.iterdir()) == [
+        "fourbar_paper001.gif", "fourbar_paper001.html", "linkwork-run.json"]

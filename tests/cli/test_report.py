@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 from pathlib import Path
 
@@ -32,11 +33,36 @@ def test_report_with_paths_centres_and_animation(tmp_path):
     assert "path coupler.(100, -40) mm" in html and "I13" in html
 
 
+
+def test_an_ffmpeg_that_fails_costs_only_the_mp4(tmp_path, capsys, monkeypatch):
+    """An ffmpeg that fails (here a stand-in that prints one line and exits 1, as a build
+    without libx264 does): the HTML and the GIF are written, one note says what ffmpeg said
+    and that there is no MP4, exit 0, no partial file left (it was a 60-line traceback and
+    exit code 1, matplotlib's 'MovieWriter stderr' on the terminal)."""
+    fake = tmp_path / "bin"
+    fake.mkdir()
+    (fake / "ffmpeg").write_text("#!/bin/sh\necho 'Unknown encoder libx264' >&2\nexit 1\n")
+    (fake / "ffmpeg").chmod(0o755)
+    monkeypatch.setenv("PATH", f"{fake}{os.pathsep}{os.environ['PATH']}")
+    out = tmp_path / "out"
+    assert main(["report", str(FOURBAR), "-o", str(out), "--animate", "--frames", "3"]) == 0
+    io = capsys.readouterr()
+    assert io.err.count("\n") <= 1 and "Traceback" not in io.err and "MovieWriter" not in io.err
+    assert ("note: ffmpeg failed writing fourbar_paper001.mp4 (Unknown encoder libx264): no "
+            "MP4 (the GIF is written)") in io.out
+    assert sorted(p.name for p in out.iterdir()) == [
+        "fourbar_paper001.gif", "fourbar_paper001.html", "linkwork-run.json"]
+
 @pytest.mark.parametrize(("args", "message"), [
     (["--path", "nobody.P"], "--path = nobody.P is invalid: no moving body"),
     (["--path", "coupler.Q"], "no point 'Q' on coupler"),
     (["--path", "coupler:1,x"], "must be BODY:X,Y"),
     (["--frames", "0"], "--frames = 0 is invalid: must be 1 to 180"),
+    # a path point beyond double precision or not a number: was a numerical overflow or
+    # 'point of coupler = (nan, 0.0) is invalid', neither naming --path
+    (["--path", "coupler:1e308,1e308"], "--path = coupler:1e308,1e308 is invalid: X, Y must "
+     "be finite and within +-1e+07 mm"),
+    (["--path", "coupler:nan,0"], "--path = coupler:nan,0 is invalid: X, Y must be finite"),
 ])
 def test_bad_options_are_one_line_and_write_nothing(tmp_path, capsys, args, message):
     assert main(["report", str(FOURBAR), "-o", str(tmp_path), *args]) == 2
@@ -54,6 +80,21 @@ def test_a_file_that_fails_validation_writes_no_report(tmp_path, capsys):
     assert err.startswith("linkwork: error: ") and err.count("\n") == 1
     assert "body.0.length" in err
     assert not list(out.glob("*.html")) if out.exists() else True
+
+
+def test_a_load_that_fails_while_analysing_names_the_file(tmp_path, capsys):
+    """The crank press's drawing diagram with outside = "error" is left by the analysis: the
+    report names the file and the diagram's key as analyze does (it named the key only),
+    one line, no report written."""
+    text = (ROOT / "examples" / "crank_press.toml").read_text()
+    bad = tmp_path / "press.toml"
+    bad.write_text(text.replace('when = "decreasing"', 'when = "decreasing"\noutside = "error"'))
+    out = tmp_path / "out"
+    assert main(["report", str(bad), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"linkwork: error: {bad}: load.0.diagram.table: ") and \
+        err.count("\n") == 1, err
+    assert not list(out.glob("*.html"))
 
 
 def test_partly_assembled_mechanism_is_reported_with_a_note(tmp_path, capsys):

@@ -30,6 +30,11 @@ def _commands() -> list[tuple[str, list[str]]]:
         if t == "swashplate":
             out.append((f"swashplate-analyze-{b}", ["swashplate", "analyze", str(f)]))
             continue
+        if t == "synthesis":
+            out += [(f"synthesize-{k}-{b}", ["synthesize", k, str(f)])
+                    for k in ("path", "function", "motion")
+                    if re.search(rf"^\[{k}\]", f.read_text(), re.MULTILINE)]
+            continue
         out.append((f"analyze-{b}", ["analyze", str(f)]))
         if t == "planar":
             out += [(f"balance-pareto-{b}", ["balance", str(f), "--pareto"]),

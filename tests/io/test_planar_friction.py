@@ -51,7 +51,8 @@ def test_no_friction_keys_no_friction():
     ({"slot": 'friction_torque = 1\n'}, r"friction_torque.*slot"),
     ({"slot": "friction = -0.1\n"}, r"joint\.2\.friction \(slot\): -0\.1 is invalid.*>= 0"),
     ({"guide": "friction = 1.5\n"}, r"joint\.1\.friction \(guide\): 1\.5 is invalid.*< 1"),
-    ({"crank": "friction = 0.1\n"}, r"joint A\.radius.*> 0"),
+    ({"crank": "friction = 0.1\n"}, r"joint\.0\.radius \(A\): is required here: must be "
+     r"> 0 \[m\] \(the journal radius of a joint with friction\)"),
     ({"crank": 'friction = 0.1\nradius = "60 mm"\n'},
      r"joint\.0\.radius \(A\): 60 mm is invalid.*< 0\.05 m.*crank"),
     ({"guide": 'friction = 0.1\nlength = "-1 mm"\n'},

@@ -259,7 +259,8 @@ def test_mechanism_parts_of_the_wrong_type_are_named():
     cases = [  # each was an AttributeError or TypeError from deep inside
         (dict(frame="frame"), r"^frame = frame is invalid: must be a Body"),
         (dict(bodies=("crank",)), r"^bodies = crank is invalid: must be Body objects"),
-        (dict(joints=("O2",)), r"^joints = O2 is invalid: must be Revolute, Prismatic or"),
+        (dict(joints=("O2",)),
+         r"^joints = O2 is invalid: must be Revolute, Prismatic, PinInSlot or GearPair"),
         (dict(driver=None), r"^driver = None is invalid: must be Crank or Linear"),
         (dict(driver="O2"), r"^driver = O2 is invalid: must be Crank or Linear"),
         (dict(branches=None), r"^branches = None is invalid: must map group keys"),

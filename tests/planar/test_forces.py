@@ -481,6 +481,151 @@ def test_press_force_over_the_last_20_mm_while_the_ram_moves_down():
                                rtol=0, atol=1e-9 * 10e3)
 
 
+
+def _sixbar():
+    """A Stephenson-type six-bar: four-bar O2-A-B-O4 whose ternary coupler carries C, and the
+    dyad C-D-O6 (link5, rocker6); friction circles (f 0.10..0.13, radii 12..30 mm) in all
+    seven revolutes."""
+    from linkwork.planar import Body, Crank, Mechanism, Revolute, bar
+
+    frame = Body("frame", {"O2": (0, 0), "O4": (0.30, 0.0), "O6": (0.05, 0.35)})
+    bodies = (bar("crank", "O2", "A", 0.10, mass=1.0),
+              Body("coupler", {"A": (0, 0), "B": (0.28, 0), "C": (0.12, 0.15),
+                               "K": (0.2, -0.05)}, mass=3.0, com=(0.13, 0.04), inertia=0.03),
+              bar("rocker", "O4", "B", 0.22, mass=2.0),
+              bar("link5", "C", "D", 0.30, mass=1.5, points={"H": (0.1, 0.02)}),
+              Body("rocker6", {"O6": (0, 0), "D": (0.25, 0), "S": (0.15, 0.04)}, mass=1.8,
+                   com=(0.11, 0.01), inertia=0.015))
+    pairs = [("O2", "frame", "crank"), ("A", "crank", "coupler"), ("B", "coupler", "rocker"),
+             ("O4", "frame", "rocker"), ("C", "coupler", "link5"), ("D", "link5", "rocker6"),
+             ("O6", "frame", "rocker6")]
+    radii = (0.02, 0.03, 0.012, 0.025, 0.02, 0.015, 0.018)
+    joints = tuple(Revolute(n, a, b, friction=0.1 + 0.005 * i, radius=radii[i])
+                   for i, (n, a, b) in enumerate(pairs))
+    return Mechanism(frame, bodies, joints, Crank("O2", omega1=6.0), {"B": 1, "D": -1})
+
+
+def test_sixbar_spring_and_damper_between_moving_links_with_friction_by_hand():
+    """A spring from the coupler's K to rocker 6's S and a damper from a point of the crank to
+    link 5's H (each between two moving links), Coulomb friction in all seven joints, gravity,
+    omega1 = 6 rad/s, eps1 = 1.5 rad/s^2: the spring's tension F0 + k (L - L0) and the
+    damper's c dL/dt written out from the poses, then the 15 Newton-Euler equations of the
+    five links (each joint's friction couple f r |R| against its relative rotation) solved per
+    position by fsolve, against the engine: Q and every reaction to 1e-9 of their scale. The
+    poses are the engine's; its velocities are checked here against finite differences."""
+    fsolve = pytest.importorskip("scipy.optimize").fsolve
+    mech = _sixbar()
+    k_, L0, F0, c_ = 4000.0, 0.12, 150.0, 60.0
+    loads = [Spring("coupler", "K", "rocker6", "S", stiffness=k_, free_length=L0, preload=F0,
+                    name="spring"),
+             Damper("crank", (0.06, 0.01), "link5", "H", damping=c_, name="damper")]
+    phi = np.radians(np.arange(1.0, 360.0, 15.0))
+    g = np.array([0.0, -9.81])
+    kin = kinematics(mech, phi, omega1=6.0, eps1=1.5)
+    dyn = inverse_dynamics(kin, gravity=tuple(g), loads=loads)
+    kp, km = (kinematics(mech, phi + d, omega1=6.0, eps1=1.5) for d in (1e-6, -1e-6))
+    np.testing.assert_allclose((kp.theta - km.theta) / 2e-6 * 6.0, kin.omega, atol=1e-7)
+    np.testing.assert_allclose((kp.x - km.x) / 2e-6 * 6.0, kin.vx, atol=1e-8)
+    body = {b.name: b for b in mech.bodies}
+    idx = mech.index
+
+    def point(name, p, k):
+        """Position, velocity and acceleration of a point of a body (or of the frame)."""
+        if name == "frame":
+            return np.array(mech.frame.point(p)), np.zeros(2), np.zeros(2)
+        i = idx[name]
+        c, sn = np.cos(kin.theta[i, k]), np.sin(kin.theta[i, k])
+        lp = body[name].point(p) if isinstance(p, str) else p
+        rp = np.array([c * lp[0] - sn * lp[1], sn * lp[0] + c * lp[1]])
+        w, al = kin.omega[i, k], kin.eps[i, k]
+        return (np.array([kin.x[i, k], kin.y[i, k]]) + rp,
+                np.array([kin.vx[i, k], kin.vy[i, k]]) + w * _perp(rp),
+                np.array([kin.ax[i, k], kin.ay[i, k]]) + al * _perp(rp) - w**2 * rp)
+
+    def omega(name, k):
+        return 0.0 if name == "frame" else kin.omega[idx[name], k]
+
+    for k in range(phi.size):
+        PK, PS = point("coupler", "K", k)[0], point("rocker6", "S", k)[0]
+        L = np.hypot(*(PS - PK))
+        T = F0 + k_ * (L - L0)
+        (P1, v1, _), (PH, vH, _) = point("crank", (0.06, 0.01), k), point("link5", "H", k)
+        ud = (PH - P1) / np.hypot(*(PH - P1))
+        TD = c_ * ud @ (vH - v1)
+        assert dyn.load("spring").value[k] == pytest.approx(T, rel=1e-12)
+        assert dyn.load("damper").value[k] == pytest.approx(TD, rel=1e-9, abs=1e-9)
+        ext = [("coupler", PK, T * (PS - PK) / L), ("rocker6", PS, -T * (PS - PK) / L),
+               ("crank", P1, TD * ud), ("link5", PH, -TD * ud)]
+
+        def eqs(x, k=k, ext=ext):
+            F = {n: np.zeros(2) for n in body}
+            M = {n: 0.0 for n in body}                   # about each body's origin
+            for j, jt in enumerate(mech.joints):
+                Rv = x[2 * j:2 * j + 2]
+                P = point(jt.b, jt.name, k)[0]
+                Mf = -jt.friction * jt.radius * np.hypot(*Rv) * np.sign(
+                    omega(jt.b, k) - omega(jt.a, k))
+                for name, sg in ((jt.b, 1.0), (jt.a, -1.0)):
+                    if name != "frame":
+                        o = point(name, (0.0, 0.0), k)[0]
+                        F[name] = F[name] + sg * Rv
+                        M[name] += sg * (_cross(P - o, Rv) + Mf)
+            for name, P, f in ext:
+                o = point(name, (0.0, 0.0), k)[0]
+                F[name] = F[name] + f
+                M[name] += _cross(P - o, f)
+            M["crank"] += x[14]
+            out = []
+            for name, b in body.items():
+                o = point(name, (0.0, 0.0), k)[0]
+                C, _, aC = point(name, "com", k)
+                out += [*(F[name] + b.mass * (g - aC)),
+                        M[name] + _cross(C - o, b.mass * (g - aC))
+                        - b.inertia * kin.eps[idx[name], k]]
+            return out
+
+        x = fsolve(eqs, np.zeros(15), xtol=1e-13, full_output=True)[0]
+        x = fsolve(eqs, x, xtol=1e-13, full_output=True)[0]
+        scale = np.abs(x[:14]).max()
+        assert np.max(np.abs(eqs(x))) < 1e-10 * scale
+        assert dyn.Q[k] == pytest.approx(x[14], abs=1e-9 * scale * 0.1)
+        np.testing.assert_allclose(dyn.fx[:, k], x[0:14:2], atol=1e-9 * scale)
+        np.testing.assert_allclose(dyn.fy[:, k], x[1:14:2], atol=1e-9 * scale)
+
+
+def test_diagram_over_a_turning_slot_acts_when_its_slide_increases():
+    """A slide force given as a table over the slide of a pin in a turning slot (the slotted
+    lever: s = |A - O4| written out, ds/dt = (A - O4) . vA / s), with when = increasing and
+    decreasing: its value is the table interpolated at s where ds/dt >= 0 (<= 0), at the two
+    dead centres of s (phi1 = 90, 270 deg, in the positions) for both; its power F ds/dt
+    changes the driving torque by exactly -F ds/dt / omega1 (virtual work), to 1e-12."""
+    from linkwork.planar import Body, Crank, Mechanism, PinInSlot, Revolute, bar
+
+    frame = Body("frame", {"O2": (0.0, 0.0), "O4": (0.0, -0.25)})
+    mech = Mechanism(frame, (bar("crank", "O2", "A", 0.1, mass=1.2),
+                             Body("lever", {"O4": (0, 0)}, mass=3.0, com=(0.18, 0),
+                                  inertia=0.04)),
+                     (Revolute("O2", "frame", "crank"), Revolute("O4", "frame", "lever"),
+                      PinInSlot("S", "lever", "crank", angle=0.0, through="O4", point="A")),
+                     Crank("O2", omega1=8.0))
+    phi = np.radians(np.arange(0.0, 360.0, 2.5))
+    kin = kinematics(mech, phi)
+    d0 = inverse_dynamics(kin)
+    A = 0.1 * np.stack([np.cos(phi), np.sin(phi)])
+    D = A - np.array([[0.0], [-0.25]])
+    s = np.hypot(*D)
+    sd = np.sum(D * 8.0 * 0.1 * np.stack([-np.sin(phi), np.cos(phi)]), axis=0) / s
+    table = ([0.14, 0.26, 0.3, 0.36], [100.0, 400.0, -50.0, 300.0])
+    full = np.interp(s, *table, left=0.0, right=0.0)
+    rest = np.isin(np.round(np.degrees(phi), 9), (90.0, 270.0))
+    assert np.abs(sd[rest]).max() < 1e-12 and full[rest].min() > 0
+    for when, acts in (("increasing", (sd > 0) | rest), ("decreasing", (sd < 0) | rest)):
+        d = LoadDiagram(*table, over="S", when=when)
+        dyn = inverse_dynamics(kin, loads=[SlideForce("S", d, name="F")])
+        F = np.where(acts, full, 0.0)
+        np.testing.assert_allclose(dyn.load("F").value, F, atol=1e-9)
+        np.testing.assert_allclose(dyn.Q - d0.Q, -F * sd / 8.0, atol=1e-12 * 400)
+
 def test_diagram_outside_its_range_is_zero_or_refused():
     s_min = L_ROD - R
     mech = _press()
@@ -597,3 +742,11 @@ def cs_kin():
 def test_loads_that_do_not_fit_the_mechanism_are_named(cs_kin, loads, match):
     with pytest.raises(ParameterError, match=match):
         inverse_dynamics(cs_kin, loads=loads)
+
+
+def _perp(v):
+    return np.array([-v[1], v[0]])
+
+
+def _cross(a, b):
+    return a[0] * b[1] - a[1] * b[0]

@@ -27,7 +27,9 @@ from linkwork.errors import ParameterError
 from linkwork.models import sine
 from linkwork.planar import (
     Body,
+    BodyTorque,
     Crank,
+    Linear,
     Mechanism,
     PinInSlot,
     PointForce,
@@ -273,6 +275,323 @@ def test_fourbar_against_newton_euler_by_hand():
             assert np.allclose([dyn.fx[k, i], dyn.fy[k, i]], x[s], rtol=1e-9, atol=1e-9 * M4)
 
 
+
+def _perp(v):
+    return np.array([-v[1], v[0]])
+
+
+def _unit(t):
+    return np.array([np.cos(t), np.sin(t)])
+
+
+def _fsolve(eqs, x0, tries=4):
+    """``scipy.optimize.fsolve`` restarted from its result until the residual stops falling
+    (its progress flag is not the test: each caller checks the residual)."""
+    fsolve = pytest.importorskip("scipy.optimize").fsolve
+    x = np.asarray(x0, dtype=float)
+    for _ in range(tries):
+        x = fsolve(eqs, x, xtol=1e-13, full_output=True)[0]
+    return x
+
+
+def _slotted_lever(r2=0.1, h=0.25, block=None, **fr):
+    """Crank O2-A (pin A) and a lever pivoted at O4 = (0, -h) whose x axis is a straight slot
+    through O4: the pin runs in the slot (``block=None``), or a block of length ``block``
+    pinned to the crank at A slides on the lever (a prismatic pair between two moving
+    bodies). Masses, inertias and an offset block centre so that inertia loads matter."""
+    frame = Body("frame", {"O2": (0.0, 0.0), "O4": (0.0, -h)})
+    crank = bar("crank", "O2", "A", r2, mass=1.2, inertia=2e-3)
+    lever = Body("lever", {"O4": (0.0, 0.0), "E": (0.5, 0.0)}, mass=3.0, com=(0.18, 0.0),
+                 inertia=0.04)
+    joints = [Revolute("O2", "frame", "crank", friction=fr["fO2"], radius=fr["rO2"]),
+              Revolute("O4", "frame", "lever", friction=fr["fO4"], radius=fr["rO4"])]
+    bodies = [crank, lever]
+    if block is None:
+        joints.append(PinInSlot("S", "lever", "crank", angle=0.0, through="O4", point="A",
+                                friction=fr["fS"], radius=fr["rS"]))
+    else:
+        bodies.insert(1, Body("block", {"A": (0.0, 0.0)}, mass=0.8, com=(0.012, -0.006),
+                              inertia=6e-4))
+        joints += [Revolute("A", "crank", "block", friction=fr["fA"], radius=fr["rA"]),
+                   Prismatic("P", "lever", "block", angle=0.0, through="O4", point="A",
+                             friction=fr["fS"], length=block)]
+    return Mechanism(frame, tuple(bodies), tuple(joints), Crank("O2", omega1=8.0))
+
+
+def _lever_motion(phi, w1, r2=0.1, h=0.25):
+    """The slotted lever's motion written out: A on the crank circle at constant omega1, the
+    lever along O4 -> A: its angle, rate, acceleration and the slide s = |A - O4| and ds/dt."""
+    A = r2 * _unit(phi)
+    vA = w1 * r2 * _perp(_unit(phi))
+    aA = -w1**2 * A
+    d = A - np.array([0.0, -h])
+    s = np.hypot(*d)
+    w4 = _cross(d, vA) / s**2
+    a4 = _cross(d, aA) / s**2 - 2 * _cross(d, vA) * (d @ vA) / s**4
+    return A, aA, np.arctan2(d[1], d[0]), w4, a4, d @ vA / s
+
+
+def test_pin_with_radius_in_a_turning_slot_against_newton_euler_by_hand():
+    """The crank's pin A (radius 10 mm, f = 0.12) runs in the slot of a lever that turns about
+    O4 (a crank and slotted lever; the slot's rotation makes the pin's contact slip at
+    ds/dt + r sign(N) (omega_crank - omega_lever), not at ds/dt), friction circles at O2 and
+    O4, inertia, gravity and a load torque cos(phi1) 25 N m on the lever, so that the normal
+    force changes sign and the pin changes walls. The 6 Newton-Euler equations of crank and
+    lever are written here from the contact (the friction force at the contact point C = A -
+    r sign(N) n, against the slip of the pin's material over the slot's), with the lever's
+    motion written out, and solved per position by fsolve: Q and every reaction to 1e-9."""
+    fr = dict(fO2=0.06, rO2=0.02, fO4=0.08, rO4=0.025, fS=0.12, rS=0.01)
+    mech = _slotted_lever(**fr)
+    g, w1, m2, m4, I4, c4 = np.array([0.0, -9.81]), 8.0, 1.2, 3.0, 0.04, 0.18  # omega1 const
+    phi = np.radians(np.arange(3.0, 360.0, 9.0))
+    kin = kinematics(mech, phi)
+    dyn = inverse_dynamics(kin, gravity=tuple(g),
+                           loads=[BodyTorque("lever", -25.0 * np.cos(phi))])
+    O4 = np.array([0.0, -0.25])
+    normals = []
+    for i, p in enumerate(phi):
+        A, _, th, w4, a4, sd = _lever_motion(p, w1)
+        assert kin.theta[2, i] == pytest.approx(th, abs=1e-12)
+        u, n = _unit(th), _perp(_unit(th))
+        C2, aC2 = A / 2, -w1**2 * A / 2
+        C4 = O4 + c4 * u
+        aC4 = c4 * (a4 * n - w4**2 * u)
+        ML = -25.0 * np.cos(p)
+
+        def eqs(x, A=A, u=u, n=n, w4=w4, a4=a4, sd=sd, C2=C2, aC2=aC2, C4=C4, aC4=aC4,
+                ML=ML):
+            RO2, RO4, N, Q = x[0:2], x[2:4], x[4], x[5]
+            sN = np.sign(N)
+            slip = sd + fr["rS"] * sN * (w1 - w4)   # pin material over slot material at C
+            F = N * n - fr["fS"] * abs(N) * np.sign(slip) * u  # lever on crank, at C
+            C = A - fr["rS"] * sN * n
+            MO2 = -fr["fO2"] * fr["rO2"] * np.hypot(*RO2) * np.sign(w1)
+            MO4 = -fr["fO4"] * fr["rO4"] * np.hypot(*RO4) * np.sign(w4)
+            return [*(RO2 + F + m2 * (g - aC2)),
+                    Q + MO2 + _cross(C, F) + _cross(C2, m2 * (g - aC2)),
+                    *(RO4 - F + m4 * (g - aC4)),
+                    MO4 + ML + _cross(C - O4, -F) + _cross(C4 - O4, m4 * (g - aC4))
+                    - I4 * a4]
+
+        x = _fsolve(eqs, np.zeros(6))
+        assert np.max(np.abs(eqs(x))) < 1e-10 * 200
+        normals.append(x[4])
+        assert dyn.Q[i] == pytest.approx(x[5], abs=1e-9 * 20)
+        for k, (fx, fy) in enumerate((x[0:2], x[2:4])):
+            assert (dyn.fx[k, i], dyn.fy[k, i]) == pytest.approx((fx, fy), abs=1e-9 * 200)
+    assert min(normals) < 0 < max(normals)          # the pin touched both walls
+
+
+@pytest.mark.parametrize("block", [0.05, 0.006])
+def test_block_on_a_turning_guide_against_newton_euler_by_hand(block):
+    """A block pinned to the crank at A (friction circle) slides on the turning lever of the
+    slotted-lever mechanism (a prismatic pair between two moving bodies), its length 50 mm or
+    6 mm: with 6 mm the guide's couple makes the block press on both sides somewhere (N1 N2 <
+    0, the drawer effect). Newton-Euler of crank, block and lever written here (the normal
+    force N and couple m of the guide carried by contacts N/2 -+ m/l at the block's ends, the
+    friction f (|N1| + |N2|) against the slide), solved by fsolve: Q, reactions, couple to 1e-9.
+    """
+    fr = dict(fO2=0.06, rO2=0.02, fO4=0.08, rO4=0.025, fA=0.07, rA=0.012, fS=0.12)
+    mech = _slotted_lever(block=block, **fr)
+    g, w1 = np.array([0.0, -9.81]), 8.0
+    m2, mb, Ib, m4, I4, c4 = 1.2, 0.8, 6e-4, 3.0, 0.04, 0.18   # the crank at const omega1
+    cb = np.array([0.012, -0.006])
+    phi = np.radians(np.arange(3.0, 360.0, 9.0))
+    kin = kinematics(mech, phi)
+    dyn = inverse_dynamics(kin, gravity=tuple(g),
+                           loads=[BodyTorque("lever", -25.0 * np.cos(phi))])
+    names = list(dyn.joints)
+    O4 = np.array([0.0, -0.25])
+    both_sides = 0
+    for i, p in enumerate(phi):
+        A, aA, th, w4, a4, sd = _lever_motion(p, w1)
+        u, n = _unit(th), _perp(_unit(th))
+        C2, aC2 = A / 2, -w1**2 * A / 2
+        C4, aC4 = O4 + c4 * u, c4 * (a4 * n - w4**2 * u)
+        rb = cb[0] * u + cb[1] * n                          # the block turns with the lever
+        aCb = aA + a4 * _perp(rb) - w4**2 * rb
+        ML = -25.0 * np.cos(p)
+
+        def eqs(x, A=A, u=u, n=n, w4=w4, a4=a4, sd=sd, C2=C2, aC2=aC2, C4=C4, aC4=aC4, rb=rb,
+                aCb=aCb, ML=ML):
+            RO2, RA, N, m, RO4, Q = x[0:2], x[2:4], x[4], x[5], x[6:8], x[8]
+            N1, N2 = N / 2 - m / block, N / 2 + m / block
+            F = N * n - fr["fS"] * (abs(N1) + abs(N2)) * np.sign(sd) * u  # lever on block
+            MO2 = -fr["fO2"] * fr["rO2"] * np.hypot(*RO2) * np.sign(w1)
+            MA = -fr["fA"] * fr["rA"] * np.hypot(*RA) * np.sign(w4 - w1)  # crank on block
+            MO4 = -fr["fO4"] * fr["rO4"] * np.hypot(*RO4) * np.sign(w4)
+            return [*(RO2 - RA + m2 * (g - aC2)),
+                    Q + MO2 - MA + _cross(A, -RA) + _cross(C2, m2 * (g - aC2)),
+                    *(RA + F + mb * (g - aCb)),
+                    MA + m + _cross(rb, mb * (g - aCb)) - Ib * a4,
+                    *(RO4 - F + m4 * (g - aC4)),
+                    MO4 - m + ML + _cross(A - O4, -F) + _cross(C4 - O4, m4 * (g - aC4))
+                    - I4 * a4]
+
+        x = _fsolve(eqs, np.zeros(9))
+        assert np.max(np.abs(eqs(x))) < 1e-10 * 200
+        both_sides += (x[4] / 2 - x[5] / block) * (x[4] / 2 + x[5] / block) < 0
+        assert dyn.Q[i] == pytest.approx(x[8], abs=1e-9 * 20)
+        for j, (fx, fy) in (("O2", x[0:2]), ("A", x[2:4]), ("O4", x[6:8])):
+            k = names.index(j)
+            assert (dyn.fx[k, i], dyn.fy[k, i]) == pytest.approx((fx, fy), abs=1e-9 * 200)
+        assert dyn.mz[names.index("P"), i] == pytest.approx(x[5], abs=1e-9 * 20)
+    assert (both_sides > 0) == (block < 0.01)
+
+
+def test_linear_driver_with_friction_against_newton_euler_by_hand():
+    """A slider-crank driven by its slider (a linear driver, v1 = -0.4 m/s, a1 = 0.7 m/s^2),
+    the crank the output against a 6 N m torque opposing its rotation; friction circles at O,
+    A, B and a 40 mm block in the guide, inertia and gravity. The crank's and rod's motion
+    written out from the slide (velocity and acceleration loops solved here), the 9 equations
+    of slider, rod and crank solved by fsolve: the driving force Q (along the guide, besides
+    the guide's friction, which the guide's reaction carries) and the reactions to 1e-9."""
+    r, l, e, v1, a1 = 0.08, 0.3, 0.01, -0.4, 0.7
+    fO, rO, fA, rA, fB, rB, fG, lG = 0.05, 0.02, 0.06, 0.012, 0.07, 0.01, 0.1, 0.04
+    m2, I2, m3, I3, m4, I4, c4 = 1.0, 1.5e-3, 2.0, 0.02, 3.0, 1e-3, np.array([0.01, 0.015])
+    g = np.array([0.0, -9.81])
+    frame = Body("frame", {"O": (0.0, 0.0), "G0": (0.0, e)})
+    slider = Body("slider", {"B": (0.0, 0.0)}, mass=m4, com=tuple(c4), inertia=I4)
+    mech = Mechanism(frame, (slider, bar("rod", "A", "B", l, mass=m3, inertia=I3),
+                             bar("crank", "O", "A", r, mass=m2, inertia=I2)),
+                     (Prismatic("G", "frame", "slider", angle=0.0, through="G0", point="B",
+                                friction=fG, length=lG),
+                      Revolute("B", "rod", "slider", friction=fB, radius=rB),
+                      Revolute("A", "crank", "rod", friction=fA, radius=rA),
+                      Revolute("O", "frame", "crank", friction=fO, radius=rO)),
+                     Linear("G", v1=v1, a1=a1))
+    s = np.linspace(0.26, 0.36, 21)
+    kin = kinematics(mech, s)
+    w2_engine = kin.omega[mech.index["crank"]]
+    dyn = inverse_dynamics(kin, gravity=tuple(g),
+                           loads=[BodyTorque("crank", -6.0 * np.sign(w2_engine))])
+    names = list(dyn.joints)
+    for i, si in enumerate(s):
+        B = np.array([si, e])
+        A = r * _unit(kin.theta[mech.index["crank"], i])   # the branch from the engine...
+        assert np.hypot(*(B - A)) == pytest.approx(l, abs=1e-12)  # ...checked by the loop
+        M = np.column_stack([_perp(A), _perp(B - A)])
+        w2, w3 = np.linalg.solve(M, [v1, 0.0])
+        al2, al3 = np.linalg.solve(M, np.array([a1, 0.0]) + w2**2 * A + w3**2 * (B - A))
+        aA = al2 * _perp(A) - w2**2 * A
+        aC2 = aA / 2
+        aC3 = aA + al3 * _perp((B - A) / 2) - w3**2 * (B - A) / 2
+        aC4 = np.array([a1, 0.0])
+        ML = -6.0 * np.sign(w2)
+
+        def eqs(x, A=A, B=B, w2=w2, w3=w3, al2=al2, al3=al3, aC2=aC2, aC3=aC3, aC4=aC4,
+                ML=ML):
+            RO, RA, RB, N, m, F = x[0:2], x[2:4], x[4:6], x[6], x[7], x[8]
+            N1, N2 = N / 2 - m / lG, N / 2 + m / lG
+            Ft = -fG * (abs(N1) + abs(N2)) * np.sign(v1)
+            MO = -fO * rO * np.hypot(*RO) * np.sign(w2)          # frame on crank
+            MA = -fA * rA * np.hypot(*RA) * np.sign(w3 - w2)     # crank on rod
+            MB = -fB * rB * np.hypot(*RB) * np.sign(0.0 - w3)    # rod on slider
+            return [*(RO - RA + m2 * (g - aC2)),
+                    MO - MA + ML + _cross(A, -RA) + _cross(A / 2, m2 * (g - aC2)) - I2 * al2,
+                    *(RA - RB + m3 * (g - aC3)),
+                    MA - MB + _cross(B - A, -RB) + _cross((B - A) / 2, m3 * (g - aC3))
+                    - I3 * al3,
+                    RB[0] + F + Ft + m4 * (g[0] - aC4[0]), RB[1] + N + m4 * (g[1] - aC4[1]),
+                    MB + m + _cross(c4, m4 * (g - aC4))]
+
+        x = _fsolve(eqs, np.zeros(9))
+        assert np.max(np.abs(eqs(x))) < 1e-10 * 100
+        assert w2_engine[i] == pytest.approx(w2, rel=1e-12)
+        assert dyn.Q[i] == pytest.approx(x[8], abs=1e-9 * 100)
+        for j, (fx, fy) in (("O", x[0:2]), ("A", x[2:4]), ("B", x[4:6])):
+            k = names.index(j)
+            assert (dyn.fx[k, i], dyn.fy[k, i]) == pytest.approx((fx, fy), abs=1e-9 * 100)
+        k = names.index("G")
+        Ft = -fG * (abs(x[6] / 2 - x[7] / lG) + abs(x[6] / 2 + x[7] / lG)) * np.sign(v1)
+        assert (dyn.fx[k, i], dyn.fy[k, i], dyn.mz[k, i]) == pytest.approx(
+            (Ft, x[6], x[7]), abs=1e-9 * 100)
+
+
+def _toggle(fr: float = 1.0) -> Mechanism:
+    """A slider-driven crank (a toggle): massless crank O-A 80 mm and rod A-B 300 mm, the
+    slider B on a guide 10 mm above O, the slider the driver; friction circles f r = 3, 2,
+    1.5 mm at O, A, B and f = 0.1 in the guide (point contact), times ``fr``."""
+    frame = Body("frame", {"O": (0.0, 0.0), "G0": (0.0, 0.01)})
+    return Mechanism(frame, (Body("slider", {"B": (0.0, 0.0)}), bar("rod", "A", "B", 0.3),
+                             bar("crank", "O", "A", 0.08)),
+                     (Prismatic("G", "frame", "slider", angle=0.0, through="G0", point="B",
+                                friction=0.1 * fr),
+                      Revolute("B", "rod", "slider", friction=0.1 * fr, radius=0.015),
+                      Revolute("A", "crank", "rod", friction=0.1 * fr, radius=0.02),
+                      Revolute("O", "frame", "crank", friction=0.1 * fr, radius=0.03)),
+                     Linear("G", v1=-0.5))
+
+
+def _toggle_closed_form(s, theta2, v1=-0.5, M0=10.0):
+    """The slider force that turns the toggle's crank against M0 (opposing its rotation), or
+    None where no force does: the massless rod is a two-force member whose line of action is
+    tangent to the friction circles at A and B (its moment about A and B the two friction
+    couples), tilted by asin(k / l) from AB; the crank's moment balance about O, with its
+    friction circle, fixes the rod force S (compression or tension, whichever is consistent);
+    the slider's balance along the guide adds the guide's friction. Locked where no sign of S
+    balances the crank: the rod's line of action passes inside O's friction circle."""
+    r, l, e = 0.08, 0.3, 0.01
+    rhoO, rhoA, rhoB, fG = 0.003, 0.002, 0.0015, 0.1
+    B, A = np.array([s, e]), r * _unit(theta2)
+    w2, w3 = np.linalg.solve(np.column_stack([_perp(A), _perp(B - A)]), [v1, 0.0])
+    th3 = np.arctan2(*(B - A)[::-1])
+    k = rhoA * np.sign(w3 - w2) - rhoB * np.sign(-w3)  # (B - A) x P = k |S|
+    forces = []
+    for sg in (1.0, -1.0):
+        ev = _unit(th3 + np.arcsin(sg * k / l))           # P = S ev, the rod's force on the crank
+        c = _cross(A, ev) * sg + rhoA * np.sign(w3 - w2) - rhoO * np.sign(w2)
+        S_abs = M0 * np.sign(w2) / c
+        if S_abs > 0:
+            P = sg * S_abs * ev
+            forces.append(P[0] + fG * abs(P[1]) * np.sign(v1))
+    return forces, w2
+
+
+def test_toggle_self_locks_where_its_rod_passes_inside_the_friction_circle():
+    """A slider-driven crank near its outer dead centre (the toggle a press's ram cannot back-
+    drive): the engine's driving force equals the closed form of ``_toggle_closed_form`` to
+    1e-9 where it runs, its ``locked`` positions are exactly the closed form's (no consistent
+    rod force), the limit found by bisection on each agrees to 1e-12 m, and towards it kappa ->
+    0 and the force grows like 1/kappa; without friction nothing locks."""
+    mech = _toggle()
+    smax = np.sqrt(0.38**2 - 0.01**2)
+    s = np.linspace(smax - 0.01, smax - 1e-7, 200)
+
+    def engine(x):
+        kin = kinematics(mech, np.atleast_1d(x))
+        w2 = kin.omega[mech.index["crank"]]
+        return kin, inverse_dynamics(kin, loads=[BodyTorque("crank", -10.0 * np.sign(w2))])
+
+    kin, dyn = engine(s)
+    th2 = kin.theta[mech.index["crank"]]
+    closed = [_toggle_closed_form(x, t) for x, t in zip(s, th2, strict=True)]
+    assert all(len(f) <= 1 for f, _ in closed)           # one consistent rod force, or none
+    locked = np.array([not f for f, _ in closed])
+    assert 0 < locked.sum() < s.size // 4 and np.array_equal(dyn.locked, locked)
+    for i in np.flatnonzero(~locked):
+        assert kin.omega[mech.index["crank"], i] == pytest.approx(closed[i][1], rel=1e-12)
+        assert dyn.Q[i] == pytest.approx(closed[i][0][0], rel=1e-9)
+
+    def bisect(is_locked):
+        lo, hi = s[~locked][-1], s[locked][0]
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (lo, mid) if is_locked(mid) else (mid, hi)
+        return 0.5 * (lo + hi)
+
+    def closed_locked(x):
+        return not _toggle_closed_form(x, engine(x)[0].theta[mech.index["crank"], 0])[0]
+
+    limit = bisect(lambda x: bool(engine(x)[1].locked[0]))
+    assert limit == pytest.approx(bisect(closed_locked), abs=1e-12)
+    near = engine(limit - np.array([1e-4, 1e-6, 1e-8]))[1]
+    assert np.all(np.diff(near.kappa) < 0) and near.kappa[-1] > 0
+    assert np.all(np.diff(np.abs(near.Q)) > 0)
+    assert np.abs(near.Q * near.kappa).max() < 2 * np.abs(near.Q * near.kappa).min()
+    kin0 = kinematics(_toggle(0.0), s)
+    assert not inverse_dynamics(kin0, loads=[BodyTorque("crank", -10.0)]).locked.any()
+
 def test_eccentric_and_rod_worked_example_with_friction_circles():
     """A worked friction-circle example of an imperial-units machine-theory text, as
     transcribed in the FOSSEE Scilab Textbook Companion project (its Scilab solution; the
@@ -361,6 +680,27 @@ def test_self_locking_is_reported_and_undefined():
     assert peaks[0][0] < peaks[1][0] < peaks[2][0]
     assert peaks[0][1] > peaks[1][1] > peaks[2][1] > 0
 
+
+
+def test_self_locked_positions_keep_the_shaking_loads():
+    """Where the mechanism self-locks the reactions and Q are undefined, but the shaking force
+    and moment are not: friction is internal, so they are the frictionless engine's (its
+    Newton-Euler resultant, independent of the joint reactions), at every position, to
+    round-off (1e-11 of their scale). Balancing takes its shaking moment from them."""
+    f1, f2 = 0.12, 0.10
+    lo = float(sine.working_range(f1, f2)[0])
+    phi = np.linspace(0.0, 2 * np.pi, 73)[:-1] + 0.01
+    d = {}
+    for tag, (a, b) in (("friction", (f1, f2)), ("none", (0.0, 0.0))):
+        kin = kinematics(sine_mechanism(lo - 0.01, a, b), phi)
+        v = kin.point("slider", "G").vx
+        d[tag] = inverse_dynamics(kin, gravity=(-9.81, 0.0),
+                                  loads=[PointForce("slider", "G", fx=-1000.0 * np.sign(v))])
+    assert d["friction"].locked.any() and not d["none"].locked.any()
+    for name in ("shaking_fx", "shaking_fy", "shaking_m"):
+        a, b = getattr(d["friction"], name), getattr(d["none"], name)
+        assert np.all(np.isfinite(a)), name
+        assert np.max(np.abs(a - b)) <= 1e-11 * max(np.max(np.abs(b)), 1.0), name
 
 # -- efficiency and losses --------------------------------------------------------------------
 

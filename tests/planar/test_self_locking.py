@@ -75,3 +75,23 @@ def test_bad_arguments(kw, match):
     with pytest.raises(ParameterError, match=match):
         working_range(lambda a: sine_mechanism(a, 0.1, 0.1), args.pop("bounds"),
                       args.pop("phi1"), **args)
+
+
+def test_a_tolerance_below_the_float_spacing_ends_at_adjacent_floats():
+    """tol = 1e-300 (below the spacing of doubles near the limit, ~3e-17 rad) bisects until the
+    two values are adjacent floats, then stops: about 55 steps per limit (it looped for ever:
+    the midpoint of adjacent floats is one of them). The limits are paper 000's to 1e-9 rad
+    (the engine's own limit is exact to its residual)."""
+    calls = [0]
+
+    def make(a):
+        calls[0] += 1
+        assert calls[0] < 400, "the bisection does not end"
+        return sine_mechanism(a, 0.12, 0.10)
+
+    wr = working_range(make, (np.radians(1), np.radians(179)), PHI, loads=_against_ram,
+                       scan=4, tol=1e-300)
+    (a, b), = wr.intervals
+    lo, hi = (float(v) for v in sine.working_range(0.12, 0.10))
+    assert abs(a - lo) < 1e-9 and abs(b - hi) < 1e-9
+    assert wr.evaluations == calls[0] < 4 + 2 * 60

@@ -14,6 +14,7 @@ import re
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from linkwork import io
 from linkwork.plot import html as ph
@@ -110,3 +111,11 @@ def test_ticks_of_angles_and_of_plain_numbers():
     assert np.allclose(steps, steps[0])
     mantissa = steps[0] / 10.0 ** math.floor(math.log10(steps[0]))
     assert any(math.isclose(mantissa, m) for m in (1.0, 2.0, 2.5, 5.0))
+
+
+def test_tick_labels_tell_every_tick_apart():
+    """Ticks 0.025 apart are written with three decimals (0.175, not 0.18 beside 0.2)."""
+    t = ph._ticks(0.07, 0.235)
+    labels = [ph._tick_text(v, t) for v in t]
+    assert len(set(labels)) == len(labels)
+    assert [float(x) for x in labels] == pytest.approx(t, abs=1e-12)

@@ -22,7 +22,7 @@ import pytest
 
 from linkwork import io
 from linkwork.models import swashplate as sw
-from linkwork.planar import fourbar_mechanism, kinematics
+from linkwork.planar import crank_slider_mechanism, fourbar_mechanism, kinematics
 from linkwork.plot import scene as sc
 from linkwork.studies import planar as study_planar
 from linkwork.studies import sine_press, swashplate
@@ -165,6 +165,28 @@ def test_instant_centre_of_a_slider_is_at_infinity():
     assert np.all(np.isnan(ic[(0, i)]))
 
 
+
+def test_instant_centres_of_an_offset_crank_slider_by_kennedys_construction():
+    """Offset crank-slider (r 50, l 200, e 20 mm; Kennedy: frame 1, crank 2, rod 3, slider
+    4): I13 where the crank's line O-A meets the normal to the guide through B (I14 at
+    infinity along that normal, I34 at B), I24 where the rod's line A-B meets the normal to
+    the guide through O; constructed here, to 1e-12 m."""
+    r, l, e = 0.05, 0.2, 0.02
+    mech = crank_slider_mechanism(r, l, e)
+    phi = np.radians(np.arange(5.0, 360.0, 20.0))
+    kin = kinematics(mech, phi)
+    ic = sc.instant_centres(kin)
+    crank, rod, slider = (kin.bodies.index(b) for b in ("crank", "rod", "slider"))
+    A = r * np.stack([np.cos(phi), np.sin(phi)])
+    B = kin.point("slider", "B")
+    np.testing.assert_allclose(B.y, e, atol=1e-15)
+    I13 = np.stack([B.x, B.x * np.tan(phi)])
+    I24 = np.stack([np.zeros(phi.size), A[1] - A[0] * (B.y - A[1]) / (B.x - A[0])])
+    np.testing.assert_allclose(ic[(0, rod)], I13, atol=1e-12)
+    np.testing.assert_allclose(ic[(crank, slider)], I24, atol=1e-12)
+    np.testing.assert_allclose(ic[(rod, slider)], np.stack([B.x, B.y]), atol=1e-12)
+    assert np.all(np.isnan(ic[(0, slider)]))
+
 def test_sine_press_scene_keeps_the_constraints_of_both_modes():
     st = sine_press.analyze(io.load(EXAMPLES / "sine_press.toml"))
     scene = sc.sine_press_scene(st.idle_cycle, st.working_cycle)
@@ -241,3 +263,139 @@ def test_mp4_animation(tmp_path):
     head = mp4.read_bytes()[:12]
     assert head[4:8] == b"ftyp"   # an MP4 (ISO base media) file
     assert not list(tmp_path.glob(".*part*"))
+
+
+# ---------------------------------------------------------------------------------------------
+# force elements and loads drawn where they act
+#
+# References: the engine's own point motions (Kinematics.point), the file's frame points, the
+# study's load values (Dynamics.load(name).value); positions to 1e-12 m (a few products).
+
+
+def _press_scene() -> tuple[study_planar.PlanarStudy, sc.Scene]:
+    st = _study("crank_press.toml")
+    return st, st.scene()
+
+
+def test_spring_is_a_zigzag_between_the_engine_points_of_its_ends():
+    """crank_press's counterbalance: from the frame point K (250, 0) mm to the ram's point R;
+    its zigzag spans exactly the distance of its ends, with the coil's half-width on both
+    sides of their line."""
+    st, scene = _press_scene()
+    zig = scene.shape("spring counterbalance").xy                  # (k, 2, n)
+    R = st.kinematics.point("ram", "R")
+    np.testing.assert_allclose(zig[0], np.broadcast_to([[0.25], [0.0]], (2, R.x.size)),
+                               atol=1e-12)
+    np.testing.assert_allclose(zig[-1], np.stack([R.x, R.y]), atol=1e-12)
+    d = np.stack([R.x - 0.25, R.y])
+    L = np.hypot(*d)
+    u = d / L
+    rel = zig - zig[0][None]
+    along = np.einsum("kin,in->kn", rel, u)
+    across = rel[:, 0] * -u[1][None] + rel[:, 1] * u[0][None]
+    assert np.all(np.diff(along, axis=0) >= -1e-12)               # it runs from K to R
+    np.testing.assert_allclose(across[[0, 1, -2, -1]], 0.0, atol=1e-12)  # straight ends
+    assert np.all(np.abs(np.abs(across[2:-2]) - np.abs(across[2])) < 1e-12)  # one width
+    assert np.all(across[2:-3] * across[3:-2] < 0)                # zig, zag
+    assert 0 < np.abs(across[2]).max() < 0.1 * L.min()            # a coil, not a bar
+    np.testing.assert_allclose(np.linalg.norm(zig[-1] - zig[0], axis=0), L, rtol=1e-12)
+
+
+def test_load_arrow_points_at_its_point_along_the_force_where_it_acts():
+    """The drawing force (a diagram over the ram's slide, while it moves down) is drawn at the
+    wrist pin B along the guide (+y), its length in proportion to the study's value, and not
+    at all where the value is zero."""
+    st, scene = _press_scene()
+    value = st.dynamics.load("drawing").value
+    arrow = scene.shape("load drawing").xy                        # (5, 2, n)
+    acts = value != 0
+    assert 0 < acts.sum() < value.size
+    assert np.all(np.isnan(arrow[:, :, ~acts]))
+    B = st.kinematics.point("ram", "B")
+    np.testing.assert_allclose(arrow[1][:, acts], np.stack([B.x, B.y])[:, acts], atol=1e-12)
+    shaft = arrow[1] - arrow[0]
+    np.testing.assert_allclose(shaft[0][acts], 0.0, atol=1e-12)  # along the guide, upwards
+    lengths = shaft[1][acts]
+    assert np.all(lengths > 0)
+    np.testing.assert_allclose(lengths / lengths.max(), value[acts] / value[acts].max(),
+                               rtol=1e-12)
+
+
+def test_where_a_load_acts_is_marked_on_its_path_and_at_the_crank():
+    """The loom's 300 kN coining force acts for 145 <= phi1 <= 184.7 deg: the marked stretch
+    of the ram's path and the arc at the crank hold those positions and no other."""
+    st = _study("loom_sixbar.toml")
+    scene = st.scene()
+    phi = np.degrees(st.kinematics.phi1)
+    inside = (phi >= 145 - 1e-9) & (phi <= 184.7 + 1e-9)
+    stretch = scene.shape("range load.0").xy                      # (n, 2), NaN outside
+    assert np.array_equal(np.isfinite(stretch[:, 0]), inside)
+    R = st.kinematics.point("ram", "R")
+    np.testing.assert_allclose(stretch[inside], np.stack([R.x, R.y], axis=1)[inside],
+                               atol=1e-12)
+    arc = scene.shape("range load.0 (crank angles)").xy
+    assert np.array_equal(np.isfinite(arc[:, 0]), inside)
+    O = np.array([0.61, -0.3])                                    # the crank's pivot
+    A = st.kinematics.point("crank", "A")
+    rel = arc[inside] - O
+    np.testing.assert_allclose(np.arctan2(rel[:, 1], rel[:, 0]),
+                               np.arctan2(A.y - O[1], A.x - O[0])[inside], atol=1e-12)
+    assert np.ptp(np.hypot(rel[:, 0], rel[:, 1])) < 1e-12         # one radius, outside A
+    assert np.hypot(rel[0, 0], rel[0, 1]) > 0.06
+
+
+def test_damper_and_couple_drawn_with_the_motion():
+    """A damper from the frame to the slider of a crank-slider: the cylinder starts at its
+    frame point, the piston rod ends at the slider's point, and the plate stays between the
+    cylinder's bottom and its open end at every position; a couple that changes sign turns its
+    arrow with it."""
+    from linkwork.planar import BodyTorque, Damper, crank_slider_mechanism, inverse_dynamics
+
+    mech = crank_slider_mechanism(0.05, 0.2, masses=(1.0, 1.0, 1.0))
+    kin = kinematics(mech, np.radians(np.arange(0.0, 360.0, 5.0)))
+    phi = kin.phi1
+    dyn = inverse_dynamics(kin, loads=[
+        Damper("frame", (-0.2, 0.0), "slider", "B", damping=50.0, name="d"),
+        BodyTorque("rod", np.sin(phi), name="m")])
+    scene = sc.planar_scene(kin, loads=dyn.loads)
+    cyl = scene.shape("damper d cylinder").xy
+    piston = scene.shape("damper d piston").xy
+    B = kin.point("slider", "B")
+    np.testing.assert_allclose(cyl[0], np.broadcast_to([[-0.2], [0.0]], (2, phi.size)),
+                               atol=1e-12)
+    np.testing.assert_allclose(piston[0], np.stack([B.x, B.y]), atol=1e-12)
+    bottom = cyl[1][0] + 0.2
+    open_end = cyl[3][0] + 0.2
+    plate = piston[1][0] + 0.2                                    # along x from the anchor
+    assert np.all((bottom < plate) & (plate < open_end))
+    arrow = scene.shape("load m").xy                              # (k, 2, n)
+    i = kin.bodies.index("rod")
+    centre = np.stack([kin.x[i], kin.y[i]])
+    on = np.abs(np.sin(phi)) > 1e-9
+    r0, r1 = arrow[0] - centre, arrow[1] - centre
+    turn = r0[0] * r1[1] - r0[1] * r1[0]                          # + counter-clockwise
+    assert np.array_equal(np.sign(turn[on]), np.sign(np.sin(phi[on])))
+    assert np.all(np.isnan(arrow[:, :, ~on]))
+
+
+def test_timed_scene_takes_a_turn_of_real_motion_and_refuses_others():
+    """Scene.timed over a uniform motion gives t = (phi - phi_0) / omega at every frame (the
+    constant-speed limit), and a linear driver's scene or angles that do not increase within a
+    turn are refused by name."""
+    from linkwork.errors import ParameterError
+
+    scene = sc.planar_scene(_study("fourbar_paper001.toml").kinematics)
+    nodes = np.radians(np.arange(0.0, 360.0, 7.5))
+    w = 3.0
+    timed = scene.timed("uniform", nodes, nodes / w, np.full(nodes.size, w), 2 * np.pi / w)
+    tm = timed.timings[0]
+    frames = scene.frames(720)
+    np.testing.assert_allclose(tm.t[frames], (scene.positions[frames] - scene.positions[0]) / w,
+                               atol=1e-12)
+    assert tm.span == pytest.approx(2 * np.pi / w) and np.all(tm.speed == w)
+    assert timed.take(frames[:10]).timings[0].t.size == 10
+    with pytest.raises(ParameterError, match="phi"):
+        scene.timed("x", nodes[::-1], nodes, nodes, 1.0)
+    linear = sc.Scene("s", np.array([0.0, 0.1]), "s1", "m", np.ones(2, bool), ())
+    with pytest.raises(ParameterError, match="crank"):
+        linear.timed("x", nodes, nodes, nodes, 1.0)

@@ -30,9 +30,13 @@ from linkwork import io, report
 from linkwork.report.base import Options
 from linkwork.studies import planar as study_planar
 from linkwork.studies import sine_press, swashplate
+from linkwork.studies import synthesis as study_synthesis
 
 ROOT = Path(__file__).resolve().parents[2]
-EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))
+#: the examples of one driver (the report animates one driver's cycle; several drivers are
+#: refused in one line: tests/report/test_core.py)
+EXAMPLES = [p for p in sorted((ROOT / "examples").glob("*.toml"))
+            if not isinstance(io.read_toml(p).get("driver"), list)]
 PARTIAL = ROOT / "tests" / "data" / "partial" / "fourbar_partial.toml"
 SCREENSHOTS = ROOT / "test-output" / "screenshots"
 CHROMIUM = os.environ.get("LINKWORK_CHROMIUM", "/usr/bin/chromium")
@@ -114,8 +118,24 @@ def opened(browser, pages, request):
 
 
 def _frames_to_check(o: Opened) -> list[int]:
-    valid = np.flatnonzero(np.array(o.data["scene"]["valid"]) == 1)
+    """Five assembled frames spread over the drawing shown."""
+    shown = o.api("choice()")
+    scene = o.data["scene"] if shown == 0 else o.data["alternatives"][shown - 1]
+    valid = np.flatnonzero(np.array(scene["valid"]) == 1)
     return [int(valid[int(k)]) for k in np.linspace(0, valid.size - 1, 5)]
+
+
+def _joint_points(kin: Any) -> dict[str, np.ndarray]:
+    """Every non-prismatic joint's point from the engine [mm, (2, n)], by its drawn name."""
+    mech = kin.mechanism
+    pts = {}
+    for j in mech.joints:
+        if j.code == "P":
+            continue
+        qa, pb, _ = mech.joint_geometry(j)
+        pm = kin.point(j.b, pb) if j.b != mech.frame.name else kin.point(j.a, qa)
+        pts[f"joint {j.name}"] = np.stack([pm.x, pm.y]) * 1e3
+    return pts
 
 
 def _engine_points(stem: str) -> tuple[dict[str, np.ndarray], np.ndarray]:
@@ -124,16 +144,11 @@ def _engine_points(stem: str) -> tuple[dict[str, np.ndarray], np.ndarray]:
     path = PARTIAL if stem == "fourbar_partial" else ROOT / "examples" / f"{stem}.toml"
     doc = io.load(path)
     if isinstance(doc, io.PlanarFile):
-        st = study_planar.analyze(doc, on_failure="nan")
-        kin, mech = st.kinematics, st.mechanism
-        pts = {}
-        for j in mech.joints:
-            if j.code == "P":
-                continue
-            qa, pb, _ = mech.joint_geometry(j)
-            pm = kin.point(j.b, pb) if j.b != mech.frame.name else kin.point(j.a, qa)
-            pts[f"joint {j.name}"] = np.stack([pm.x, pm.y]) * 1e3
-        return pts, np.asarray(kin.phi1)
+        kin = study_planar.analyze(doc, on_failure="nan").kinematics
+        return _joint_points(kin), np.asarray(kin.phi1)
+    if isinstance(doc, io.SynthesisFile):      # the page shows the first path design first
+        kin = study_synthesis.run(doc, "path").motion(0)
+        return _joint_points(kin), np.asarray(kin.phi1)
     if isinstance(doc, io.SinePressFile):
         c = sine_press.analyze(doc).idle_cycle
         return {"idle joint B": np.stack([c.X_B, c.Y_B]) * 1e3,
@@ -187,6 +202,8 @@ def test_slider_and_diagram_cursor_agree_both_ways(opened):
     o = opened
     o.api("pause()")
     chart = next(c for c in o.data["charts"] if c["linked"] and not c["parametric"])
+    o.api(f"choose({chart['scene']})")                 # the drawing the chart refers to
+    assert o.api("choice()") == chart["scene"]
     o.api(f"show({_frames_to_check(o)[1]})")
     slider = o.page.locator("#lw-slider")
     slider.focus()
@@ -199,6 +216,7 @@ def test_slider_and_diagram_cursor_agree_both_ways(opened):
     assert float(cursor.get_attribute("x1")) == pytest.approx(chart["px"][s], abs=0.05)
     # a click on the diagram at a sample's abscissa shows that sample's frame
     target = len(chart["px"]) // 3
+    o.page.locator(f"#{chart['id']}").scroll_into_view_if_needed()
     box = o.page.locator(f"#{chart['id']}").bounding_box()
     vb = o.page.locator(f"#{chart['id']}").evaluate(
         "e => [e.viewBox.baseVal.width, e.viewBox.baseVal.height]")
@@ -214,7 +232,11 @@ def test_slider_and_diagram_cursor_agree_both_ways(opened):
             if px is not None and abs(px - chart["px"][target]) <= pixel]
     assert k2 in near
     cursor_x = float(cursor.get_attribute("x1"))
-    assert abs(cursor_x - chart["px"][target]) <= pixel  # the cursor stands where clicked
+    assert cursor_x == pytest.approx(chart["px"][chart["f2s"][k2]], abs=0.05)  # frame's sample
+    # where clicked, to a pixel, or to a frame's step where the chart has more samples
+    nxt = chart["f2s"][min(k2 + 1, len(chart["f2s"]) - 1)]
+    step = abs(chart["px"][nxt] - chart["px"][chart["f2s"][k2]])
+    assert abs(cursor_x - chart["px"][target]) <= pixel + step
 
 
 @pytest.mark.parametrize("opened", [*STEMS, "fourbar_partial"], indirect=True)
@@ -274,3 +296,182 @@ def test_notebook_views_run_side_by_side(browser, tmp_path):
         assert o.requests == [path.resolve().as_uri()]
     finally:
         o.context.close()
+
+
+def _polyline(o: Opened, name: str) -> np.ndarray:
+    """Vertices of the drawn polyline called ``name`` in the drawing's mm (y up), (k, 2);
+    empty where it is not drawn at this frame."""
+    pts = o.page.locator(f'polyline[data-name="{name}"]').first.get_attribute("points") or ""
+    xy = np.array([[float(v) for v in p.split(",")] for p in pts.split()]).reshape(-1, 2)
+    return xy * [1.0, -1.0]
+
+
+@pytest.mark.parametrize("opened", ["crank_press"], indirect=True)
+def test_force_elements_are_drawn_where_they_act(opened):
+    """crank_press: the counterbalance spring from the frame point K to the ram's R, and the
+    drawing force's arrow at the wrist pin B only where the study's value is not zero (its
+    diagram acts while the ram goes down through its last 20 mm); the switch hides them."""
+    o = opened
+    o.api("pause()")
+    st = study_planar.analyze(io.load(ROOT / "examples" / "crank_press.toml"))
+    value = st.dynamics.load("drawing").value
+    R = st.kinematics.point("ram", "R")
+    B = st.kinematics.point("ram", "B")
+    frames, q = o.data["scene"]["frames"], o.data["scene"]["q"]
+    acting = [k for k, i in enumerate(frames) if value[i] != 0]
+    idle = [k for k, i in enumerate(frames) if value[i] == 0]
+    assert acting and idle
+    for k in (acting[0], acting[len(acting) // 2], idle[0], idle[len(idle) // 2]):
+        o.api(f"show({k})")
+        i = frames[k]
+        zig = _polyline(o, "spring counterbalance")
+        assert zig[0] == pytest.approx((250.0, 0.0), abs=0.51 * q)
+        assert zig[-1] == pytest.approx((R.x[i] * 1e3, R.y[i] * 1e3), abs=0.51 * q)
+        arrow = _polyline(o, "load drawing")
+        if value[i] != 0:
+            assert arrow[1] == pytest.approx((B.x[i] * 1e3, B.y[i] * 1e3), abs=0.51 * q)
+            assert arrow[1, 1] > arrow[0, 1]                # pushes the ram up
+        else:
+            assert arrow.size == 0                          # not drawn where it does not act
+    visible = "e => getComputedStyle(e).display != 'none'"
+    spring = o.page.locator('polyline[data-name="spring counterbalance"]')
+    assert spring.evaluate(visible)
+    o.page.locator("#lw-show-forces").uncheck()
+    assert not spring.evaluate(visible)
+    assert [m for m in o.messages if m[0] in ("error", "pageerror")] == []
+
+
+@pytest.mark.parametrize("stem", ["loom_sixbar"])
+def test_real_time_follows_the_machines_real_motion(browser, pages, stem):
+    """With a page clock that only moves when told (Playwright's clock), each motor's "real
+    time" plays the turn at the study's real crank speed: at any moment the frame shown is the
+    last one the real motion has reached, the crank angle of the study's steady state at that
+    time (interpolated over its own t and phi1) lies between this frame and the next, and the
+    readout shows that frame's time and speed."""
+    from linkwork.studies import dynamics as study_dynamics
+
+    study = study_dynamics.run(io.load(ROOT / "examples" / f"{stem}.toml"))
+    context = browser.new_context(offline=True, viewport={"width": 1400, "height": 900})
+    page = context.new_page()
+    errors: list[str] = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    try:
+        page.clock.install(time=0)
+        page.goto(pages[stem].resolve().as_uri())
+        page.clock.pause_at(10_000)
+        api = "document.getElementById('lw').linkwork"
+        data = json.loads(page.text_content("#lw-data"))["scene"]
+        for m, choice in enumerate(study.choices):
+            ss = choice.steady
+            page.evaluate(f"{api}.show(0)")
+            page.select_option("#lw-speed", f"t{m}")
+            page.evaluate(f"{api}.play()")
+            pos = np.array(data["pos"])                          # deg, the frames' angles
+            t0 = np.interp(np.radians(pos[0]), ss.phi1, ss.t)
+            seen = []
+            for step in (90, 350, 420, 700, 260):               # ms; wraps past one period
+                page.clock.run_for(step)
+                k = page.evaluate(f"{api}.frame()")
+                clock = page.evaluate(f"{api}.clock()")
+                seen.append(k)
+                t = np.append(ss.t - ss.t[0], ss.period)
+                phi = np.degrees(np.append(ss.phi1, ss.phi1[0] + 2 * np.pi))
+                at = np.interp((clock + t0) % ss.period, t, phi) % 360.0
+                nxt = pos[k + 1] if k + 1 < pos.size else 360.0
+                assert pos[k] - 1e-6 <= at < nxt + 0.05, (m, step, k, at)
+                text = page.text_content("#lw-time")
+                assert f"t = {data['timings'][m]['t'][k]:.3f} s" in text
+            assert len(set(seen)) == len(seen)
+            page.evaluate(f"{api}.pause()")
+        assert errors == []
+    finally:
+        context.close()
+
+
+@pytest.mark.parametrize("opened", ["synthesis_tasks"], indirect=True)
+def test_synthesis_designs_are_chosen_and_each_drawn_by_the_engine(opened):
+    """Every design of the synthesis file is a drawing: the chooser (and a click on a design's
+    table row) shows that one and hides the others; the drawn joints at several frames are the
+    engine's motion of that design (SynthesisStudy.motion, run here); a design's diagram has
+    its cursor only while its design is shown, and a click on it shows its design."""
+    o = opened
+    o.api("pause()")
+    doc = io.load(ROOT / "examples" / "synthesis_tasks.toml")
+    designs = [(k, i) for k in ("path", "function", "motion")
+               for i in range(len(study_synthesis.run(doc, k).designs))]
+    labels = o.page.eval_on_selector_all("#lw-choice option", "els => els.map(e => e.text)")
+    assert len(labels) == len(designs) == len(o.data["alternatives"]) + 1
+    q = o.data["scene"]["q"]
+    studies = {k: study_synthesis.run(doc, k) for k in ("path", "function", "motion")}
+    for j in (1, 4, len(designs) - 1):                  # a path, a function, a motion design
+        o.page.select_option("#lw-choice", str(j))      # a person choosing
+        assert o.api("choice()") == j
+        shown = o.page.eval_on_selector_all(
+            "svg.lw-scene", "els => els.filter(e => e.style.display != 'none').map(e => e.id)")
+        assert shown == [f"lw-v{j}-scene"]
+        kind, i = designs[j]
+        kin = studies[kind].motion(i)
+        engine = _joint_points(kin)
+        scene = o.data["alternatives"][j - 1]
+        qj = scene["q"]
+        for k in _frames_to_check(o):
+            o.api(f"show({k})")
+            f = scene["frames"][k]
+            for name, xy in engine.items():
+                loc = o.page.locator(f'#lw-v{j}-scene circle[data-name="{name}"]').first
+                drawn = (float(loc.get_attribute("cx")), -float(loc.get_attribute("cy")))
+                assert drawn == pytest.approx((xy[0, f], xy[1, f]), abs=0.51 * qj + 1e-6)
+    # a design's row shows it
+    row = o.page.locator("#lw-synthesis-motion-t0 tbody tr").nth(1)
+    row.click()
+    assert o.api("choice()") == len(designs) - len(studies["motion"].designs) + 1
+    # the cursor of function design 1's error diagram: hidden unless that design is shown
+    chart = next(c for c in o.data["charts"] if c["linked"] and not c["parametric"]
+                 and c["scene"] == 4)
+    cursor = o.page.locator(f"#{chart['id']}-cursor")
+    o.api("show(10)")
+    assert cursor.get_attribute("visibility") == "hidden"
+    o.page.locator(f"#{chart['id']}").scroll_into_view_if_needed()
+    box = o.page.locator(f"#{chart['id']}").bounding_box()
+    o.page.mouse.click(box["x"] + 0.5 * box["width"], box["y"] + 0.5 * box["height"])
+    assert o.api("choice()") == 4 and cursor.get_attribute("visibility") is None
+    assert q > 0 and [m for m in o.messages if m[0] in ("error", "pageerror")] == []
+
+
+SECTIONS = [("loom_sixbar", "dynamics"), ("sine_press", "dynamics"),
+            ("synthesis_tasks", "synthesis-path"), ("synthesis_tasks", "synthesis-function"),
+            ("synthesis_tasks", "synthesis-motion")]
+
+
+@pytest.mark.parametrize(("stem", "key"), SECTIONS, ids=[f"{s}-{k}" for s, k in SECTIONS])
+def test_screenshot_of_each_new_section(browser, pages, stem, key):
+    """Machine dynamics and synthesis sections, each shot whole for review (test-output/
+    screenshots/<file>-<section>.png), with no error on the page; the crank press with its
+    drawing force acting."""
+    o = Opened(browser, pages[stem])
+    try:
+        o.api("pause()")
+        section = o.page.locator(f"#lw-{key}")
+        assert section.count() == 1 and section.locator(".lw-error").count() == 0
+        SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+        shot = SCREENSHOTS / f"{stem}-{key}.png"
+        section.screenshot(path=str(shot))
+        assert shot.stat().st_size > 20_000
+        assert [m for m in o.messages if m[0] in ("error", "pageerror")] == []
+    finally:
+        o.close()
+
+
+def test_screenshot_of_the_force_elements_at_work(browser, pages):
+    """crank_press at 260 deg: the drawing force acts (its arrow at B), the spring stretched."""
+    o = Opened(browser, pages["crank_press"])
+    try:
+        pos = np.array(o.data["scene"]["pos"])
+        o.api(f"show({int(np.argmin(np.abs(pos - 260.0)))})")
+        SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+        shot = SCREENSHOTS / "crank_press-forces.png"
+        o.page.locator(".lw-player").screenshot(path=str(shot))
+        assert shot.stat().st_size > 10_000
+        assert o.page.locator('polyline[data-name="load drawing"]').get_attribute("points")
+    finally:
+        o.close()

@@ -14,13 +14,16 @@ import numpy as np
 import pytest
 
 from linkwork import io, report
-from linkwork.errors import AssemblyError
+from linkwork.errors import AssemblyError, ParameterError
 from linkwork.plot.html import Section, page_html
 from linkwork.report.base import Renderer
 from linkwork.studies import planar as study_planar
 
 ROOT = Path(__file__).resolve().parents[2]
-EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))
+#: The examples of one driver (the report animates one driver's cycle; a file of several drivers
+#: is refused in one line, test_several_drivers_are_refused_naming_them below).
+EXAMPLES = [p for p in sorted((ROOT / "examples").glob("*.toml"))
+            if not isinstance(io.read_toml(p).get("driver"), list)]
 PARTIAL = ROOT / "tests" / "data" / "partial" / "fourbar_partial.toml"
 
 #: The largest page of a bundled example (the six-bar at 721 positions is about 1.0 MB).
@@ -108,5 +111,15 @@ def test_a_renderer_plugs_in_by_registration():
         report.register(extra)
         from linkwork.report import core
         core._RENDERERS[:] = [r for r in core._RENDERERS if r.key != "extra"]
-    assert [r.key for r in report.renderers()] == ["planar", "balance", "reactions",
-                                                   "sine_press", "swashplate"]
+    assert [r.key for r in report.renderers()] == [
+        "planar", "balance", "reactions", "sine_press", "dynamics", "swashplate",
+        "synthesis-path", "synthesis-function", "synthesis-motion"]
+
+
+def test_several_drivers_are_refused_naming_them():
+    """A file of several drivers (the excavator's three cylinders): the report says it needs
+    one driver, naming them, before any page."""
+    path = ROOT / "examples" / "excavator_boom.toml"
+    with pytest.raises(ParameterError, match=r"driver = \['boom_cyl', 'arm_cyl', "
+                       r"'bucket_cyl'\] is invalid: has 3 drivers; this needs one driver"):
+        report.build(io.load(path), path=path)

@@ -63,10 +63,19 @@ def test_study_equals_the_engine_called_directly(path, capsys):
         pk = next(p for p in study.peaks if p["name"] == f"μ {key} min")
         assert pk["value"] == np.nanmin(mu)
     q = {p["name"]: p for p in study.peaks}
-    assert q["Q max"]["value"] == np.nanmax(dyn.Q) and q["Q min"]["value"] == np.nanmin(dyn.Q)
-    assert q["Q max"]["phi1"] == phi[np.nanargmax(dyn.Q)]
-    assert study.means == {"Q_mean": mean_over_range(phi, dyn.Q),
-                           "power_mean": mean_over_range(phi, dyn.power)}
+    for name, (qd, _) in study_planar.driver_columns(mech, {"Q": dyn.Q}).items():
+        label = name.replace(".", " ")  # several drivers: one entry per driver, "Q O1 max"
+        assert q[f"{label} max"]["value"] == np.nanmax(qd)
+        assert q[f"{label} min"]["value"] == np.nanmin(qd)
+    if mech.n_drivers == 1:
+        assert q["Q max"]["phi1"] == phi[np.nanargmax(dyn.Q)]
+        assert study.means == {"Q_mean": mean_over_range(phi, dyn.Q),
+                               "power_mean": mean_over_range(phi, dyn.power)}
+    else:  # the drivers' positions at the extreme, and each driver's mean load
+        k = int(np.nanargmax(dyn.Q[0]))
+        assert q[f"Q {mech.drivers[0].joint} max"]["phi1"] == list(phi[:, k])
+        assert study.means["Q_mean"] == {d.joint: mean_over_range(phi[i], dyn.Q[i])
+                                         for i, d in enumerate(mech.drivers)}
 
 
 def test_study_at_given_table_positions_and_outside_the_range():
@@ -155,8 +164,13 @@ def test_every_command_tables_the_same_default_positions(path):
     doc = io.load(path)
     tphi = study_planar.default_table_positions(doc)
     phi = doc.positions()
+    if phi.ndim == 2:  # several drivers: 12 positions along the path, each driver's ends
+        np.testing.assert_array_equal(tphi[:, [0, -1]], phi[:, [0, -1]])
+        assert tphi.shape == (phi.shape[0], 12)
+        np.testing.assert_array_equal(study_planar.analyze(doc).table_positions, tphi)
+        return  # (linkwork reactions tables one driver's positions)
     assert phi[0] - 1e-12 <= tphi.min() and tphi.max() <= phi[-1] + 1e-12
     np.testing.assert_array_equal(study_planar.analyze(doc).table_positions, tphi)
-    if not any(isinstance(j, planar.PinInSlot) for j in doc.mechanism().joints):
+    if all(j.spatial_family is not None for j in doc.mechanism().joints):
         # (the spatial reactions take revolute and prismatic joints only)
         np.testing.assert_array_equal(study_reactions.run(doc).table_positions, tphi)
