@@ -61,6 +61,8 @@ def _positions(doc: Any) -> int:
     if hasattr(doc, "analysis"):
         return int(doc.analysis.n)
     out = getattr(doc, "output", None)
+    if out is None:  # a synthesis task: no positions of its own
+        return 0
     return int(getattr(out, "samples", 0) or getattr(out, "samples_per_revolution", 0) + 1)
 
 

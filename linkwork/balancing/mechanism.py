@@ -33,6 +33,7 @@ __all__ = [
     "ForceBalance",
     "ShakingLoads",
     "add_counterweights",
+    "centre_of_mass_balance",
     "crank_axis",
     "crank_slider_balance",
     "cycle",
@@ -40,6 +41,8 @@ __all__ = [
     "frame_hinge",
     "frame_hinged_links",
     "one_crank_cycle",
+    "path_rms",
+    "path_weights",
     "shaking_loads",
     "with_counterweight",
 ]
@@ -292,6 +295,40 @@ def _default_radius(mech: Mechanism, link: str) -> float:
     return 0.5 * max(d) if d else 0.1
 
 
+def _counterweighted(mech: Mechanism, links: Sequence[str] | None,
+                     radii: float | Mapping[str, float] | None) -> tuple[str, ...]:
+    """The links to carry counterweights (default every frame-hinged link), checked."""
+    use = tuple(frame_hinged_links(mech) if links is None else links)
+    if not use:
+        raise ParameterError("links", list(use), "no link hinged to the frame to carry a "
+                             "counterweight")
+    for link in use:
+        frame_hinge(mech, link)
+    if isinstance(radii, Mapping):  # a misspelt link would silently get the default radius
+        for key in radii:
+            if key not in use:
+                raise ParameterError("radii", key, f"names no counterweighted link; links: "
+                                     f"{list(use)}")
+    return use
+
+
+def _counterweights(mech: Mechanism, use: Sequence[str], q: np.ndarray,
+                    radii: float | Mapping[str, float] | None
+                    ) -> tuple[list[Counterweight], Mechanism]:
+    """The counterweights of local first moments ``q`` (two per link of ``use``) at their
+    radii, and the mechanism carrying them."""
+    cws = []
+    for k, link in enumerate(use):
+        if isinstance(radii, Mapping):
+            r = float(radii[link]) if link in radii else _default_radius(mech, link)
+        elif radii is None:
+            r = _default_radius(mech, link)
+        else:
+            r = float(radii)
+        cws.append(Counterweight.from_first_moment(link, complex(q[2 * k], q[2 * k + 1]), r))
+    return cws, add_counterweights(mech, [c for c in cws if c.static_moment > 0])
+
+
 def _not_balanceable(mech: Mechanism, links: Sequence[str]) -> str:
     sliders = []
     for j in mech.joints:
@@ -351,17 +388,7 @@ def force_balance(mech: Mechanism, links: Sequence[str] | None = None,
     -------
     ForceBalance
     """
-    use = tuple(frame_hinged_links(mech) if links is None else links)
-    if not use:
-        raise ParameterError("links", list(use), "no link hinged to the frame to carry a "
-                             "counterweight")
-    for link in use:
-        frame_hinge(mech, link)
-    if isinstance(radii, Mapping):  # a misspelt link would silently get the default radius
-        for key in radii:
-            if key not in use:
-                raise ParameterError("radii", key, f"names no counterweighted link; links: "
-                                     f"{list(use)}")
+    use = _counterweighted(mech, links, radii)
     one_crank_cycle(mech, "force_balance")
     phi = cycle(n)
     kin = kinematics(mech, phi, 1.0, 0.0)  # unit constant speed: F scales with omega^2
@@ -382,18 +409,102 @@ def force_balance(mech: Mechanism, links: Sequence[str] | None = None,
         raise InfeasibleError("full force balance by counterweights on frame-hinged links",
                               f"RMS shaking force {rms_after:.6g} N ({ratio:.3g} of unbalanced)",
                               reason)
-    cws = []
-    for k, link in enumerate(use):
-        if isinstance(radii, Mapping):
-            r = float(radii[link]) if link in radii else _default_radius(mech, link)
-        elif radii is None:
-            r = _default_radius(mech, link)
-        else:
-            r = float(radii)
-        qk = complex(q[2 * k], q[2 * k + 1])
-        cws.append(Counterweight.from_first_moment(link, qk, r))
-    balanced = add_counterweights(mech, [c for c in cws if c.static_moment > 0])
+    cws, balanced = _counterweights(mech, use, q, radii)
     return ForceBalance(tuple(cws), balanced, bool(full), rms_before, rms_after, ratio, reason)
+
+
+def path_weights(n: int) -> np.ndarray:
+    """Trapezoid weights of ``n`` samples along a path (its ends half), summing to 1: the mean
+    over a path of a quantity sampled evenly along it."""
+    w = np.ones(n)
+    w[[0, -1]] = 0.5
+    return w / w.sum()
+
+
+def path_rms(values: ArrayLike) -> float:
+    """RMS along a path (trapezoid weights, :func:`path_weights`) of a scalar (n,) or the
+    magnitude of a vector (n, 2)."""
+    v = np.asarray(values, dtype=float)
+    sq = np.sum(v * v, axis=-1) if v.ndim == 2 else v * v
+    return float(np.sqrt(np.sum(path_weights(len(sq)) * sq)))
+
+
+def centre_of_mass_balance(kin: Kinematics, links: Sequence[str] | None = None,
+                           radii: float | Mapping[str, float] | None = None, *,
+                           tol: float = 1e-9) -> ForceBalance:
+    r"""Counterweights on frame-hinged links that keep the total centre of mass of the moving
+    links still over the positions of ``kin``, or as still as possible: force balance for a
+    mechanism of any number of drivers.
+
+    A counterweight of local first moment :math:`q_k` (about its hinge :math:`O_k`) on link k
+    adds :math:`m_k O_k + A(\theta_k) q_k` to the first moment of mass :math:`\sum m_i
+    r_{S_i}`; the :math:`q_k` and a constant c minimising :math:`\sum_j w_j |\sum m_i r_{S_i}
+    + \sum_k A(\theta_k) q_k - c|^2` over the positions (trapezoid weights along the path,
+    :func:`path_weights`) are returned. When the first moment is then constant (its excursion
+    at most ``tol`` times the unbalanced one: ``full``) the shaking force vanishes at any speeds
+    of the drivers and gravity does no work on the moving links (no driver carries their
+    weight); otherwise the counterweights are the least-squares ones and ``reason`` says what
+    cannot be balanced. Unlike :func:`force_balance` (one crank turning at constant speed: the
+    RMS of the shaking force over its turn) the result does not depend on the drivers' speeds.
+
+    Parameters
+    ----------
+    kin : Kinematics
+        The positions (any number of drivers, e.g. along their path); their speeds give the
+        reported shaking forces before and after.
+    links, radii
+        As for :func:`force_balance`.
+    tol : float
+        Relative excursion under which the balance counts as full.
+
+    Returns
+    -------
+    ForceBalance
+        ``force_rms_before``, ``force_rms_after``: RMS along the positions of the shaking force
+        at the motion of ``kin``; ``ratio`` their ratio.
+
+    Raises
+    ------
+    ParameterError
+        A counterweighted link does not turn over the positions (its counterweight is not
+        determined), or a link is not hinged to the frame.
+    """
+    mech = kin.mechanism
+    use = _counterweighted(mech, links, radii)
+    n = kin.theta.shape[-1]
+    w = path_weights(n)
+    m0 = np.zeros((n, 2))
+    for b in mech.bodies:
+        c = kin.point(b.name, "com")
+        m0 += b.mass * np.stack([c.x, c.y], axis=-1)
+    cols = []
+    for link in use:
+        th = kin.theta[kin.bodies.index(link)]
+        if np.ptp(np.unwrap(th)) <= 1e-9:
+            raise ParameterError("links", link, "does not turn over the positions: its "
+                                 "counterweight is not determined (leave it out of "
+                                 "[balance] links, or give a path along which it turns)")
+        c, s_ = np.cos(th), np.sin(th)
+        cols.append(np.stack([np.stack([c, s_], -1), np.stack([-s_, c], -1)], -1))  # (n,2,2)
+    basis = np.concatenate(cols, axis=-1)                      # (n, 2, 2 n_links)
+    const = np.broadcast_to(-np.eye(2), (n, 2, 2))
+    a = np.concatenate([basis, const], axis=-1).reshape(2 * n, -1)
+    sw = np.sqrt(np.repeat(w, 2))
+    sol = np.linalg.lstsq(a * sw[:, None], -m0.reshape(-1) * sw, rcond=None)[0]
+    q = sol[:-2]
+    before = m0 - np.sum(w[:, None] * m0, axis=0)
+    after = m0 + (basis @ q)
+    after = after - np.sum(w[:, None] * after, axis=0)
+    excursion = path_rms(before)
+    full = path_rms(after) <= tol * excursion if excursion > 0 else True
+    reason = "" if full else _not_balanceable(mech, use)
+    cws, balanced = _counterweights(mech, use, q, radii)
+    kb = kinematics(balanced, kin.phi1, kin.omega1, kin.eps1)
+    f0 = shaking_loads(kin).force
+    f1 = shaking_loads(kb).force
+    rb, ra = path_rms(f0), path_rms(f1)
+    return ForceBalance(tuple(cws), balanced, bool(full), rb, ra, ra / rb if rb > 0 else 0.0,
+                        reason)
 
 
 def crank_slider_balance(mech: Mechanism, fraction: float = 0.0,

@@ -37,11 +37,12 @@ from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.planar import BalanceSection, PlanarFile
 from linkwork.io.toml import read_toml
 from linkwork.planar import Mechanism
-from linkwork.results import write_json
+from linkwork.results import write_csv, write_json
 from linkwork.studies import balance as study_balance
-from linkwork.studies.balance import BalanceStudy
+from linkwork.studies.balance import BalanceStudy, PathBalanceStudy
 
-__all__ = ["BalanceSection", "load_balance_file", "register", "render", "run_balance"]
+__all__ = ["BalanceSection", "load_balance_file", "register", "render", "render_path",
+           "run_balance"]
 
 
 def load_balance_file(path: str | Path) -> tuple[Mechanism, BalanceSection, PlanarFile]:
@@ -92,6 +93,29 @@ def run_balance(mech: Any, section: BalanceSection, out: Path, console: Any,
     return study.comparison
 
 
+def _summary_table(console: Any, title: str, summary: dict[str, dict[str, float]],
+                   scales: dict[str, float]) -> None:
+    """The peaks and RMS of ``summary`` (quantity -> {variant: value}), one row each."""
+    s = Table(title=title)
+    s.add_column("quantity")
+    s.add_column("values")
+    for q, vals in summary.items():
+        scale = scales[q[q.rfind("["):]]
+        s.add_row(escape(unit_label(q)),
+                  escape(", ".join(f"{k} {fmt(v, scale)}" for k, v in vals.items())))
+    print_table(console, s)
+
+
+def _counterweight_lines(console: Any, counterweights: Any) -> None:
+    """One line per counterweight: its static moment, angle, radius and mass."""
+    for cw in counterweights:
+        rm = ("no radius: mass not known" if cw.radius is None else
+              f"r = {fmt(cw.radius * 1000)} mm, m = {fmt(cw.mass())} kg")
+        console.print(escape(f"  counterweight on {cw.link}: S = {fmt(cw.static_moment, 0, 5)} "
+                             f"kg·m at {fmt(np.degrees(cw.angle), decimals=2)} deg, {rm}"),
+                      highlight=False)
+
+
 def _tables(study: BalanceStudy, console: Any) -> None:
     comp = study.comparison
     t = Table(title="Shaking moment about the crank axis [N·m] (paper 001)")
@@ -113,24 +137,12 @@ def _tables(study: BalanceStudy, console: Any) -> None:
                   highlight=False)
     if not fb.full:
         console.print(escape(f"  not fully balanceable: {fb.reason}"), highlight=False)
-    for cw in comp.counterweights:
-        rm = ("no radius: mass not known" if cw.radius is None else
-              f"r = {fmt(cw.radius * 1000)} mm, m = {fmt(cw.mass())} kg")
-        console.print(escape(f"  counterweight on {cw.link}: S = {fmt(cw.static_moment, 0, 5)} "
-                             f"kg·m at {fmt(np.degrees(cw.angle), decimals=2)} deg, {rm}"),
-                      highlight=False)
+    _counterweight_lines(console, comp.counterweights)
     mm = [fmt(v * 1000, decimals=2) for v in (comp.x2, comp.y2, comp.x3, comp.y3)]
     console.print(f"moved crank-counterweight axis O1: first harmonic (x, y) = "
                   f"({mm[0]}, {mm[1]}) mm; least squares over the table = ({mm[2]}, {mm[3]}) mm",
                   highlight=False)
-    s = Table(title="Peaks and RMS over the cycle")
-    s.add_column("quantity")
-    s.add_column("values")
-    for q, vals in summary.items():
-        scale = scales[q[q.rfind("["):]]
-        s.add_row(escape(unit_label(q)),
-                  escape(", ".join(f"{k} {fmt(v, scale)}" for k, v in vals.items())))
-    print_table(console, s)
+    _summary_table(console, "Peaks and RMS over the cycle", summary, scales)
     ht = Table(title="Harmonic amplitudes A_j (f = a0 + sum A_j cos(j*phi1 - psi_j))")
     ht.add_column("quantity")
     ht.add_column("mean", justify="right")
@@ -208,6 +220,62 @@ def render(study: BalanceStudy, *, out: Path, console: Any, name: str | None = N
     console.print(f"written to {escape(str(out))}", highlight=False)
 
 
+def render_path(study: PathBalanceStudy, *, out: Path, console: Any,
+                name: str | None = None) -> None:
+    """Print a :class:`~linkwork.studies.balance.PathBalanceStudy` (several drivers) and write
+    ``balance_path.csv``, ``balance_summary.json`` and ``balancing_path.png`` into ``out``."""
+    fb = study.balance
+    drivers = study.mechanism.drivers
+    summary = study.summary()
+    scales = _unit_scales(summary, max((c.radius or 0.0 for c in fb.counterweights),
+                                       default=0.0))
+    f_n = scales.get("[N]", 0.0)
+    console.print(escape(f"force balance of {len(drivers)} drivers "
+                         f"({', '.join(d.joint for d in drivers)}) along their path: the "
+                         "counterweights keep the centre of mass of the moving links "
+                         f"{'still' if fb.full else 'as still as they can (least squares)'}; "
+                         f"{'full' if fb.full else 'PARTIAL'}; RMS shaking force "
+                         f"{fmt(fb.force_rms_before, f_n)} N -> "
+                         f"{fmt(fb.force_rms_after, f_n, 3)} N"), highlight=False)
+    if not fb.full:
+        console.print(escape(f"  not fully balanceable: {fb.reason}"), highlight=False)
+    _counterweight_lines(console, fb.counterweights)
+    console.print(escape(f"not computed: {study.not_computed}"), highlight=False)
+    t = Table(title="Shaking force and moment (inertia forces) and driving loads along the path")
+    tphi = study.table_positions
+    heads = []
+    for d in drivers:
+        lin = d.kind == "linear"
+        heads.append(f"{'s1' if lin else 'φ1'} {d.joint} [{'mm' if lin else 'deg'}]")
+    for d in drivers:
+        unit = unit_label(d.field_units["Q"])
+        heads += [f"Q {d.joint} [{unit}]", f"Q {d.joint} bal."]
+    heads += ["|F| [N]", "|F| bal.", f"M [{unit_label('N*m')}]", "M bal."]
+    for h in heads:
+        t.add_column(escape(h), justify="right")
+    tb, ta = study.table_before, study.table_after
+    f_nm = scales.get("[N*m]", 0.0)
+    for k in range(tphi.shape[1]):
+        row = [fmt(tphi[i, k] * 1e3) if d.kind == "linear" else fmt(np.degrees(tphi[i, k]))
+               for i, d in enumerate(drivers)]
+        for i, d in enumerate(drivers):
+            sc = scales.get(f"[{d.field_units['Q']}]", 0.0)
+            row += [fmt(study.table_Q0[i, k], sc), fmt(study.table_Q1[i, k], sc)]
+        row += [fmt(float(np.hypot(tb.fx[k], tb.fy[k])), f_n),
+                fmt(float(np.hypot(ta.fx[k], ta.fy[k])), f_n),
+                fmt(tb.moment[k], f_nm), fmt(ta.moment[k], f_nm)]
+        t.add_row(*row)
+    print_table(console, t)
+    _summary_table(console, "Peaks and RMS along the path", summary, scales)
+    output_dir(out)
+    write_csv(out / "balance_path.csv", study.columns())
+    write_json(out / "balance_summary.json", study.to_dict())
+    from linkwork.plot import save
+
+    save(study.plot(name=name).figure, out / "balancing_path.png")
+    console.print(f"written to {escape(str(out))}", highlight=False)
+
+
 def register(app: typer.Typer) -> None:
     """Add the ``balance`` command to ``app``."""
 
@@ -224,6 +292,15 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Balance a planar mechanism: paper 001's table, torque and bearing loads, plots."""
         _, _, doc = load_balance_file(file)
+        if len(doc.drivers) > 1:  # several drivers: force balance along their path
+            for option, given in (("--angles", angles), ("--pareto", pareto or None)):
+                if given is not None:
+                    raise ParameterError(option, given, "is for one crank's cycle; several "
+                                         "drivers are balanced along their path")
+            with output_run(out, command="balance", file=file), load_errors(file, doc):
+                render_path(study_balance.run_path(doc), out=out, console=make_console(),
+                            name=doc.name or None)
+            return
         table = None if angles is None else parse_angles_deg(angles)
         # --out checked before the work: an unusable one must not cost an optimisation
         with output_run(out, command="balance", file=file), load_errors(file, doc):

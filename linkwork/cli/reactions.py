@@ -78,13 +78,53 @@ def _fmt(v: float, scale: float = 0.0) -> str:
 
 def _scales(study: ReactionsStudy) -> tuple[float, float]:
     """The round-off scales (force [N], moment [N·m]) of the reaction tables: the largest
-    force and moment components (and driving force or torque) over the cycle."""
+    force and moment components (and driving forces or torques) over the cycle."""
     peaks = study.peaks
     joints = [v for k, v in peaks.items() if k != "driver"]
     force = max((p[c] for p in joints for c in ("fx", "fy", "fz")), default=0.0)
     moment = max((p[c] for p in joints for c in ("mx", "my", "mz", "bending")), default=0.0)
-    q = peaks["driver"]["Q"]
-    return (max(force, q), moment) if study.linear else (force, max(moment, q))
+    for lin, q in zip(study.linear_drivers, _driver_peaks(study), strict=True):
+        force, moment = (max(force, q), moment) if lin else (force, max(moment, q))
+    return force, moment
+
+
+def _driver_peaks(study: ReactionsStudy) -> list[float]:
+    """Each driver's peak |Q| over the cycle, in driver order."""
+    drv = study.peaks["driver"]
+    if len(study.mechanism.drivers) == 1:
+        return [drv["Q"]]
+    return [drv[f"Q {d.joint}"] for d in study.mechanism.drivers]
+
+
+def _driving(study: ReactionsStudy, values: list[float], f_n: float, f_nm: float,
+             peak: bool = False) -> str:
+    """The driving torques and forces ``values`` (one per driver) as a caption (``peak``: of
+    their peaks, ``peak |Q O1| = ...``)."""
+    drivers = study.mechanism.drivers
+    out = []
+    for d, lin, v in zip(drivers, study.linear_drivers, values, strict=True):
+        what, unit, scale = (("driving force", "N", f_n) if lin
+                             else ("driving torque", "N·m", f_nm))
+        name = "Q" if len(drivers) == 1 else f"Q {d.joint}"
+        head = f"peak |{name}|" if peak else f"{what} {name}"
+        out.append(f"{head} = {_fmt(v, scale)} {unit}")
+    return ", ".join(out)
+
+
+def _where(study: ReactionsStudy, k: int) -> str:
+    """Table position ``k``: the driver position (one driver), or every driver's position
+    along the path (several)."""
+    drivers = study.mechanism.drivers
+    tphi = np.atleast_2d(study.table_positions)
+    parts = []
+    for i, (d, lin) in enumerate(zip(drivers, study.linear_drivers, strict=True)):
+        name = ("s1" if lin else "φ1") + ("" if len(drivers) == 1 else f" {d.joint}")
+        phi = float(tphi[i, k])
+        parts.append(f"{name} = {fmt(phi * 1e3)} mm" if lin else
+                     f"{name} = {fmt(np.degrees(phi))} deg")
+    if len(drivers) == 1:
+        return parts[0]
+    return f"path position {k + 1}/{tphi.shape[1]}: {', '.join(parts)}"
 
 
 def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
@@ -136,24 +176,27 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
     written."""
     console.print(f"[bold]structure in space[/bold]: {escape(study.count.summary())}",
                   highlight=False)
-    linear = study.linear
-    q_name, q_unit = ("driving force", "N") if linear else ("driving torque", "N·m")
+    lossy = [j.name for j in study.mechanism.joints if j.has_friction]
+    if lossy:
+        console.print(escape(f"note: the spatial reactions leave friction and mesh losses out "
+                             f"(joints {', '.join(lossy)}): frictionless joints, the driving "
+                             "loads those of a lossless mechanism"), highlight=False)
     at, res, peaks = study.table, study.reactions, study.peaks
     comp = at.components()
     f_n, f_nm = _scales(study)
-    f_q = f_n if linear else f_nm
     col_scale = (f_n, f_n, f_n, f_nm, f_nm, f_nm)
-    for k, phi in enumerate(study.table_positions):
-        where = f"s1 = {fmt(phi * 1e3)} mm" if linear else f"φ1 = {fmt(np.degrees(phi))} deg"
-        t = Table(title=f"reactions at {where} (by body a on body b, at the joint centre)")
+    tq = np.atleast_2d(at.Q)
+    for k in range(np.atleast_2d(study.table_positions).shape[1]):
+        t = Table(title=f"reactions at {_where(study, k)} (by body a on body b, at the joint "
+                  "centre)")
         for col in ("joint", "fx [N]", "fy [N]", "fz [N]", "mx [N·m]", "my [N·m]",
                     "mz [N·m]"):
             t.add_column(col, justify="right")
         for j, name in enumerate(at.joints):
             t.add_row(escape(name), *(_fmt(comp[j, i, k], col_scale[i]) for i in range(6)))
-        t.caption = f"{q_name} Q = {_fmt(at.Q[k], f_q)} {q_unit}"
+        t.caption = _driving(study, [float(q) for q in tq[:, k]], f_n, f_nm)
         print_table(console, t)
-    t = Table(title=f"peaks over the cycle ({len(study.cycle)} positions)")
+    t = Table(title=f"peaks over the cycle ({study.cycle.shape[-1]} positions)")
     for col in ("joint", "|fx| [N]", "|fy| [N]", "|fz| [N]", "|mx| [N·m]", "|my| [N·m]",
                 "bending [N·m]"):
         t.add_column(col, justify="right")
@@ -161,7 +204,7 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
         p = peaks[name]
         t.add_row(escape(name), *(_fmt(p[c], sc) for c, sc in zip(
             ("fx", "fy", "fz", "mx", "my", "bending"), col_scale, strict=True)))
-    t.caption = f"peak |Q| = {_fmt(peaks['driver']['Q'], f_q)} {q_unit}"
+    t.caption = _driving(study, _driver_peaks(study), f_n, f_nm, peak=True)
     print_table(console, t)
     written = [res.to_csv(out / "reactions.csv"), res.to_json(out / "reactions.json"),
                write_json(out / "reactions_peaks.json", study.peaks_dict())]

@@ -114,7 +114,8 @@ Example (the four-bar of ``examples/fourbar_paper001.toml``)::
     heights = { coupler = "30 mm" }          # heights of the centres of mass [m]
 
     [spatial.joints.A]
-    kind = "revolute"              # cylindrical, spherical, sphere_cylinder, prismatic, ...
+    kind = "revolute"              # cylindrical, spherical, sphere_cylinder, prismatic, ...,
+                                   # a gear pair's mesh: spur (default), crowned
     e = "30 mm"                    # axis (bearing) length
     z = "30 mm"                    # height of the joint centre
     # stiffness = ["1e8 N/m", "1e8 N/m", "1e8 N/m", "7.5 kN*m/rad", "7.5 kN*m/rad", 0]
@@ -804,7 +805,7 @@ class BalanceSection(FileModel):
 
 
 _KIND = Literal["revolute", "cylindrical", "spherical", "sphere_cylinder", "prismatic",
-                "prismatic_round"]
+                "prismatic_round", "spur", "crowned"]
 _COMPONENT = Literal["dx", "dy", "dz", "tx", "ty", "tz"]
 
 

@@ -131,7 +131,8 @@ class Joint:
     has_line: ClassVar[bool] = False
     #: the reaction component each constraint row carries (drive rows excepted)
     row_kinds: ClassVar[tuple[str, ...]] = ()
-    #: family of the spatial joint it becomes in :mod:`linkwork.redundancy` (None: unsupported)
+    #: family of the spatial joint it becomes in :mod:`linkwork.redundancy` ("R", "P", "G" a
+    #: gear mesh; None: unsupported)
     spatial_family: ClassVar[str | None] = None
 
     # -- description ------------------------------------------------------------------------
@@ -878,6 +879,7 @@ class GearPair(Joint):
     n_constraints = 1
     code = "G"
     row_kinds: ClassVar[tuple[str, ...]] = ("t",)
+    spatial_family: ClassVar[str | None] = "G"
 
     def __post_init__(self) -> None:
         if (self.teeth is None) == (self.radii is None):
@@ -1047,13 +1049,11 @@ class GearPair(Joint):
         return t
 
     def scene_shapes(self, ctx: Any) -> list[Any]:
-        """The drawing of the pair (:mod:`linkwork.plot.scene`): the two pitch circles, b's
-        named ``joint <name>``, a's ``gear <name> <a>``, each in its gear's colour."""
-        from linkwork.plot.scene import Shape  # drawing only: the plot layer, lazily
+        """The drawing of the pair (:func:`linkwork.plot.scene.gear_shapes`): the two pitch
+        circles (b's named ``joint <name>``, a's ``gear <name> <a>``) with spokes turning with
+        the gears, an internal gear's rim, and the pitch point."""
+        from linkwork.plot.scene import gear_shapes  # drawing only: the plot layer, lazily
 
         qa, pb, _, _, params = self.resolve(ctx.mechanism)
-        ra, rb = params[0], params[1]
-        return [Shape("circle", "weight", f"gear {self.name} {self.a}",
-                      ctx.world(self.a, [qa]), size=ra, colour=ctx.colours.get(self.a, -1)),
-                Shape("circle", "weight", f"joint {self.name}", ctx.world(self.b, [pb]),
-                      size=rb, label=self.name, colour=ctx.colours.get(self.b, -1))]
+        return gear_shapes(ctx, self.name, self.a, qa, params[0], self.b, pb, params[1],
+                           internal=self.internal)

@@ -29,10 +29,12 @@ if TYPE_CHECKING:
     from linkwork.balancing.partial import AxisOffset
     from linkwork.balancing.static import Counterweight
     from linkwork.cycles import Harmonics
+    from linkwork.studies.balance import PathBalanceStudy
 
 __all__ = ["axis_offset_figure", "balancing_comparison_figure", "counterweights_figure",
            "cycle_comparison_figure", "force_balance_figure", "harmonics_figure",
-           "optimal_balance_figure", "pareto_figure", "plot_bars", "plot_force_hodograph",
+           "optimal_balance_figure", "pareto_figure", "path_balance_figure", "plot_bars",
+           "plot_force_hodograph",
            "plot_moments", "plot_pareto", "plot_torques", "shaking_loads_figure"]
 
 
@@ -308,3 +310,38 @@ def harmonics_figure(h: Harmonics, ax: Any = None, *, name: str | None = None) -
     ax.set_ylabel("amplitude A_j [unit of the quantity]")
     finish(ax, title=titled(name, "Harmonics", "amplitudes of the harmonics"), grid="y")
     return Figure.of(ax, bars=bars, mean=line)
+
+
+def path_balance_figure(study: PathBalanceStudy, axes: Any = None, *,
+                        name: str | None = None) -> Figure:
+    """Force balance of several drivers along their path (3 axes, over the position's index
+    along the path): shaking force |F| and shaking moment before and after, and each driver's
+    load before (solid) and after (dashed)."""
+    ax = axes_or_new(axes, 1, 3, figsize=(17, 4.5))
+    b, a = study.before, study.after
+    x = np.arange(np.shape(b.fx)[-1], dtype=float)
+    out: dict[str, Any] = {}
+    for k, (key, f0, f1, unit) in enumerate((
+            ("force", np.hypot(b.fx, b.fy), np.hypot(a.fx, a.fy), "N"),
+            ("moment", b.moment, a.moment, "N·m"))):
+        (l0,) = ax[k].plot(x, f0, label="unbalanced")
+        (l1,) = ax[k].plot(x, f1, label="balanced")
+        out[key] = (l0, l1)
+        ax[k].set_xlabel("position along the drivers' path")
+        ax[k].set_ylabel(f"shaking {key}{' |F|' if key == 'force' else ''} [{unit}]")
+        finish(ax[k], title=f"shaking {key}")
+    lines = []
+    q0, q1 = study.dynamics_before.Q, study.dynamics_after.Q
+    for k, d in enumerate(study.mechanism.drivers):
+        unit = d.field_units["Q"].replace("N*m", "N·m")
+        (l0,) = ax[2].plot(x, q0[k], label=f"Q {d.joint} [{unit}]")
+        (l1,) = ax[2].plot(x, q1[k], ls="--", color=l0.get_color(),
+                           label=f"Q {d.joint} balanced")
+        lines += [l0, l1]
+    out["Q"] = lines
+    ax[2].set_xlabel("position along the drivers' path")
+    ax[2].set_ylabel("driving torque / force Q")
+    finish(ax[2], title="driving loads")
+    figure_title(ax[0].figure, titled(name, "PathBalanceStudy",
+                                      "force balance along the drivers' path"))
+    return Figure.of(ax, **out)

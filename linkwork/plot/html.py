@@ -183,15 +183,22 @@ def scene_data(scene: Scene, *, prefix: str = "lw", most: int = MAX_FRAMES) -> d
         shapes.append({"id": f"{prefix}-s{i}", "kind": s.kind, "k": int(s.xy.shape[0]),
                        "d": flat, "label": bool(s.label), "r": s.size * 1e3,
                        "role": s.role})
-    speed_f, speed_unit = (30.0 / math.pi, "rpm") if scene.unit == "rad" else (1.0, "m/s")
-    timings = [{"label": tm.label, "t": [round(float(v), 6) for v in tm.t[idx]],
-                "speed": [round(float(v) * speed_f, 4) for v in tm.speed[idx]],
-                "span": float(tm.span), "unit": speed_unit} for tm in scene.timings]
+    timings = []
+    for tm in scene.timings:
+        rad = (tm.unit or ("rad/s" if scene.unit == "rad" else "m/s")) == "rad/s"
+        speed_f, speed_unit = (30.0 / math.pi, "rpm") if rad else (1.0, "m/s")
+        timings.append({"label": tm.label, "t": [round(float(v), 6) for v in tm.t[idx]],
+                        "speed": [round(float(v) * speed_f, 4) for v in tm.speed[idx]],
+                        "span": float(tm.span), "unit": speed_unit})
+    readouts = [{"label": label, "unit": u,
+                 "v": [None if not math.isfinite(v) else round(float(v), 4) for v in vals[idx]]}
+                for label, u, vals in scene.readouts]
     return {"n": int(idx.size), "frames": idx.tolist(),
             "pos": [round(float(v) * f, 6) for v in scene.positions[idx]],
             "valid": [int(v) for v in scene.valid[idx]], "q": q, "unit": unit,
             "coordinate": scene.coordinate, "periodic": scene.periodic,
-            "period": _period(scene), "shapes": shapes, "timings": timings}
+            "period": _period(scene), "shapes": shapes, "timings": timings,
+            "readouts": readouts}
 
 
 def _period(scene: Scene) -> float:
@@ -615,7 +622,8 @@ def _player(scene: Scene, prefix: str, choices: Sequence[tuple[str, Scene]] = ()
             f'<option value="2">2×</option><option value="4">4×</option>'
             f'<option value="real">real time{constant}</option>{timed}</select></label></div>'
             f'<div class="lw-readout"><span id="{prefix}-pos">{_e(scene.coordinate)} '
-            f"[{_e(unit)}]</span> <span id=\"{prefix}-time\" class=\"lw-time\"></span> "
+            f"[{_e(unit)}]</span> <span id=\"{prefix}-drivers\" class=\"lw-drivers\"></span> "
+            f"<span id=\"{prefix}-time\" class=\"lw-time\"></span> "
             f"<span id=\"{prefix}-state\" class=\"lw-state\"></span></div>"
             f'<div class="lw-toggles">{boxes}</div>{notes}</div>')
 

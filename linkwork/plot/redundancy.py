@@ -37,9 +37,17 @@ def _linear(result: Any) -> bool:
     return bool(getattr(result, "units", {}).get("phi1") == "m")
 
 
+def _several(result: Any) -> bool:
+    """Several drivers: their positions are rows of ``phi1``."""
+    return bool(np.ndim(result.phi1) == 2)
+
+
 def _driver_axis(result: Any) -> tuple[np.ndarray, str]:
-    """x values and label of the driver positions: degrees, or mm for a linear driver."""
+    """x values and label of the driver positions: degrees, or mm for a linear driver; the
+    index of the position along the path of several drivers."""
     phi = np.asarray(result.phi1, dtype=float)
+    if _several(result):
+        return np.arange(phi.shape[-1], dtype=float), "position along the drivers' path"
     if _linear(result):
         return phi * 1e3, "driver position s1 [mm]"
     return np.degrees(phi), "driver position φ1 [deg]"
@@ -86,7 +94,8 @@ def plot_components(result: Any, component: str = "fz", joints: Sequence[str] | 
     ax.set_ylabel(f"{component} [{_UNIT.get(component, '')}]")
     quantity = f"{_NAME.get(component, component)} in the joints"
     finish(ax, title=titled(name, "SpatialReactions", quantity) if title is None else title,
-           angle=None if _linear(result) else deg, legend_kw={"title": "joint"},
+           angle=None if _linear(result) or _several(result) else deg,
+           legend_kw={"title": "joint"},
            show_legend=legend)
     return out
 
@@ -104,12 +113,24 @@ def plot_bending(result: Any, axes: Any = None, *, name: str | None = None) -> d
         # one legend for the three panels (same joints, same colours): top right
         out[comp] = plot_components(result, comp, ax=a, title=_NAME[comp], legend=a is ax[1])
     deg, xlabel = _driver_axis(result)
-    (out["Q"],) = ax[3].plot(deg, result.Q, color="k")
-    linear = getattr(result, "units", {}).get("Q") == "N"
-    ax[3].set_ylabel("driving force Q [N]" if linear else "driving torque Q [N·m]")
     ax[3].set_xlabel(xlabel)
-    finish(ax[3], title="driving force" if linear else "driving torque",
-           angle=None if _linear(result) else deg)
+    if _several(result):  # each driver's torque or force, in its own unit
+        units = str(getattr(result, "units", {}).get("Q", "N*m")).split(", ")
+        lines = []
+        for k, joint in enumerate(result.drivers):
+            unit = (units[k] if len(units) > 1 else units[0]).replace("N*m", "N·m")
+            (ln,) = ax[3].plot(deg, result.Q[k], label=f"Q {joint} [{unit}]")
+            lines.append(ln)
+        out["Q"] = lines[0]
+        out["Q_lines"] = lines
+        ax[3].set_ylabel("driving torque / force Q")
+        finish(ax[3], title="driving loads of the drivers")
+    else:
+        (out["Q"],) = ax[3].plot(deg, result.Q, color="k")
+        linear = getattr(result, "units", {}).get("Q") == "N"
+        ax[3].set_ylabel("driving force Q [N]" if linear else "driving torque Q [N·m]")
+        finish(ax[3], title="driving force" if linear else "driving torque",
+               angle=None if _linear(result) else deg)
     for a in ax[:2]:  # the x axis is shared: its label under the bottom row only
         a.set_xlabel("")
     figure_title(ax[0].figure, titled(name, "SpatialReactions", "joint reactions in space"))

@@ -48,14 +48,15 @@ if TYPE_CHECKING:
 
 __all__ = ["FORCE_ROLES", "JOINT_SHAPES", "MAX_ANIMATION_FRAMES", "MAX_ANIMATION_PIXELS",
            "DrawContext", "Scene", "Shape", "Timing", "animate", "crank_slider_scene",
-           "damper_parts", "draw", "force_arrow", "inclined_slot_scene", "instant_centres",
+           "cylinder_parts", "damper_parts", "draw", "driver_readouts", "force_arrow",
+           "gear_shapes", "inclined_slot_scene", "instant_centres", "is_cylinder",
            "load_shapes", "mechanism_figure", "planar_scene", "sine_press_scene",
-           "spring_zigzag", "swashplate_scene", "target_shapes", "torque_arrow",
-           "with_shapes"]
+           "spring_zigzag", "swashplate_scene", "target_shapes", "torque_arrow", "with_shapes"]
 
 #: Roles of shapes (the CSS class in the report; the matplotlib style in :func:`draw`).
-ROLES = ("axis", "path", "range", "guide", "slot", "spring", "damper", "link", "ground",
-         "block", "weight", "pin", "tracer", "load", "target", "centre")
+ROLES = ("axis", "path", "range", "guide", "slot", "gear", "spring", "damper", "link",
+         "ground", "block", "barrel", "rod", "weight", "pin", "mesh", "tracer", "load", "target",
+         "centre")
 
 #: Roles of the force elements and loads (one switch in the report's player shows or hides them).
 FORCE_ROLES = ("range", "spring", "damper", "load")
@@ -79,7 +80,8 @@ class Shape:
         What it shows (:data:`ROLES`): link, pin, ground, guide, slot, block, path, tracer,
         centre, weight, axis; the force elements and loads (:data:`FORCE_ROLES`): spring,
         damper, load (an arrow), range (where a load acts); target (a synthesis task's
-        points and poses).
+        points and poses); gear (pitch circles, spokes, an internal gear's rim), mesh (the
+        pitch point); barrel, rod (a hydraulic cylinder).
     name : str
         What it is, for people and tests (``"crank"``, ``"joint A"``, ``"path coupler.P"``,
         ``"I13"``).
@@ -128,12 +130,15 @@ class Timing:
     span : float
         Time of one loop of the animation [s]: the period of a whole turn, or from the first
         to the last frame.
+    unit : str
+        SI unit of ``speed`` (``"rad/s"``: shown in rpm, ``"m/s"``); default the scene's.
     """
 
     label: str
     t: np.ndarray
     speed: np.ndarray
     span: float
+    unit: str = ""
 
 
 @dataclass(frozen=True)
@@ -160,6 +165,9 @@ class Scene:
         What the drawing leaves out or where it cannot show the mechanism.
     timings : tuple of Timing
         The real motions the animation can be played at in real time (:meth:`timed`).
+    readouts : tuple of (label, unit, values)
+        Quantities shown beside the position at every frame, ``values`` ``(n,)`` in the display
+        ``unit`` (several drivers: each driver's coordinate, in deg or mm).
     """
 
     title: str
@@ -172,6 +180,7 @@ class Scene:
     speed: float = 0.0
     notes: tuple[str, ...] = ()
     timings: tuple[Timing, ...] = ()
+    readouts: tuple[tuple[str, str, np.ndarray], ...] = ()
 
     @property
     def n(self) -> int:
@@ -180,7 +189,10 @@ class Scene:
 
     @property
     def display(self) -> tuple[str, float]:
-        """Display unit of the driver coordinate and the factor from SI (deg or mm)."""
+        """Display unit of the driver coordinate and the factor from SI (deg or mm; a
+        position's index along several drivers' path: no unit)."""
+        if self.unit == "":
+            return ("", 1.0)
         return ("deg", 180.0 / math.pi) if self.unit == "rad" else ("mm", 1e3)
 
     def shape(self, name: str) -> Shape:
@@ -249,8 +261,9 @@ class Scene:
         idx = np.asarray(frames, dtype=int)
         shapes = tuple(replace(s, xy=s.xy[:, :, idx]) if s.moving else s for s in self.shapes)
         timings = tuple(replace(tm, t=tm.t[idx], speed=tm.speed[idx]) for tm in self.timings)
+        readouts = tuple((a, u, v[idx]) for a, u, v in self.readouts)
         return replace(self, positions=self.positions[idx], valid=self.valid[idx],
-                       shapes=shapes, timings=timings)
+                       shapes=shapes, timings=timings, readouts=readouts)
 
     def frames(self, most: int) -> np.ndarray:
         """At most ``most`` frame indices spread evenly over the cycle (all if fewer); a
@@ -365,7 +378,54 @@ def _ground(at: np.ndarray, ctx: DrawContext, name: str) -> Shape:
     return Shape("polygon", "ground", f"ground {name}", tri)
 
 
+def is_cylinder(joint: Any) -> bool:
+    """A prismatic joint between the bodies ``<name>_barrel`` and ``<name>_rod`` (a linear
+    actuator of :func:`linkwork.planar.sketch`: its slide is the pin-to-pin length)."""
+    return (getattr(joint, "code", "") == "P" and joint.a == f"{joint.name}_barrel"
+            and joint.b == f"{joint.name}_rod")
+
+
+def cylinder_parts(start: np.ndarray, end: np.ndarray, width: float
+                   ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A hydraulic cylinder between its barrel's pivot ``start`` and its rod's pin ``end``
+    ``(2, n)`` [m]: the barrel (a tube from ``start`` along the axis), the rod (from ``end``
+    back into the barrel) and the piston (across the axis at the rod's inner end), each
+    ``(k, 2, n)``. The barrel's and the rod's lengths are fixed (they are rigid), taken from
+    the shortest and longest pin-to-pin length over the positions so that the piston stays
+    inside the barrel wherever the cylinder is at least as long closed as its stroke."""
+    length, u, v = _along(start, end)
+    ok = length[np.isfinite(length)]
+    lo, hi = (float(ok.min()), float(ok.max())) if ok.size else (1.0, 1.0)
+    barrel, margin = 0.92 * lo, 0.04 * lo
+    shortest = hi - barrel + margin   # the piston short of the barrel's end when longest
+    longest = lo - margin             # and off its bottom when shortest
+    rod = 0.5 * (shortest + longest) if shortest <= longest else longest
+    piston = end - rod * u
+    return (np.stack([start, start + barrel * u]), np.stack([end, piston]),
+            np.stack([piston - 0.42 * width * v, piston + 0.42 * width * v]))
+
+
+def _cylinder_shapes(joint: Any, ctx: DrawContext) -> list[Shape]:
+    """A cylinder drawn as barrel, rod and piston (:func:`cylinder_parts`)."""
+    mech = ctx.mechanism
+    qa, pb, _ = mech.joint_geometry(joint)
+    start = ctx.full(ctx.world(joint.a, [qa])[0])
+    end = ctx.full(ctx.world(joint.b, [pb])[0])
+    length = np.hypot(*(end - start))
+    scale = float(np.nanmin(length)) if np.any(np.isfinite(length)) else ctx.size
+    width = min(0.1 * scale, 0.05 * ctx.size)
+    barrel, rod, piston = cylinder_parts(start, end, width)
+    return [Shape("polyline", "barrel", f"barrel {joint.name}", barrel, size=width,
+                  colour=ctx.colours.get(joint.a, -1)),
+            Shape("polyline", "rod", f"rod {joint.name}", rod, size=0.38 * width,
+                  colour=ctx.colours.get(joint.b, -1)),
+            Shape("polyline", "rod", f"piston {joint.name}", piston, size=0.25 * width,
+                  colour=ctx.colours.get(joint.b, -1))]
+
+
 def _prismatic_shapes(joint: Any, ctx: DrawContext) -> list[Shape]:
+    if is_cylinder(joint):
+        return _cylinder_shapes(joint, ctx)
     mech = ctx.mechanism
     _, pb, ang = mech.joint_geometry(joint)
     guide = _band(ctx, joint, "guide", 0.05 * ctx.size)
@@ -389,6 +449,50 @@ def _slot_shapes(joint: Any, ctx: DrawContext) -> list[Shape]:
     pin = Shape("circle", "pin", f"joint {joint.name}", ctx.world(joint.b, [pb]), size=r,
                 label=joint.name)
     return [slot, pin]
+
+
+def gear_shapes(ctx: DrawContext, name: str, a: str, centre_a: Any, ra: float, b: str,
+                centre_b: Any, rb: float, internal: bool = False) -> list[Shape]:
+    """A gear pair drawn as in kinematic schemes: each gear's pitch circle (b's named ``joint
+    <name>``, a's ``gear <name> <a>``) with two spokes turning with it (``spokes <name>
+    <gear>``), an internal gear's rim outside its pitch circle (``rim <name>``), and the pitch
+    point where the circles touch (``mesh <name>``, labelled). ``centre_a``, ``centre_b``: the
+    gears' centres in their own frames [m]; ``ra``, ``rb``: pitch radii [m]."""
+    oa = ctx.full(ctx.world(a, [centre_a])[0])
+    ob = ctx.full(ctx.world(b, [centre_b])[0])
+    _, e, _ = _along(oa, ob)
+    pitch = oa + ra * (-1.0 if internal else 1.0) * e  # on the line of centres, r_a from a's
+    out: list[Shape] = []
+    for gear, centre, r, label in ((a, oa, ra, f"gear {name} {a}"), (b, ob, rb, f"joint {name}")):
+        colour = ctx.colours.get(gear, -1)
+        out.append(Shape("circle", "gear", label, _still(ctx, centre[None]), size=r,
+                         colour=colour))
+        out.append(Shape("polyline", "gear", f"spokes {name} {gear}",
+                         _spokes(ctx, gear, centre, 0.85 * r), colour=colour))
+    if internal:
+        t = np.linspace(0.0, 2 * math.pi, 73)
+        ring = ob[None] + 1.1 * rb * np.stack([np.cos(t), np.sin(t)], axis=1)[:, :, None]
+        out.append(Shape("polyline", "gear", f"rim {name}", _still(ctx, ring), size=0.2 * rb,
+                         colour=ctx.colours.get(b, -1)))
+    out.append(Shape("circle", "mesh", f"mesh {name}", _still(ctx, pitch[None]),
+                     size=0.5 * ctx.pin, label=name))
+    return out
+
+
+def _still(ctx: DrawContext, xy: np.ndarray) -> np.ndarray:
+    """``xy`` ``(k, 2, n)`` as static vertices ``(k, 2)`` where they do not move (a gear on a
+    frame pivot), so that the drawing carries them once."""
+    finite = xy[:, :, np.all(np.isfinite(xy), axis=(0, 1))]
+    if finite.shape[-1] and float(np.max(np.ptp(finite, axis=-1))) <= 1e-12 * ctx.size:
+        return finite[:, :, 0]
+    return xy
+
+
+def _spokes(ctx: DrawContext, body: str, centre: np.ndarray, r: float) -> np.ndarray:
+    """Two diameters of a gear at right angles, turning with ``body``: (5, 2, n)."""
+    u = ctx.full(ctx.direction(body, 0.0))
+    w = np.stack([-u[1], u[0]])
+    return np.stack([centre + r * u, centre - r * u, centre, centre + r * w, centre - r * w])
 
 
 #: The shape of each joint type, by its one-letter code (:attr:`Joint.code`): a function
@@ -558,7 +662,7 @@ def load_shapes(loads: Sequence[Any], ctx: DrawContext) -> tuple[list[Shape], li
                 over.insert(0, Shape("polyline", "range", f"range {ap.name}", xy,
                                    size=0.035 * ctx.size))
     notes: list[str] = []
-    if partial and mech.driver.kind == "crank":
+    if partial and mech.n_drivers == 1 and mech.driver.kind == "crank":
         under += _crank_arcs(ctx, partial)
     if over:
         notes.append("load arrows point at where the load acts, each scaled to its own largest "
@@ -779,6 +883,8 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
                      "are collinear); a centre farther than 50 times the mechanism's size is "
                      "not drawn" + (f" ({', '.join(infinite)} at infinity: relative "
                                     "translation)" if infinite else ""))
+    if mech.n_drivers > 1:
+        return _several_drivers(kin, title or "mechanism", valid, shapes, notes)
     crank = mech.driver.kind == "crank"
     phi = np.asarray(kin.phi1, dtype=float)
     periodic = crank and _whole_turn(phi)
@@ -787,6 +893,48 @@ def planar_scene(kin: Kinematics, *, paths: Sequence[PointSpec] | None = None,
                  coordinate="φ1" if crank else "s1", unit="rad" if crank else "m",
                  valid=valid, shapes=tuple(shapes), periodic=periodic,
                  speed=speed if math.isfinite(speed) else 0.0, notes=tuple(notes))
+
+
+def driver_readouts(mech: Any, phi1: np.ndarray) -> tuple[tuple[str, str, np.ndarray], ...]:
+    """Each driver's coordinate over the positions ``phi1`` ``(n_drivers, n)`` [rad or m] as
+    ``(label, display unit, values)``: a crank's angle in deg, a linear driver's slide in mm
+    (``"φ O1"``, ``"s boom_cyl"``)."""
+    out = []
+    for k, d in enumerate(mech.drivers):
+        crank = d.kind == "crank"
+        out.append((f"{'φ' if crank else 's'} {d.joint}", "deg" if crank else "mm",
+                    np.asarray(phi1[k], dtype=float) * (180.0 / math.pi if crank else 1e3)))
+    return tuple(out)
+
+
+def _several_drivers(kin: Kinematics, title: str, valid: np.ndarray, shapes: list[Shape],
+                     notes: list[str]) -> Scene:
+    """The scene of a mechanism with several drivers: its frames are the positions along the
+    drivers' path (numbered from 0), each driver's coordinate read out at every frame, and the
+    real time of the path from the first driver that moves (``t = integral of ds / v``)."""
+    mech = kin.mechanism
+    phi = np.asarray(kin.phi1, dtype=float)
+    w = np.broadcast_to(np.asarray(kin.omega1, dtype=float), phi.shape)
+    n = phi.shape[-1]
+    index = np.arange(n, dtype=float)
+    timings: tuple[Timing, ...] = ()
+    for k, d in enumerate(mech.drivers):
+        ds = np.diff(phi[k])
+        if not np.any(ds != 0):
+            continue
+        with np.errstate(divide="ignore", invalid="ignore"):
+            dt = ds * 0.5 * (1.0 / w[k, 1:] + 1.0 / w[k, :-1])
+        if np.all(np.isfinite(dt)) and np.all(dt > 0):
+            t = np.concatenate([[0.0], np.cumsum(dt)])
+            step = float(np.median(dt))
+            timings = (Timing(f"the drivers' speeds (driver {d.joint})", t, w[k].copy(),
+                              float(t[-1] + step), d.field_units["omega1"]),)
+        break
+    notes.append("several drivers: the frames are the positions along their path, each "
+                 "driver's coordinate read out beside the position")
+    return Scene(title=title, positions=index, coordinate="position", unit="",
+                 valid=valid, shapes=tuple(shapes), notes=tuple(notes), timings=timings,
+                 readouts=driver_readouts(mech, phi))
 
 
 def target_shapes(points: Any, *, size: float, angles: Any = None) -> list[Shape]:
@@ -1037,13 +1185,14 @@ def draw(ax: Any, scene: Scene, k: int, *, centres: bool = True) -> list[Any]:
         if s.kind == "circle":
             for p in xy:
                 face = {"pin": "white", "tracer": _colour(s, "k"), "weight": _colour(s, "0.3"),
-                        "centre": "#ff00aa", "block": _colour(s, "0.5")}.get(s.role, "white")
+                        "centre": "#ff00aa", "block": _colour(s, "0.5"), "gear": "none",
+                        "mesh": "k"}.get(s.role, "white")
                 c = Circle((p[0], p[1]), s.size * 1e3, facecolor=face,
                            edgecolor=_colour(s, "k") if s.role != "centre" else "#aa0077",
                            lw=1.0, alpha=0.5 if s.role == "weight" else 1.0, zorder=5)
                 ax.add_patch(c)
                 artists.append(c)
-                if s.label and s.role in ("pin", "centre", "weight", "target"):
+                if s.label and s.role in ("pin", "centre", "weight", "target", "mesh"):
                     artists.append(ax.annotate(text(s.label), (p[0], p[1]), fontsize=7,
                                                xytext=(4, 4), textcoords="offset points",
                                                zorder=6))
@@ -1068,6 +1217,12 @@ def draw(ax: Any, scene: Scene, k: int, *, centres: bool = True) -> list[Any]:
                 "damper": {"lw": 1.3, "color": "#6b4f2a", "zorder": 3},
                 "load": {"lw": 1.4, "color": "#c2410c", "zorder": 6},
                 "target": {"lw": 1.4, "color": "k", "zorder": 6},
+                "gear": {"lw": 1.0, "color": _colour(s, "0.3"), "zorder": 2,
+                         "alpha": 0.35 if s.size else 0.9},
+                "barrel": {"lw": 8, "color": _colour(s, "0.4"), "alpha": 0.8,
+                           "solid_capstyle": "butt", "zorder": 3},
+                "rod": {"lw": 3, "color": _colour(s, "0.2"), "solid_capstyle": "butt",
+                        "zorder": 4},
             }
             style = styles.get(s.role, {"lw": 3.0, "color": _colour(s, "k"), "zorder": 4,
                                         "solid_capstyle": "round"})
@@ -1100,7 +1255,11 @@ def mechanism_figure(scene: Scene, frame: int | None = None, ax: Any = None) -> 
 
 def _caption(scene: Scene, k: int) -> str:
     unit, f = scene.display
-    pos = f"{scene.coordinate} = {scene.positions[k] * f:.1f} {unit}"
+    pos = (f"{scene.coordinate} {scene.positions[k]:.0f}" if not unit else
+           f"{scene.coordinate} = {scene.positions[k] * f:.1f} {unit}")
+    if scene.readouts:  # several drivers: their coordinates on a line of their own
+        pos += "\n" + ", ".join(f"{label} = {vals[k]:.1f} {u}"
+                                for label, u, vals in scene.readouts)
     return pos if scene.valid[k] else pos + ": not assembled"
 
 

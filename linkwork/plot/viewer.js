@@ -34,6 +34,7 @@ function linkworkViewer(prefix) {
   var posText = $(prefix + "-pos");
   var stateText = $(prefix + "-state");
   var timeText = $(prefix + "-time");
+  var driversText = $(prefix + "-drivers");
   function build(scene) {  // the drawn elements of every moving shape of a drawing
     return scene.shapes.map(function (s) {
       var nodes = [];
@@ -158,8 +159,13 @@ function linkworkViewer(prefix) {
     if (posText) {
       var p = sc.pos[k];
       if (sc.periodic && sc.unit === "deg") { p = ((p % 360) + 360) % 360; }  // a whole turn
-      posText.textContent = sc.coordinate + " = " + p.toFixed(sc.unit === "deg" ? 1 : 2) +
-        " " + sc.unit;
+      posText.textContent = sc.unit === "" ? sc.coordinate + " " + p.toFixed(0) + " of " +
+        (sc.n - 1) : sc.coordinate + " = " + p.toFixed(sc.unit === "deg" ? 1 : 2) + " " + sc.unit;
+    }
+    if (driversText) {  // several drivers: each one's coordinate at this position
+      driversText.textContent = (sc.readouts || []).map(function (r) {
+        return r.label + " = " + (r.v[k] === null ? "–" : r.v[k].toFixed(1)) + " " + r.unit;
+      }).join(", ");
     }
     if (svg) { svg.classList.toggle("lw-off", !ok); }
     if (stateText) {

@@ -60,6 +60,7 @@ __all__ = [
     "count_redundancy",
     "equilibrium_matrix",
     "influence",
+    "inplane_solution",
     "misfit",
     "solve_reactions",
     "wrench_about_origin",
@@ -70,7 +71,12 @@ COMPONENTS: tuple[str, ...] = ("fx", "fy", "fz", "mx", "my", "mz")
 
 #: Joint kinds in space -> (family, constrained local components). Revolute family: local frame =
 #: global (x, y, z). Prismatic family: local frame (d, n, z) with d the slide direction in the
-#: plane and n = z × d; components (f_d, f_n, f_z, m_d, m_n, m_z) -> indices 0..5.
+#: plane and n = z × d; components (f_d, f_n, f_z, m_d, m_n, m_z) -> indices 0..5. Gear family
+#: (a gear mesh, at the pitch point): local frame (n, t, z) with n the line of action (the
+#: direction of the tooth force on b) and t = z × n; components (f_n, f_t, f_z, m_n, m_t, m_z).
+#: Spur teeth touch along a line across the face width (parallel to z): they carry the tooth
+#: force f_n and the moment m_t that tilts that line in the plane (n, z), i.e. the uneven
+#: load across the face; crowned teeth touch at a point and carry f_n only.
 JOINT_KINDS: dict[str, tuple[str, tuple[int, ...]]] = {
     "revolute": ("R", (0, 1, 2, 3, 4)),          # class V: pin in a bearing of length e
     "cylindrical": ("R", (0, 1, 3, 4)),          # class IV: free to slide along its axis
@@ -78,10 +84,13 @@ JOINT_KINDS: dict[str, tuple[str, tuple[int, ...]]] = {
     "sphere_cylinder": ("R", (0, 1)),            # class II: ball in a cylinder (in-line)
     "prismatic": ("P", (1, 2, 3, 4, 5)),         # class V: slider in a guide of length e
     "prismatic_round": ("P", (1, 2, 4, 5)),      # class IV: round rod, free to roll about d
+    "spur": ("G", (0, 4)),                       # class II: gear teeth in line contact
+    "crowned": ("G", (0,)),                      # class I: crowned teeth, point contact
 }
 
 _LOCAL_NAMES = {"R": ("fx", "fy", "fz", "mx", "my", "mz"),
-                "P": ("fd", "fn", "fz", "md", "mn", "mz")}
+                "P": ("fd", "fn", "fz", "md", "mn", "mz"),
+                "G": ("fn", "ft", "fz", "mn", "mt", "mz")}
 
 #: Default radial stiffness of a joint [N/m] (a plain bearing of a loom linkage, ~100 N/µm).
 DEFAULT_BEARING_STIFFNESS = 1.0e8
@@ -113,7 +122,10 @@ def bearing_stiffness(kind: str, e: float, k_bearing: float = DEFAULT_BEARING_ST
     the axial stiffness is ``axial_ratio * k_b``, and the radial and tilt springs are uncoupled at
     the centre. A prismatic joint (slide direction d, normal n) gets ``k_b`` for f_n and f_z and
     ``k_b e^2/12`` for the three rotations (for the roll about d a square guide of side e is
-    assumed). Free directions get 0.
+    assumed). A gear mesh: ``e`` is the face width, ``k_bearing`` the mesh stiffness along the
+    line of action (ISO 6336-1's c_gamma times the face width, about 20 N/(mm·µm) per mm for
+    steel spur gears) spread over the face width: ``k_b`` for f_n and ``k_b e^2/12`` for m_t.
+    Free directions get 0.
 
     Parameters
     ----------
@@ -136,8 +148,9 @@ def bearing_stiffness(kind: str, e: float, k_bearing: float = DEFAULT_BEARING_ST
     kb = float(require_positive("k_bearing", k_bearing))
     ax = float(require_positive("axial_ratio", axial_ratio))
     kt = kb * e * e / 12.0
-    full = (np.array([kb, kb, ax * kb, kt, kt, 0.0]) if family == "R"
-            else np.array([0.0, kb, ax * kb, kt, kt, kt]))
+    full = {"R": np.array([kb, kb, ax * kb, kt, kt, 0.0]),
+            "P": np.array([0.0, kb, ax * kb, kt, kt, kt]),
+            "G": np.array([kb, 0.0, 0.0, 0.0, kt, 0.0])}[family]
     out = np.zeros(6)
     out[list(comps)] = full[list(comps)]
     return out
@@ -161,17 +174,20 @@ class SpatialJoint:
         The joined bodies; ``"ground"`` for the frame. The reaction acts on ``body_b``.
     kind : str
         Spatial kind, one of :data:`JOINT_KINDS` (a planar revolute is normally ``"revolute"``,
-        class V; ``"spherical"``, ``"cylindrical"``... model self-aligning designs).
+        class V; ``"spherical"``, ``"cylindrical"``... model self-aligning designs; a gear
+        mesh ``"spur"``, class II, or ``"crowned"``, class I).
     e : float
-        Axis (bearing) length [m].
+        Axis (bearing) length [m] (a gear mesh: the face width).
     z : float
-        Position of the joint centre along its axis (out of the plane) [m].
+        Position of the joint centre along its axis (out of the plane) [m] (a gear mesh: the
+        middle of the face width).
     stiffness : sequence of 6 floats or None
         Stiffnesses of the local components [N/m, N·m/rad]; None: :func:`bearing_stiffness`
         from ``e``, ``k_bearing`` and ``axial_ratio``. Only constrained components are used;
         they must be > 0.
     k_bearing : float
-        Radial bearing stiffness [N/m] for the defaults.
+        Radial bearing stiffness [N/m] for the defaults (a gear mesh: its stiffness along the
+        line of action).
     axial_ratio : float
         Axial/radial stiffness ratio for the defaults.
     """
@@ -206,7 +222,7 @@ class SpatialJoint:
 
     @property
     def family(self) -> str:
-        """``"R"`` (revolute family) or ``"P"`` (prismatic family)."""
+        """``"R"`` (revolute family), ``"P"`` (prismatic family) or ``"G"`` (gear mesh)."""
         return JOINT_KINDS[self.kind][0]
 
     @property
@@ -340,7 +356,8 @@ class SpatialGeometry:
     body_angles : array, shape (n, n_bodies)
         Angles of the body frames from the global x axis, counter-clockwise [rad].
     slide_angles : array, shape (n, n_joints), optional
-        Direction of the slide of each prismatic-family joint [rad] (ignored for the others).
+        Direction of the slide of each prismatic-family joint, of the line of action (the
+        tooth force on b) of each gear mesh [rad] (ignored for the others).
     """
 
     points: np.ndarray
@@ -485,6 +502,48 @@ def equilibrium_matrix(model: SpatialModel, geom: SpatialGeometry, *, driver: bo
         order = [i for i in range(a.shape[-1]) if i not in last] + last
         a = a[..., order]
     return a
+
+
+def inplane_solution(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike
+                     ) -> tuple[list[tuple[str, str]], np.ndarray]:
+    r"""The in-plane reactions alone: the rows fx, fy, mz of every body's equilibrium in the
+    in-plane unknowns (the local components 0, 1, 5 that a joint constrains, and the drivers).
+
+    The in-plane equations of the spatial problem contain no out-of-plane unknown, and they are
+    as many as the in-plane unknowns (the planar mobility equals the number of drivers), so
+    this square system is the planar kinetostatics on the spatial model's joint frames; the
+    self-stress states have no in-plane part, so these values are those of any solution.
+
+    Returns
+    -------
+    labels : list of (joint, component)
+        The in-plane unknowns, drivers last (``(driver joint, "Q")``).
+    values : ndarray, shape (n, len(labels))
+    """
+    a = equilibrium_matrix(model, geom)
+    w = require_finite("wrenches", wrenches)
+    nb = model.n_bodies
+    if w.shape != (geom.n, nb, 6):
+        raise ParameterError("wrenches", w.shape, f"must have shape ({geom.n}, {nb}, 6)")
+    rows = [6 * i + c for i in range(nb) for c in (0, 1, 5)]
+    cols, labels = [], []
+    k = 0
+    for jt in model.joints:
+        for c, name in zip(jt.constrained, jt.local_names, strict=True):
+            if c in (0, 1, 5):
+                cols.append(k)
+                labels.append((jt.name, name))
+            k += 1
+    cols += list(range(k, k + model.n_drivers))
+    labels += [(d, "Q") for d in model.drivers]
+    _, rs, cs = _scales(model, geom)
+    sub = rs[rows][:, None] * a[:, rows][:, :, cols] * cs[cols][None, :]
+    if sub.shape[-1] != sub.shape[-2]:
+        raise StructureError(f"the in-plane problem has {sub.shape[-1]} unknowns for "
+                             f"{sub.shape[-2]} equations: the planar mobility differs from the "
+                             f"{model.n_drivers} driver(s)")
+    rhs = -(rs[rows] * w.reshape(geom.n, 6 * nb)[:, rows])
+    return labels, cs[cols] * np.linalg.solve(sub, rhs[..., None])[..., 0]
 
 
 def misfit(model: SpatialModel, geom: SpatialGeometry, deviations: ArrayLike) -> np.ndarray:
@@ -695,7 +754,7 @@ class SpatialReactions(Result):
 
     Attributes
     ----------
-    phi1 : ndarray (n,)
+    phi1 : ndarray (n,), or (n_drivers, n) for several drivers
         Driver positions [rad] (or [m]), as passed by the caller.
     joints : tuple of str
         Joint names (axis 0 of the component arrays).
@@ -751,8 +810,12 @@ class SpatialReactions(Result):
         return out
 
     def columns(self) -> dict[str, np.ndarray]:
-        """Per-position columns named ``<component>_<joint>`` (``fz_B``, ``mx_O``...) and Q."""
-        cols: dict[str, np.ndarray] = {"phi1": np.asarray(self.phi1)}
+        """Per-position columns named ``<component>_<joint>`` (``fz_B``, ``mx_O``...) and Q;
+        several drivers: ``phi1_<joint>`` first and ``Q_<joint>`` last, one per driver."""
+        phi = np.asarray(self.phi1)
+        cols: dict[str, np.ndarray] = (
+            {f"phi1_{name}": phi[k] for k, name in enumerate(self.drivers)} if phi.ndim == 2
+            else {"phi1": phi})
         comp = self.components()
         for j, name in enumerate(self.joints):
             for i, c in enumerate(COMPONENTS):
@@ -768,9 +831,9 @@ class SpatialReactions(Result):
         """Unit of a CSV column: that of its component (``fz_B`` -> ``fz``); the CSV (written by
         :meth:`Result.to_csv`) has the columns of :meth:`columns`."""
         head = column.split("_")[0]
-        if head == "Q" and column != "Q":  # one driver's of several: its own unit
-            units = self.units.get("Q", "").split(", ")
-            k = list(self.drivers).index(column[2:])
+        if head in ("Q", "phi1") and column != head:  # one driver's of several: its own unit
+            units = self.units.get(head, "").split(", ")
+            k = list(self.drivers).index(column[len(head) + 1:])
             return units[k] if len(units) > 1 else units[0]
         return self.units.get(head, "")
 

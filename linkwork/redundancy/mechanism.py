@@ -7,8 +7,14 @@ moments, external loads, optional out-of-plane loads and heights of the centres 
 
 Joints: a planar :class:`~linkwork.planar.Revolute` becomes a revolute-family spatial joint
 centred on its point; a :class:`~linkwork.planar.Prismatic` a prismatic-family joint centred on
-the slider point with the slide direction ``theta_a + angle``. Pin-in-slot joints (higher pairs)
-are not supported.
+the slider point with the slide direction ``theta_a + angle``; a
+:class:`~linkwork.planar.GearPair` a gear mesh (kind ``"spur"``: the teeth in line contact
+across the face width carry the tooth force along the line of action and the moment that would
+tilt the contact line; ``"crowned"``: the force only) centred on the pitch point, its line of
+action the one the tooth force acts along (the flank in contact, from the sign of the
+tangential tooth force). Pin-in-slot joints are not supported: a pin in a straight slot, seen in
+space, is a line or a point contact whose class depends on the pin's and slot's shapes, which
+the planar description does not give.
 """
 
 from __future__ import annotations
@@ -32,6 +38,7 @@ from linkwork.redundancy.core import (
     SpatialModel,
     SpatialReactions,
     check_tilt,
+    inplane_solution,
     solve_reactions,
 )
 
@@ -84,6 +91,11 @@ class OutOfPlaneLoad:
     my: float = 0.0
 
 
+#: the spatial kind a planar joint becomes by default, per family
+_DEFAULT_KIND = {"R": "revolute", "P": "prismatic", "G": "spur"}
+_FAMILY_NAME = {"R": "revolute", "P": "prismatic", "G": "gear mesh"}
+
+
 def _ground(mech: Any) -> str:
     return str(mech.frame.name)
 
@@ -114,17 +126,23 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
     ground = _ground(mech)
     out = []
     for j in mech.joints:
-        family = j.spatial_family  # "R" revolute-like, "P" prismatic-like, None unsupported
+        family = j.spatial_family  # "R" revolute-like, "P" prismatic-like, "G" gear mesh
         if family is None:
-            what = "gear pairs" if j.code == "G" else "pin-in-slot joints"
-            raise StructureError(f"joint {j.name}: {what} are not supported by the spatial "
-                                 "(redundancy) analysis; use revolute or prismatic joints")
-        kw = {**dict(default or {}), **dict(joints.get(j.name, {}))}
-        kw.setdefault("kind", "prismatic" if family == "P" else "revolute")
+            raise StructureError(f"joint {j.name}: pin-in-slot joints are not supported by the "
+                                 "spatial (redundancy) analysis: in space a pin in a slot is a "
+                                 "line or point contact whose class the planar description "
+                                 "does not give; model it as a slider block (a revolute and a "
+                                 "prismatic joint)")
+        base = dict(default or {})
+        if base.get("kind") in JOINT_KINDS and JOINT_KINDS[base["kind"]][0] != family:
+            del base["kind"]  # the default kind is for the joints of its own family
+        kw = {**base, **dict(joints.get(j.name, {}))}
+        kw.setdefault("kind", _DEFAULT_KIND[family])
         if kw["kind"] in JOINT_KINDS and JOINT_KINDS[kw["kind"]][0] != family:
+            kinds = sorted(k for k, v in JOINT_KINDS.items() if v[0] == family)
             raise ParameterError(f"{j.name}.kind", kw["kind"],
-                                 "must be a " + ("prismatic" if family == "P" else "revolute")
-                                 + f"-family kind for a planar {type(j).__name__} joint")
+                                 f"must be one of {kinds} for a planar {type(j).__name__} "
+                                 f"joint ({_FAMILY_NAME[family]} family)")
         a = "ground" if j.a == ground else j.a
         b = "ground" if j.b == ground else j.b
         out.append(SpatialJoint(j.name, a, b, **kw))
@@ -133,12 +151,39 @@ def spatial_model(mech: Any, joints: Mapping[str, Mapping[str, Any]] | None = No
                         drivers[0] if len(drivers) == 1 else drivers)
 
 
-def geometry(mech: Any, kin: Any) -> SpatialGeometry:
-    """Joint centres, body angles and slide directions from the engine's kinematics."""
+def _mesh(mech: Any, kin: Any, j: Any) -> tuple[Any, Any, np.ndarray, np.ndarray]:
+    """A gear pair's pitch point (x, y) and the angles of its two lines of action over the
+    positions [rad]: for a tangential tooth force on b along +t (t = z x e, e along the line of
+    centres from a's centre outwards) and along -t; each line tilts from +-t by the pressure
+    angle towards e (the separating part pushes b away from a)."""
+    ca, cb, _, _, params = j.resolve(mech)
+    ra, s = params[0], params[2]
+    oa, ob = kin.point(j.a, ca), kin.point(j.b, cb)
+    dx, dy = ob.x - oa.x, ob.y - oa.y
+    d = np.hypot(dx, dy)
+    ex, ey = s * dx / d, s * dy / d
+    t = np.arctan2(ex, -ey)  # the direction of t = (-ey, ex)
+    alpha = j.pressure_angle
+    return oa.x + ra * ex, oa.y + ra * ey, t - alpha, t + np.pi + alpha
+
+
+def geometry(mech: Any, kin: Any, wrenches: ArrayLike | None = None) -> SpatialGeometry:
+    """Joint centres, body angles and slide directions from the engine's kinematics.
+
+    A gear pair's centre is its pitch point, its line the line of action the tooth force acts
+    along at each position: given the body ``wrenches`` (:func:`body_wrenches`), the one of the
+    sign of the tangential tooth force they cause (the flank in contact: the in-plane problem
+    alone, :func:`~linkwork.redundancy.inplane_solution`); without them the line for a
+    tangential force on b along +t.
+    """
     n = kin.n
     pts = np.zeros((n, len(mech.joints), 2))
     slide = np.zeros((n, len(mech.joints)))
+    flip: dict[int, np.ndarray] = {}
     for k, j in enumerate(mech.joints):
+        if j.spatial_family == "G":
+            pts[:, k, 0], pts[:, k, 1], slide[:, k], flip[k] = _mesh(mech, kin, j)
+            continue
         _, pb, ang = mech.joint_geometry(j)
         pm = kin.point(j.b, pb)
         pts[:, k, 0], pts[:, k, 1] = pm.x, pm.y
@@ -147,7 +192,14 @@ def geometry(mech: Any, kin: Any) -> SpatialGeometry:
     angles = np.stack([kin.angle(b.name) for b in mech.bodies], axis=1)
     if not np.all(np.isfinite(pts)):
         raise ParameterError("kinematics", "NaN", "must be assembled at every position")
-    return SpatialGeometry(pts, angles, slide)
+    geom = SpatialGeometry(pts, angles, slide)
+    if flip and wrenches is not None:  # each mesh on the flank its tooth force presses
+        labels, r = inplane_solution(spatial_model(mech), geom, wrenches)
+        for k, other in flip.items():
+            fn = r[:, labels.index((mech.joints[k].name, "fn"))]
+            slide[:, k] = np.where(fn < 0.0, other, slide[:, k])
+        geom = SpatialGeometry(pts, angles, slide)
+    return geom
 
 
 def body_wrenches(mech: Any, kin: Any, *, gravity: ArrayLike | None = None,
@@ -253,9 +305,9 @@ def spatial_reactions(mech: Any, phi1: ArrayLike, *, omega1: ArrayLike | None = 
     """
     kin = kinematics(mech, phi1, omega1, eps1)
     model = spatial_model(mech, joints, default)
-    geom = geometry(mech, kin)
     w = body_wrenches(mech, kin, gravity=gravity, loads=loads, heights=heights,
                       out_of_plane=out_of_plane)
+    geom = geometry(mech, kin, w)
     dev = deviation_array(model, deviations, _ground(mech))
     res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
     du = mech.driver_units  # a linear driver: positions are slides [m], Q a force [N]

@@ -107,7 +107,10 @@ class Renderer:
 
 def driver_display(unit: str) -> tuple[str, float, bool]:
     """Display unit, factor from SI and whether it is an angle, for a driver coordinate whose
-    SI unit is ``unit`` (``"rad"`` -> deg, ``"m"`` -> mm)."""
+    SI unit is ``unit`` (``"rad"`` -> deg, ``"m"`` -> mm; ``""``: a position's index along
+    several drivers' path, shown as it is)."""
+    if unit == "":
+        return ("", 1.0, False)
     return ("deg", 180.0 / math.pi, True) if unit == "rad" else ("mm", 1e3, False)
 
 
@@ -135,5 +138,6 @@ def diagram(title: str, positions: np.ndarray, unit: str, coordinate: str,
         label = si_unit
         scaled = [(n, np.asarray(v, dtype=float) * factor) for n, v in series]
     pos = np.asarray(positions, dtype=float)
-    return Diagram(title=title, x=pos * f, series=scaled, xlabel=f"{coordinate} [{shown}]",
+    xlabel = f"{coordinate} [{shown}]" if shown else f"{coordinate} along the drivers' path"
+    return Diagram(title=title, x=pos * f, series=scaled, xlabel=xlabel,
                    ylabel=f"{quantity} [{label}]", positions=pos, angle=angle, note=note)

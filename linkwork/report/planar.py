@@ -42,9 +42,63 @@ def scene(study: PlanarStudy, options: Options) -> Scene:
     return study.scene(paths=options.paths, centres=options.centres)
 
 
+def _several(study: PlanarStudy) -> bool:
+    """Several drivers: the positions are numbered along their path."""
+    return bool(study.mechanism.n_drivers > 1)
+
+
 def _coord(study: PlanarStudy) -> tuple[str, str]:
-    """Name of the driver coordinate and its SI unit."""
+    """Name of the driver coordinate and its SI unit (several drivers: the position's index,
+    no unit)."""
+    if _several(study):
+        return ("position", "")
     return ("φ1", "rad") if study.crank else ("s1", "m")
+
+
+def _positions(study: PlanarStudy) -> np.ndarray:
+    """What the diagrams run over: the driver's positions [rad or m], or the index along
+    several drivers' path."""
+    kin = study.kinematics
+    if _several(study):
+        return np.arange(kin.n, dtype=float)
+    return np.asarray(kin.phi1, dtype=float)
+
+
+def _driving(study: PlanarStudy) -> list[Diagram]:
+    """The driving torque (force) Q with its mean; several drivers: the torques of the cranks
+    and the forces of the linear drivers, each driver's own, and their coordinates along the
+    path."""
+    dyn = study.dynamics
+    name, unit = _coord(study)
+    phi = _positions(study)
+    if not _several(study):
+        qu = study.mechanism.driver.field_units["Q"]
+        q_series = [("Q", dyn.Q)]
+        if dyn.has_friction:
+            q_series.append(("Q without friction", dyn.Q_frictionless))
+        mean = fmt(study.means["Q_mean"], scale_of(dyn.Q))
+        load = "driving torque" if study.crank else "driving force"
+        return [diagram(f"{load} Q", phi, unit, name, q_series, "Q", qu,
+                        note=f"mean over the range (work / range): {mean} {unit_label(qu)}")]
+    drivers = study.mechanism.drivers
+    means = study.means["Q_mean"]
+    out = []
+    for kind, what, qu, shown, f in (("crank", "driving torques", "N*m", "deg", 180 / math.pi),
+                                     ("linear", "driving forces", "N", "mm", 1e3)):
+        ks = [k for k, d in enumerate(drivers) if d.kind == kind]
+        if not ks:
+            continue
+        q = np.asarray(dyn.Q, dtype=float)
+        note = "mean over the path (work / travel): " + ", ".join(
+            f"{drivers[k].joint} " + ("-" if means[drivers[k].joint] is None else
+                                      f"{fmt(means[drivers[k].joint], scale_of(q[k]))} "
+                                      f"{unit_label(qu)}") for k in ks)
+        out.append(diagram(f"{what} Q of the drivers", phi, unit, name,
+                           [(f"Q {drivers[k].joint}", q[k]) for k in ks], "Q", qu, note=note))
+        out.append(diagram(f"the drivers' coordinates along the path ({kind})", phi, unit, name,
+                           [(drivers[k].joint, np.asarray(study.kinematics.phi1[k]) * f)
+                            for k in ks], "φ" if kind == "crank" else "s", shown, factor=1.0))
+    return out
 
 
 def diagrams(study: PlanarStudy) -> list[Diagram]:
@@ -54,15 +108,8 @@ def diagrams(study: PlanarStudy) -> list[Diagram]:
     hodograph."""
     kin, dyn = study.kinematics, study.dynamics
     name, unit = _coord(study)
-    phi = np.asarray(kin.phi1, dtype=float)
-    qu = study.mechanism.driver.field_units["Q"]
-    load = "driving torque" if study.crank else "driving force"
-    q_series = [("Q", dyn.Q)]
-    if dyn.has_friction:
-        q_series.append(("Q without friction", dyn.Q_frictionless))
-    mean = fmt(study.means["Q_mean"], scale_of(dyn.Q))
-    out = [diagram(f"{load} Q", phi, unit, name, q_series, "Q", qu,
-                   note=f"mean over the range (work / range): {mean} {unit_label(qu)}")]
+    phi = _positions(study)
+    out = _driving(study)
     out.append(diagram("joint reactions |R| (force of joint body a on body b)", phi, unit, name,
                        [(j, dyn.reaction_magnitude(j)) for j in dyn.joints], "|R|", "N"))
     ab = np.asarray(dyn.about, dtype=float) * 1e3
@@ -121,12 +168,31 @@ def _shown(study: PlanarStudy) -> tuple[str, float]:
     return unit, f
 
 
+def _drivers_at(study: PlanarStudy, phi: Any) -> str:
+    """Every driver's coordinate at a position (its values ``phi`` [rad or m], one each)."""
+    return ", ".join(
+        f"{d.joint} {fmt(float(v) * (180 / math.pi if d.kind == 'crank' else 1e3), decimals=1)}"
+        f" {'deg' if d.kind == 'crank' else 'mm'}"
+        for d, v in zip(study.mechanism.drivers, phi, strict=True))
+
+
+def _nearest_positions(study: PlanarStudy, table: np.ndarray) -> list[float]:
+    """The analysed position (index along several drivers' path) nearest each column of
+    ``table`` ``(n_drivers, m)`` (every driver's travel counting alike)."""
+    phi = np.asarray(study.kinematics.phi1, dtype=float)
+    span = np.ptp(phi, axis=1, keepdims=True)
+    span = np.where(span > 0, span, 1.0)
+    d = np.abs(phi[:, :, None] - table[:, None, :]) / span[:, :, None]
+    return [float(k) for k in np.argmin(d.sum(axis=0), axis=0)]
+
+
 def tables(study: PlanarStudy) -> list[Table]:
     """The characteristics: extremes with their positions, dead centres, means, the structure,
     the table positions (as ``linkwork analyze`` prints), friction losses."""
     name, _ = _coord(study)
     unit, f = _shown(study)
-    pos_head = f"{name} [{unit}]"
+    several = _several(study)
+    pos_head = f"{name} [{unit}]" if unit else name
     out: list[Table] = []
     scales: dict[str, float] = {}
     for pk in study.peaks:
@@ -136,17 +202,31 @@ def tables(study: PlanarStudy) -> list[Table]:
         value, u = pk["value"], pk["unit"]
         if u == "rad":
             value, u = math.degrees(value), "deg"
-        rows.append([pk["name"], fmt(value, scales.get(pk["unit"], 0.0)), unit_label(u),
-                     fmt(pk["phi1"] * f, decimals=1)])
-        where.append(pk["phi1"])
-    qu = unit_label(study.mechanism.driver.field_units["Q"])
-    rows.append(["Q mean (work / range)", fmt(study.means["Q_mean"], scale_of(study.dynamics.Q)),
-                 qu, ""])
-    rows.append(["driving power, mean", fmt(study.means["power_mean"],
-                                            scale_of(study.dynamics.power)), "W", ""])
-    where += [None, None]
+        at = ([str(pk["position"]), _drivers_at(study, pk["phi1"])] if several
+              else [fmt(pk["phi1"] * f, decimals=1)])
+        rows.append([pk["name"], fmt(value, scales.get(pk["unit"], 0.0)), unit_label(u), *at])
+        where.append(float(pk["position"]) if several else pk["phi1"])
+    blank = ["", ""] if several else [""]
+    if several:
+        for k, d in enumerate(study.mechanism.drivers):
+            qm = study.means["Q_mean"][d.joint]
+            rows.append([f"Q {d.joint} mean (work / travel)", "-" if qm is None else
+                         fmt(qm, scale_of(study.dynamics.Q[k])),
+                         unit_label(d.field_units["Q"]), *blank])
+            where.append(None)
+        power = study.dynamics.total_power
+    else:
+        qu = unit_label(study.mechanism.driver.field_units["Q"])
+        rows.append(["Q mean (work / range)",
+                     fmt(study.means["Q_mean"], scale_of(study.dynamics.Q)), qu, *blank])
+        where.append(None)
+        power = study.dynamics.power
+    rows.append(["driving power, mean", fmt(study.means["power_mean"], scale_of(power)), "W",
+                 *blank])
+    where.append(None)
     out.append(Table(f"extremes over the cycle ({study.kinematics.n} positions; click a row to "
-                     "show it)", ["quantity", "value", "unit", pos_head], rows,
+                     "show it)", ["quantity", "value", "unit", pos_head,
+                                  *(["the drivers there"] if several else [])], rows,
                      positions=where))
     if study.dead_centres:
         out.append(Table("dead centres (the output's motion reverses)",
@@ -161,19 +241,31 @@ def tables(study: PlanarStudy) -> list[Table]:
                        str(study.kinematics.branches.get(g.key, 1))] for g in s.groups]))
     tk, td = study.table_kinematics, study.table_dynamics
     f_n = scales.get("N", 0.0)
-    head = [pos_head, f"Q [{qu}]"] + [f"|R {j}| [N]" for j in td.joints]
+    drivers = study.mechanism.drivers
+    if several:
+        head = [f"{'φ' if d.kind == 'crank' else 's'} {d.joint} "
+                f"[{'deg' if d.kind == 'crank' else 'mm'}]" for d in drivers]
+        head += [f"Q {d.joint} [{unit_label(d.field_units['Q'])}]" for d in drivers]
+        tpos = _nearest_positions(study, np.asarray(study.table_positions, dtype=float))
+    else:
+        head = [pos_head, f"Q [{unit_label(drivers[0].field_units['Q'])}]"]
+        tpos = list(study.table_positions)
+    head += [f"|R {j}| [N]" for j in td.joints]
     head += ["|F_sh| [N]", "M_sh [N·m]"] + [f"μ {k} [deg]" for k in study.table_transmission]
     trows = []
+    tq = np.asarray(td.Q, dtype=float).reshape(len(drivers), -1)
+    tphi = np.asarray(study.table_positions, dtype=float).reshape(len(drivers), -1)
     for i in range(tk.n):
-        r = [fmt(study.table_positions[i] * f, decimals=1),
-             fmt(td.Q[i], scales.get(study.mechanism.driver.field_units["Q"], 0.0))]
+        r = [fmt(tphi[k, i] * (180 / math.pi if d.kind == "crank" else 1e3), decimals=1)
+             for k, d in enumerate(drivers)]
+        r += [fmt(tq[k, i], scales.get(d.field_units["Q"], 0.0)) for k, d in enumerate(drivers)]
         r += [fmt(td.reaction_magnitude(j)[i], f_n) for j in td.joints]
         r += [fmt(np.hypot(td.shaking_fx[i], td.shaking_fy[i]), f_n),
               fmt(td.shaking_m[i], scales.get("N*m", 0.0))]
         r += [fmt(math.degrees(mu[i]), decimals=1) for mu, _ in study.table_transmission.values()]
         trows.append(r)
     out.append(Table("driving torque, joint reactions, shaking force and moment at the table "
-                     "positions", head, trows, positions=list(study.table_positions)))
+                     "positions", head, trows, positions=tpos))
     if study.loads:
         top = max((abs(e["work"]) for e in study.loads if e["work"] is not None), default=0.0)
         out.append(Table(
@@ -191,7 +283,8 @@ def tables(study: PlanarStudy) -> list[Table]:
     if fr is not None:
         top = max((abs(v) for v in fr["losses"].values() if v is not None), default=0.0)
         eta = fr["efficiency_cycle"]
-        runs = ", ".join(f"{a * f:.1f}..{b * f:.1f} {unit}" for a, b in fr["self_locking"])
+        runs = ", ".join(f"{a * f:.1f}..{b * f:.1f} {unit}".strip()
+                         for a, b in fr["self_locking"])
         out.append(Table(
             "friction losses over the cycle", ["joint", "loss [J]", "share of the driver's "
                                                "work [%]"],
@@ -209,13 +302,25 @@ def section(study: PlanarStudy, options: Options) -> Section:
     kin = study.kinematics
     name, _ = _coord(study)
     unit, f = _shown(study)
-    drv = study.mechanism.driver
-    speed = (f"ω1 = {fmt(drv.omega1)} rad/s ({fmt(drv.omega1 * 30 / math.pi)} rpm)"
-             if study.crank else f"v1 = {fmt(drv.omega1)} m/s")
-    intro = [f"{kin.n} positions from {name} = {fmt(kin.phi1[0] * f, decimals=2)} to "
-             f"{fmt(kin.phi1[-1] * f, decimals=2)} {unit}, driver {drv.kind} on joint "
-             f"{drv.joint}, {speed}. Mobility W = {study.structure.mobility}; structure "
-             f"{study.structure.formula()}. Click or drag on a diagram to show that position."]
+    tail = (f"Mobility W = {study.structure.mobility}; structure "
+            f"{study.structure.formula()}. Click or drag on a diagram to show that position.")
+    if _several(study):
+        phi = np.asarray(kin.phi1, dtype=float)
+        first = _drivers_at(study, phi[:, 0]).split(", ")
+        last = _drivers_at(study, phi[:, -1]).split(", ")
+        each = "; ".join(f"{d.joint} ({d.kind}) from {a.split(' ', 1)[1]} to "
+                         f"{b.split(' ', 1)[1]}"
+                         for d, a, b in zip(study.mechanism.drivers, first, last, strict=True))
+        intro = [f"{kin.n} positions along the path of {study.mechanism.n_drivers} drivers "
+                 f"(numbered 0 to {kin.n - 1}; the player reads out every driver's "
+                 f"coordinate): {each}. {tail}"]
+    else:
+        drv = study.mechanism.driver
+        speed = (f"ω1 = {fmt(drv.omega1)} rad/s ({fmt(drv.omega1 * 30 / math.pi)} rpm)"
+                 if study.crank else f"v1 = {fmt(drv.omega1)} m/s")
+        intro = [f"{kin.n} positions from {name} = {fmt(kin.phi1[0] * f, decimals=2)} to "
+                 f"{fmt(kin.phi1[-1] * f, decimals=2)} {unit}, driver {drv.kind} on joint "
+                 f"{drv.joint}, {speed}. {tail}"]
     return Section(title="kinematics and dynamics", key="planar", intro=intro,
                    diagrams=diagrams(study), tables=tables(study))
 
@@ -226,8 +331,10 @@ def warnings(study: PlanarStudy) -> list[str]:
     if not ranges:
         return []
     n_bad = int(np.sum(~np.asarray(study.kinematics.valid, bool)))
+    where = (", ".join(f"positions {a:.0f} to {b:.0f}" for a, b in ranges) if _several(study)
+             else format_angle_ranges(ranges, _coord(study)[1]))
     return [f"the mechanism cannot be assembled at {n_bad} of {study.kinematics.n} positions: "
-            f"{format_angle_ranges(ranges, _coord(study)[1])}. The animation skips these "
+            f"{where}. The animation skips these "
             "positions, the diagrams are empty there, and the extremes are taken over the "
             "assembled positions only."]
 
@@ -259,20 +366,27 @@ def inputs(doc: PlanarFile) -> list[Table]:
     out.append(Table("joints (reaction: force of a on b)", ["joint", "type", "a", "b", "details"],
                      joints))
     a = doc.analysis
-    crank = doc.driver.type == "crank"
-    unit, f = ("deg", 180 / math.pi) if crank else ("mm", 1e3)
-    phi = doc.positions()
-    rows = [["driver", f"{doc.driver.type} on joint {doc.driver.joint}"],
-            ["speed", f"{fmt(doc.driver.omega1)} rad/s ({fmt(doc.driver.omega1 * 30 / math.pi)} "
-                      "rpm)" if crank else f"{fmt(doc.driver.v1)} m/s"],
-            ["acceleration", f"{fmt(doc.driver.eps1)} rad/s²" if crank
-             else f"{fmt(doc.driver.a1)} m/s²"],
-            ["range", f"{fmt(phi[0] * f)} to {fmt(phi[-1] * f)} {unit}, {a.n} positions"],
-            ["branches", ", ".join(f"{k} {v:+d}" for k, v in a.branches.items()) or "+1 (all)"],
+    phi = np.asarray(doc.positions(), dtype=float).reshape(-1, a.n)
+    tables = doc.driver if isinstance(doc.driver, list) else [doc.driver]
+    rows = []
+    for row, d in enumerate(tables):
+        crank = d.type == "crank"
+        unit, f = ("deg", 180 / math.pi) if crank else ("mm", 1e3)
+        tag = f" ({d.joint})" if len(tables) > 1 else ""
+        rows += [[f"driver{tag}", f"{d.type} on joint {d.joint}"],
+                 [f"speed{tag}", f"{fmt(d.omega1)} rad/s ({fmt(d.omega1 * 30 / math.pi)} rpm)"
+                  if crank else f"{fmt(d.v1)} m/s"],
+                 [f"acceleration{tag}", f"{fmt(d.eps1)} rad/s²" if crank
+                  else f"{fmt(d.a1)} m/s²"],
+                 [f"range{tag}", f"{fmt(phi[row, 0] * f)} to {fmt(phi[row, -1] * f)} {unit}, "
+                                 f"{a.n} positions"]]
+    crank = all(d.type == "crank" for d in tables)
+    rows += [["branches", ", ".join(f"{k} {v:+d}" for k, v in a.branches.items()) or "+1 (all)"],
             ["gravity", "off" if a.gravity is None else
              "({}, {}) m/s²".format(*(fmt(g) for g in a.gravity))],
             ["shaking moment about", f"{_mm(a.about)} mm"]]
-    out.append(Table("driver and analysis", ["", "value"], rows))
+    out.append(Table("drivers and analysis" if len(tables) > 1 else "driver and analysis",
+                     ["", "value"], rows))
     plain = [ld for ld in doc.load if ld.type in ("force", "torque") and ld.diagram is None]
     if plain:
         out.append(Table("external loads", ["type", "body", "point", "fx [N]", "fy [N]",
@@ -332,22 +446,31 @@ def _value(ld: Any, crank: bool) -> str:
 def notes(study: PlanarStudy) -> list[tuple[str, str]]:
     """Sign conventions of the planar engine (docs/conventions.md)."""
     mech = study.mechanism
-    drv = mech.joint(mech.driver.joint)
     ab = np.asarray(study.dynamics.about, dtype=float) * 1e3
+    coords, loads = [], []
+    for d in mech.drivers:
+        drv = mech.joint(d.joint)
+        turn = d.kind == "crank"
+        coords.append(f"{'φ1 = θ_b − θ_a of' if turn else 's1 along'} joint {d.joint} (bodies "
+                      f"{drv.a} → {drv.b})")
+        loads.append(f"{'torque' if turn else 'force along the guide'} on body {drv.b} of "
+                     f"driver joint {d.joint} through body {drv.a}"
+                     f"{', counter-clockwise +' if turn else ''}")
+    several = len(coords) > 1
     return [
         ("planar engine: frames and angles",
          "Every body has its own frame; angles counter-clockwise from the fixed x axis. "
-         f"The driver coordinate {'φ1 = θ_b − θ_a of' if study.crank else 's1 along'} joint "
-         f"{mech.driver.joint} (bodies {drv.a} → {drv.b}). Assembly branches per Assur group as "
-         "listed in the structure table (docs/conventions.md, planar engine)."),
+         f"The driver coordinate{'s' if several else ''} " + "; ".join(coords) + ". "
+         + ("The positions are numbered along the drivers' path (each driver moving from its "
+            "start to its stop over the [analysis] positions). " if several else "")
+         + "Assembly branches per Assur group as listed in the structure table "
+           "(docs/conventions.md, planar engine)."),
         ("reactions, driving torque, shaking",
          "Joint reaction = force exerted by the joint's first body a on its second body b, "
-         f"frame axes. Q = {'torque' if study.crank else 'force along the guide'} on body "
-         f"{drv.b} of the driver joint through body {drv.a}"
-         f"{', counter-clockwise +' if study.crank else ''}; driving power Q·ω1. Shaking force "
-         "and moment = what the moving bodies exert on the frame (motor reaction included), "
-         f"moment counter-clockwise + about ({ab[0]:g}, {ab[1]:g}) mm. Transmission angle μ in "
-         "[0, 90°], 90° best."),
+         f"frame axes. Q{' of each driver' if several else ''} = " + "; ".join(loads)
+         + "; driving power Q·ω1. Shaking force and moment = what the moving bodies exert on "
+           "the frame (motor reaction included), moment counter-clockwise + about "
+           f"({ab[0]:g}, {ab[1]:g}) mm. Transmission angle μ in [0, 90°], 90° best."),
     ]
 
 

@@ -353,8 +353,11 @@ class PlanarStudy:
     @property
     def unassembled(self) -> list[tuple[float, float]]:
         """Ranges ``[(first, last), ...]`` of the analysed driver positions [rad, or m] where the
-        mechanism does not assemble (empty unless analysed with ``on_failure="nan"``)."""
-        return angle_ranges(self.kinematics.phi1, ~np.asarray(self.kinematics.valid, bool))
+        mechanism does not assemble (empty unless analysed with ``on_failure="nan"``); with
+        several drivers, of the positions' indices along their path."""
+        kin = self.kinematics
+        along = kin.phi1 if np.ndim(kin.phi1) == 1 else np.arange(kin.n, dtype=float)
+        return angle_ranges(along, ~np.asarray(kin.valid, bool))
 
     @property
     def structure(self) -> Structure:

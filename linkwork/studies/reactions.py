@@ -106,12 +106,19 @@ class ReactionsStudy:
 
     @property
     def linear(self) -> bool:
-        """True for a linear driver (positions are slides [m], Q a force [N])."""
+        """True for a linear driver (positions are slides [m], Q a force [N]); with several
+        drivers, for the first (:attr:`linear_drivers`: each one's)."""
         return bool(self.mechanism.drivers[0].kind == "linear")
 
     @property
+    def linear_drivers(self) -> tuple[bool, ...]:
+        """Per driver: True for a linear one (its positions slides [m], its Q a force [N])."""
+        return tuple(d.kind == "linear" for d in self.mechanism.drivers)
+
+    @property
     def cycle(self) -> np.ndarray:
-        """The cycle's driver positions."""
+        """The cycle's driver positions: (n,), or (n_drivers, n) for several drivers (their
+        path)."""
         return np.asarray(self.kinematics.phi1)
 
     def _repr_html_(self) -> str:
@@ -137,17 +144,20 @@ class ReactionsStudy:
                 "mobility_somov_malyshev": count.mobility_formula, "mobility": count.mobility}
 
 
-def _reactions(mech: Mechanism, kin: Kinematics, model: SpatialModel, geom: SpatialGeometry,
-               inputs: dict[str, Any], gravity: Any, loads: Sequence[Any], method: str
-               ) -> tuple[np.ndarray, SpatialReactions]:
-    """As :func:`~linkwork.redundancy.spatial_reactions`, on a kinematics already solved."""
+def _reactions(mech: Mechanism, kin: Kinematics, model: SpatialModel, inputs: dict[str, Any],
+               gravity: Any, loads: Sequence[Any], method: str
+               ) -> tuple[np.ndarray, SpatialGeometry, SpatialReactions]:
+    """As :func:`~linkwork.redundancy.spatial_reactions`, on a kinematics already solved:
+    (body wrenches, geometry, reactions)."""
     w = body_wrenches(mech, kin, gravity=gravity, loads=loads, heights=inputs["heights"],
                       out_of_plane=inputs["out_of_plane"])
+    geom = geometry(mech, kin, w)  # (gear meshes: on the flank their tooth force presses)
     dev = deviation_array(model, inputs["deviations"], mech.frame.name)
     res = solve_reactions(model, geom, w, dev, method=method, phi1=kin.phi1)
-    if mech.drivers[0].kind == "linear":  # positions are slides [m], the driving force in N
-        res._relabel_units(phi1="m", Q="N")
-    return w, res
+    du = mech.driver_units  # a linear driver: positions are slides [m], the driving force N
+    if du["phi1"] != "rad" or du["Q"] != "N*m":
+        res._relabel_units(phi1=du["phi1"], Q=du["Q"])
+    return w, geom, res
 
 
 def solve(mech: Mechanism, spec: SpatialSpec, *, angles: ArrayLike,
@@ -160,10 +170,12 @@ def solve(mech: Mechanism, spec: SpatialSpec, *, angles: ArrayLike,
     mech : Mechanism
     spec : SpatialSpec
     angles : array_like
-        Driver positions of the table [rad, or m for a linear driver].
+        Driver positions of the table [rad, or m for a linear driver]; several drivers:
+        shape (n_drivers, k), column j where every driver is at table position j.
     cycle : array_like, optional
-        Driver positions of the cycle; default ``spec.positions`` (or 360) over one turn;
-        ``spec.positions``, when set, resamples the cycle's range.
+        Driver positions of the cycle; default ``spec.positions`` (or 360) over one turn of one
+        driver (several drivers: their path, shape (n_drivers, n), is required);
+        ``spec.positions``, when set, resamples the cycle's range (each driver's).
     gravity : (gx, gy), optional
         Gravity [m/s^2].
     loads : sequence or callable
@@ -174,37 +186,41 @@ def solve(mech: Mechanism, spec: SpatialSpec, *, angles: ArrayLike,
     Raises
     ------
     ParameterError
-        The table positions leave the range where the mechanism assembles (``--angles``).
+        The table positions leave the range where the mechanism assembles (``--angles``);
+        several drivers without their path or with table positions of another shape.
     """
-    if mech.n_drivers > 1:
-        raise ParameterError("driver", [d.joint for d in mech.drivers],
-                             "the reactions study tables one driver's positions; for several "
-                             "drivers call linkwork.redundancy.spatial_reactions(mech, phi1) "
-                             "with phi1 of shape (n_drivers, n)")
     inputs = model_inputs(spec)
+    nd = mech.n_drivers
     if cycle is None:
+        if nd > 1:
+            raise ParameterError("cycle", None, f"must be the path of the {nd} drivers "
+                                 f"{[d.joint for d in mech.drivers]}, shape (n_drivers, n): "
+                                 "several drivers have no default cycle")
         cyc = np.linspace(0.0, 2 * np.pi, spec.positions or 360, endpoint=False)
-    elif spec.positions:
-        c = np.asarray(cycle, dtype=float)
-        cyc = np.linspace(float(c[0]), float(c[-1]), spec.positions)
     else:
-        cyc = np.asarray(cycle, dtype=float)
+        c = np.asarray(cycle, dtype=float)
+        cyc = (np.linspace(c[..., 0], c[..., -1], spec.positions, axis=-1) if spec.positions
+               else c)
+    tphi = np.asarray(angles, dtype=float)
+    for what, arr in (("cycle", cyc), ("angles", tphi)):
+        if nd > 1 and (arr.ndim != 2 or arr.shape[0] != nd):
+            raise ParameterError(what, f"shape {arr.shape}", f"must have shape ({nd}, n): one "
+                                 f"row per driver {[d.joint for d in mech.drivers]}")
 
     def loads_at(phi: np.ndarray) -> list[Any]:
         return list(loads(phi)) if callable(loads) else list(loads)
 
     kin = kinematics(mech, cyc)
     model = spatial_model(mech, inputs["joints"], inputs["default"])
-    geom = geometry(mech, kin)
-    w, res = _reactions(mech, kin, model, geom, inputs, gravity, loads_at(cyc), method)
-    tphi = np.asarray(angles, dtype=float)
+    w, geom, res = _reactions(mech, kin, model, inputs, gravity, loads_at(cyc), method)
     try:
         kin_t = kinematics(mech, tphi)
     except AssemblyError as exc:
+        if nd > 1:
+            raise
         raise table_positions_error(exc, tphi, mech.drivers[0].kind == "linear") from None
-    _, at = _reactions(mech, kin_t, model, geometry(mech, kin_t), inputs, gravity,
-                       loads_at(tphi), method)
-    count = count_redundancy(model, geom, position=len(cyc) // 7)
+    _, _, at = _reactions(mech, kin_t, model, inputs, gravity, loads_at(tphi), method)
+    count = count_redundancy(model, geom, position=cyc.shape[-1] // 7)
     return ReactionsStudy(mechanism=mech, spec=spec, inputs=inputs, model=model, kinematics=kin,
                           geometry=geom, wrenches=w, reactions=res, table_positions=tphi,
                           table=at, count=count, peaks=res.peaks(), method=method)

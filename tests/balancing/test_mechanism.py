@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from _balancing_cases import com_positions
@@ -493,3 +495,108 @@ def test_bad_inputs_are_named(call, name):
     with pytest.raises(LinkworkError) as exc:
         call()
     assert name in str(exc.value)
+
+
+# -- several drivers: the centre of mass kept still along the drivers' path --------------------
+
+FIVE_BAR = Path(__file__).resolve().parents[1] / "data" / "drivers" / "five_bar_two_cranks.toml"
+
+
+def _five_bar(massless_couplers=False):
+    import dataclasses
+
+    from linkwork import io
+
+    doc = io.load(FIVE_BAR)
+    mech = doc.mechanism()
+    if massless_couplers:
+        mech = dataclasses.replace(mech, bodies=tuple(
+            dataclasses.replace(b, mass=0.0, inertia=0.0) if b.name in ("l1", "l2") else b
+            for b in mech.bodies))
+    return doc, mech
+
+
+def _first_moment(mech, kin):
+    return sum(b.mass * np.stack([kin.point(b.name, "com").x, kin.point(b.name, "com").y])
+               for b in mech.bodies)
+
+
+def test_centre_of_mass_balance_of_two_cranks_by_hand():
+    """Two cranks (1 kg, centres at their midpoints) with massless couplers: each crank's
+    counterweight is its own static moment m r opposite its centre (S = 1 kg x 41.2 mm and
+    50.2 mm at 180 deg), the balance is full; the balanced mechanism's shaking force vanishes
+    at the path's speeds (1e-9 of the unbalanced) and, the centre of mass being still, gravity
+    loads neither driver: Q with and without gravity equal (1e-9)."""
+    from linkwork.balancing.mechanism import centre_of_mass_balance
+
+    doc, mech = _five_bar(massless_couplers=True)
+    phi = doc.positions()
+    kin = kinematics(mech, phi)
+    fb = centre_of_mass_balance(kin)
+    assert fb.full and fb.ratio <= 1e-9
+    for cw, body in zip(fb.counterweights, ("c1", "c2"), strict=True):
+        b = mech.body(body)
+        assert cw.link == body
+        assert cw.static_moment == pytest.approx(b.mass * np.hypot(*b.com), rel=1e-12)
+        assert abs(np.cos(cw.angle) + 1.0) <= 1e-12  # opposite the crank's centre
+    kb = kinematics(fb.mechanism, phi)
+    d0 = inverse_dynamics(kb)
+    dg = inverse_dynamics(kb, gravity=(0.0, -9.81))
+    before = inverse_dynamics(kin)
+    assert np.max(np.hypot(d0.shaking_fx, d0.shaking_fy)) <= 1e-9 * np.max(
+        np.hypot(before.shaking_fx, before.shaking_fy))
+    assert np.max(np.abs(dg.Q - d0.Q)) <= 1e-9 * 9.81 * 0.5
+    m = _first_moment(fb.mechanism, kb)
+    assert np.max(np.abs(m - m[:, :1])) <= 1e-12
+
+
+def test_centre_of_mass_balance_is_the_least_squares_one():
+    """With massive couplers the centre of mass cannot be kept still (partial): the balanced
+    mechanism's own first moment of mass (summed from its bodies, independently of the solver)
+    has the least excursion along the path: changing any counterweight's first moment by 1 %
+    of its size in any direction makes it larger; its mass properties are the old plus the
+    counterweights'."""
+    from linkwork.balancing.mechanism import (
+        add_counterweights,
+        centre_of_mass_balance,
+        path_weights,
+    )
+    from linkwork.balancing.static import Counterweight
+
+    doc, mech = _five_bar()
+    phi = doc.positions()
+    kin = kinematics(mech, phi)
+    fb = centre_of_mass_balance(kin, radii=0.05)
+    assert not fb.full and "do not rotate rigidly" in fb.reason
+    w = path_weights(phi.shape[1])
+
+    def excursion(cws):
+        m2 = add_counterweights(mech, cws)
+        m = _first_moment(m2, kinematics(m2, phi))
+        dm = m - np.sum(w * m, axis=1, keepdims=True)
+        return float(np.sum(w * np.sum(dm * dm, axis=0)))
+
+    best = excursion(fb.counterweights)
+    assert best < 0.05 * excursion([])
+    for k, cw in enumerate(fb.counterweights):
+        q = cw.static_moment * np.exp(1j * cw.angle)
+        for turn in (1, 1j, -1, -1j):
+            moved = list(fb.counterweights)
+            moved[k] = Counterweight.from_first_moment(cw.link, q + 0.01 * abs(q) * turn, 0.05)
+            assert excursion(moved) > best
+    for b in mech.bodies:
+        nb = fb.mechanism.body(b.name)
+        cw = next((c for c in fb.counterweights if c.link == b.name), None)
+        assert nb.mass == pytest.approx(b.mass + (cw.static_moment / 0.05 if cw else 0.0))
+
+
+def test_centre_of_mass_balance_refuses_a_link_that_does_not_turn():
+    """A path along which crank c2 stays put: its counterweight is not determined."""
+    from linkwork.balancing.mechanism import centre_of_mass_balance
+    from linkwork.errors import ParameterError
+
+    doc, mech = _five_bar()
+    phi = doc.positions().copy()
+    phi[1] = phi[1, 0]
+    with pytest.raises(ParameterError, match=r"links = c2 .*does not turn"):
+        centre_of_mass_balance(kinematics(mech, phi))

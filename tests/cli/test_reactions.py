@@ -169,3 +169,51 @@ def test_tilt_deviations_beyond_first_order_theory_are_named(tmp_path, capsys, o
                             "--tolerance-study", "2"], capsys)
     assert code == 2 and len(err.strip().splitlines()) == 1 and "Traceback" not in err
     assert key in err and "0.1 rad" in err
+
+
+def test_reactions_of_several_drivers_table_the_path_and_write_each_drivers_columns(tmp_path,
+                                                                                     capsys):
+    """`linkwork reactions` on the excavator (three cylinders): one table per position along
+    the drivers' path naming every driver's position, each driver's force in the captions and
+    peaks; reactions.csv has phi1_<joint> [m] first and Q_<joint> [N] per driver, equal to
+    linkwork.redundancy called directly on the file's path."""
+    from linkwork import io
+    from linkwork.redundancy import spatial_reactions as direct
+
+    path = Path(__file__).resolve().parents[2] / "examples" / "excavator_boom.toml"
+    code, out, err = run_cli(["reactions", str(path), "--out", str(tmp_path / "o"),
+                              "--no-plots"], capsys)
+    assert code == 0, err
+    assert "path position 1/12: s1 boom_cyl = 1300 mm, s1 arm_cyl = 1450 mm, s1 bucket_cyl = " \
+           "1300 mm" in " ".join(out.split())
+    assert "driving force Q arm_cyl = " in out and "peak |Q bucket_cyl| = " in " ".join(
+        out.split())
+    head = (tmp_path / "o" / "reactions.csv").read_text().splitlines()[0].split(",")
+    assert head[:3] == ["phi1_boom_cyl [m]", "phi1_arm_cyl [m]", "phi1_bucket_cyl [m]"]
+    assert head[-3:] == ["Q_boom_cyl [N]", "Q_arm_cyl [N]", "Q_bucket_cyl [N]"]
+    data = np.loadtxt(tmp_path / "o" / "reactions.csv", delimiter=",", skiprows=1)
+    doc = io.load(path)
+    phi = doc.positions()
+    ref = direct(doc.mechanism(), phi, gravity=doc.analysis.gravity, loads=doc.loads(phi))
+    np.testing.assert_allclose(data[:, :3].T, phi, rtol=1e-15)
+    np.testing.assert_allclose(data[:, -3:].T, ref.Q, rtol=1e-12)
+    peaks = json.loads((tmp_path / "o" / "reactions_peaks.json").read_text())
+    assert peaks["units"]["Q"] == "N"
+    assert peaks["peaks"]["driver"]["Q arm_cyl"] == pytest.approx(np.abs(ref.Q[1]).max())
+
+
+def test_reactions_of_several_drivers_plot_each_drivers_load(tmp_path):
+    """The bending figure of a two-crank file: the axes run along the path, one Q curve per
+    driver labelled with its joint and unit."""
+    from linkwork import io
+    from linkwork.plot.redundancy import plot_bending
+    from linkwork.redundancy import spatial_reactions as direct
+
+    doc = io.load(Path(__file__).resolve().parents[1] / "data" / "drivers"
+                  / "five_bar_two_cranks.toml")
+    res = direct(doc.mechanism(), doc.positions(), gravity=doc.analysis.gravity)
+    out = plot_bending(res)
+    labels = [ln.get_label() for ln in out["Q_lines"]]
+    assert labels == ["Q O1 [N·m]", "Q O2 [N·m]"]
+    np.testing.assert_array_equal(out["Q_lines"][1].get_ydata(), res.Q[1])
+    assert out["Q_lines"][0].get_xdata()[-1] == doc.positions().shape[1] - 1

@@ -64,8 +64,9 @@ def test_bad_several_driver_files(tmp_path, change, key, words):
 
 @pytest.mark.parametrize(("args", "words"), [
     (["analyze", "--angles", "0,30"], "--angles = 0,30 is invalid: gives one driver's"),
-    (["reactions"], "tables one driver's positions"),
-    (["balance"], "balancing (paper 001) needs one crank"),
+    (["reactions", "--angles", "0,30"], "--angles = 0,30 is invalid: gives one driver's"),
+    (["balance", "--pareto"], "--pareto = True is invalid: is for one crank's cycle"),
+    (["balance", "--angles", "0,30"], "--angles = 0,30 is invalid: is for one crank's cycle"),
 ])
 def test_commands_that_take_one_driver_say_so_in_one_line(tmp_path, capsys, args, words):
     code = main([args[0], str(FILE), *args[1:], "--out", str(tmp_path / "o")])

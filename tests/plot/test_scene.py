@@ -399,3 +399,97 @@ def test_timed_scene_takes_a_turn_of_real_motion_and_refuses_others():
     linear = sc.Scene("s", np.array([0.0, 0.1]), "s1", "m", np.ones(2, bool), ())
     with pytest.raises(ParameterError, match="crank"):
         linear.timed("x", nodes, nodes, nodes, 1.0)
+
+
+# ---------------------------------------------------------------------------------------------
+# gears, cylinders and several drivers
+#
+# References: the gear law (30 and 50 teeth: the second gear turns -30/50 of the first; pitch
+# radii 60 and 100 mm from the teeth and the 160 mm between the pivots), the planetary train's
+# geometry (planet of 30 mm rolling in a 90 mm ring), the engine's pivots of the excavator's
+# cylinders (Kinematics.point) and its drivers' coordinates (phi1), and their constant speeds
+# (t = (s - s0) / v). Positions to 1e-12 m, angles to 1e-12 rad.
+
+
+def test_gear_pair_pitch_circles_mesh_point_and_spokes():
+    st = _study("geared_five_bar.toml")
+    scene = st.scene()
+    assert scene.shape("gear G gear1").size == pytest.approx(0.06, abs=1e-15)
+    assert scene.shape("joint G").size == pytest.approx(0.10, abs=1e-15)
+    mesh = scene.shape("mesh G")
+    assert not mesh.moving                                    # both gears on frame pivots
+    P = mesh.xy[0]
+    assert np.hypot(*P) == pytest.approx(0.06, abs=1e-12)
+    assert np.hypot(P[0] - 0.16, P[1]) == pytest.approx(0.10, abs=1e-12)
+    turned = []
+    for gear in ("gear1", "gear2"):
+        sp = scene.shape(f"spokes G {gear}").xy             # (5, 2, n): a diameter first
+        a = np.unwrap(np.arctan2(sp[0, 1] - sp[2, 1], sp[0, 0] - sp[2, 0]))
+        turned.append(a - a[0])
+    np.testing.assert_allclose(turned[1], -30 / 50 * turned[0], atol=1e-12)
+    assert np.ptp(turned[0]) == pytest.approx(np.ptp(st.kinematics.phi1), abs=1e-9)
+
+
+def test_internal_gear_rim_and_mesh_point_travel_with_the_arm():
+    """A planet (30 mm) on an arm rolling in a fixed ring (90 mm, the frame): the ring's rim
+    outside its pitch circle, the pitch point on both pitch circles and on the line from the
+    ring's centre through the planet's."""
+    from linkwork.planar import Body, Crank, GearPair, Mechanism, Revolute, bar
+
+    frame = Body("frame", {"O": (0.0, 0.0)})
+    arm = bar("arm", "O", "Q", 0.06)
+    planet = Body("planet", {"Q": (0.0, 0.0), "T": (0.03, 0.0)})
+    mech = Mechanism(frame, (arm, planet), (
+        Revolute("O", "frame", "arm"), Revolute("Q", "arm", "planet"),
+        GearPair("M", "planet", "frame", radii=(0.03, 0.09), internal=True, carrier="arm")),
+        Crank("O"))
+    kin = kinematics(mech, np.linspace(0, 2 * np.pi, 73))
+    scene = sc.planar_scene(kin)
+    rim = scene.shape("rim M")
+    assert not rim.moving and rim.size == pytest.approx(0.018)
+    np.testing.assert_allclose(np.hypot(rim.xy[:, 0], rim.xy[:, 1]), 0.099, atol=1e-12)
+    P = scene.shape("mesh M").xy[0]                           # (2, n): it moves with the arm
+    Q = kin.point("planet", "Q")
+    np.testing.assert_allclose(np.hypot(*P), 0.09, atol=1e-12)
+    np.testing.assert_allclose(np.hypot(P[0] - Q.x, P[1] - Q.y), 0.03, atol=1e-12)
+    np.testing.assert_allclose(P, np.stack([Q.x, Q.y]) * 0.09 / 0.06, atol=1e-12)
+
+
+def test_cylinders_are_barrel_rod_and_piston_on_the_engine_pivots():
+    st = _study("excavator_boom.toml")
+    scene = st.scene()
+    kin = st.kinematics
+    for cyl, start, end in (("boom_cyl", "A1", "C1"), ("arm_cyl", "A2", "C2"),
+                            ("bucket_cyl", "A3", "C3")):
+        a = kin.point(f"{cyl}_barrel", start)
+        b = kin.point(f"{cyl}_rod", end)
+        A, B = np.stack([a.x, a.y]), np.stack([b.x, b.y])
+        length = np.hypot(*(B - A))
+        np.testing.assert_allclose(length, kin.phi1[["boom_cyl", "arm_cyl",
+                                                     "bucket_cyl"].index(cyl)], atol=1e-12)
+        barrel = scene.shape(f"barrel {cyl}").xy
+        rod = scene.shape(f"rod {cyl}").xy
+        np.testing.assert_allclose(barrel[0], A, atol=1e-12)
+        np.testing.assert_allclose(rod[0], B, atol=1e-12)
+        u = (B - A) / length
+        lb = np.sum((barrel[1] - A) * u, axis=0)
+        piston = np.sum((rod[1] - A) * u, axis=0)
+        assert np.ptp(lb) < 1e-12 and np.ptp(np.hypot(*(rod[1] - rod[0]))) < 1e-12  # rigid
+        assert np.all((piston > 0.0) & (piston < lb))         # the piston inside the barrel
+        off = barrel[1] - A                                    # along the axis: no normal
+        np.testing.assert_allclose(off[0] * u[1] - off[1] * u[0], 0.0, atol=1e-12)
+
+
+def test_several_drivers_number_the_frames_and_read_out_every_driver():
+    st = _study("excavator_boom.toml")
+    scene = st.scene()
+    kin = st.kinematics
+    assert scene.unit == "" and np.array_equal(scene.positions, np.arange(kin.n))
+    assert [r[0] for r in scene.readouts] == ["s boom_cyl", "s arm_cyl", "s bucket_cyl"]
+    for k, (_, unit, v) in enumerate(scene.readouts):
+        assert unit == "mm"
+        np.testing.assert_allclose(v, kin.phi1[k] * 1e3, rtol=1e-15)
+    (tm,) = scene.timings                                      # the drivers' own speeds
+    np.testing.assert_allclose(tm.t, (kin.phi1[0] - 1.3) / 0.045, atol=1e-12)
+    assert tm.span == pytest.approx(4.0 + 4.0 / 80)            # and one step back to the start
+    assert sc._caption(scene, 40).startswith("position 40\ns boom_cyl = 1390.0 mm, ")

@@ -306,16 +306,8 @@ def _independent_reactions(mech, phi, joints, heights, devs, driver_k=1e9):
     out = np.zeros((len(mech.joints), 6, len(phi)))
     Q = np.zeros(len(phi))
 
-    def cross_mat(p):
-        x, y, z = p
-        return np.array([[0, -z, y], [z, 0, -x], [-y, x, 0]])
-
-    def rot(a):
-        c, s = np.cos(a), np.sin(a)
-        R = np.zeros((6, 6))
-        for o in (0, 3):
-            R[o:o + 3, o:o + 3] = [[c, -s, 0], [s, c, 0], [0, 0, 1]]
-        return R
+    from _spatial_reference import _rot6 as rot
+    from _spatial_reference import _skew as cross_mat
 
     for n in range(len(phi)):
         Kg = np.zeros((6 * nb, 6 * nb))
@@ -423,3 +415,258 @@ def test_a_mechanism_movable_in_space_cannot_carry_loads():
     with pytest.raises(StructureError, match="movable in space"):
         rd.spatial_reactions(mech, LOOM_PHI, gravity=LOOM_G, joints={"A": {"kind": "spherical"},
                                                            "B": {"kind": "spherical"}})
+
+
+# -- several drivers -----------------------------------------------------------------------------
+
+ROOT_DIR = __import__("pathlib").Path(__file__).resolve().parents[2]
+
+
+def _several_driver_case(which):
+    """(mechanism, path, gravity, point forces, joint spec, heights, deviations) of the
+    excavator (three cylinders: linear drivers) or the two-crank five-bar, with joints at
+    different heights and axis lengths, bodies lifted and deviations on both sides of joints."""
+    from linkwork import io
+
+    if which == "excavator":
+        doc = io.load(ROOT_DIR / "examples" / "excavator_boom.toml")
+        forces = [("bucket", "K", -12e3, 4e3)]
+        heights = {"boom": 0.05, "arm_cyl_rod": -0.04, "bucket": 0.02}
+        devs = [("O", "frame", (1e-5, 0, 2e-5, 2e-4, -1e-4, 0)),
+                ("E", "bucket", (0, 0, -1e-5, -1e-4, 3e-4, 0)),
+                ("arm_cyl", "arm_cyl_barrel", (0, 1e-5, 0, 1e-4, 0, 2e-4)),
+                ("A1", "boom_cyl_barrel", (0, 0, 3e-5, 0, 2e-4, 0))]
+    else:
+        doc = io.load(ROOT_DIR / "tests" / "data" / "drivers" / "five_bar_two_cranks.toml")
+        forces = [("l1", "P", 30.0, -20.0)]
+        heights = {"l1": 0.01, "c2": -0.005}
+        devs = [("O2", "frame", (0, 0, 1e-5, 2e-4, 1e-4, 0)),
+                ("P", "l2", (1e-5, 0, 0, -2e-4, 0, 0)),
+                ("A", "c1", (0, 0, 2e-5, 0, 1e-4, 0))]
+    mech = doc.mechanism()
+    spec = {}
+    for i, j in enumerate(mech.joints):
+        kind = "prismatic" if j.spatial_family == "P" else "revolute"
+        spec[j.name] = (kind, 0.02 + 0.004 * (i % 5), 0.01 * ((i % 3) - 1), 1e8 * (1 + i % 2))
+    return mech, doc.positions(), tuple(doc.analysis.gravity), forces, spec, heights, devs
+
+
+@pytest.mark.parametrize("which", ["excavator", "five_bar"])
+def test_several_drivers_against_an_independent_spatial_solve(which):
+    """Three linear drivers (the excavator's cylinders) and two cranks (a five-bar): the spatial
+    reactions and every driver's load equal the independent solve of tests/_spatial_reference.py
+    (drivers held rigid by Lagrange multipliers, springs assembled per position from the joint
+    definitions) to 1e-8 of the largest component; the in-plane parts and each driver's Q equal
+    the planar engine's inverse dynamics to 1e-9; the whole machine (the frame's joints against
+    all body loads) is in equilibrium in all six components to 1e-9."""
+    from _spatial_reference import reactions as reference
+
+    from linkwork.planar import PointForce
+
+    mech, path, g, forces, spec, heights, devs = _several_driver_case(which)
+    phi = path[:, ::8]
+    kin = kinematics(mech, phi)
+    joints = {name: {"kind": k, "e": e, "z": z, "k_bearing": kb}
+              for name, (k, e, z, kb) in spec.items()}
+    loads = [PointForce(b, p, fx=fx, fy=fy) for b, p, fx, fy in forces]
+    deviations = [Deviation(jn, bn, *v) for jn, bn, v in devs]
+    r = spatial_reactions(mech, phi, gravity=g, loads=loads, joints=joints, heights=heights,
+                          deviations=deviations)
+    assert r.Q.shape == (mech.n_drivers, phi.shape[1]) and r.redundant > 0
+    frames, centres = {}, {}
+    for j in mech.joints:
+        _, pb, ang = mech.joint_geometry(j)
+        pm = kin.point(j.b, pb)
+        centres[j.name] = (pm.x, pm.y)
+        frames[j.name] = (kin.angle(j.a) + ang if j.spatial_family == "P"
+                          else np.zeros(phi.shape[1]))
+    ref, q_ref = reference(mech, kin, spec=spec, frames=frames, centres=centres,
+                           heights=heights, devs=devs, gravity=g, forces=forces)
+    got = r.components()
+    assert np.abs(ref[:, 2:5]).max() > 1e-3 * np.abs(ref).max()  # out-of-plane parts matter
+    assert np.max(np.abs(got - ref)) <= 1e-8 * np.abs(ref).max()
+    assert np.max(np.abs(r.Q - q_ref)) <= 1e-8 * np.abs(q_ref).max()
+    # in-plane: the planar engine, driver by driver
+    dyn = inverse_dynamics(kin, gravity=g, loads=loads)
+    scale = max(np.abs(dyn.fx).max(), np.abs(dyn.fy).max())
+    for k, name in enumerate(dyn.joints):
+        i = r.joints.index(name)
+        extra = 0.0
+        if name in r.drivers and mech.joint(name).spatial_family == "P":
+            extra = dyn.Q[r.drivers.index(name)]  # the driving force along the slide
+            c, s = np.cos(frames[name]), np.sin(frames[name])
+            assert np.max(np.abs(r.fx[i] - (dyn.fx[k] + extra * c))) <= 1e-9 * scale
+            assert np.max(np.abs(r.fy[i] - (dyn.fy[k] + extra * s))) <= 1e-9 * scale
+            continue
+        assert np.max(np.abs(r.fx[i] - dyn.fx[k])) <= 1e-9 * scale
+        assert np.max(np.abs(r.fy[i] - dyn.fy[k])) <= 1e-9 * scale
+    assert np.max(np.abs(r.Q - dyn.Q)) <= 1e-9 * np.abs(dyn.Q).max()
+    # the whole machine: what the frame's joints exert on the moving bodies balances all loads
+    w = rd.body_wrenches(mech, kin, gravity=g, loads=loads, heights=heights)
+    total = w.sum(axis=1).T  # (6, n) about the origin
+    for j in mech.joints:
+        if mech.frame.name not in (j.a, j.b):
+            continue
+        i = r.joints.index(j.name)
+        sign = 1.0 if j.a == mech.frame.name else -1.0  # as a wrench on the moving body
+        x, y = centres[j.name]
+        p = np.stack([x, y, np.full_like(x, spec[j.name][2])])
+        f = sign * np.stack([r.fx[i], r.fy[i], r.fz[i]])
+        m = sign * np.stack([r.mx[i], r.my[i], r.mz[i]])
+        total += np.concatenate([f, m + np.cross(p, f, axis=0)])
+    assert np.max(np.abs(total[:3])) <= 1e-9 * scale
+    lever = np.abs(path).max() if which == "five_bar" else 5.0
+    assert np.max(np.abs(total[3:])) <= 1e-9 * scale * max(lever, 1.0)
+
+
+# -- gear pairs ----------------------------------------------------------------------------------
+
+
+def _frictionless(mech):
+    import dataclasses
+
+    from linkwork.planar import GearPair
+
+    return dataclasses.replace(mech, joints=tuple(
+        dataclasses.replace(j, efficiency=1.0) if isinstance(j, GearPair) else j
+        for j in mech.joints))
+
+
+def _geared(which):
+    """(mechanism without mesh losses, positions, loads): the geared five-bar example over
+    one period of the pair (5 turns of the 30-tooth gear) and a planetary train (a planet
+    in a fixed ring on a driven arm) with a couple on the planet that reverses."""
+    from linkwork import io
+    from linkwork.planar import Body, Crank, GearPair, Mechanism, Revolute, bar
+
+    if which == "five_bar":
+        doc = io.load(ROOT_DIR / "examples" / "geared_five_bar.toml")
+        phi = doc.positions()[::10]
+        return _frictionless(doc.mechanism()), phi, doc.loads(phi), tuple(doc.analysis.gravity)
+    frame = Body("frame", {"O": (0.0, 0.0)})
+    arm = bar("arm", "O", "Q", 0.06, mass=0.8)
+    planet = Body("planet", {"Q": (0.0, 0.0), "T": (0.03, 0.0)}, mass=0.4, com=(0.004, 0.0),
+                  inertia=2e-4)
+    mech = Mechanism(frame, (arm, planet), (
+        Revolute("O", "frame", "arm"), Revolute("Q", "arm", "planet"),
+        GearPair("M", "planet", "frame", radii=(0.03, 0.09), internal=True, carrier="arm")),
+        Crank("O", omega1=6.0))
+    phi = np.linspace(0.0, 2 * np.pi, 49)
+    return mech, phi, [BodyTorque("planet", 0.4 * np.sin(phi))], (0.0, -9.81)
+
+
+@pytest.mark.parametrize("which", ["five_bar", "planetary"])
+def test_gear_mesh_inplane_parts_are_the_planar_tooth_force(which):
+    """A gear pair in space: its reaction acts at the pitch point along the line of action of
+    the flank in contact (the tooth force and its separating part), so the in-plane reactions
+    of every joint (the pivots carry the separating force) and Q equal the planar engine's
+    without mesh losses to 1e-9, through positions where the tooth force reverses (both flanks
+    are used); the mesh's force along its line is never a pull."""
+    mech, phi, loads, g = _geared(which)
+    kin = kinematics(mech, phi)
+    dyn = inverse_dynamics(kin, gravity=g, loads=loads)
+    r = spatial_reactions(mech, phi, gravity=g, loads=loads)
+    scale = max(np.abs(dyn.fx).max(), np.abs(dyn.fy).max())
+    for k, name in enumerate(dyn.joints):
+        i = r.joints.index(name)
+        assert np.max(np.abs(r.fx[i] - dyn.fx[k])) <= 1e-9 * scale, name
+        assert np.max(np.abs(r.fy[i] - dyn.fy[k])) <= 1e-9 * scale, name
+    assert np.max(np.abs(r.Q - dyn.Q)) <= 1e-9 * np.abs(dyn.Q).max()
+    gear = next(j for j in mech.joints if j.spatial_family == "G")
+    kg = list(dyn.joints).index(gear.name)
+    geom = rd.geometry(mech, kin, rd.body_wrenches(mech, kin, gravity=g, loads=loads))
+    jg = r.joints.index(gear.name)
+    np.testing.assert_allclose(geom.points[:, jg, 0], dyn.px[kg], atol=1e-12)
+    np.testing.assert_allclose(geom.points[:, jg, 1], dyn.py[kg], atol=1e-12)
+    line = geom.slide_angles[:, jg]
+    fn = r.fx[jg] * np.cos(line) + r.fy[jg] * np.sin(line)
+    assert np.all(fn >= -1e-9 * scale)
+    ft_sign = np.sign(np.cos(line - np.arctan2(r.fy[jg], r.fx[jg])))
+    assert np.all(ft_sign[np.abs(fn) > 1e-6 * scale] > 0)
+    # both flanks: the line of action jumps by pi + 2 alpha somewhere in the cycle
+    jumps = np.abs(np.angle(np.exp(1j * np.diff(line))))
+    assert jumps.max() > np.pi / 2
+
+
+def test_gear_mesh_against_an_independent_spatial_solve():
+    """The geared five-bar in space under gravity: spur mesh (line contact: the tooth force and
+    the moment about z x n), pivots and pins at different heights, tilted and offset elements on
+    the frame, a gear and a coupler: reactions and Q equal the independent solve of
+    tests/_spatial_reference.py to 1e-8, its mesh frame taken from the planar engine's tooth
+    force (direction and pitch point)."""
+    from _spatial_reference import reactions as reference
+
+    mech, phi, _, g = _geared("five_bar")
+    phi = phi[::6]
+    kin = kinematics(mech, phi)
+    spec = {"O1": ("revolute", 0.04, 0.0, 2e8), "O2": ("revolute", 0.05, 0.01, 1e8),
+            "A": ("revolute", 0.02, 0.02, 1e8), "B": ("revolute", 0.025, -0.01, 1e8),
+            "P": ("revolute", 0.02, 0.015, 5e7), "G": ("spur", 0.03, 0.005, 6e8)}
+    devs = [("O2", "frame", (0, 0, 2e-5, 3e-4, -1e-4, 0)),
+            ("G", "gear2", (0, 0, 0, 2e-4, 1e-4, 0)),
+            ("P", "coupler1", (1e-5, 0, 1e-5, 0, -2e-4, 0))]
+    heights = {"gear1": 0.0, "gear2": 0.01, "coupler1": 0.02}
+    joints = {n: {"kind": k, "e": e, "z": z, "k_bearing": kb} for n, (k, e, z, kb) in
+              spec.items()}
+    r = spatial_reactions(mech, phi, gravity=g, joints=joints, heights=heights,
+                          deviations=[Deviation(a, b, *v) for a, b, v in devs])
+    dyn = inverse_dynamics(kin, gravity=g)
+    frames, centres = {}, {}
+    for j in mech.joints:
+        if j.spatial_family == "G":
+            kg = list(dyn.joints).index(j.name)
+            frames[j.name] = np.arctan2(dyn.fy[kg], dyn.fx[kg])
+            centres[j.name] = (dyn.px[kg], dyn.py[kg])
+            continue
+        _, pb, _ = mech.joint_geometry(j)
+        pm = kin.point(j.b, pb)
+        centres[j.name], frames[j.name] = (pm.x, pm.y), np.zeros(phi.size)
+    ref, q_ref = reference(mech, kin, spec=spec, frames=frames, centres=centres,
+                           heights=heights, devs=devs, gravity=g)
+    got = r.components()
+    assert r.redundant == 4
+    assert np.abs(ref[:, 3:5]).max() > 1e-2 * np.abs(ref[:, :2]).max()
+    assert np.max(np.abs(got - ref)) <= 1e-8 * np.abs(ref).max()
+    assert np.max(np.abs(r.Q - q_ref[0])) <= 1e-8 * np.abs(q_ref).max()
+
+
+@pytest.mark.parametrize("kind", ["spur", "crowned"])
+def test_gear_mesh_tilt_misfit_in_series_with_the_bearings(kind):
+    """Two gears on frame pivots (r 40 and 80 mm, 20 deg), a 10 N m load on b, the bore of b's
+    pivot tilted by 0.3 mrad about x. Spur teeth (class II): the pair has q = 1 redundant
+    constraint, a pure couple loop through both bearings and the mesh: the mesh's moment about
+    t = z x n is the tilt's component about t times the three tilt stiffnesses in series
+    (k e^2/12 each: bearings 1e8 N/m over 40 and 30 mm, mesh 4e8 N/m over 20 mm face), and
+    each bearing carries the same bending moment; no axial force. Crowned teeth (class I): q =
+    0, the tilt is taken up freely, no moment anywhere. Hand solution to 1e-9."""
+    from linkwork.planar import Body, Crank, GearPair, Mechanism, Revolute
+
+    frame = Body("frame", {"Oa": (0.0, 0.0), "Ob": (0.12, 0.0)})
+    mech = Mechanism(frame, (Body("ga", {"Oa": (0.0, 0.0)}), Body("gb", {"Ob": (0.0, 0.0)})),
+                     (Revolute("Oa", "frame", "ga"), Revolute("Ob", "frame", "gb"),
+                      GearPair("G", "ga", "gb", radii=(0.04, 0.08))), Crank("Oa", omega1=3.0))
+    phi = np.linspace(0.3, 2.0, 5)
+    tilt = 3e-4
+    r = spatial_reactions(mech, phi, loads=[BodyTorque("gb", 10.0)],
+                          joints={"Oa": {"e": 0.04}, "Ob": {"e": 0.03},
+                                  "G": {"kind": kind, "e": 0.02, "k_bearing": 4e8}},
+                          deviations=[Deviation("Ob", "frame", tx=tilt)])
+    assert r.redundant == (1 if kind == "spur" else 0)
+    ig = r.joints.index("G")
+    np.testing.assert_allclose(np.hypot(r.fx[ig], r.fy[ig]), 125 / np.cos(np.radians(20)),
+                               rtol=1e-12)
+    assert np.abs(r.fz).max() <= 1e-9 * 125
+    if kind == "crowned":
+        assert np.abs(np.stack([r.mx, r.my])).max() <= 1e-9 * 125 * 0.1
+        return
+    n = np.arctan2(r.fy[ig], r.fx[ig])  # the line of action (the tooth force on b)
+    t = np.stack([-np.sin(n), np.cos(n)])
+    about_t = tilt * t[0]  # the tilt (about x) resolved on t
+    k_series = 1.0 / sum(12.0 / (k * e * e) for k, e in ((1e8, 0.04), (1e8, 0.03),
+                                                        (4e8, 0.02)))
+    mt = r.mx[ig] * t[0] + r.my[ig] * t[1]
+    np.testing.assert_allclose(np.abs(mt), k_series * np.abs(about_t), rtol=1e-9)
+    assert np.abs(r.mx[ig] * np.cos(n) + r.my[ig] * np.sin(n)).max() <= 1e-9 * np.abs(mt).max()
+    for name in ("Oa", "Ob"):
+        i = r.joints.index(name)
+        np.testing.assert_allclose(r.bending()[i], np.abs(mt), rtol=1e-9)

@@ -33,10 +33,7 @@ from linkwork.studies import sine_press, swashplate
 from linkwork.studies import synthesis as study_synthesis
 
 ROOT = Path(__file__).resolve().parents[2]
-#: the examples of one driver (the report animates one driver's cycle; several drivers are
-#: refused in one line: tests/report/test_core.py)
-EXAMPLES = [p for p in sorted((ROOT / "examples").glob("*.toml"))
-            if not isinstance(io.read_toml(p).get("driver"), list)]
+EXAMPLES = sorted((ROOT / "examples").glob("*.toml"))
 PARTIAL = ROOT / "tests" / "data" / "partial" / "fourbar_partial.toml"
 SCREENSHOTS = ROOT / "test-output" / "screenshots"
 CHROMIUM = os.environ.get("LINKWORK_CHROMIUM", "/usr/bin/chromium")
@@ -145,6 +142,8 @@ def _engine_points(stem: str) -> tuple[dict[str, np.ndarray], np.ndarray]:
     doc = io.load(path)
     if isinstance(doc, io.PlanarFile):
         kin = study_planar.analyze(doc, on_failure="nan").kinematics
+        if kin.mechanism.n_drivers > 1:      # the frames are the positions' indices
+            return _joint_points(kin), np.arange(kin.n, dtype=float)
         return _joint_points(kin), np.asarray(kin.phi1)
     if isinstance(doc, io.SynthesisFile):      # the page shows the first path design first
         kin = study_synthesis.run(doc, "path").motion(0)
@@ -189,7 +188,7 @@ def test_animation_advances_and_draws_the_engine_positions(opened):
         o.api(f"show({k})")
         assert o.api("frame()") == k and not o.api("playing()")
         i = frames[k]                                    # the cycle's position of frame k
-        unit_f = 180 / math.pi if o.data["scene"]["unit"] == "deg" else 1e3
+        unit_f = {"deg": 180 / math.pi, "mm": 1e3, "": 1.0}[o.data["scene"]["unit"]]
         assert o.data["scene"]["pos"][k] == pytest.approx(positions[i] * unit_f, abs=1e-5)
         for name, xy in engine.items():
             drawn = o.circle(name)
@@ -475,3 +474,28 @@ def test_screenshot_of_the_force_elements_at_work(browser, pages):
         assert o.page.locator('polyline[data-name="load drawing"]').get_attribute("points")
     finally:
         o.close()
+
+
+@pytest.mark.parametrize("opened", ["excavator_boom"], indirect=True)
+def test_several_drivers_read_out_each_drivers_coordinate(opened):
+    """The excavator's three cylinders: the frames are the positions along their path; at
+    every frame checked the readout gives each cylinder's pin-to-pin length of the engine
+    there, and in real time the path takes the drivers' 4 s (s / v)."""
+    o = opened
+    o.api("pause()")
+    kin = study_planar.analyze(io.load(ROOT / "examples" / "excavator_boom.toml")).kinematics
+    scene = o.data["scene"]
+    assert scene["unit"] == "" and [r["label"] for r in scene["readouts"]] == [
+        "s boom_cyl", "s arm_cyl", "s bucket_cyl"]
+    for k in _frames_to_check(o):
+        o.api(f"show({k})")
+        i = scene["frames"][k]
+        text = o.page.text_content("#lw-drivers")
+        want = ", ".join(f"s {j} = {kin.phi1[d, i] * 1e3:.1f} mm"
+                         for d, j in enumerate(("boom_cyl", "arm_cyl", "bucket_cyl")))
+        assert text == want
+        assert o.page.text_content("#lw-pos") == f"position {i} of {kin.n - 1}"
+    o.page.select_option("#lw-speed", "t0")
+    o.api("show(40)")
+    assert o.page.text_content("#lw-time").startswith("t = 2.000 s of 4.050 s")
+    assert [m for m in o.messages if m[0] in ("error", "pageerror")] == []

@@ -64,3 +64,41 @@ def test_a_linear_driver_is_refused_with_the_message_of_the_command():
         study_balance.run(doc)
     assert str(exc.value) == ("driver = G is invalid: must be a crank turning about a frame "
                               "joint")
+
+
+def test_several_drivers_are_balanced_along_their_path(tmp_path, capsys):
+    """A two-crank five-bar: the path study's counterweights are those of
+    centre_of_mass_balance on the file's path; its shaking loads and each driver's Q before and
+    after are the engine's on the unbalanced and balanced mechanisms (gravity and loads in Q);
+    `linkwork balance` prints them, says what is not computed and why, and writes the path's
+    columns and the summary. A crank cycle's [balance] keys are refused by name."""
+    from linkwork.balancing.mechanism import centre_of_mass_balance, shaking_loads
+    from linkwork.cli import main
+    from linkwork.planar import inverse_dynamics, kinematics
+    from linkwork.studies import balance as study_balance
+
+    path = ROOT / "tests" / "data" / "drivers" / "five_bar_two_cranks.toml"
+    doc = io.load(path)
+    s = study_balance.run_path(doc)
+    phi = doc.positions()
+    fb = centre_of_mass_balance(kinematics(doc.mechanism(), phi))
+    assert [c.static_moment for c in s.balance.counterweights] == pytest.approx(
+        [c.static_moment for c in fb.counterweights], rel=1e-12)
+    kb = kinematics(fb.mechanism, phi)
+    np.testing.assert_allclose(s.after.fx, shaking_loads(kb).fx, rtol=0, atol=1e-12)
+    d1 = inverse_dynamics(kb, gravity=doc.analysis.gravity, loads=doc.loads(phi))
+    np.testing.assert_allclose(s.dynamics_after.Q, d1.Q, rtol=1e-12)
+    assert s.table_positions.shape == (2, 12) and s.table_Q1.shape == (2, 12)
+    d = s.to_dict()
+    assert set(d["summary"]) >= {"Q O1 peak [N*m]", "frame joint O2 peak [N]"}
+    assert "moved crank-counterweight axis" in d["not_computed"]
+    code = main(["balance", str(path), "--out", str(tmp_path / "o")])
+    out = capsys.readouterr().out
+    assert code == 0 and "along their path" in out and "not computed:" in out
+    head = (tmp_path / "o" / "balance_path.csv").read_text().splitlines()[0]
+    assert head.startswith("phi1.O1 [rad],phi1.O2 [rad],Fx0 [N]") and "Q1.O2 [N*m]" in head
+    assert (tmp_path / "o" / "balancing_path.png").stat().st_size > 0
+    bad = tmp_path / "bad.toml"
+    bad.write_text(path.read_text() + "\n[balance]\nangles = [0, 30]\n")
+    with pytest.raises(ParameterError, match=r"balance\.angles .*crank cycle"):
+        study_balance.run_path(io.load(bad))

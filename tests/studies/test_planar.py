@@ -168,9 +168,11 @@ def test_every_command_tables_the_same_default_positions(path):
         np.testing.assert_array_equal(tphi[:, [0, -1]], phi[:, [0, -1]])
         assert tphi.shape == (phi.shape[0], 12)
         np.testing.assert_array_equal(study_planar.analyze(doc).table_positions, tphi)
-        return  # (linkwork reactions tables one driver's positions)
+        if all(j.spatial_family is not None for j in doc.mechanism().joints):
+            np.testing.assert_array_equal(study_reactions.run(doc).table_positions, tphi)
+        return
     assert phi[0] - 1e-12 <= tphi.min() and tphi.max() <= phi[-1] + 1e-12
     np.testing.assert_array_equal(study_planar.analyze(doc).table_positions, tphi)
     if all(j.spatial_family is not None for j in doc.mechanism().joints):
-        # (the spatial reactions take revolute and prismatic joints only)
+        # (the spatial reactions take no pin-in-slot joint)
         np.testing.assert_array_equal(study_reactions.run(doc).table_positions, tphi)

@@ -13,6 +13,7 @@ from linkwork import io, planar
 from linkwork import redundancy as rd
 from linkwork.cli import main
 from linkwork.errors import ParameterError
+from linkwork.studies import planar as study_planar
 from linkwork.studies import reactions as study_reactions
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -86,3 +87,56 @@ def test_reactions_solves_the_cycle_kinematics_once(tmp_path, capsys):
     capsys.readouterr()
     assert kin.call_count == 2
     assert analyse.call_count == 1
+
+
+DRIVERS = ROOT / "tests" / "data" / "drivers" / "five_bar_two_cranks.toml"
+
+
+def _with_spatial(path, tmp_path, spatial):
+    f = tmp_path / path.name
+    f.write_text(path.read_text() + spatial)
+    return io.load(f)
+
+
+@pytest.mark.parametrize("path, spatial", [
+    (DRIVERS, '\n[spatial]\npositions = 31\ndefault = { e = "25 mm" }\n'
+              'joints.O2 = { z = "-10 mm", e = "40 mm" }\nheights = { l1 = "8 mm" }\n'
+              '[[spatial.deviation]]\njoint = "P"\nbody = "l2"\ntx = "0.2 mrad"\n'),
+    (ROOT / "examples" / "excavator_boom.toml",
+     '\n[spatial]\ndefault = { e = "60 mm" }\njoints.E = { z = "30 mm" }\n'
+     '[[spatial.deviation]]\njoint = "O"\nbody = "frame"\nty = "0.3 mrad"\n'),
+], ids=["two cranks", "three cylinders"])
+def test_several_drivers_study_equals_spatial_reactions_along_the_path(path, spatial, tmp_path):
+    """A file of several drivers: the study's cycle is the drivers' path (resampled by [spatial]
+    positions, each driver from its start to its stop), its table the 12 positions of every
+    command along it; both equal linkwork.redundancy called directly with those positions."""
+    doc = _with_spatial(path, tmp_path, spatial)
+    study = study_reactions.run(doc)
+    phi = doc.positions()
+    cyc = (np.linspace(phi[:, 0], phi[:, -1], doc.spatial.positions, axis=1)
+           if doc.spatial.positions else phi)
+    np.testing.assert_array_equal(study.cycle, cyc)
+    direct = _direct(doc, cyc)
+    assert study.reactions.Q.shape == (2 if path == DRIVERS else 3, cyc.shape[1])
+    np.testing.assert_allclose(study.reactions.components(), direct.components(), rtol=0,
+                               atol=1e-12 * np.abs(direct.components()).max())
+    np.testing.assert_allclose(study.reactions.Q, direct.Q, rtol=1e-12)
+    tphi = study_planar.default_table_positions(doc)
+    np.testing.assert_array_equal(study.table_positions, tphi)
+    at = _direct(doc, tphi)
+    np.testing.assert_allclose(study.table.components(), at.components(), rtol=0,
+                               atol=1e-12 * np.abs(at.components()).max())
+    assert study.linear_drivers == tuple(d.kind == "linear" for d in doc.mechanism().drivers)
+    assert np.abs(study.reactions.my).max() > 0  # the deviation and heights load the joints
+    peaks = study.peaks_dict()["peaks"]["driver"]
+    for k, d in enumerate(doc.mechanism().drivers):
+        assert peaks[f"Q {d.joint}"] == pytest.approx(np.abs(direct.Q[k]).max(), rel=1e-12)
+
+
+def test_several_drivers_need_their_path():
+    doc = io.load(DRIVERS)
+    with pytest.raises(ParameterError, match=r"cycle .*path of the 2 drivers"):
+        study_reactions.solve(doc.mechanism(), doc.spatial, angles=doc.positions()[:, :3])
+    with pytest.raises(ParameterError, match=r"angles = shape \(3,\).*one row per driver"):
+        study_reactions.solve(doc.mechanism(), doc.spatial, angles=[0.1, 0.2, 0.3],
+                              cycle=doc.positions())
