@@ -437,6 +437,42 @@ def test_synthesis_designs_are_chosen_and_each_drawn_by_the_engine(opened):
     assert q > 0 and [m for m in o.messages if m[0] in ("error", "pageerror")] == []
 
 
+def test_a_six_bar_synthesis_design_is_drawn_by_the_engine(browser, tmp_path):
+    """A Stephenson III six-bar path task (tests/data/synthesis/stephenson_path.toml): each
+    design, chosen, is drawn with every joint (C on the coupler, D, O6 included) at the
+    engine's positions of that design (SynthesisStudy.motion, run here) at several frames; no
+    error on the page; the section shot for review."""
+    task = ROOT / "tests" / "data" / "synthesis" / "stephenson_path.toml"
+    doc = io.load(task)
+    html = report.write(report.build(doc, path=task), tmp_path / "six.html")
+    study = study_synthesis.run(doc, "path")
+    o = Opened(browser, html)
+    try:
+        o.api("pause()")
+        assert len(o.data["alternatives"]) + 1 == len(study.designs)
+        for j in range(len(study.designs)):
+            o.page.select_option("#lw-choice", str(j))
+            assert o.api("choice()") == j
+            engine = _joint_points(study.motion(j))
+            assert {"joint C", "joint D", "joint O6"} <= set(engine)
+            scene = o.data["scene"] if j == 0 else o.data["alternatives"][j - 1]
+            for k in _frames_to_check(o):
+                o.api(f"show({k})")
+                f = scene["frames"][k]
+                for name, xy in engine.items():
+                    svg = "#lw-scene" if j == 0 else f"#lw-v{j}-scene"
+                    loc = o.page.locator(f'{svg} circle[data-name="{name}"]').first
+                    drawn = (float(loc.get_attribute("cx")), -float(loc.get_attribute("cy")))
+                    assert drawn == pytest.approx((xy[0, f], xy[1, f]),
+                                                  abs=0.51 * scene["q"] + 1e-6), name
+        SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+        o.page.locator("#lw-synthesis-path").screenshot(
+            path=str(SCREENSHOTS / "stephenson_path-synthesis-path.png"))
+        assert [m for m in o.messages if m[0] in ("error", "pageerror")] == []
+    finally:
+        o.close()
+
+
 SECTIONS = [("loom_sixbar", "dynamics"), ("sine_press", "dynamics"),
             ("synthesis_tasks", "synthesis-path"), ("synthesis_tasks", "synthesis-function"),
             ("synthesis_tasks", "synthesis-motion")]
