@@ -33,6 +33,8 @@ bench: $(STAMP)
 	$(BIN)/python benchmarks/swashplate_synthesis.py
 	$(BIN)/python benchmarks/tolerance_study.py
 	$(BIN)/python benchmarks/machine.py
+	$(BIN)/python benchmarks/cli.py
+	$(BIN)/python benchmarks/long_cycle.py
 	$(BIN)/python benchmarks/synthesis.py
 	$(BIN)/python benchmarks/forces.py
 

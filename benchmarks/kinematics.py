@@ -1,44 +1,46 @@
-"""Kinematics benchmark: linkwork's closed forms and planar engine, plain NumPy, and pylinkage.
+"""Kinematics benchmark: linkwork's closed forms and planar engine against the same algorithms
+written flat, fused compiled loops with the same outputs, and pylinkage.
 
-Times, side by side in one run, the complete kinematics (positions, velocities, accelerations)
-of two mechanisms over ``n`` crank positions of one revolution:
+Cases, over ``n`` crank positions of one revolution (four-bar of paper 001, a, b, c, d = 0.1,
+0.3, 0.2, 0.3 m; offset crank-slider, crank 0.05 m, rod 0.2 m, offset 0.015 m; 10 rad/s):
 
-* the four-bar of paper 001 (a, b, c, d = 0.1, 0.3, 0.2, 0.3 m), omega2 = 10 rad/s;
-* an offset crank-slider (crank 0.05 m, rod 0.2 m, guide offset 0.015 m), omega1 = 10 rad/s;
+``four-bar closed form`` :func:`linkwork.models.fourbar.fourbar` (10 outputs and the mask)
+    against ``flat NumPy`` (its algorithm written flat: no checks, no blocks, no result object)
+    and ``fused numba loop`` (:mod:`_fused`, the same outputs by the same algorithm: the
+    practical limit); ``textbook NumPy`` (Norton's Eqs. (4.10), (6.18), (7.12): ten
+    transcendentals per position against five) as information.
+``crank-slider closed form`` :func:`linkwork.models.crank_slider.offset_crank_slider` (14
+    outputs) against the same three (the textbook form computes 6 outputs: information).
+``four-bar engine`` :func:`linkwork.planar.kinematics` on ``fourbar_mechanism`` (pose,
+    velocity, acceleration of every body: 9 arrays of (4, n)) against a fused numba loop with
+    those outputs; pylinkage's numba loop (``step_fast_with_kinematics``; its own outputs, joint
+    positions, velocities, accelerations) and its pure-Python run as anchors.
+``four-bar engine + reactions`` the same plus :func:`linkwork.planar.inverse_dynamics` against
+    a fused loop that computes both (every reaction, point, the driving torque, shaking force
+    and moment, kinetic energy); ``closed form + reactions``
+    (:func:`linkwork.models.fourbar.fourbar_kinetostatics`) as information.
+``crank-slider engine`` (and + reactions), pylinkage: information.
+``four-bar designs`` ``--designs`` Grashof crank-rockers x 360 positions: the closed form in one
+    broadcast call (dimensions of shape (m, 1)) against the engine in the loop a user writes
+    today (one mechanism and one call per design); ``engine, 1 position`` the engine's fixed
+    cost per call.
 
-with these contenders:
+Agreement: before timing, at every case and size timed, every output of every contender is
+compared with the reference (the first contender of the case; pylinkage on joint B) to 1e-9 of
+the largest value of that output (angles modulo 2 pi); a disagreement aborts.
 
-``closed form``          :func:`linkwork.models.fourbar.fourbar` /
-                         :func:`linkwork.models.crank_slider.offset_crank_slider`
-``plain NumPy``          a textbook closed form written out in this file (Norton's Eqs. (4.10),
-                         (6.18), (7.12) for the four-bar; circle-line intersection for the slider)
-``plain NumPy, vector form``  four-bar only: the algorithm of ``fourbar()`` written flat (no
-                         checks, no blocks, no result object): the library's own overhead
-``plain NumPy, same outputs``  crank-slider only: every output of ``offset_crank_slider``
-                         (14 arrays against the textbook version's 6) written flat, likewise
-``engine``               :func:`linkwork.planar.kinematics` on the engine model
-``engine + reactions``   the same plus :func:`linkwork.planar.inverse_dynamics` (masses on)
-``closed form + reactions`` :func:`linkwork.models.fourbar.fourbar_kinetostatics` (four-bar)
-``pylinkage (numba)``    ``Linkage.step_fast_with_kinematics`` (numba-compiled loop)
-``pylinkage (no numba)`` the same with ``NUMBA_DISABLE_JIT=1`` (run in a subprocess)
-
-Before timing, every contender's output (slider / coupler-rocker joint B: position, velocity,
-acceleration) is compared with the plain NumPy one (relative 1e-9); a disagreement aborts.
+Timing: ``--repeat`` rounds (default 7; ``--long-repeat`` for calls over 1 s), one sample of
+every contender of a case per round (each sample looping >= 20 ms), so load from other
+processes hits them alike; every time is printed as min / median / max over the rounds, every
+ratio as min / median / max of the per-round ratios. The targets (issues 3 and 20) are judged
+against that spread: ``met`` (every round), ``met by the median only``, ``missed``.
 
 Usage::
 
-    python benchmarks/kinematics.py                 # n = 360 and 100000, table on stdout
-    python benchmarks/kinematics.py --n 360 --markdown
-    python benchmarks/kinematics.py --no-pylinkage  # without the optional dependency
-
-Medians of ``--repeat`` samples; each sample loops long enough to take >= 20 ms, and the
-contenders of one case are sampled round-robin (one sample of each per round), so that load
-from other processes hits all of them alike.  Ratios are
-(time of the row) / (time of plain NumPy), and the summary checks the targets of issue 3:
-closed forms within 1.2x of plain NumPy; the engine's four-bar kinematics at 100,000 positions
-no slower than pylinkage with numba and at least 30x faster than pylinkage without numba.
-It also prints, as information, each closed form's time over the same algorithm written flat
-(the library's own overhead: argument checks, assembly test, result object).
+    python benchmarks/kinematics.py                      # n = 360 and 100000, all cases
+    python benchmarks/kinematics.py --markdown --json out.json
+    python benchmarks/kinematics.py --n 360 --no-numba-off --designs 1000
+    python benchmarks/kinematics.py --no-pylinkage --no-fused   # without the bench extra
 """
 
 from __future__ import annotations
@@ -47,22 +49,34 @@ import argparse
 import json
 import math
 import os
-import statistics
 import subprocess
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import (
+    Spread,
+    finish,
+    fmt_spread,
+    load,
+    max_rel_diff,
+    ratio,
+    time_rounds,
+    verdict,
+)
+
 FOURBAR = (0.1, 0.3, 0.2, 0.3)          # a, b, c, d [m] (paper 001's example)
 SLIDER = (0.05, 0.2, 0.015)             # crank r, rod l, guide offset e [m]; guide x = e
 OMEGA = 10.0                            # [rad/s]
-MASSES = (1.0, 3.0, 2.0)                # for "engine + reactions" [kg]
+MASSES = (1.0, 3.0, 2.0)                # for the reactions [kg]
 RTOL = 1e-9
-TARGET_N = 100_000                      # the engine-against-pylinkage targets are set here
+TARGET_N = 100_000                      # the engine targets are set at this n
 
 
 # ---------------------------------------------------------------------------------------------
@@ -99,12 +113,15 @@ def numpy_fourbar(t2: np.ndarray, a: float, b: float, c: float, d: float,
 def numpy_fourbar_vector(t2: np.ndarray, a: float, b: float, c: float, d: float,
                          w2: float) -> tuple[np.ndarray, ...]:
     """The same outputs by the vector (circle-intersection) form that ``fourbar()`` uses,
-    written flat: no checks, no blocks, no result object.  Measures the library's overhead."""
+    written flat: no argument checks, no blocks, no result object; the assembly test (one
+    reduction of the Heron term) as the eleventh output. Measures the library's overhead."""
     ax, ay = a * np.cos(t2), a * np.sin(t2)
     sx, sy = d - ax, -ay                                  # A -> O4
     f2 = sx * sx + sy * sy
     k = (b * b - c * c + f2) / (2 * f2)
-    h = np.sqrt(b * b / f2 - k * k)
+    h2 = b * b / f2 - k * k
+    ok = bool(h2.min() >= 0.0)
+    h = np.sqrt(h2)
     ux, uy = k * sx - h * sy, k * sy + h * sx             # B - A
     vx, vy = ux - sx, uy - sy                             # B - O4
     den = ux * vy - uy * vx
@@ -114,7 +131,7 @@ def numpy_fourbar_vector(t2: np.ndarray, a: float, b: float, c: float, d: float,
     gy = w2 * w2 * ay + w3 * w3 * uy - w4 * w4 * vy
     al3 = (gx * vx + gy * vy) / den
     al4 = (gx * ux + gy * uy) / den
-    return (np.arctan2(uy, ux), np.arctan2(vy, vx), w3, w4, al3, al4, ax, ay, vx + d, vy)
+    return (np.arctan2(uy, ux), np.arctan2(vy, vx), w3, w4, al3, al4, ax, ay, vx + d, vy, ok)
 
 
 def numpy_slider(t: np.ndarray, r: float, l: float, e: float,
@@ -162,123 +179,233 @@ def numpy_slider_same_outputs(t: np.ndarray, r: float, l: float, e: float,
 
 
 # ---------------------------------------------------------------------------------------------
-# contenders: each returns (position, velocity, acceleration) of the output point for checking
+# contenders
 # ---------------------------------------------------------------------------------------------
 
 
 @dataclass
 class Contender:
+    """One way to compute a case. ``output(result)`` gives its outputs in the case's order;
+    ``expect(reference_result, reference_outputs)`` what it must equal (default the reference
+    outputs); ``role``:
+    ``"ref"`` (the case's reference: the library call), ``"same"`` (same algorithm and outputs),
+    ``"limit"`` (fused loop, same outputs), ``"info"`` (another algorithm or other outputs)."""
+
     name: str
     run: Callable[[], Any]
-    output: Callable[[Any], tuple[np.ndarray, ...]]
-    times: list[float] = field(default_factory=list)
+    output: Callable[[Any], tuple[Any, ...]]
+    role: str = "same"
+    expect: Callable[[Any, tuple[Any, ...]], tuple[Any, ...]] | None = None
+
+
+@dataclass
+class Case:
+    name: str
+    n: int
+    contenders: list[Contender]
+    angles: tuple[int, ...] = ()     # indices of the reference outputs that are angles
+    per: int = 0                     # positions per call (for ns/position); default n
+    groups: tuple[tuple[int, ...], ...] = ()  # outputs that share a scale (vectors)
 
 
 def _angles(n: int) -> np.ndarray:
     return np.arange(n) * (2 * math.pi / n)
 
 
-def fourbar_contenders(n: int, with_engine: bool = True) -> list[Contender]:
+def _fused() -> Any:
+    """The fused loops (numba), or None when numba is not installed."""
+    try:
+        import _fused
+    except ImportError:
+        return None
+    return _fused
+
+
+def fourbar_case(n: int, fused: bool = True) -> Case:
     from linkwork.models.fourbar import fourbar
 
     t = _angles(n)
     a, b, c, d = FOURBAR
-    out: list[Contender] = []
+    cons = [Contender("closed form", lambda: fourbar(t, a, b, c, d, OMEGA),
+                      lambda r: (r.theta3, r.theta4, r.omega3, r.omega4, r.eps3, r.eps4,
+                                 r.xA, r.yA, r.xB, r.yB), "ref"),
+            Contender("flat NumPy, same algorithm", lambda: numpy_fourbar_vector(t, a, b, c, d,
+                                                                                  OMEGA),
+                      lambda r: r[:10])]
+    fz = _fused() if fused else None
+    if fz is not None:
+        cons.append(Contender("fused numba loop", lambda: fz.fourbar(t, a, b, c, d, OMEGA),
+                              lambda r: tuple(r[0]), "limit"))
+    cons.append(Contender("textbook NumPy (Norton)", lambda: numpy_fourbar(t, a, b, c, d, OMEGA),
+                          lambda r: r[:10], "info"))
+    return Case("four-bar closed form", n, cons, angles=(0, 1))
 
-    def plain_out(r: Any) -> tuple[np.ndarray, ...]:
-        w4, al4, xb, yb = r[3], r[5], r[8], r[9]
-        return _rocker_point(xb, yb, w4, al4, d)
 
-    out.append(Contender("plain NumPy", lambda: numpy_fourbar(t, a, b, c, d, OMEGA), plain_out))
-    out.append(Contender("plain NumPy, vector form",
-                         lambda: numpy_fourbar_vector(t, a, b, c, d, OMEGA), plain_out))
+def slider_case(n: int, fused: bool = True) -> Case:
+    from linkwork.models.crank_slider import offset_crank_slider
 
-    def closed_out(r: Any) -> tuple[np.ndarray, ...]:
-        return _rocker_point(r.xB, r.yB, r.omega4, r.eps4, d)
+    t = _angles(n)
+    r_, l_, e_ = SLIDER
+    cons = [Contender("closed form", lambda: offset_crank_slider(t, r_, l_ / r_, e_ / r_, OMEGA),
+                      lambda r: (r.X_B, r.Y_B, r.X_C, r.Y_C, r.phi2, r.U21, r.V_qC, r.eps_q2,
+                                 r.a_qC, r.omega2, r.eps2, r.V_C, r.a_C, r.pressure_angle),
+                      "ref"),
+            Contender("flat NumPy, same algorithm",
+                      lambda: numpy_slider_same_outputs(t, r_, l_, e_, OMEGA), lambda r: r)]
+    fz = _fused() if fused else None
+    if fz is not None:
+        cons.append(Contender("fused numba loop", lambda: fz.crank_slider(t, r_, l_, e_, OMEGA),
+                              lambda r: tuple(r[0]), "limit"))
+    cons.append(Contender("textbook NumPy (6 outputs)",
+                          lambda: numpy_slider(t, r_, l_, e_, OMEGA),
+                          lambda r: (r[0], r[1], r[2]), "info",
+                          lambda _, ref: (ref[3], ref[11], ref[12])))
+    return Case("crank-slider closed form", n, cons)
 
-    out.append(Contender("closed form", lambda: fourbar(t, a, b, c, d, OMEGA), closed_out))
-    if with_engine:
+
+_KIN = ("x", "y", "theta", "vx", "vy", "omega", "ax", "ay", "eps")
+_DYN = ("fx", "fy", "px", "py")
+_SCALARS = ("Q", "shaking_fx", "shaking_fy", "shaking_m", "T")
+
+
+def engine_case(n: int, reactions: bool, fused: bool = True, pylinkage: bool = False) -> Case:
+    from linkwork.planar import fourbar_mechanism, inverse_dynamics, kinematics
+
+    t = _angles(n)
+    a, b, c, d = FOURBAR
+    mech = fourbar_mechanism(a, b, c, d, masses=MASSES, omega1=OMEGA)
+
+    def kin_out(k: Any) -> tuple[Any, ...]:
+        return tuple(getattr(k, q) for q in _KIN)
+
+    if reactions:
+        def eng(_: Any = None) -> Any:
+            return inverse_dynamics(kinematics(mech, t))
+
+        def eng_out(dyn: Any) -> tuple[Any, ...]:
+            return (*kin_out(dyn.kinematics), *(getattr(dyn, q) for q in _DYN),
+                    *(getattr(dyn, q) for q in _SCALARS))
+    else:
+        def eng(_: Any = None) -> Any:
+            return kinematics(mech, t)
+
+        eng_out = kin_out
+    cons = [Contender("engine + reactions" if reactions else "engine", eng, eng_out, "ref")]
+    fz = _fused() if fused else None
+    if fz is not None:
+        def fused_out(r: Any) -> tuple[Any, ...]:
+            kin, dyn, sc, _ = r
+            return (*kin, *dyn, *sc) if reactions else tuple(kin)
+
+        cons.append(Contender("fused numba loop", lambda: fz.engine_fourbar(
+            t, a, b, c, d, OMEGA, MASSES, reactions), fused_out, "limit"))
+    if reactions:
         from linkwork.models.fourbar import fourbar_kinetostatics
 
-        out.append(Contender("closed form + reactions",
-                             lambda: fourbar_kinetostatics(t, a, b, c, d, OMEGA, mass=MASSES,
-                                                           inertia=_rod_inertias()),
-                             lambda f: closed_out(f.kinematics)))
-        from linkwork.planar import fourbar_mechanism as engine_model
-        from linkwork.planar import inverse_dynamics, kinematics
-
-        mech = engine_model(a, b, c, d, masses=MASSES, omega1=OMEGA)
-
-        def eng_out(k: Any) -> tuple[np.ndarray, ...]:
-            p = k.point("rocker", "B")
+        inert = tuple(m * x * x / 12.0 for m, x in zip(MASSES, FOURBAR[:3], strict=True))
+        cons.append(Contender("closed form + reactions (Q checked)",
+                              lambda: fourbar_kinetostatics(t, a, b, c, d, OMEGA, mass=MASSES,
+                                                            inertia=inert),
+                              lambda f: (f.Q,), "info",
+                              lambda _, ref: (ref[len(_KIN) + len(_DYN)],)))
+    if pylinkage:
+        def joint_b(res: Any, _: Any) -> tuple[Any, ...]:
+            p = (res.kinematics if reactions else res).point("rocker", "B")
             return p.x, p.y, p.vx, p.vy, p.ax, p.ay
 
-        out.append(Contender("engine", lambda: kinematics(mech, t), eng_out))
-        out.append(Contender("engine + reactions",
-                             lambda: inverse_dynamics(kinematics(mech, t)),
-                             lambda dyn: eng_out(dyn.kinematics)))
-    return out
+        cons.append(_pylinkage_fourbar(n, joint_b))
+    groups = ((0, 1), (3, 4), (6, 7)) + (((9, 10), (11, 12), (14, 15)) if reactions else ())
+    return Case("four-bar engine + reactions" if reactions else "four-bar engine", n, cons,
+                angles=(2,), groups=groups)
 
 
-def _rod_inertias() -> tuple[float, float, float]:
-    """Thin-rod centroidal inertias m l^2 / 12, as the engine's default."""
-    return tuple(m * x * x / 12.0 for m, x in zip(MASSES, FOURBAR[:3], strict=True))  # type: ignore[return-value]
+def slider_engine_case(n: int, reactions: bool, pylinkage: bool = False) -> Case:
+    from linkwork.models.crank_slider import offset_crank_slider
+    from linkwork.planar import crank_slider_mechanism, inverse_dynamics, kinematics
 
-
-def _rocker_point(xb: Any, yb: Any, w4: Any, al4: Any, d: float) -> tuple[np.ndarray, ...]:
-    rx, ry = xb - d, yb
-    return (xb, yb, -w4 * ry, w4 * rx, -al4 * ry - w4 * w4 * rx, al4 * rx - w4 * w4 * ry)
-
-
-def slider_contenders(n: int, with_engine: bool = True) -> list[Contender]:
     t = _angles(n)
-    r, l, e = SLIDER
-    out: list[Contender] = []
+    r_, l_, e_ = SLIDER
+    # engine guide: direction (cos ga, sin ga) = +y, offset measured to its left (-x)
+    mech = crank_slider_mechanism(r_, l_, -e_, guide_angle=math.pi / 2, masses=MASSES,
+                                  omega1=OMEGA)
+
+    def slider(k: Any) -> tuple[Any, ...]:
+        p = k.point("slider", "B")
+        return p.x, p.y, p.vx, p.vy, p.ax, p.ay
+
+    if reactions:
+        cons = [Contender("engine + reactions", lambda: inverse_dynamics(kinematics(mech, t)),
+                          lambda dyn: slider(dyn.kinematics), "ref")]
+    else:
+        cons = [Contender("engine", lambda: kinematics(mech, t), slider, "ref")]
     zero = np.zeros(n)
+    cons.append(Contender("closed form", lambda: offset_crank_slider(t, r_, l_ / r_, e_ / r_,
+                                                                     OMEGA),
+                          lambda r: (zero + e_, r.Y_C, zero, r.V_C, zero, r.a_C), "info"))
+    if pylinkage:
+        cons.append(_pylinkage_slider(n))
+    return Case("crank-slider engine + reactions" if reactions else "crank-slider engine", n,
+                cons, groups=_PAIRS)
 
-    def plain_out(res: Any) -> tuple[np.ndarray, ...]:
-        y, v, acc = res[:3]
-        return zero + e, y, zero, v, zero, acc
 
-    out.append(Contender("plain NumPy", lambda: numpy_slider(t, r, l, e, OMEGA), plain_out))
+def designs(m: int, seed: int = 3) -> tuple[np.ndarray, ...]:
+    """``m`` Grashof crank-rockers around paper 001's (crank the shortest link, every one
+    turns fully, none passes a toggle): a, b, c, d [m], shape (m,)."""
+    rng = np.random.default_rng(seed)
+    a = rng.uniform(0.08, 0.11, m)
+    b = rng.uniform(0.28, 0.34, m)
+    c = rng.uniform(0.18, 0.24, m)
+    d = rng.uniform(0.27, 0.32, m)
+    return a, b, c, d
 
-    def same_out(res: Any) -> tuple[np.ndarray, ...]:
-        return res[2], res[3], zero, res[11], zero, res[12]
 
-    out.append(Contender("plain NumPy, same outputs",
-                         lambda: numpy_slider_same_outputs(t, r, l, e, OMEGA), same_out))
-    try:
-        from linkwork.models.crank_slider import offset_crank_slider
-    except ImportError:  # the closed form is written by another helper
-        offset_crank_slider = None
-    if offset_crank_slider is not None:
-        def closed_out(res: Any) -> tuple[np.ndarray, ...]:
-            return zero + e, res.Y_C, zero, res.V_C, zero, res.a_C
+def designs_case(m: int, n: int = 360) -> Case:
+    from linkwork.models.fourbar import fourbar
+    from linkwork.planar import fourbar_mechanism, kinematics
 
-        out.append(Contender("closed form",
-                             lambda: offset_crank_slider(t, r, l / r, e / r, OMEGA), closed_out))
-    if with_engine:
-        from linkwork.planar import crank_slider_mechanism as engine_model
-        from linkwork.planar import inverse_dynamics, kinematics
+    t = _angles(n)
+    a, b, c, d = designs(m)
+    col = (a[:, None], b[:, None], c[:, None], d[:, None])
 
-        # engine guide: direction (cos ga, sin ga) = +y, offset measured to its left (-x)
-        mech = engine_model(r, l, -e, guide_angle=math.pi / 2, masses=MASSES, omega1=OMEGA)
+    def closed() -> Any:
+        return fourbar(t, *col, OMEGA)
 
-        def eng_out(k: Any) -> tuple[np.ndarray, ...]:
-            p = k.point("slider", "B")
-            return p.x, p.y, p.vx, p.vy, p.ax, p.ay
+    def closed_out(r: Any) -> tuple[Any, ...]:
+        return r.theta3, r.theta4, r.omega3, r.omega4, r.eps3, r.eps4
 
-        out.append(Contender("engine", lambda: kinematics(mech, t), eng_out))
-        out.append(Contender("engine + reactions",
-                             lambda: inverse_dynamics(kinematics(mech, t)),
-                             lambda dyn: eng_out(dyn.kinematics)))
-    return out
+    def loop() -> list[Any]:
+        return [kinematics(fourbar_mechanism(a[i], b[i], c[i], d[i], omega1=OMEGA), t)
+                for i in range(m)]
+
+    def loop_out(ks: list[Any]) -> tuple[Any, ...]:
+        return tuple(np.stack([getattr(k, q)[row] for k in ks])
+                     for q, row in (("theta", 2), ("theta", 3), ("omega", 2), ("omega", 3),
+                                    ("eps", 2), ("eps", 3)))
+
+    return Case(f"four-bar designs ({m} x {n})", n, [
+        Contender("closed form, one broadcast call", closed, closed_out, "ref"),
+        Contender("engine, one call per design", loop, loop_out, "info")],
+        angles=(0, 1), per=m * n)
+
+
+def fixed_cost_case() -> Case:
+    from linkwork.models.fourbar import fourbar
+    from linkwork.planar import fourbar_mechanism, kinematics
+
+    t = np.array([0.7])
+    a, b, c, d = FOURBAR
+    mech = fourbar_mechanism(a, b, c, d, omega1=OMEGA)
+    return Case("four-bar, one position (fixed cost)", 1, [
+        Contender("closed form", lambda: fourbar(t, a, b, c, d, OMEGA),
+                  lambda r: (r.theta4, r.omega4, r.eps4), "ref"),
+        Contender("engine", lambda: kinematics(mech, t),
+                  lambda k: (k.theta[3], k.omega[3], k.eps[3]), "info")], angles=(0,))
 
 
 # --- pylinkage ---------------------------------------------------------------------------------
 
 
-def _pylinkage_fourbar(n: int) -> Contender:
+def _pylinkage_fourbar(n: int, expect: Any = None) -> Contender:
     import pylinkage as pl
 
     a, b, c, d = FOURBAR
@@ -304,13 +431,13 @@ def _pylinkage_fourbar(n: int) -> Contender:
         pos, vel, acc = res
         return pos[:, 3, 0], pos[:, 3, 1], vel[:, 3, 0], vel[:, 3, 1], acc[:, 3, 0], acc[:, 3, 1]
 
-    con = Contender("pylinkage", run, output)
+    con = Contender("pylinkage (numba)", run, output, "info", expect)
     con.build = build  # type: ignore[attr-defined]
     con.state = state  # type: ignore[attr-defined]
     return con
 
 
-def _pylinkage_slider(n: int) -> Contender:
+def _pylinkage_slider(n: int, expect: Any = None) -> Contender:
     import pylinkage as pl
 
     r, l, e = SLIDER
@@ -337,7 +464,7 @@ def _pylinkage_slider(n: int) -> Contender:
         pos, vel, acc = res
         return pos[:, 4, 0], pos[:, 4, 1], vel[:, 4, 0], vel[:, 4, 1], acc[:, 4, 0], acc[:, 4, 1]
 
-    con = Contender("pylinkage", run, output)
+    con = Contender("pylinkage (numba)", run, output, "info", expect)
     con.build = build  # type: ignore[attr-defined]
     con.state = state  # type: ignore[attr-defined]
     return con
@@ -345,84 +472,6 @@ def _pylinkage_slider(n: int) -> Contender:
 
 def pylinkage_contender(mechanism: str, n: int) -> Contender:
     return _pylinkage_fourbar(n) if mechanism == "four-bar" else _pylinkage_slider(n)
-
-
-# ---------------------------------------------------------------------------------------------
-# checking and timing
-# ---------------------------------------------------------------------------------------------
-
-
-def check(contenders: list[Contender], reference: tuple[np.ndarray, ...], label: str) -> None:
-    """Compare each contender's output point with the reference; raise on disagreement."""
-    for con in contenders:
-        res = con.run()
-        if hasattr(con, "build"):      # pylinkage: check a fresh linkage from the start angle
-            con.state["lk"] = con.build()   # type: ignore[attr-defined]
-            res = con.run()
-            con.state["lk"] = con.build()   # type: ignore[attr-defined]
-        got = con.output(res)
-        for i, (what, g, r) in enumerate(zip(("x", "y", "vx", "vy", "ax", "ay"), got, reference,
-                                             strict=True)):
-            pair = reference[2 * (i // 2): 2 * (i // 2) + 2]     # (x, y), (vx, vy), (ax, ay)
-            scale = max(float(np.abs(pair[0]).max()), float(np.abs(pair[1]).max()))
-            err = float(np.abs(np.asarray(g) - r).max()) / scale
-            if not err <= RTOL:
-                raise AssertionError(f"{label}: {con.name} disagrees with plain NumPy in {what}: "
-                                     f"max relative difference {err:.3g} > {RTOL:g}")
-
-
-def time_it(fn: Callable[[], Any], repeat: int, min_time: float = 0.02) -> float:
-    """Median time of one call [s] over ``repeat`` samples of >= ``min_time`` each."""
-    t0 = time.perf_counter()
-    fn()
-    single = max(time.perf_counter() - t0, 1e-7)
-    number = max(1, int(min_time / single))
-    samples = []
-    for _ in range(repeat):
-        t0 = time.perf_counter()
-        for _ in range(number):
-            fn()
-        samples.append((time.perf_counter() - t0) / number)
-    return statistics.median(samples)
-
-
-def time_interleaved(fns: list[Callable[[], Any]], repeat: int,
-                     min_time: float = 0.02) -> list[float]:
-    """Median time of one call [s] of each function, sampled round-robin.
-
-    Each round takes one sample (>= ``min_time``) of every function in turn, so a burst of load
-    from other processes affects all contenders alike and the ratios stay meaningful.
-    """
-    numbers = []
-    for fn in fns:
-        t0 = time.perf_counter()
-        fn()
-        numbers.append(max(1, int(min_time / max(time.perf_counter() - t0, 1e-7))))
-    samples: list[list[float]] = [[] for _ in fns]
-    for _ in range(repeat):
-        for i, fn in enumerate(fns):
-            t0 = time.perf_counter()
-            for _ in range(numbers[i]):
-                fn()
-            samples[i].append((time.perf_counter() - t0) / numbers[i])
-    return [statistics.median(x) for x in samples]
-
-
-def _no_numba_times(mechanism: str, n: int, repeat: int) -> float:
-    """pylinkage with NUMBA_DISABLE_JIT=1, in a subprocess; returns the median time [s]."""
-    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
-    cmd = [sys.executable, os.path.abspath(__file__), "--pylinkage-only", mechanism,
-           "--n", str(n), "--repeat", str(repeat)]
-    out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
-    return float(json.loads(out.stdout.strip().splitlines()[-1])["median"])
-
-
-def _pylinkage_only(mechanism: str, n: int, repeat: int) -> None:
-    con = pylinkage_contender(mechanism, n)
-    ref_con = (fourbar_contenders if mechanism == "four-bar" else slider_contenders)(
-        n, with_engine=False)[0]
-    check([con], ref_con.output(ref_con.run()), f"{mechanism}, n={n}, no numba")
-    print(json.dumps({"median": time_it(con.run, repeat, min_time=0.0)}))
 
 
 def have_pylinkage() -> bool:
@@ -433,111 +482,217 @@ def have_pylinkage() -> bool:
     return True
 
 
+# ---------------------------------------------------------------------------------------------
+# checking and timing
+# ---------------------------------------------------------------------------------------------
+
+
+#: x, y / vx, vy / ax, ay of a point share a scale
+_PAIRS = ((0, 1), (2, 3), (4, 5))
+
+
+def check(case: Case) -> tuple[dict[str, float], list[float]]:
+    """One call of every contender (also its warm-up and, for numba, its compilation); each
+    one's outputs against the reference's (relative to the largest value of each output,
+    angles modulo 2 pi). Returns the differences and the time of each first call (numba's
+    compilation excluded: that call is repeated); raises on a disagreement."""
+    results, firsts = [], []
+    for con in case.contenders:
+        if con.role == "limit":
+            con.run()                    # compile
+        t0 = time.perf_counter()
+        res = con.run()
+        firsts.append(time.perf_counter() - t0)
+        if hasattr(con, "build"):        # pylinkage: a fresh linkage from the start angle
+            con.state["lk"] = con.build()   # type: ignore[attr-defined]
+            res = con.run()
+            con.state["lk"] = con.build()   # type: ignore[attr-defined]
+        results.append(res)
+    ref_res = results[0]
+    ref = case.contenders[0].output(ref_res)
+    errs = {}
+    for con, res in zip(case.contenders[1:], results[1:], strict=True):
+        want = con.expect(ref_res, ref) if con.expect is not None else ref
+        if con.expect is None:
+            err = max_rel_diff(con.output(res), want, case.angles, case.groups)
+        else:   # a point's x, y, vx, vy, ax, ay, or a few outputs
+            err = max_rel_diff(con.output(res), want, (), _PAIRS if len(want) == 6 else ())
+        errs[con.name] = err
+        if not err <= RTOL:
+            raise AssertionError(f"{case.name}, n={case.n}: {con.name} disagrees with "
+                                 f"{case.contenders[0].name}: max relative difference "
+                                 f"{err:.3g} > {RTOL:g}")
+    return errs, firsts
+
+
+def _no_numba_time(mechanism: str, n: int, repeat: int) -> Spread:
+    """pylinkage with NUMBA_DISABLE_JIT=1, in a subprocess (checked there against the closed
+    form's joint B); its times [s]."""
+    env = dict(os.environ, NUMBA_DISABLE_JIT="1")
+    cmd = [sys.executable, os.path.abspath(__file__), "--pylinkage-only", mechanism,
+           "--n", str(n), "--repeat", str(repeat)]
+    out = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
+    return Spread(json.loads(out.stdout.strip().splitlines()[-1])["samples"])
+
+
+def _pylinkage_only(mechanism: str, n: int, repeat: int) -> None:
+    con = pylinkage_contender(mechanism, n)
+    if mechanism == "four-bar":
+        ref_case = fourbar_case(n, fused=False)
+
+        def b_point(_: Any, out: tuple[Any, ...]) -> tuple[Any, ...]:
+            return _rocker_point(out[8], out[9], out[3], out[5], FOURBAR[3])
+    else:
+        ref_case = slider_case(n, fused=False)
+
+        def b_point(_: Any, out: tuple[Any, ...]) -> tuple[Any, ...]:
+            z = np.zeros(n)
+            return z + SLIDER[2], out[3], z, out[11], z, out[12]
+    con.expect = b_point
+    check(Case(ref_case.name, n, [ref_case.contenders[0], con]))
+    print(json.dumps({"samples": time_rounds([con.run], repeat, min_time=0.0)[0].samples}))
+
+
+def _rocker_point(xb: Any, yb: Any, w4: Any, al4: Any, d: float) -> tuple[np.ndarray, ...]:
+    rx, ry = xb - d, yb
+    return (xb, yb, -w4 * ry, w4 * rx, -al4 * ry - w4 * w4 * rx, al4 * rx - w4 * w4 * ry)
+
+
+def cases(sizes: tuple[int, ...], pylinkage: bool, fused: bool, n_designs: int) -> list[Case]:
+    out: list[Case] = []
+    for n in sizes:
+        out += [fourbar_case(n, fused), slider_case(n, fused),
+                engine_case(n, False, fused, pylinkage), engine_case(n, True, fused),
+                slider_engine_case(n, False, pylinkage), slider_engine_case(n, True)]
+    out.append(fixed_cost_case())
+    if n_designs:
+        out.append(designs_case(n_designs))
+    return out
+
+
 def run(sizes: tuple[int, ...] = (360, 100_000), repeat: int = 7, pylinkage: bool = True,
-        no_numba: bool = True, no_numba_repeat: int = 3) -> list[dict[str, Any]]:
-    """Check and time every contender; return rows (mechanism, n, contender, median [s])."""
+        no_numba: bool = True, no_numba_repeat: int = 3, fused: bool = True,
+        n_designs: int = 10_000, long_repeat: int = 3) -> dict[str, Any]:
+    """Check and time every case; return the rows (case, n, contender, role, times) and the
+    agreement reached."""
     rows: list[dict[str, Any]] = []
-    for mechanism, make in (("four-bar", fourbar_contenders), ("crank-slider", slider_contenders)):
-        for n in sizes:
-            cons = make(n)
-            if pylinkage:
-                pc = pylinkage_contender(mechanism, n)
-                pc.name = "pylinkage (numba)"
-                cons.append(pc)
-            ref = cons[0].output(cons[0].run())
-            check(cons, ref, f"{mechanism}, n={n}")
-            times = time_interleaved([con.run for con in cons], repeat)
-            for con, t in zip(cons, times, strict=True):
-                rows.append({"mechanism": mechanism, "n": n, "contender": con.name,
-                             "median_s": t})
-            if pylinkage and no_numba:
-                t = _no_numba_times(mechanism, n, no_numba_repeat)
-                rows.append({"mechanism": mechanism, "n": n, "contender": "pylinkage (no numba)",
-                             "median_s": t})
-    return rows
+    agreement: dict[str, float] = {}
+    for case in cases(tuple(sizes), pylinkage, fused, n_designs):
+        errs, firsts = check(case)
+        for who, err in errs.items():
+            agreement[f"{case.name}, n={case.n}: {who}"] = err
+        times = time_rounds([c.run for c in case.contenders], repeat, first=firsts,
+                            long_repeat=long_repeat)
+        for con, sp in zip(case.contenders, times, strict=True):
+            rows.append({"case": case.name, "n": case.n, "per": case.per or case.n,
+                         "contender": con.name, "role": con.role, "times": sp.samples})
+        if pylinkage and no_numba and case.name in ("four-bar engine", "crank-slider engine"):
+            mech = case.name.split()[0]
+            sp = _no_numba_time(mech, case.n, no_numba_repeat)
+            rows.append({"case": case.name, "n": case.n, "per": case.n,
+                         "contender": "pylinkage (no numba)", "role": "info",
+                         "times": sp.samples})
+    return {"rows": rows, "agreement": agreement}
 
 
-def _fmt_time(s: float) -> str:
-    if s < 1e-3:
-        return f"{s * 1e6:.1f} us"
-    if s < 1.0:
-        return f"{s * 1e3:.2f} ms"
-    return f"{s:.2f} s"
+def _get(rows: list[dict[str, Any]], case: str, n: int, who: str) -> Spread | None:
+    for r in rows:
+        if r["case"] == case and r["n"] == n and r["contender"] == who:
+            return Spread(list(r["times"]))
+    return None
 
 
-def table(rows: list[dict[str, Any]], markdown: bool = False) -> str:
-    """Render the rows with ratios to plain NumPy, plus the target summary."""
+def table(result: dict[str, Any], markdown: bool = False) -> str:
+    """Every row with min / median / max, its ratio to the case's reference (per round), and
+    ns per position; then the targets judged against the spread."""
+    rows = result["rows"]
     lines = []
     if markdown:
-        lines += ["| mechanism | n | contender | median | x plain NumPy | ns/position |",
-                  "|---|---:|---|---:|---:|---:|"]
+        lines += ["| case | n | contender | min / median / max | x reference (min / median / "
+                  "max) | ns/position (median) |", "|---|---:|---|---:|---:|---:|"]
     else:
-        lines.append(f"{'mechanism':13s} {'n':>7s}  {'contender':24s} {'median':>10s} "
-                     f"{'x NumPy':>8s} {'ns/pos':>9s}")
+        lines.append(f"{'case':36s} {'n':>7s}  {'contender':38s} {'min / median / max':>34s} "
+                     f"{'x reference':>20s} {'ns/pos':>8s}")
     for r in rows:
-        base = next(x["median_s"] for x in rows if x["mechanism"] == r["mechanism"]
-                    and x["n"] == r["n"] and x["contender"] == "plain NumPy")
-        ratio = r["median_s"] / base
-        per = r["median_s"] / r["n"] * 1e9
+        sp = Spread(list(r["times"]))
+        ref_row = next(x for x in rows if x["case"] == r["case"] and x["n"] == r["n"])
+        rt = ratio(sp, Spread(list(ref_row["times"])))
+        per = sp.median / r["per"] * 1e9
+        name = r["contender"] + (" (info)" if r["role"] == "info" else "")
         if markdown:
-            lines.append(f"| {r['mechanism']} | {r['n']} | {r['contender']} | "
-                         f"{_fmt_time(r['median_s'])} | {ratio:.2f} | {per:.0f} |")
+            lines.append(f"| {r['case']} | {r['n']} | {name} | {fmt_spread(sp)} | "
+                         f"{fmt_spread(rt, 'ratio')} | {per:.0f} |")
         else:
-            lines.append(f"{r['mechanism']:13s} {r['n']:7d}  {r['contender']:24s} "
-                         f"{_fmt_time(r['median_s']):>10s} {ratio:8.2f} {per:9.0f}")
-    lines.append("")
-    lines += summary(rows)
+            lines.append(f"{r['case']:36s} {r['n']:7d}  {name:38s} {fmt_spread(sp):>34s} "
+                         f"{fmt_spread(rt, 'ratio'):>20s} {per:8.0f}")
+    lines += ["", *summary(rows), "", "agreement (max relative difference, checked before "
+              "timing at every case and size):"]
+    lines += [f"  {k}: {v:.2g}" for k, v in result["agreement"].items()]
     return "\n".join(lines)
 
 
 def summary(rows: list[dict[str, Any]]) -> list[str]:
-    """The targets of issue 3, checked against the measured medians."""
-    def get(mech: str, n: int, who: str) -> float | None:
-        for r in rows:
-            if r["mechanism"] == mech and r["n"] == n and r["contender"] == who:
-                return float(r["median_s"])
-        return None
+    """The targets of issues 3 and 20, judged against the per-round spread of each ratio."""
+    out = ["targets (ratio min / median / max over the rounds; met = every round):"]
 
-    out = ["targets (issue 3):"]
-    info = []
-    for r in rows:
-        if r["contender"] != "closed form":
-            continue
-        base = get(r["mechanism"], r["n"], "plain NumPy")
-        if base is not None:
-            ratio = r["median_s"] / base
-            out.append(f"  {r['mechanism']:13s} n={r['n']:<7d} closed form / plain NumPy = "
-                       f"{ratio:5.2f}  (target <= 1.2: {'met' if ratio <= 1.2 else 'MISSED'})")
-        for flat in ("plain NumPy, vector form", "plain NumPy, same outputs"):
-            base = get(r["mechanism"], r["n"], flat)
-            if base is not None:
-                info.append(f"  {r['mechanism']:13s} n={r['n']:<7d} closed form / {flat:25s} = "
-                            f"{r['median_s'] / base:5.2f}")
-    eng = get("four-bar", TARGET_N, "engine")
-    pn = get("four-bar", TARGET_N, "pylinkage (numba)")
-    pp = get("four-bar", TARGET_N, "pylinkage (no numba)")
-    if eng is None or (pn is None and pp is None):
-        out.append(f"  engine against pylinkage: set at n = {TARGET_N}, not measured in this "
-                   "run (needs that n and pylinkage installed)")
-    if eng is not None and pn is not None:
-        out.append(f"  four-bar n={TARGET_N}: engine / pylinkage(numba) = {eng / pn:.2f}  "
-                   f"(target <= 1: {'met' if eng <= pn else 'MISSED'})")
-    if eng is not None and pp is not None:
-        out.append(f"  four-bar n={TARGET_N}: pylinkage(no numba) / engine = {pp / eng:.1f}  "
-                   f"(target >= 30: {'met' if pp / eng >= 30 else 'MISSED'})")
-    if info:
-        out += ["library overhead over the same algorithm written flat (no checks, no result "
-                "object; information, not a target):", *info]
+    def judge(label: str, num: Spread | None, den: Spread | None, target: float,
+              better: str = "below") -> None:
+        if num is None or den is None:
+            out.append(f"  {label}: not measured in this run")
+            return
+        r = ratio(num, den)
+        sign = "<=" if better == "below" else ">="
+        out.append(f"  {label} = {fmt_spread(r, 'ratio')} (target {sign} {target:g}: "
+                   f"{verdict(r, target, better)})")
+
+    sizes = sorted({r["n"] for r in rows if r["case"] == "four-bar closed form"})
+    for n in sizes:
+        for case in ("four-bar closed form", "crank-slider closed form"):
+            lib = _get(rows, case, n, "closed form")
+            judge(f"{case}, n={n}: library / flat NumPy (same algorithm, same outputs)",
+                  lib, _get(rows, case, n, "flat NumPy, same algorithm"), 1.2)
+            judge(f"{case}, n={n}: library / fused numba loop (information)",
+                  lib, _get(rows, case, n, "fused numba loop"), math.inf)
+    n = TARGET_N
+    judge(f"four-bar engine kinematics, n={n}: engine / fused loop (issue 20 item 2)",
+          _get(rows, "four-bar engine", n, "engine"),
+          _get(rows, "four-bar engine", n, "fused numba loop"), 2.0)
+    judge(f"four-bar engine + reactions, n={n}: engine / fused loop (issue 20 item 2)",
+          _get(rows, "four-bar engine + reactions", n, "engine + reactions"),
+          _get(rows, "four-bar engine + reactions", n, "fused numba loop"), 3.0)
+    judge(f"four-bar engine kinematics, n={n}: engine / pylinkage (numba) (issue 3)",
+          _get(rows, "four-bar engine", n, "engine"),
+          _get(rows, "four-bar engine", n, "pylinkage (numba)"), 1.0)
+    judge(f"four-bar, n={n}: pylinkage (no numba) / engine (issue 3)",
+          _get(rows, "four-bar engine", n, "pylinkage (no numba)"),
+          _get(rows, "four-bar engine", n, "engine"), 30.0, "above")
+    des = [r for r in rows if r["case"].startswith("four-bar designs")]
+    if des:
+        case = des[0]["case"]
+        judge(f"{case}: engine loop / closed form broadcast (issue 20 item 1)",
+              _get(rows, case, des[0]["n"], "engine, one call per design"),
+              _get(rows, case, des[0]["n"], "closed form, one broadcast call"), 3.0)
+    eng1 = _get(rows, "four-bar, one position (fixed cost)", 1, "engine")
+    if eng1 is not None:
+        ok = ("met" if eng1.max < 100e-6 else "met by the median only"
+              if eng1.median < 100e-6 else "missed")
+        out.append(f"  engine fixed cost (one position) = {fmt_spread(eng1)} (target < 100 us: "
+                   f"{ok}; issue 20 item 1)")
     return out
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap = argparse.ArgumentParser(description=(__doc__ or "").split("\n")[0])
     ap.add_argument("--n", type=int, nargs="+", default=[360, 100_000], help="positions")
-    ap.add_argument("--repeat", type=int, default=7, help="samples per median")
+    ap.add_argument("--repeat", type=int, default=7, help="rounds (samples per contender)")
+    ap.add_argument("--long-repeat", type=int, default=3,
+                    help="rounds of calls longer than 1 s")
+    ap.add_argument("--designs", type=int, default=10_000,
+                    help="four-bar designs of the batch case (0: none)")
     ap.add_argument("--no-pylinkage", action="store_true", help="skip pylinkage")
     ap.add_argument("--no-numba-off", action="store_true",
                     help="skip the (slow) pylinkage run without numba")
+    ap.add_argument("--no-fused", action="store_true", help="skip the fused numba loops")
     ap.add_argument("--markdown", action="store_true", help="print a Markdown table")
     ap.add_argument("--json", help="also write the rows to this JSON file")
     ap.add_argument("--pylinkage-only", help=argparse.SUPPRESS)
@@ -548,14 +703,14 @@ def main(argv: list[str] | None = None) -> int:
     use_pl = not args.no_pylinkage and have_pylinkage()
     if not args.no_pylinkage and not use_pl:
         print("pylinkage not installed: skipped (pip install '.[bench]')", file=sys.stderr)
-    rows = run(tuple(args.n), args.repeat, pylinkage=use_pl, no_numba=not args.no_numba_off)
-    import numpy
-    print(f"numpy {numpy.__version__}, python {sys.version.split()[0]}, "
-          f"{os.cpu_count()} CPUs; medians of {args.repeat} samples")
-    print(table(rows, markdown=args.markdown))
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump(rows, fh, indent=1)
+    fused = not args.no_fused and _fused() is not None
+    if not args.no_fused and not fused:
+        print("numba not installed: no fused loops (pip install '.[bench]')", file=sys.stderr)
+    t0, load0 = time.perf_counter(), load()
+    result = run(tuple(args.n), args.repeat, pylinkage=use_pl, no_numba=not args.no_numba_off,
+                 fused=fused, n_designs=args.designs, long_repeat=args.long_repeat)
+    finish(result, table(result, markdown=args.markdown),
+           f"{args.repeat} rounds ({args.long_repeat} for calls > 1 s)", load0, t0, args.json)
     return 0
 
 

@@ -17,8 +17,10 @@ does),
 ``tolerance_study``      :func:`linkwork.redundancy.tolerance_study` at each ``--n`` samples,
                          in-process (the affine map deviations -> reactions is built once per
                          position; each chunk of samples is one batched matrix product);
-``... dask``             the same at ``--dask-n`` samples on an in-process dask.distributed
-                         cluster (``processes=False``, 2 workers x 1 thread);
+``... dask``             the same at ``--dask-n`` samples on local dask clusters of worker
+                         processes (``LocalCluster(processes=True)``, ``--workers`` 1 and 2,
+                         1 thread each, dask's default worker settings): what ``--scheduler``
+                         gives; the speed-up is in-process time / cluster time per round;
 ``plain NumPy re-solve`` the reference: for ``--resolve-n`` samples, one straightforward
                          re-solve of the whole compliance problem per sample, written out in
                          this file (stiffness ``A K A^T`` assembled from the joint geometry and
@@ -44,7 +46,12 @@ Before timing, the force and displacement methods are compared (every component 
 and Q, relative to the largest value of its kind, 1e-9), and the peaks of every timed contender
 are compared with the plain NumPy re-solve of the same samples (relative to the largest peak of
 the same quantity, 1e-9; a study is checked on ``--resolve-n`` of its own samples spread over
-its N); the dask run must equal the in-process run of the same size to 1e-12.
+its N); the dask runs must equal the in-process run of the same size to 1e-12.
+
+Case "peak kernel": the kernel alone on the largest ``--n`` with the affine map given, the
+library's (``tolerance._chunk``) against the lean kernel written flat and a fused numba loop
+(``_fused.tolerance_peaks``, the practical limit of a compiled loop), all to 1e-12 of the
+library's peaks.
 A disagreement aborts.
 
 Usage::
@@ -61,10 +68,7 @@ each sample looping >= 20 ms), so that load from other processes hits all alike.
 from __future__ import annotations
 
 import argparse
-import json
 import math
-import os
-import statistics
 import sys
 import time
 from collections.abc import Callable
@@ -73,6 +77,21 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from _common import (
+    Spread,
+    cpu_lines,
+    cpu_split,
+    finish,
+    fmt_spread,
+    fmt_time,
+    load,
+    local_clusters,
+    ratio,
+    time_rounds,
+    verdict,
+)
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "loom_fourbar_spatial.toml"
 RTOL = 1e-9
@@ -352,10 +371,12 @@ def cycle_contenders(prob: Problem) -> list[Contender]:
 
 
 def study_contenders(prob: Problem, sizes: tuple[int, ...], resolve_n: int, dask_n: int,
-                     client: Any = None, seed: int = 1, chunk_size: int = 2000
+                     clients: dict[str, Any] | None = None, seed: int = 1,
+                     chunk_size: int = 10_000
                      ) -> tuple[list[Contender], Callable[[np.ndarray], np.ndarray]]:
     """The Monte-Carlo contenders, and the plain NumPy re-solve ``draws -> peaks`` that checks
-    them. Per-sample contenders run on ``resolve_n`` samples of the smallest study."""
+    them. Per-sample contenders run on ``resolve_n`` samples of the smallest study; ``clients``
+    (label -> dask Client) each run the study at ``dask_n`` samples."""
     from linkwork.redundancy import solve_reactions, tolerance_study
 
     n0 = min(sizes)
@@ -402,13 +423,84 @@ def study_contenders(prob: Problem, sizes: tuple[int, ...], resolve_n: int, dask
         cons.append(Contender("tolerance_study", n, study(n), of_study))
         cons.append(Contender("plain NumPy affine map, lean kernel", n, affine(n),
                               lambda x: x))
-    if dask_n and client is not None:
-        cons.append(Contender("tolerance_study, dask (2 workers x 1 thread)", dask_n,
-                              study(dask_n, client), of_study))
+    if dask_n and clients:
+        if dask_n not in sizes:
+            cons.append(Contender("tolerance_study", dask_n, study(dask_n), of_study))
+        for label, cl in clients.items():
+            cons.append(Contender(f"tolerance_study, dask {label}", dask_n, study(dask_n, cl),
+                                  of_study))
     def resolve(dr: np.ndarray) -> np.ndarray:
         return np.stack([peaks_of(plain.reactions(d)) for d in deviations_of(prob, dr)])
 
     return cons, resolve
+
+
+def kernel_contenders(prob: Problem, n: int, seed: int = 1, chunk_size: int = 10_000,
+                      fused: bool = True) -> list[Contender]:
+    """The peak kernel alone on ``n`` samples, the affine map given (the same ``c0``, ``Z`` and
+    draws for all): the library's (``tolerance._chunk`` over chunks of ``chunk_size``, its
+    buffers reused block by block), the lean kernel of :class:`PlainAffine` written flat, and
+    a fused numba loop (the practical limit). Output: the peaks (n, n_joints, 7)."""
+    import functools
+
+    import linkwork.redundancy.tolerance as tol
+
+    names = [j.name for j in prob.model.joints]
+    index = [(names.index(t.joint) * 2 + (0 if t.side == "a" else 1)) * 6
+             + _COMPS.index(t.component) for t in prob.tolerances]
+    _, c0, z = tol.affine_map(prob.model, prob.geom, prob.wrenches, index)
+    nj, npos = len(names), prob.geom.n
+    draws = PlainAffine(prob).draws(n, seed)
+    zb = tol.affine_blocks(c0, z)
+    kern = functools.partial(tol._chunk, zb=zb, n=npos, n_joints=nj)
+
+    def library() -> np.ndarray:
+        return np.concatenate([kern(draws[i:i + chunk_size])
+                               for i in range(0, n, chunk_size)])
+
+    c0t = np.ascontiguousarray(c0)[:, :, None]
+
+    def lean() -> np.ndarray:
+        out = np.empty((n, nj, 7))
+        for start in range(0, n, 100):
+            d = draws[start:start + 100]
+            comp = z @ d.T                                          # (n, 6 nj, S)
+            comp += c0t
+            peak = np.maximum(comp.max(axis=0), -comp.min(axis=0))  # (6 nj, S)
+            m = comp.reshape(npos, nj, 6, -1)
+            bend = np.sqrt((m[:, :, 3] ** 2 + m[:, :, 4] ** 2).max(axis=0))
+            out[start:start + len(d), :, :6] = peak.reshape(nj, 6, -1).transpose(2, 0, 1)
+            out[start:start + len(d), :, 6] = bend.T
+        return out
+
+    def ident(x: Any) -> tuple[np.ndarray, None]:
+        return np.asarray(x), None
+
+    cons = [Contender("library kernel", n, library, ident),
+            Contender("flat NumPy lean kernel", n, lean, ident)]
+    if fused:
+        try:
+            import _fused
+        except ImportError:
+            return cons
+        cons.append(Contender("fused numba loop", n,
+                              lambda: _fused.tolerance_peaks(z, c0, draws, nj), ident))
+    return cons
+
+
+def check_kernels(results: list[np.ndarray], cons: list[Contender]) -> dict[str, float]:
+    """Every kernel's peaks against the library's, relative to the largest peak of each
+    quantity (1e-12: the same arithmetic up to the order of the sums)."""
+    ref = results[0]
+    scale = np.max(np.abs(ref), axis=(0, 1))
+    out = {}
+    for con, got in zip(cons[1:], results[1:], strict=True):
+        err = _rel(got, ref, scale)
+        out[f"kernel: {con.name}, N={con.samples}"] = err
+        if not err <= RTOL_DASK:
+            raise AssertionError(f"peak kernel: {con.name} disagrees with the library kernel: "
+                                 f"{err:.3g} > {RTOL_DASK:g}")
+    return out
 
 
 # ---------------------------------------------------------------------------------------------
@@ -480,41 +572,6 @@ def _spread(n: int, k: int) -> np.ndarray:
     return np.unique(np.linspace(0, n - 1, k).round().astype(int))
 
 
-def time_interleaved(fns: list[Callable[[], Any]], repeat: int, min_time: float = 0.02,
-                     first: list[float] | None = None, long_repeat: int | None = None,
-                     long_call: float = 1.0) -> list[float]:
-    """Median time of one call [s] of each function, sampled round-robin.
-
-    Each round takes one sample (>= ``min_time``) of every function in turn, so that a burst
-    of load from other processes affects all contenders alike. ``first``: the time of a call
-    already made (for the number of calls per sample); otherwise one call is made for it.
-    Functions whose call took longer than ``long_call`` [s] are sampled in the first
-    ``long_repeat`` rounds only (default ``repeat``), to bound the run time.
-    """
-    numbers = []
-    for i, fn in enumerate(fns):
-        if first is None:
-            t0 = time.perf_counter()
-            fn()
-            single = time.perf_counter() - t0
-        else:
-            single = first[i]
-        numbers.append(max(1, int(min_time / max(single, 1e-7))))
-    singles = first if first is not None else [min_time / n for n in numbers]
-    rounds = [min(repeat, long_repeat) if long_repeat is not None and t > long_call
-              else repeat for t in singles]
-    samples: list[list[float]] = [[] for _ in fns]
-    for k in range(repeat):
-        for i, fn in enumerate(fns):
-            if k >= rounds[i]:
-                continue
-            t0 = time.perf_counter()
-            for _ in range(numbers[i]):
-                fn()
-            samples[i].append((time.perf_counter() - t0) / numbers[i])
-    return [statistics.median(x) for x in samples]
-
-
 def _first_calls(cons: list[Contender]) -> tuple[dict[str, Any], list[float]]:
     """One call of each contender (warm-up, agreement check, calibration of the sampling)."""
     results: dict[str, Any] = {}
@@ -529,8 +586,10 @@ def _first_calls(cons: list[Contender]) -> tuple[dict[str, Any], list[float]]:
 
 def run(sizes: tuple[int, ...] = (1_000, 10_000, 100_000), positions: int = 360,
         repeat: int = 5, resolve_n: int = 10, dask_n: int = 100_000, seed: int = 1,
-        chunk_size: int = 2000, long_repeat: int = 3) -> dict[str, Any]:
-    """Check and time every contender; return rows and the agreement reached."""
+        chunk_size: int = 10_000, long_repeat: int = 3, workers: tuple[int, ...] = (1, 2),
+        fused: bool = True) -> dict[str, Any]:
+    """Check and time every contender; return rows (with every sample's time) and the
+    agreement reached."""
     prob = load_problem(positions)
     nj = len(prob.model.joints)
     rows: list[dict[str, Any]] = []
@@ -539,83 +598,126 @@ def run(sizes: tuple[int, ...] = (1_000, 10_000, 100_000), positions: int = 360,
     res_c, first_c = _first_calls(cyc)
     cycle_err = check_cycle([res_c[f"{c.name}#{i}"] for i, c in enumerate(cyc)],
                             [c.name for c in cyc], nj)
-    for con, t in zip(cyc, time_interleaved([c.run for c in cyc], repeat, first=first_c),
-                      strict=True):
+    for con, sp in zip(cyc, time_rounds([c.run for c in cyc], repeat, first=first_c),
+                       strict=True):
         rows.append({"case": "one cycle", "contender": con.name, "samples": 0,
-                     "positions": positions, "median_s": t})
+                     "positions": positions, "times": sp.samples})
+    # the peak kernel alone
+    kern = kernel_contenders(prob, max(sizes), seed, chunk_size, fused)
+    res_k, first_k = _first_calls(kern)
+    kernel_err = check_kernels([res_k[f"{c.name}#{i}"][0] for i, c in enumerate(kern)], kern)
+    del res_k
+    for con, sp in zip(kern, time_rounds([c.run for c in kern], repeat, first=first_k,
+                                         long_repeat=long_repeat), strict=True):
+        rows.append({"case": "peak kernel", "contender": con.name, "samples": con.samples,
+                     "positions": positions, "times": sp.samples})
     # tolerance study
-    client = None
-    if dask_n:
-        from dask.distributed import Client
-
-        client = Client(processes=False, dashboard_address=":0", n_workers=2,
-                        threads_per_worker=1)
+    clients: dict[str, Any] = {}
+    owned: list[Any] = []
+    if dask_n and workers:
+        clients, owned = local_clusters(workers)
     try:
-        cons, resolve = study_contenders(prob, tuple(sizes), resolve_n, dask_n, client, seed,
+        cons, resolve = study_contenders(prob, tuple(sizes), resolve_n, dask_n, clients, seed,
                                          chunk_size)
         res_s, first_s = _first_calls(cons)
         study_err = check_study(res_s, cons, resolve_n, resolve)
         del res_s
-        times = time_interleaved([c.run for c in cons], repeat, first=first_s,
-                                 long_repeat=long_repeat)
+        times = time_rounds([c.run for c in cons], repeat, first=first_s,
+                            long_repeat=long_repeat)
+        cpu = cpu_profiles(cons, clients, dask_n)
     finally:
-        if client is not None:
-            client.close()
-    for con, t in zip(cons, times, strict=True):
+        for obj in owned:
+            obj.close()
+    for con, sp in zip(cons, times, strict=True):
         rows.append({"case": "tolerance study", "contender": con.name, "samples": con.samples,
-                     "positions": positions, "median_s": t, "per_sample_s": t / con.samples})
+                     "positions": positions, "times": sp.samples})
     return {"rows": rows, "agreement": {"force vs displacement (one cycle)": cycle_err,
-                                        **study_err},
-            "tolerances": len(prob.tolerances), "resolve_samples": cons[0].samples}
+                                        **kernel_err, **study_err},
+            "tolerances": len(prob.tolerances), "resolve_samples": cons[0].samples,
+            "cpu": cpu}
 
 
-def _fmt_time(s: float) -> str:
-    if s < 1e-3:
-        return f"{s * 1e6:.1f} us"
-    if s < 1.0:
-        return f"{s * 1e3:.2f} ms"
-    return f"{s:.2f} s"
+def cpu_profiles(cons: list[Contender], clients: dict[str, Any], n: int
+                 ) -> dict[str, dict[str, Any]]:
+    """CPU seconds per call of the study at ``n`` samples in-process and on each cluster
+    (:func:`_common.cpu_split`): what bounds the speed-up on free cores, whatever the load."""
+    if not clients:
+        return {}
+    out = {"in-process": cpu_split(next(c.run for c in cons if c.name == "tolerance_study"
+                                        and c.samples == n))}
+    for label, cl in clients.items():
+        run = next(c.run for c in cons if c.name == f"tolerance_study, dask {label}")
+        out[label] = cpu_split(run, cl)
+    return out
+
+
+def _sp(r: dict[str, Any]) -> Spread:
+    return Spread(list(r["times"]))
 
 
 def table(result: dict[str, Any], markdown: bool = False) -> str:
-    """The two cases as tables, with ratios."""
+    """The cases as tables: min / median / max of every contender, ratios per round."""
     rows = result["rows"]
     lines: list[str] = []
+
+    def emit(cells: list[str], widths: list[int]) -> None:
+        if markdown:
+            lines.append("| " + " | ".join(cells) + " |")
+        else:
+            lines.append(" ".join(c.ljust(w) if i == 0 else c.rjust(w)
+                                  for i, (c, w) in enumerate(zip(cells, widths, strict=True))))
+
+    def head(cells: list[str], widths: list[int]) -> None:
+        emit(cells, widths)
+        if markdown:
+            lines.append("|---|" + "---:|" * (len(cells) - 1))
+
     cyc = [r for r in rows if r["case"] == "one cycle"]
-    base = next(r["median_s"] for r in cyc if r["contender"] == "displacement method")
-    if markdown:
-        lines += ["| one cycle | positions | median | x displacement method |",
-                  "|---|---:|---:|---:|"]
-    else:
-        lines.append(f"{'one cycle':34s} {'positions':>9s} {'median':>10s} {'x displ.':>9s}")
+    base = _sp(next(r for r in cyc if r["contender"] == "displacement method"))
+    w = [34, 9, 34, 20]
+    head(["one cycle", "positions", "min / median / max", "x displacement method"], w)
     for r in cyc:
-        ratio = r["median_s"] / base
-        if markdown:
-            lines.append(f"| {r['contender']} | {r['positions']} | {_fmt_time(r['median_s'])} | "
-                         f"{ratio:.2f} |")
-        else:
-            lines.append(f"{r['contender']:34s} {r['positions']:9d} "
-                         f"{_fmt_time(r['median_s']):>10s} {ratio:9.2f}")
+        emit([r["contender"], str(r["positions"]), fmt_spread(_sp(r)),
+              fmt_spread(ratio(_sp(r), base), "ratio")], w)
     lines.append("")
+    kern = [r for r in rows if r["case"] == "peak kernel"]
+    if kern:
+        lib = _sp(kern[0])
+        w = [30, 8, 34, 20]
+        head(["peak kernel (affine map given)", "samples", "min / median / max",
+              "x library kernel"], w)
+        for r in kern:
+            emit([r["contender"], str(r["samples"]), fmt_spread(_sp(r)),
+                  fmt_spread(ratio(_sp(r), lib), "ratio")], w)
+        lines.append("")
     st = [r for r in rows if r["case"] == "tolerance study"]
-    plain = next(r["per_sample_s"] for r in st if r["contender"] == "plain NumPy re-solve")
-    fact = next(r["per_sample_s"] for r in st
-                if r["contender"] == "plain NumPy, factorised once")
-    if markdown:
-        lines += ["| tolerance study | samples | median | per sample | speed-up vs plain "
-                  "re-solve | vs factorised once |", "|---|---:|---:|---:|---:|---:|"]
-    else:
-        lines.append(f"{'tolerance study':44s} {'samples':>7s} {'median':>10s} "
-                     f"{'/sample':>10s} {'x re-solve':>10s} {'x factor.':>9s}")
+    plain = _sp(next(r for r in st if r["contender"] == "plain NumPy re-solve"))
+    fact = _sp(next(r for r in st if r["contender"] == "plain NumPy, factorised once"))
+    plain_per = plain.median / next(r["samples"] for r in st
+                                    if r["contender"] == "plain NumPy re-solve")
+    fact_per = fact.median / next(r["samples"] for r in st
+                                  if r["contender"] == "plain NumPy, factorised once")
+    w = [52, 7, 34, 11, 11, 9]
+    head(["tolerance study", "samples", "min / median / max", "per sample",
+          "x re-solve", "x factor."], w)
     for r in st:
-        per = r["per_sample_s"]
-        if markdown:
-            lines.append(f"| {r['contender']} | {r['samples']} | {_fmt_time(r['median_s'])} | "
-                         f"{_fmt_time(per)} | {plain / per:.3g} | {fact / per:.3g} |")
-        else:
-            lines.append(f"{r['contender']:44s} {r['samples']:7d} "
-                         f"{_fmt_time(r['median_s']):>10s} {_fmt_time(per):>10s} "
-                         f"{plain / per:10.3g} {fact / per:9.3g}")
+        sp = _sp(r)
+        per = sp.median / r["samples"]
+        emit([r["contender"], str(r["samples"]), fmt_spread(sp), fmt_time(per),
+              f"{plain_per / per:.3g}", f"{fact_per / per:.3g}"], w)
+    dask = [r for r in st if "dask" in r["contender"]]
+    if dask:
+        n = dask[0]["samples"]
+        inproc = _sp(next(r for r in st if r["contender"] == "tolerance_study"
+                          and r["samples"] == n))
+        lines += ["", f"Dask at {n} samples: speed-up over in-process (in-process time / "
+                  "cluster time, per round; min / median / max):"]
+        for r in dask:
+            sp = ratio(inproc, _sp(r))
+            target = ("; target >= 1.6 (issue 20): " + verdict(sp, 1.6, "above")
+                      if "2 workers" in r["contender"] else "")
+            lines.append(f"  {r['contender']}: {fmt_spread(sp, 'ratio')}{target}")
+    lines += cpu_lines(result.get("cpu", {}))
     lines.append("")
     lines.append("agreement (max relative difference, checked before timing):")
     for k, v in result["agreement"].items():
@@ -628,35 +730,31 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--n", type=int, nargs="+", default=[1_000, 10_000, 100_000],
                     help="Monte-Carlo samples of the in-process tolerance study")
     ap.add_argument("--dask-n", type=int, default=100_000,
-                    help="samples of the dask run (0: none)")
-    ap.add_argument("--no-dask", action="store_true", help="skip the dask run")
+                    help="samples of the dask runs (0: none)")
+    ap.add_argument("--workers", type=int, nargs="+", default=[1, 2],
+                    help="worker processes of each local dask cluster")
+    ap.add_argument("--no-dask", action="store_true", help="skip the dask runs")
+    ap.add_argument("--no-fused", action="store_true", help="skip the fused numba kernel")
     ap.add_argument("--resolve-n", type=int, default=10,
                     help="samples of the per-sample contenders")
     ap.add_argument("--positions", type=int, default=360, help="crank positions of the cycle")
-    ap.add_argument("--repeat", type=int, default=5, help="samples per median")
+    ap.add_argument("--repeat", type=int, default=5, help="rounds (samples per contender)")
     ap.add_argument("--long-repeat", type=int, default=3,
-                    help="samples per median of calls longer than 1 s")
-    ap.add_argument("--chunk-size", type=int, default=2000,
+                    help="rounds of calls longer than 1 s")
+    ap.add_argument("--chunk-size", type=int, default=10_000,
                     help="samples per chunk of tolerance_study (the library's default)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--markdown", action="store_true", help="print Markdown tables")
     ap.add_argument("--json", help="also write the rows to this JSON file")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
-    load0 = os.getloadavg()[0]
+    load0 = load()
     result = run(tuple(args.n), args.positions, args.repeat, args.resolve_n,
                  0 if args.no_dask else args.dask_n, args.seed, args.chunk_size,
-                 args.long_repeat)
-    load1 = os.getloadavg()[0]
-    print(f"numpy {np.__version__}, python {sys.version.split()[0]}, {os.cpu_count()} CPUs; "
-          f"medians of {args.repeat} samples ({args.long_repeat} for calls > 1 s); "
-          f"{result['tolerances']} toleranced deviations; "
-          f"load average {load0:.2f} before, {load1:.2f} after; "
-          f"run {time.perf_counter() - t0:.0f} s")
-    print(table(result, markdown=args.markdown))
-    if args.json:
-        with open(args.json, "w") as fh:
-            json.dump({**result, "load_average": [load0, load1]}, fh, indent=1)
+                 args.long_repeat, tuple(args.workers), not args.no_fused)
+    finish(result, table(result, markdown=args.markdown),
+           f"{args.repeat} rounds ({args.long_repeat} for calls > 1 s); "
+           f"{result['tolerances']} toleranced deviations", load0, t0, args.json)
     return 0
 
 

@@ -10,6 +10,7 @@ installed, a DataFrame; it draws its family's default figure with ``.plot()``, w
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import dataclasses
 import functools
@@ -24,8 +25,8 @@ import numpy as np
 from linkwork.errors import MissingExtraError, ParameterError
 from linkwork.outputs import atomic_path
 
-__all__ = ["Result", "all_true", "atomic_path", "json_array", "strict_json_values",
-           "write_csv", "write_json"]
+__all__ = ["CsvRows", "Result", "all_true", "atomic_path", "csv_rows", "json_array",
+           "strict_json_values", "write_csv", "write_json"]
 
 
 @functools.lru_cache(maxsize=64)
@@ -62,6 +63,62 @@ def _cell(x: float) -> str:
 CSV_BLOCK_ROWS = 4096
 
 
+class CsvRows:
+    """Rows of a CSV table appended block by block to an open text file: the one formatting of
+    every CSV file linkwork writes (header ``name [unit]``, values as ``repr(float)``, an empty
+    cell for NaN, ``\\r\\n`` line ends as the csv module writes them).
+
+    ``header`` maps each column name to its unit; :meth:`append` takes a block of rows as a
+    mapping of the same names, in the same order, to equal-length arrays, and writes it
+    :data:`CSV_BLOCK_ROWS` rows at a time (the text of a block is never in memory whole). A
+    long cycle computed in chunks streams through it (:func:`csv_rows`).
+    """
+
+    def __init__(self, fh: Any, header: dict[str, str]) -> None:
+        self._fh = fh
+        self.names = tuple(header)
+        self.rows = 0
+        # as the csv module writes a lone empty cell
+        self._empty = '""' if len(self.names) == 1 else ""
+        csv.writer(fh).writerow([f"{k} [{u}]" for k, u in header.items()])
+
+    def append(self, columns: dict[str, Any],
+               progress: Callable[[int, int], None] | None = None) -> None:
+        """Write one block of rows; ``progress(rows_done, rows)`` after every
+        :data:`CSV_BLOCK_ROWS` rows of it. Infinite values are refused (naming the column)
+        before anything of the block is written."""
+        if tuple(columns) != self.names:
+            raise ParameterError("columns", list(columns), f"must be the header's columns "
+                                 f"{list(self.names)} in order")
+        for name, values in columns.items():
+            _refuse_inf(name, values)
+        arrays = [np.asarray(v, dtype=float) for v in columns.values()]
+        n = len(arrays[0]) if arrays else 0
+        for name, a in zip(columns, arrays, strict=True):
+            if a.shape != (n,):
+                raise ParameterError(f"columns[{name!r}]", f"shape {a.shape}",
+                                     f"must be one value per row, like the first column ({n})")
+        table = np.column_stack(arrays) if arrays else np.empty((0, 0))
+        for start in range(0, n, CSV_BLOCK_ROWS):
+            rows = table[start:start + CSV_BLOCK_ROWS].tolist()  # Python floats: repr below
+            # repr(float) is the shortest text that reads back the same double; NaN -> empty
+            # (no other cell can contain "nan": infinities were refused above)
+            self._fh.write("".join(",".join(map(repr, r)) + "\r\n" for r in rows)
+                           .replace("nan", self._empty))
+            if progress is not None:
+                progress(min(start + CSV_BLOCK_ROWS, n), n)
+        self.rows += n
+
+
+@contextlib.contextmanager
+def csv_rows(path: str | Path, header: dict[str, str]) -> Iterator[CsvRows]:
+    """A CSV file written block by block (:class:`CsvRows`): beside ``path`` and renamed when
+    the block completes (:func:`atomic_path`), so an error or interrupt leaves no partial
+    file."""
+    with atomic_path(Path(path)) as tmp, tmp.open("w", newline="") as fh:
+        yield CsvRows(fh, header)
+
+
 def write_csv(path: str | Path, columns: dict[str, tuple[Any, str]], *,
               progress: Callable[[int, int], None] | None = None) -> Path:
     """Write equal-length columns as CSV: header ``name [unit]``, values as ``repr(float)``.
@@ -80,7 +137,7 @@ def write_csv(path: str | Path, columns: dict[str, tuple[Any, str]], *,
     Rows are formatted and written :data:`CSV_BLOCK_ROWS` at a time (the text of the whole file
     is never in memory); ``progress(rows_done, rows)`` is called after each block.  The file is
     written beside ``path`` and renamed when complete (:func:`atomic_path`): an interrupted
-    write leaves no partial file.
+    write leaves no partial file. Rows that come in chunks: :func:`csv_rows`.
     """
     for name, (values, _) in columns.items():
         _refuse_inf(name, values)
@@ -91,18 +148,8 @@ def write_csv(path: str | Path, columns: dict[str, tuple[Any, str]], *,
             raise ParameterError(f"columns[{name!r}]", f"shape {a.shape}",
                                  f"must be one value per row, like the first column ({n})")
     p = Path(path)
-    with atomic_path(p) as tmp, tmp.open("w", newline="") as fh:
-        csv.writer(fh).writerow([f"{k} [{u}]" for k, (_, u) in columns.items()])
-        table = np.column_stack(arrays) if arrays else np.empty((0, 0))
-        empty = '""' if len(arrays) == 1 else ""  # as the csv module writes a lone empty cell
-        for start in range(0, n, CSV_BLOCK_ROWS):
-            rows = table[start:start + CSV_BLOCK_ROWS].tolist()  # Python floats: repr below
-            # repr(float) is the shortest text that reads back the same double; NaN -> empty
-            # (no other cell can contain "nan": infinities were refused above)
-            fh.write("".join(",".join(map(repr, r)) + "\r\n" for r in rows)
-                     .replace("nan", empty))
-            if progress is not None:
-                progress(min(start + CSV_BLOCK_ROWS, n), n)
+    with csv_rows(p, {k: u for k, (_, u) in columns.items()}) as out:
+        out.append({k: a for k, a in zip(columns, arrays, strict=True)}, progress)
     return p
 
 

@@ -35,7 +35,7 @@ from linkwork.io.planar import PlanarFile, SpatialSpec
 from linkwork.io.toml import read_toml
 from linkwork.planar import Mechanism
 from linkwork.redundancy import ToleranceStudy
-from linkwork.redundancy.tolerance import check_samples
+from linkwork.redundancy.tolerance import CHUNK_SAMPLES, check_samples
 from linkwork.results import write_json
 from linkwork.studies import reactions as study_reactions
 from linkwork.studies.reactions import ReactionsStudy
@@ -131,7 +131,7 @@ def run(mech: Any, spec: Any, *, out: Path, angles: np.ndarray, console: Any,
         cycle: np.ndarray | None = None, gravity: Any = None, loads: Any = (),
         method: str = "force",
         tolerance_study: int = 0, seed: int = 0, scheduler: str | None = None,
-        chunk_size: int = 2000, plots: bool = True) -> dict[str, Any]:
+        chunk_size: int = CHUNK_SAMPLES, plots: bool = True) -> dict[str, Any]:
     """Analyse ``mech`` with the spatial data ``spec`` and report; return what was computed.
 
     Parameters as :func:`linkwork.studies.reactions.solve` and
@@ -271,7 +271,8 @@ def register(app: typer.Typer) -> None:
         scheduler: Annotated[str | None, typer.Option(
             help="dask.distributed scheduler address for the tolerance study")] = None,
         chunk_size: Annotated[int, typer.Option(
-            help="samples per chunk (unit of work of a cluster and of the progress bar)")] = 2000,
+            help="samples per chunk (unit of work of a cluster and of the progress bar)")
+        ] = CHUNK_SAMPLES,
         plots: Annotated[bool, typer.Option("--plots/--no-plots", help="write PNG figures")
                          ] = True,
     ) -> None:

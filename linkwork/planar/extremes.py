@@ -17,7 +17,8 @@ from linkwork.planar.rates import group_pars, vel_at
 from linkwork.planar.state import Arr, State
 from linkwork.planar.structure import HUNG, Plan, PlanGroup
 
-__all__ = ["DeadCentre", "dead_centres_of", "group_rate", "transmission_angles_of"]
+__all__ = ["DeadCentre", "dead_centres_of", "dead_centres_of_rates", "group_rate",
+           "output_rates", "transmission_angles_of"]
 
 
 @dataclass(frozen=True)
@@ -105,11 +106,25 @@ def dead_centres_of(plan: Plan, st: State, q: Arr, resolve: Resolve | None
     """Dead centres of every closed-form group of the plan in the solved state ``st`` over the
     driver positions ``q``; each sign change is refined with ``resolve`` (None: linear
     interpolation only). See :func:`linkwork.planar.kinematics.dead_centres`."""
+    return dead_centres_of_rates(plan, output_rates(plan, st), q, resolve)
+
+
+def output_rates(plan: Plan, st: State) -> dict[str, tuple[int, Arr]]:
+    """The output body and its rate (:func:`group_rate`) of every closed-form group, by group
+    key: what :func:`dead_centres_of_rates` needs of a solved motion (a long cycle keeps these
+    one array per group, chunk after chunk, instead of the whole motion)."""
+    return {g.key: group_rate(plan, st, g) for g in plan.groups if g.kind in HUNG}
+
+
+def dead_centres_of_rates(plan: Plan, rates: dict[str, tuple[int, Arr]], q: Arr,
+                          resolve: Resolve | None) -> list[DeadCentre]:
+    """Dead centres from the output rates (:func:`output_rates`) over the driver positions
+    ``q``: each sign change of a rate, refined with ``resolve`` (None: linear interpolation),
+    and each sample where a rate is zero between samples of opposite signs."""
+    groups = {g.key: g for g in plan.groups}
     found: list[DeadCentre] = []
-    for g in plan.groups:
-        if g.kind not in HUNG:
-            continue
-        b, rate = group_rate(plan, st, g)
+    for key, (b, rate) in rates.items():
+        g = groups[key]
         tiny = 1e-12 * float(np.nanmax(np.abs(rate))) if np.isfinite(rate).any() else 0.0
         rate = np.where(np.abs(rate) <= tiny, 0.0, rate)
         sgn = np.sign(rate)

@@ -35,7 +35,12 @@ from numpy.typing import ArrayLike
 from linkwork.checks import require_finite, require_point
 from linkwork.deprecation import renamed_attribute, renamed_keywords
 from linkwork.errors import AssemblyError, ParameterError, angle_ranges, format_angle_ranges
-from linkwork.planar.extremes import DeadCentre, dead_centres_of, transmission_angles_of
+from linkwork.planar.extremes import (
+    DeadCentre,
+    dead_centres_of_rates,
+    output_rates,
+    transmission_angles_of,
+)
 from linkwork.planar.model import Mechanism
 from linkwork.planar.positions import solve_group
 from linkwork.planar.rates import group_rates
@@ -46,8 +51,8 @@ from linkwork.results import Result
 if TYPE_CHECKING:
     from linkwork.plot import Figure
 
-__all__ = ["DeadCentre", "Kinematics", "PointMotion", "dead_centres", "kinematics",
-           "require_kinematics", "state_of", "transmission_angles"]
+__all__ = ["DeadCentre", "Kinematics", "PointMotion", "dead_centres", "dead_centres_over",
+           "kinematics", "require_kinematics", "state_of", "transmission_angles"]
 
 
 # ---------------------------------------------------------------------------------------------
@@ -475,13 +480,23 @@ def dead_centres(kin: Kinematics) -> list[DeadCentre]:
     with several drivers the list is empty.
     """
     kin = require_kinematics(kin)
-    mech = kin.mechanism
+    if kin.mechanism.n_drivers > 1:
+        return []
+    return dead_centres_over(kin.mechanism, kin.phi1,
+                             output_rates(kin.mechanism.plan, state_of(kin)), kin.branches)
+
+
+def dead_centres_over(mech: Mechanism, phi1: Arr, rates: dict[str, tuple[int, Arr]],
+                      branches: Mapping[str, int]) -> list[DeadCentre]:
+    """:func:`dead_centres` of a motion kept only as the output rates of its groups
+    (:func:`linkwork.planar.extremes.output_rates` of each chunk of a long cycle, joined) over
+    the driver positions ``phi1``, solved on ``branches``; empty for several drivers."""
     if mech.n_drivers > 1:
         return []
     refine = not mech.plan.newton
-    br = dict(kin.branches)
+    br = dict(branches)
 
     def resolve(x: float) -> State:
         return state_of(kinematics(mech, [x], 1.0, 0.0, branches=br, on_failure="nan"))
 
-    return dead_centres_of(mech.plan, state_of(kin), kin.phi1, resolve if refine else None)
+    return dead_centres_of_rates(mech.plan, rates, phi1, resolve if refine else None)

@@ -13,6 +13,7 @@ seeded generator, so the result does not depend on chunking or on the cluster.
 from __future__ import annotations
 
 import functools
+import threading
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -38,8 +39,9 @@ from linkwork.sweep import evaluate
 if TYPE_CHECKING:
     from linkwork.plot import Figure
 
-__all__ = ["MEMORY_BUDGET", "PEAK_QUANTITIES", "Tolerance", "ToleranceStudy", "check_samples",
-           "max_samples", "sample_bytes", "tolerance_study"]
+__all__ = ["CHUNK_SAMPLES", "MEMORY_BUDGET", "PEAK_QUANTITIES", "Tolerance", "ToleranceStudy",
+           "affine_blocks", "affine_map", "check_samples", "max_samples", "sample_bytes",
+           "tolerance_study"]
 
 #: Quantities whose peak over the cycle is kept per joint: the six components and the bending
 #: moment magnitude sqrt(mx² + my²).
@@ -197,9 +199,20 @@ def _peaks(comp: np.ndarray) -> np.ndarray:
     return np.concatenate([p, bend[..., None]], axis=-1)
 
 
+#: Samples per chunk of a tolerance study (the unit of work of a Dask cluster and of the
+#: progress bar): a chunk costs a worker about 0.15 s, some 30x the per-task overhead of a
+#: cluster (measured on a 2-process LocalCluster at 10^5 samples: 0.40 s of client and 0.92-0.97
+#: s of worker CPU in chunks of 2000, 0.25-0.30 s and 0.77-0.90 s in chunks of 10 000); in
+#: process the size does not matter (the kernel works in blocks of KERNEL_BLOCK).
+CHUNK_SAMPLES = 10_000
+
 #: Samples per block of the peak kernel: a block's reactions (positions x 6 n_joints x block,
 #: 4.4 MB for 360 positions and 4 joints) live in one buffer reused by every block of a chunk.
 KERNEL_BLOCK = 64
+#: Elements of NumPy's ufunc buffers in the peak kernel (its default, 8192, makes 64-132 kB
+#: buffers for the strided moments: each freed at once under a Dask worker's malloc setting
+#: and page-faulted back, 2x the kernel's time there).
+UFUNC_BUFFER = 1024
 #: Rows of the affine map (positions x components) per matrix product: products of at most
 #: 240 x (n_tol + 1) x KERNEL_BLOCK stay under OpenBLAS's threshold for threads (a threaded
 #: product on 2 shared cores ran 4-15x slower), and NumPy loops over them in C.
@@ -228,45 +241,69 @@ def _chunk(draws: np.ndarray, *, zb: np.ndarray, n: int, n_joints: int) -> np.nd
     (n, 6 n_joints) and of their derivatives ``Z`` with respect to the sampled deviations
     (n, 6 n_joints, n_tol), over ``n`` positions. The chunk is the unit of work of Dask and of
     the progress bar; the kernel runs over it in blocks of :data:`KERNEL_BLOCK` samples, in
-    buffers allocated once per chunk and reused by every block (``out=``): no temporary grows
-    with the block, so the malloc settings of the process (a Dask worker's
-    ``MALLOC_TRIM_THRESHOLD_``) do not slow it down.
+    buffers made once per thread (:func:`_workspace`) and reused by every block and chunk
+    (``out=``), with NumPy's ufunc
+    buffers held to :data:`UFUNC_BUFFER` elements: no block allocates more than a few kB, so
+    the malloc settings of the process (a Dask worker's ``MALLOC_TRIM_THRESHOLD_``, under
+    which a freed 64 kB buffer goes back to the system at once) do not slow it down.
     """
+    # an array that came over the network (Dask) may be unaligned: matmul would copy it for
+    # BLAS at every block (5 500 page faults a chunk, 1.7x the time on a worker); once here
+    zb = np.require(zb, np.float64, ["C", "A"])
     S = draws.shape[0]
     k = zb.shape[2] - 1
     m = 6 * n_joints
     blk = KERNEL_BLOCK
     out = np.empty((S, n_joints, 7))
-    comp = np.empty((zb.shape[0], zb.shape[1], blk))      # the block's components
-    rhs = np.zeros((k + 1, blk))                          # [draws^T; 1]
+    comp, rhs, peak, low, bend, b2, t2 = _workspace(zb.shape[0], zb.shape[1], k, n, n_joints)
     rhs[k] = 1.0
-    peak = np.empty((m, blk))
-    low = np.empty((m, blk))
-    bend = np.empty((n_joints, blk))
     # (positions, joints, 6, block): a view of the rows that are not padding
     c = comp.reshape(-1, blk)[:n * m].reshape(n, n_joints, 6, blk)
     c2 = c.reshape(n, m, blk)
     mx, my = c[:, :, 3], c[:, :, 4]
-    for lo in range(0, S, blk):
-        s = min(blk, S - lo)
-        rhs[:k, :s] = draws[lo:lo + s].T
-        rhs[:k, s:] = 0.0                                 # a partial last block
-        np.matmul(zb, rhs, out=comp)                      # c0 + Z d, batched over row blocks
-        # peak |x| = max(max x, -min x): no |x| over every position
-        np.max(c2, axis=0, out=peak)
-        np.min(c2, axis=0, out=low)
-        np.negative(low, out=low)
-        np.maximum(peak, low, out=peak)
-        # bending peak = sqrt of the peak of mx^2 + my^2 (one root per sample), in place
-        np.multiply(mx, mx, out=mx)
-        np.multiply(my, my, out=my)
-        np.add(mx, my, out=mx)
-        np.max(mx, axis=0, out=bend)
-        np.sqrt(bend, out=bend)
-        o = out[lo:lo + s]
-        o[:, :, :6] = peak[:, :s].reshape(n_joints, 6, s).transpose(2, 0, 1)
-        o[:, :, 6] = bend[:, :s].T
+    with np.errstate():  # (the ufunc buffer size is restored with the error state)
+        np.setbufsize(UFUNC_BUFFER)
+        for lo in range(0, S, blk):
+            s = min(blk, S - lo)
+            rhs[:k, :s] = draws[lo:lo + s].T
+            rhs[:k, s:] = 0.0                             # a partial last block
+            np.matmul(zb, rhs, out=comp)                  # c0 + Z d, batched over row blocks
+            # peak |x| = max(max x, -min x): no |x| over every position
+            np.max(c2, axis=0, out=peak)
+            np.min(c2, axis=0, out=low)
+            np.negative(low, out=low)
+            np.maximum(peak, low, out=peak)
+            # bending peak = sqrt of the peak of mx^2 + my^2 (one root per sample), into
+            # contiguous buffers (squaring the strided mx in place made NumPy copy it)
+            np.multiply(mx, mx, out=b2)
+            np.multiply(my, my, out=t2)
+            np.add(b2, t2, out=b2)
+            np.max(b2, axis=0, out=bend)
+            np.sqrt(bend, out=bend)
+            o = out[lo:lo + s]
+            o[:, :, :6] = peak[:, :s].reshape(n_joints, 6, s).transpose(2, 0, 1)
+            o[:, :, 6] = bend[:, :s].T
     return out
+
+
+_workspaces = threading.local()
+
+
+def _workspace(nblk: int, rows: int, k: int, n: int, n_joints: int) -> tuple[np.ndarray, ...]:
+    """The peak kernel's buffers for this shape, made once per thread and reused by every chunk
+    after (6 MB for 360 positions and 4 joints): the block's components (nblk, rows, block),
+    the right-hand side [draws^T; 1], the peaks, minima and bending peaks of a block, and
+    ``mx^2 + my^2`` with its second term (contiguous). Chunk after chunk on a Dask worker,
+    no buffer is freed and faulted back, whatever the worker's malloc settings."""
+    key = (nblk, rows, k, n, n_joints, KERNEL_BLOCK)
+    cache = getattr(_workspaces, "buffers", None)
+    if cache is None or cache[0] != key:
+        blk, m = KERNEL_BLOCK, 6 * n_joints
+        bufs = (np.empty((nblk, rows, blk)), np.zeros((k + 1, blk)), np.empty((m, blk)),
+                np.empty((m, blk)), np.empty((n_joints, blk)), np.empty((n, n_joints, blk)),
+                np.empty((n, n_joints, blk)))
+        _workspaces.buffers = cache = (key, bufs)
+    return cache[1]
 
 
 #: Memory budget of a tolerance study [bytes]: the draws (N x n_tolerances) and the peaks
@@ -312,9 +349,34 @@ def check_samples(n_samples: Any, n_joints: int, n_tolerances: int,
     return int(n_samples)
 
 
+def affine_map(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike,
+               index: Sequence[int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The global reaction components as an affine function of the sampled deviations.
+
+    ``index``: the slot of each sampled deviation in the flattened (joint, side, component)
+    deviation array. Returns the peaks without deviations (n_joints, 7), ``c0`` (n, 6 n_joints)
+    and ``Z`` (n, 6 n_joints, n_tol) with components ``= c0 + Z @ d`` at every position:
+    ``Z = P H M`` (P: unknowns -> global components, H: misfit -> unknowns, M: deviations ->
+    misfits), computed once per position by the force method (:func:`influence`).
+    """
+    inf = influence(model, geom, wrenches)
+    frames = _joint_frames(model, geom)
+    nominal = _peaks(_global(model, frames, inf.r0))
+    nj, m1 = len(model.joints), inf.r0.shape[-1]
+    basis = np.zeros((len(index), nj * 2 * 6))
+    basis[np.arange(len(index)), index] = 1.0
+    mis = misfit(model, geom, basis.reshape(len(index), nj, 2, 6))       # (n_tol, n, m)
+    dr = np.einsum("nij,tnj->nit", inf.h, mis)                           # (n, m+1, n_tol)
+    eye = np.broadcast_to(np.eye(m1)[:, None, :], (m1, geom.n, m1))
+    p = _global(model, frames, eye)                                      # (m+1, nj, 6, n)
+    p = p.reshape(m1, nj * 6, geom.n).transpose(2, 1, 0)                # (n, 6 nj, m+1)
+    c0 = np.einsum("nck,nk->nc", p, inf.r0)
+    return nominal, c0, p @ dr
+
+
 def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayLike,
                     tolerances: Sequence[Tolerance], n_samples: int, *,
-                    seed: int | None = 0, chunk_size: int = 2000, client: Any = None,
+                    seed: int | None = 0, chunk_size: int = CHUNK_SAMPLES, client: Any = None,
                     progress: Any = None) -> ToleranceStudy:
     """Monte-Carlo study of the peak spatial reactions over a cycle.
 
@@ -330,9 +392,9 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     seed : int or None
         Seed of the random generator (``numpy.random.default_rng``).
     chunk_size : int
-        Samples per chunk: the unit of work of a Dask cluster and of ``progress`` (the kernel
-        runs over a chunk in blocks of :data:`KERNEL_BLOCK` samples, so memory stays bounded
-        whatever the chunk size).
+        Samples per chunk (default :data:`CHUNK_SAMPLES`): the unit of work of a Dask cluster
+        and of ``progress`` (the kernel runs over a chunk in blocks of :data:`KERNEL_BLOCK`
+        samples, so memory stays bounded whatever the chunk size).
     client : dask.distributed.Client or str, optional
         Spread the chunks over this cluster (see :func:`linkwork.sweep.evaluate`).
     progress : callable, optional
@@ -362,22 +424,8 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
             draws[:, k] = rng.normal(t.mean, t.limit / 3.0, n)
         else:
             draws[:, k] = rng.uniform(t.mean - t.limit, t.mean + t.limit, n)
-    inf = influence(model, geom, wrenches)
-    frames = _joint_frames(model, geom)
-    nominal = _peaks(_global(model, frames, inf.r0))
-    # everything is affine in the deviations: global components = c0 + Z @ draws, with
-    # Z = P H M (P: unknowns -> global components, H: misfit -> unknowns, M: deviations ->
-    # misfits), computed once per position
-    nj, m1 = len(model.joints), inf.r0.shape[-1]
-    basis = np.zeros((len(index), nj * 2 * 6))
-    basis[np.arange(len(index)), index] = 1.0
-    mis = misfit(model, geom, basis.reshape(len(index), nj, 2, 6))       # (n_tol, n, m)
-    dr = np.einsum("nij,tnj->nit", inf.h, mis)                           # (n, m+1, n_tol)
-    eye = np.broadcast_to(np.eye(m1)[:, None, :], (m1, geom.n, m1))
-    p = _global(model, frames, eye)                                      # (m+1, nj, 6, n)
-    p = p.reshape(m1, nj * 6, geom.n).transpose(2, 1, 0)                # (n, 6 nj, m+1)
-    c0 = np.einsum("nck,nk->nc", p, inf.r0)
-    zmat = p @ dr                                                        # (n, 6 nj, n_tol)
+    nominal, c0, zmat = affine_map(model, geom, wrenches, index)
+    nj = len(model.joints)
     func = functools.partial(_chunk, n=geom.n, n_joints=nj)
     peaks = evaluate(func, draws, chunk_size=chunk_size, client=client, progress=progress,
                      shared={"zb": affine_blocks(c0, zmat)})

@@ -8,6 +8,7 @@ prints, writes and plots. Nothing is printed.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -15,6 +16,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from linkwork.balancing.loads import mean_over_range
+from linkwork.checks import require_finite
 from linkwork.errors import AssemblyError, ParameterError, angle_ranges, format_angle_ranges
 from linkwork.io.planar import PlanarFile
 from linkwork.planar import (
@@ -33,13 +35,15 @@ from linkwork.planar import (
     kinematics,
     transmission_angles,
 )
+from linkwork.planar.extremes import output_rates
+from linkwork.planar.kinematics import dead_centres_over, state_of
 from linkwork.planar.structure import Structure
 from linkwork.results import json_array
 
-__all__ = ["PlanarStudy", "analyze", "cycle_peaks", "dead_centre_label",
-           "default_table_positions", "distinct_paths", "driver_columns", "dynamics_columns_of",
-           "friction_summary", "kinematics_columns_of", "load_summary", "named_columns",
-           "reported_loads", "table_positions_error"]
+__all__ = ["CHUNK_POSITIONS", "PlanarStudy", "PlanarSummary", "analyze", "analyze_chunked",
+           "cycle_peaks", "dead_centre_label", "default_table_positions", "distinct_paths",
+           "driver_columns", "dynamics_columns_of", "friction_summary", "kinematics_columns_of",
+           "load_summary", "named_columns", "reported_loads", "table_positions_error"]
 
 Transmission = dict[str, tuple[np.ndarray, np.ndarray]]
 OnFailure = Literal["raise", "nan"]
@@ -121,19 +125,25 @@ def reported_loads(dyn: Dynamics) -> list[AppliedLoad]:
         isinstance(getattr(ap.load, f, None), LoadDiagram) for f in ("fx", "fy", "mz"))]
 
 
-def dynamics_columns_of(kin: Kinematics, dyn: Dynamics) -> dict[str, tuple[np.ndarray, str]]:
+def dynamics_columns_of(kin: Kinematics, dyn: Dynamics, *, by_structure: bool = False
+                        ) -> dict[str, tuple[np.ndarray, str]]:
     """``phi1``, every joint's reaction ``R_<joint>.x/.y`` [N] (``.mz`` [N m] where not zero),
     ``Q``, the shaking force and moment, ``T``; with friction ``Q_frictionless``, the friction
     powers ``Pf_<joint>`` [W], ``efficiency`` and ``locked``; with force elements or load
     diagrams (:func:`reported_loads`) each one's value ``F_<name>`` [N] (a couple ``M_<name>``
     [N m]), a spring's or damper's length ``L_<name>`` [m] and power ``P_<name>`` [W], and the
-    energy in the springs ``V`` [J]."""
+    energy in the springs ``V`` [J]. ``by_structure``: a joint's couple and friction power are
+    columns wherever the joint can carry them (a prismatic pair's couple, a joint with
+    friction), not only where they are not zero throughout these positions (the same columns
+    for every chunk of a long cycle, :func:`analyze_chunked`)."""
     mech = kin.mechanism
     cols = driver_columns(mech, {"phi1": kin.phi1})
+    joints = [mech.joint(j) for j in dyn.joints]
     for k, j in enumerate(dyn.joints):
         cols[f"R_{j}.x"] = (dyn.fx[k], "N")
         cols[f"R_{j}.y"] = (dyn.fy[k], "N")
-        if np.any(dyn.mz[k] != 0):
+        if (("t" in joints[k].row_kinds or joints[k].has_friction) if by_structure
+                else np.any(dyn.mz[k] != 0)):
             cols[f"R_{j}.mz"] = (dyn.mz[k], "N*m")
     cols.update(driver_columns(mech, {"Q": dyn.Q}))
     cols["shaking_fx"] = (dyn.shaking_fx, "N")
@@ -143,7 +153,8 @@ def dynamics_columns_of(kin: Kinematics, dyn: Dynamics) -> dict[str, tuple[np.nd
     if dyn.has_friction:  # only then: frictionless files keep their columns
         cols.update(driver_columns(mech, {"Q_frictionless": dyn.Q_frictionless}))
         for k, j in enumerate(dyn.joints):
-            if np.any(dyn.friction_power[k] != 0):
+            if (joints[k].has_friction if by_structure
+                    else np.any(dyn.friction_power[k] != 0)):
                 cols[f"Pf_{j}"] = (dyn.friction_power[k], "W")
         cols["efficiency"] = (dyn.efficiency, "")
         cols["locked"] = (dyn.locked.astype(float), "1")  # a flag, as "valid [1]"
@@ -177,23 +188,32 @@ def load_summary(dyn: Dynamics) -> list[dict[str, Any]]:
         return float(v[i]), float(dyn.phi1[i])
 
     for ap in reported_loads(dyn):
-        lo, lo_at = at(ap.value, np.nanargmin)
-        hi, hi_at = at(ap.value, np.nanargmax)
         with np.errstate(all="ignore"):
             work = order * float(np.trapezoid(ap.power / w1, dyn.phi1)) if order else None
-        entry: dict[str, Any] = {"name": ap.name, "kind": ap.kind, "unit": ap.unit, "min": lo,
-                                 "min_at": lo_at, "max": hi, "max_at": hi_at,
-                                 "work": work if work is None or np.isfinite(work) else None}
-        if ap.length is not None:
-            entry["length"] = [float(np.nanmin(ap.length)), float(np.nanmax(ap.length))]
-        diagrams = [d for d in (getattr(ap.load, f, None) for f in ("fx", "fy", "mz", "force"))
-                    if isinstance(d, LoadDiagram)]
-        if diagrams:
-            d = diagrams[0]
-            entry["diagram"] = {"over": d.over, "range": list(d.table_range), "when": d.when,
-                                "outside": d.outside}
-        out.append(entry)
+        length = (None if ap.length is None else
+                  (float(np.nanmin(ap.length)), float(np.nanmax(ap.length))))
+        out.append(_load_record(ap, at(ap.value, np.nanargmin), at(ap.value, np.nanargmax),
+                                length, work))
     return out
+
+
+def _load_record(ap: AppliedLoad, lo: tuple[float | None, float | None],
+                 hi: tuple[float | None, float | None], length: tuple[float, float] | None,
+                 work: float | None) -> dict[str, Any]:
+    """One entry of :func:`load_summary`: ``lo``, ``hi`` the smallest and largest value with
+    their positions, ``length`` a spring's or damper's extremes, ``work`` over the range."""
+    entry: dict[str, Any] = {"name": ap.name, "kind": ap.kind, "unit": ap.unit, "min": lo[0],
+                             "min_at": lo[1], "max": hi[0], "max_at": hi[1],
+                             "work": work if work is None or np.isfinite(work) else None}
+    if length is not None:
+        entry["length"] = list(length)
+    diagrams = [d for d in (getattr(ap.load, f, None) for f in ("fx", "fy", "mz", "force"))
+                if isinstance(d, LoadDiagram)]
+    if diagrams:
+        d = diagrams[0]
+        entry["diagram"] = {"over": d.over, "range": list(d.table_range), "when": d.when,
+                            "outside": d.outside}
+    return entry
 
 
 def dead_centre_label(mech: Mechanism, d: DeadCentre) -> tuple[str, str]:
@@ -224,20 +244,11 @@ def cycle_peaks(kin: Kinematics, dyn: Dynamics, transmission: Transmission | Non
     between them); unassembled positions (NaN) are skipped. ``transmission``: the result of
     :func:`~linkwork.planar.transmission_angles` of ``kin`` if already computed.
     """
-    series: list[tuple[str, np.ndarray, str, str]] = []
-    for name, (q, unit_q) in driver_columns(kin.mechanism, {"Q": dyn.Q}).items():
-        label = name.replace(".", " ")  # several drivers: "Q O1 max"
-        series += [(f"{label} max", q, unit_q, "max"), (f"{label} min", q, unit_q, "min")]
-    for k, j in enumerate(dyn.joints):
-        series.append((f"|R {j}|", np.hypot(dyn.fx[k], dyn.fy[k]), "N", "max"))
-        if np.any(dyn.mz[k] != 0):
-            series.append((f"|M {j}|", np.abs(dyn.mz[k]), "N*m", "max"))
-    series += [("|F_sh|", np.hypot(dyn.shaking_fx, dyn.shaking_fy), "N", "max"),
-               ("|M_sh|", np.abs(dyn.shaking_m), "N*m", "max")]
     trans = transmission_angles(kin) if transmission is None else transmission
-    series += [(f"μ {key} min", mu, "rad", "min") for key, (mu, _) in trans.items()]
     peaks = []
-    for name, v, unit, kind in series:
+    for name, v, unit, kind, couple in _peak_series(kin, dyn, trans):
+        if couple is not None and not np.any(dyn.mz[couple] != 0):
+            continue  # a joint that carries no couple
         if not np.any(np.isfinite(v)):
             continue
         i = int(np.nanargmax(v) if kind == "max" else np.nanargmin(v))
@@ -246,6 +257,27 @@ def cycle_peaks(kin: Kinematics, dyn: Dynamics, transmission: Transmission | Non
         peaks.append({"name": name, "value": float(v[i]), "unit": unit, "phi1": at,
                       **({} if kin.phi1.ndim == 1 else {"position": i})})
     return peaks
+
+
+#: A quantity of :func:`cycle_peaks`: name, values, unit, "max" or "min", and for the couple
+#: of a joint the joint's index (kept only where the joint carries a couple), else None.
+PeakSeries = tuple[str, np.ndarray, str, str, int | None]
+
+
+def _peak_series(kin: Kinematics, dyn: Dynamics, trans: Transmission) -> list[PeakSeries]:
+    """The quantities of :func:`cycle_peaks`, the couple ``|M j|`` of every joint included."""
+    series: list[PeakSeries] = []
+    for name, (q, unit_q) in driver_columns(kin.mechanism, {"Q": dyn.Q}).items():
+        label = name.replace(".", " ")  # several drivers: "Q O1 max"
+        series += [(f"{label} max", q, unit_q, "max", None),
+                   (f"{label} min", q, unit_q, "min", None)]
+    for k, j in enumerate(dyn.joints):
+        series.append((f"|R {j}|", np.hypot(dyn.fx[k], dyn.fy[k]), "N", "max", None))
+        series.append((f"|M {j}|", np.abs(dyn.mz[k]), "N*m", "max", k))
+    series += [("|F_sh|", np.hypot(dyn.shaking_fx, dyn.shaking_fy), "N", "max", None),
+               ("|M_sh|", np.abs(dyn.shaking_m), "N*m", "max", None)]
+    series += [(f"μ {key} min", mu, "rad", "min", None) for key, (mu, _) in trans.items()]
+    return series
 
 
 def friction_summary(dyn: Dynamics) -> dict[str, Any] | None:
@@ -259,22 +291,32 @@ def friction_summary(dyn: Dynamics) -> dict[str, Any] | None:
     ``newton_iterations`` of the friction solve."""
     if not dyn.has_friction:
         return None
-    wd = dyn.driving_work
-    losses = dyn.friction_losses
+    return _friction_record(dyn.joints, dyn.driving_work, dyn.friction_losses,
+                            dyn.self_locking_ranges(), int(np.sum(dyn.locked)),
+                            dyn.friction_iterations)
+
+
+def _friction_record(joints: tuple[str, ...], wd: float, losses: np.ndarray,
+                     runs: list[tuple[float, float]], locked: int, iterations: int
+                     ) -> dict[str, Any]:
+    """The dict of :func:`friction_summary` from the driver's work ``wd`` [J] and the losses
+    per joint [J] over the range (NaN where undefined), the self-locking runs, their number of
+    positions and the friction solve's Newton steps."""
+    loss = float(np.sum(losses))
     wd_ok = bool(np.isfinite(wd) and wd > 0)
 
     def num(v: float) -> float | None:
         return float(v) if np.isfinite(v) else None
 
     return {
-        "efficiency_cycle": dyn.efficiency_cycle,
+        "efficiency_cycle": 1.0 - loss / wd if wd_ok and np.isfinite(loss) else None,
         "driving_work": num(wd),
-        "losses": {j: num(v) for j, v in zip(dyn.joints, losses, strict=True)},
+        "losses": {j: num(v) for j, v in zip(joints, losses, strict=True)},
         "loss_share": {j: (num(v / wd) if wd_ok else None)
-                       for j, v in zip(dyn.joints, losses, strict=True)},
-        "self_locking": [[a, b] for a, b in dyn.self_locking_ranges()],
-        "locked_positions": int(np.sum(dyn.locked)),
-        "newton_iterations": dyn.friction_iterations,
+                       for j, v in zip(joints, losses, strict=True)},
+        "self_locking": [[a, b] for a, b in runs],
+        "locked_positions": locked,
+        "newton_iterations": iterations,
     }
 
 
@@ -574,3 +616,304 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None,
         peaks=cycle_peaks(kin, dyn, trans),
         means=_means(mech, kin, dyn),
         friction=friction_summary(dyn), loads=load_summary(dyn))
+
+
+# ---------------------------------------------------------------------------------------------
+# long cycles: chunk by chunk, in bounded memory
+
+#: Positions per chunk of :func:`analyze_chunked`: a chunk of the four-bar of paper 001 with its
+#: columns takes some 4 kB per position (measured: 141 MiB peak resident for 10^6 positions in
+#: chunks of 8192, 162 MiB in chunks of 32768, the same time), besides the positions and 8
+#: bytes per position and group kept for the dead centres.
+CHUNK_POSITIONS = 16_384
+
+#: What receives the per-position columns of one chunk: ``sink(kinematic, dynamic)``, two
+#: mappings name -> values, those of ``planar_kinematics.csv`` and ``planar_dynamics.csv`` in
+#: their order (the same names every chunk).
+ColumnSink = Callable[[dict[str, np.ndarray], dict[str, np.ndarray]], None]
+
+
+class _Trapezoid:
+    """The trapezoid integral of values over the positions, fed chunk by chunk (each chunk's
+    first segment starts at the previous chunk's last sample), with what
+    :func:`~linkwork.cycles.mean_over_range` needs when a value is not finite."""
+
+    def __init__(self, width: int = 0) -> None:
+        shape = (width,) if width else ()
+        self.total = np.zeros(shape)
+        self.finite = True
+        self.nansum = np.zeros(shape)
+        self.count = np.zeros(shape)
+        self.last: tuple[float, np.ndarray] | None = None
+
+    def add(self, phi: np.ndarray, values: np.ndarray) -> None:
+        v = np.asarray(values, dtype=float)
+        x = phi
+        if self.last is not None:
+            x = np.concatenate([[self.last[0]], phi])
+            v = np.concatenate([self.last[1][..., None], v], axis=-1)
+        self.total = self.total + np.trapezoid(v, x, axis=-1)
+        tail = np.asarray(values, dtype=float)
+        self.finite = self.finite and bool(np.all(np.isfinite(tail)))
+        self.nansum = self.nansum + np.nansum(tail, axis=-1)
+        self.count = self.count + np.sum(np.isfinite(tail), axis=-1)
+        self.last = (float(phi[-1]), tail[..., -1].copy())
+
+    def mean(self, first: float, last: float, n: int) -> float:
+        """:func:`~linkwork.cycles.mean_over_range` of the values fed (NaN if one is not
+        finite: the work over a range where the value is undefined somewhere is undefined)."""
+        if not self.finite or n == 0:
+            return float("nan")
+        if n > 1 and last != first:
+            return float(self.total / (last - first))
+        return float(self.nansum / self.count)
+
+
+class _ChunkStats:
+    """The running statistics of :func:`analyze_chunked` over the chunks of a cycle."""
+
+    def __init__(self, mech: Mechanism, phi: np.ndarray) -> None:
+        self.mech = mech
+        self.phi = phi
+        self.rates: dict[str, tuple[int, np.ndarray]] = {}
+        self.branches: dict[str, int] = {}
+        # name -> [value, phi1, unit, kind, couple joint]; couples seen not zero
+        self.best: dict[str, list[Any]] = {}
+        self.couples: set[int] = set()
+        self.q = _Trapezoid()
+        self.power = _Trapezoid()
+        nj = len(mech.joints)
+        self.has_friction = any(j.has_friction for j in mech.joints)
+        self.losses = _Trapezoid(nj)      # friction power / omega1 over phi1
+        self.w1_pos = self.w1_neg = True  # the driver turns one way throughout
+        self.w1_first = 0.0
+        # reported loads by name: [load, (min, at), (max, at), [shortest, longest], work]
+        self.loads: dict[str, list[Any]] = {}
+        self.runs: list[tuple[float, float]] = []
+        self.locked = 0
+        self.iterations = 0
+        self.last_locked = False
+
+    def add(self, lo: int, kin: Kinematics, dyn: Dynamics, trans: Transmission) -> None:
+        q, n = kin.phi1, self.phi.size
+        if not self.branches:
+            self.branches = dict(kin.branches)
+        for key, (b, rate) in output_rates(self.mech.plan, state_of(kin)).items():
+            if key not in self.rates:
+                self.rates[key] = (b, np.empty(n))
+            self.rates[key][1][lo:lo + q.size] = rate
+        for name, v, unit, kind, couple in _peak_series(kin, dyn, trans):
+            if couple is not None and np.any(dyn.mz[couple] != 0):
+                self.couples.add(couple)
+            entry = self.best.setdefault(name, [None, None, unit, kind, couple])
+            if not np.any(np.isfinite(v)):
+                continue
+            i = int(np.nanargmax(v) if kind == "max" else np.nanargmin(v))
+            val = float(v[i])
+            if entry[0] is None or (val > entry[0] if kind == "max" else val < entry[0]):
+                entry[0], entry[1] = val, float(q[i])  # strict: the first position wins
+        self.q.add(q, dyn.Q)
+        self.power.add(q, dyn.power)
+        w1 = np.broadcast_to(np.asarray(kin.omega1, dtype=float), q.shape)
+        if lo == 0:
+            self.w1_first = float(w1[0])
+        self.w1_pos = self.w1_pos and bool(np.all(w1 > 0))
+        self.w1_neg = self.w1_neg and bool(np.all(w1 < 0))
+        for ap in reported_loads(dyn):
+            self._add_load(ap, q, w1)
+        if self.has_friction:
+            with np.errstate(all="ignore"):
+                self.losses.add(q, dyn.friction_power / w1)
+            lk = np.asarray(dyn.locked, dtype=bool)
+            self.locked += int(lk.sum())
+            self.iterations = max(self.iterations, dyn.friction_iterations)
+            for start, end in dyn.self_locking_ranges():  # runs continue across chunks
+                if self.runs and self.last_locked and start == float(q[0]):
+                    self.runs[-1] = (self.runs[-1][0], end)
+                else:
+                    self.runs.append((start, end))
+            self.last_locked = bool(lk[-1])
+
+    def _add_load(self, ap: AppliedLoad, q: np.ndarray, w1: np.ndarray) -> None:
+        """A reported load's extremes (first position of a tie), length and work so far."""
+        entry = self.loads.setdefault(ap.name, [ap, (None, None), (None, None), None,
+                                                _Trapezoid()])
+        v = ap.value
+        if np.any(np.isfinite(v)):
+            i, j = int(np.nanargmin(v)), int(np.nanargmax(v))
+            if entry[1][0] is None or v[i] < entry[1][0]:
+                entry[1] = (float(v[i]), float(q[i]))
+            if entry[2][0] is None or v[j] > entry[2][0]:
+                entry[2] = (float(v[j]), float(q[j]))
+        if ap.length is not None and np.any(np.isfinite(ap.length)):
+            lo, hi = float(np.nanmin(ap.length)), float(np.nanmax(ap.length))
+            entry[3] = (lo, hi) if entry[3] is None else (min(entry[3][0], lo),
+                                                          max(entry[3][1], hi))
+        with np.errstate(all="ignore"):
+            entry[4].add(q, ap.power / w1)
+
+    def _order(self) -> float:
+        """+1 / -1: the positions in the order the driver passes them, or against it; 0:
+        undefined (as :meth:`Dynamics._time_order`)."""
+        span = float(self.phi[-1] - self.phi[0]) if self.phi.size >= 2 else 0.0
+        return (float(np.sign(self.w1_first * span))
+                if span != 0.0 and (self.w1_pos or self.w1_neg) else 0.0)
+
+    def load_records(self) -> list[dict[str, Any]]:
+        """:func:`load_summary` of the whole cycle."""
+        order = self._order()
+        return [_load_record(ap, lo, hi, length,
+                             order * float(work.total) if order else None)
+                for ap, lo, hi, length, work in self.loads.values()]
+
+    def peaks(self) -> list[dict[str, Any]]:
+        """:func:`cycle_peaks` of the whole cycle."""
+        return [{"name": name, "value": val, "unit": unit, "phi1": at}
+                for name, (val, at, unit, _kind, couple) in self.best.items()
+                if val is not None and (couple is None or couple in self.couples)]
+
+    def means(self) -> dict[str, float]:
+        first, last, n = float(self.phi[0]), float(self.phi[-1]), self.phi.size
+        return {"Q_mean": self.q.mean(first, last, n),
+                "power_mean": self.power.mean(first, last, n)}
+
+    def friction(self) -> dict[str, Any] | None:
+        """:func:`friction_summary` of the whole cycle."""
+        if not self.has_friction:
+            return None
+        order = self._order()
+        joints = tuple(j.name for j in self.mech.joints)
+        nan = float("nan")
+        wd = order * float(self.q.total) if order else nan
+        losses = order * np.asarray(self.losses.total) if order else np.full(len(joints), nan)
+        return _friction_record(joints, wd, losses, self.runs, self.locked, self.iterations)
+
+
+@dataclass(frozen=True)
+class PlanarSummary:
+    """What :func:`analyze_chunked` keeps of a long cycle: everything of
+    :class:`PlanarStudy` but the per-position arrays, which went to the sink chunk by chunk.
+
+    Attributes
+    ----------
+    doc, mechanism
+        The file and its engine model.
+    n : int
+        Number of positions analysed; ``first``, ``last`` the first and last driver position
+        [rad, or m].
+    branches : dict
+        Branch used for each group key.
+    dead_centres, dead_centre_labels, peaks, means, friction, loads
+        As in :class:`PlanarStudy` (the same numbers as the whole cycle held at once, to
+        round-off in the means, losses and work, which are summed chunk by chunk).
+    table_positions, table_kinematics, table_dynamics, table_transmission
+        The table, as in :class:`PlanarStudy`.
+    chunk : int
+        Positions per chunk.
+    """
+
+    doc: PlanarFile
+    mechanism: Mechanism
+    n: int
+    first: float
+    last: float
+    branches: dict[str, int]
+    dead_centres: list[DeadCentre]
+    dead_centre_labels: list[tuple[str, str]]
+    peaks: list[dict[str, Any]]
+    means: dict[str, float]
+    friction: dict[str, Any] | None
+    table_positions: np.ndarray
+    table_kinematics: Kinematics
+    table_dynamics: Dynamics
+    table_transmission: Transmission
+    chunk: int
+    loads: list[dict[str, Any]] = field(default_factory=list)
+
+
+def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
+                    angles: ArrayLike | None = None, chunk: int = CHUNK_POSITIONS,
+                    sink: ColumnSink | None = None,
+                    progress: Callable[[int, int], None] | None = None) -> PlanarSummary:
+    """:func:`analyze` of a cycle too long to hold, chunk by chunk, in bounded memory.
+
+    Each chunk of ``chunk`` positions is solved (kinematics, inverse dynamics, transmission
+    angles), its per-position columns (:func:`kinematics_columns_of` with the transmission
+    angles, :func:`dynamics_columns_of` with ``by_structure=True``: the same columns for every
+    chunk) go to ``sink`` (e.g. two :class:`~linkwork.results.CsvRows` of
+    ``planar_kinematics.csv`` and ``planar_dynamics.csv``), and what the study reports is
+    kept as running statistics: the extremes with their positions (:func:`cycle_peaks`: the
+    first position of an extreme, as over the whole cycle), the means (trapezoid integrals
+    continued across chunks), the friction losses, work and self-locking runs, the loads'
+    extremes, lengths and work (:func:`load_summary`), and the output
+    rate of every group (8 bytes per position and group) from which the dead centres are found
+    at the end. Memory: that of one chunk plus those rates and the positions themselves; the
+    numbers are those of :func:`analyze` (means and losses to round-off).
+
+    Parameters
+    ----------
+    doc : PlanarFile
+        The validated file.
+    positions : array_like, optional
+        The driver positions [rad, or m] (any number, increasing as the file's are); default
+        the file's [analysis] positions.
+    angles : array_like, optional
+        The table's driver positions (as for :func:`analyze`).
+    chunk : int
+        Positions per chunk (>= 2).
+    sink : callable, optional
+        ``sink(kinematic_columns, dynamic_columns)`` per chunk, in order.
+    progress : callable, optional
+        ``progress(done, n)`` after each chunk.
+
+    Returns
+    -------
+    PlanarSummary
+    """
+    mech = doc.mechanism()
+    if mech.n_drivers > 1:
+        raise ParameterError("drivers", mech.n_drivers, "must be 1 for a cycle analysed chunk "
+                             "by chunk (several drivers: analyze, which holds the whole path)")
+    crank = isinstance(mech.driver, Crank)
+    phi = doc.positions() if positions is None else np.asarray(
+        require_finite("positions", positions), dtype=float).reshape(-1)
+    n = phi.size
+    if n < 1:
+        raise ParameterError("positions", "[]", "must hold at least one driver position")
+    if isinstance(chunk, bool) or int(chunk) != chunk or chunk < 2:
+        raise ParameterError("chunk", chunk, "must be an integer >= 2 (positions per chunk)")
+    stats = _ChunkStats(mech, phi)
+    for lo in range(0, n, int(chunk)):
+        q = phi[lo:lo + int(chunk)]
+        # (the driver's speed is the same at every position: the friction law's sign width
+        # and a load diagram's band of rest, relative to its largest value, are those of the
+        # whole cycle in every chunk)
+        try:
+            kin, dyn = _solve(doc, mech, q)
+        except AssemblyError as exc:
+            err = AssemblyError(f"{exc} (the cycle is analysed chunk by chunk: positions "
+                                f"{lo + 1}-{lo + q.size} of {n}; later ones not checked)")
+            err.ranges, err.driver = exc.ranges, exc.driver
+            raise err from None
+        trans = transmission_angles(kin)
+        stats.add(lo, kin, dyn, trans)
+        if sink is not None:
+            kc = kinematics_columns_of(kin)
+            kc.update({f"mu_{key}": (mu, "rad") for key, (mu, _) in trans.items()})
+            dc = dynamics_columns_of(kin, dyn, by_structure=True)
+            sink({k: v for k, (v, _) in kc.items()}, {k: v for k, (v, _) in dc.items()})
+        if progress is not None:
+            progress(lo + q.size, n)
+    dcs = dead_centres_over(mech, phi, stats.rates, stats.branches)
+    tphi = default_table_positions(doc) if angles is None else np.asarray(angles, float)
+    try:
+        tk, td = _solve(doc, mech, tphi)
+    except AssemblyError as exc:
+        raise table_positions_error(exc, tphi, not crank) from None
+    return PlanarSummary(
+        doc=doc, mechanism=mech, n=n, first=float(phi[0]), last=float(phi[-1]),
+        branches=stats.branches, dead_centres=dcs,
+        dead_centre_labels=[dead_centre_label(mech, d) for d in dcs], peaks=stats.peaks(),
+        means=stats.means(), friction=stats.friction(), table_positions=tphi,
+        table_kinematics=tk, table_dynamics=td, table_transmission=transmission_angles(tk),
+        chunk=int(chunk), loads=stats.load_records())

@@ -37,6 +37,7 @@ from linkwork.redundancy import (
     spatial_model,
     tolerance_study,
 )
+from linkwork.redundancy.tolerance import CHUNK_SAMPLES
 from linkwork.studies.planar import default_table_positions, table_positions_error
 
 __all__ = ["ReactionsStudy", "model_inputs", "run", "solve", "tolerance", "tolerances"]
@@ -278,7 +279,7 @@ def tolerances(study: ReactionsStudy, n: int) -> list[Tolerance]:
 
 
 def tolerance(study: ReactionsStudy, n: int, *, tols: Sequence[Tolerance] | None = None,
-              seed: int = 0, scheduler: Any = None, chunk_size: int = 2000,
+              seed: int = 0, scheduler: Any = None, chunk_size: int = CHUNK_SAMPLES,
               progress: Any = None) -> ToleranceStudy:
     """Monte-Carlo study of the peak reactions over the study's cycle under ``tols`` (default
     :func:`tolerances` of the study: the file's tolerances around its systematic deviations).

@@ -136,6 +136,31 @@ def test_block_csv_writer_is_the_csv_module_text(tmp_path, ncols, monkeypatch):
     assert seen[-1] == (n, n) and len(seen) == -(-n // 37)
 
 
+def test_csv_rows_in_chunks_is_the_same_file_and_atomic(tmp_path, monkeypatch):
+    """Rows appended in chunks of uneven sizes (a long cycle computed chunk by chunk) give the
+    text of the csv module for the whole table; a chunk with other columns is refused naming
+    them; an error inside the block leaves no file."""
+    import linkwork.results as results
+    monkeypatch.setattr(results, "CSV_BLOCK_ROWS", 10)
+    rng = np.random.default_rng(6)
+    x, y = rng.normal(size=103), rng.normal(size=103) * 1e-300
+    y[5] = np.nan
+    with results.csv_rows(tmp_path / "a.csv", {"x": "m", "y": "N"}) as out:
+        for lo, hi in ((0, 1), (1, 40), (40, 41), (41, 103)):
+            out.append({"x": x[lo:hi], "y": y[lo:hi]})
+    assert out.rows == 103
+    with open(tmp_path / "a.csv", newline="") as fh:
+        assert fh.read() == _csv_module_reference({"x": (x, "m"), "y": (y, "N")})
+    with pytest.raises(ParameterError, match="header's columns"), \
+            results.csv_rows(tmp_path / "b.csv", {"x": "m", "y": "N"}) as out:
+        out.append({"x": x[:3], "y": y[:3]})
+        out.append({"y": y[:3], "x": x[:3]})
+    with pytest.raises(ParameterError, match="y = inf at 1 of 3"), \
+            results.csv_rows(tmp_path / "c.csv", {"x": "m", "y": "N"}) as out:
+        out.append({"x": x[:3], "y": [1.0, np.inf, 2.0]})
+    assert sorted(q.name for q in tmp_path.iterdir()) == ["a.csv"]
+
+
 def test_json_writer_reads_back_as_the_strict_values(tmp_path):
     data = {"name": "four-bar", "units": {"x": "m"}, "empty": {}, "none": [],
             "x": [0.1, float("nan"), -0.0, 1e300], "nested": [{"a": [1, 2]}, {"b": "c"}],

@@ -208,3 +208,21 @@ def test_roomy_heap_reuses_memory_under_fixed_malloc_thresholds(env):
     before, inside, after = (int(v) for v in res.stdout.split())
     assert before > 20_000 and after > 20_000
     assert inside < 4_000
+
+
+def test_aligned_copies_only_unaligned_arrays_everywhere_in_a_chunk():
+    """Arrays that arrive over the network may start at any byte; ``aligned`` copies those
+    (same values) in arrays, mappings, tuples and lists, and returns aligned arrays as they
+    are."""
+    from linkwork.sweep import aligned
+
+    raw = bytearray(8 * 10 + 1)
+    u = np.frombuffer(memoryview(raw)[1:], dtype=np.float64)
+    u[...] = np.arange(10.0)
+    assert not u.flags.aligned
+    a = np.arange(5.0)
+    out = aligned({"u": u, "a": a, "t": (u, 3), "l": [a, "x"]})
+    assert out["u"].flags.aligned and np.array_equal(out["u"], np.arange(10.0))
+    assert out["a"] is a and out["l"][0] is a and out["l"][1] == "x"
+    assert out["t"][0].flags.aligned and out["t"][1] == 3 and isinstance(out["t"], tuple)
+    assert aligned(u).flags.aligned and aligned(a) is a

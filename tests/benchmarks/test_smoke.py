@@ -13,24 +13,46 @@ def bench():
 
 
 def test_benchmark_runs_and_all_contenders_agree(bench):
+    """Every case at a tiny size: every contender agrees with its reference (checked inside
+    run), the table prints min / median / max and judges the targets."""
     use_pl = bench.have_pylinkage()
-    rows = bench.run(sizes=(100,), repeat=1, pylinkage=use_pl, no_numba=False)
-    names = {(r["mechanism"], r["contender"]) for r in rows}
-    for mech in ("four-bar", "crank-slider"):
-        for who in ("plain NumPy", "closed form", "engine", "engine + reactions"):
-            assert (mech, who) in names
-        assert ((mech, "pylinkage (numba)") in names) == use_pl
-    text = bench.table(rows)
-    assert "closed form / plain NumPy" in text
+    fused = bench._fused() is not None
+    result = bench.run(sizes=(100,), repeat=1, pylinkage=use_pl, no_numba=False, fused=fused,
+                       n_designs=5)
+    names = {(r["case"], r["contender"]) for r in result["rows"]}
+    for case, who in (("four-bar closed form", "closed form"),
+                      ("four-bar closed form", "flat NumPy, same algorithm"),
+                      ("crank-slider closed form", "flat NumPy, same algorithm"),
+                      ("four-bar engine", "engine"),
+                      ("four-bar engine + reactions", "engine + reactions"),
+                      ("four-bar, one position (fixed cost)", "engine"),
+                      ("four-bar designs (5 x 360)", "engine, one call per design")):
+        assert (case, who) in names
+    assert (("four-bar engine", "fused numba loop") in names) == fused
+    assert (("four-bar engine", "pylinkage (numba)") in names) == use_pl
+    assert all(v <= 1e-9 for v in result["agreement"].values())
+    text = bench.table(result)
+    assert "library / flat NumPy (same algorithm, same outputs)" in text
+    assert "min / median / max" in text
 
 
 def test_benchmark_check_catches_a_disagreement(bench):
-    cons = bench.fourbar_contenders(50, with_engine=False)
-    ref = cons[0].output(cons[0].run())
-    bad = list(ref)
-    bad[3] = bad[3] * (1 + 1e-6)
-    with pytest.raises(AssertionError, match="closed form disagrees"):
-        bench.check([c for c in cons if c.name == "closed form"], tuple(bad), "four-bar")
+    case = bench.fourbar_case(50, fused=False)
+    flat = case.contenders[1]
+    real = flat.output
+    flat.output = lambda r: tuple(x * (1 + 1e-6) if i == 3 else x
+                                  for i, x in enumerate(real(r)))
+    with pytest.raises(AssertionError, match="flat NumPy, same algorithm disagrees"):
+        bench.check(case)
+
+
+def test_benchmark_fused_engine_equals_the_engine_with_reactions(bench):
+    """The fused numba loop of the engine's four-bar (Newton-Euler written for it) gives the
+    engine's kinematics and reactions to 1e-12: an independent check of both."""
+    pytest.importorskip("numba")
+    case = bench.engine_case(73, reactions=True, fused=True)
+    errs, _ = bench.check(case)
+    assert errs["fused numba loop"] < 1e-12
 
 
 def test_benchmark_plain_numpy_fourbar_is_the_open_branch(bench):
@@ -48,14 +70,16 @@ def test_tolerance_study_benchmark_runs_tiny_and_its_checks_bite():
     """benchmarks/tolerance_study.py (issue 6): tiny sizes, no dask, no timing assertions; every
     contender agrees with the plain NumPy re-solve, and the checks catch a 1e-6 change."""
     tol = load_benchmark("tolerance_study")
-    result = tol.run(sizes=(20, 60), positions=24, repeat=1, resolve_n=3, dask_n=0)
+    result = tol.run(sizes=(20, 60), positions=24, repeat=1, resolve_n=3, dask_n=0,
+                     fused=False)
     names = {(r["contender"], r["samples"]) for r in result["rows"]}
     assert {("force method", 0), ("displacement method", 0), ("plain NumPy re-solve", 3),
             ("plain NumPy, factorised once", 3), ("tolerance_study", 20),
-            ("tolerance_study", 60), ("plain NumPy affine map, lean kernel", 60)} <= names
-    assert len(result["agreement"]) == 9
+            ("tolerance_study", 60), ("plain NumPy affine map, lean kernel", 60),
+            ("library kernel", 60), ("flat NumPy lean kernel", 60)} <= names
+    assert len(result["agreement"]) == 10
     assert all(v <= 1e-9 for v in result["agreement"].values())
-    assert "speed-up vs plain re-solve" in tol.table(result, markdown=True)
+    assert "x re-solve" in tol.table(result, markdown=True)
     prob = tol.load_problem(24)
     cyc = tol.cycle_contenders(prob)
     out = [c.output(c.run()) for c in cyc]
@@ -71,6 +95,43 @@ def test_tolerance_study_benchmark_runs_tiny_and_its_checks_bite():
     results[key] = (peaks * (1 + 1e-6), draws)
     with pytest.raises(AssertionError, match=r"tolerance_study \(N=20\) disagrees"):
         tol.check_study(results, cons, 3, resolve)
+
+
+def test_tolerance_study_benchmark_dask_rows_on_a_process_cluster():
+    """The dask rows run on LocalCluster(processes=True) and equal the in-process study."""
+    tol = load_benchmark("tolerance_study")
+    result = tol.run(sizes=(40,), positions=12, repeat=1, resolve_n=2, dask_n=40, workers=(1,),
+                     fused=False)
+    names = [r["contender"] for r in result["rows"]]
+    assert "tolerance_study, dask process cluster, 1 worker" in names
+    assert result["agreement"][
+        "tolerance_study, dask process cluster, 1 worker, N=40 vs in-process"] == 0.0
+    assert "speed-up over in-process" in tol.table(result)
+
+
+def test_long_cycle_benchmark_runs_tiny():
+    """benchmarks/long_cycle.py at tiny sizes: the chunked study equals the whole cycle, the
+    long run agrees with the check run, peaks are reported."""
+    lc = load_benchmark("long_cycle")
+    result = lc.run(n=3000, dyn_n=2000, check_n=500, chunk=700)
+    assert result["chunked"]["columns"] > 50 and result["chunked"]["csv_bytes"] > 0
+    agree = result["agreement"]
+    assert agree["analyze_chunked vs analyze, n=500: Q_mean"] <= 1e-12
+    assert agree["dead centres, n=3000 vs n=500 [rad]"] <= 1e-10
+    assert agree["extremes, n=3000 vs n=500 (relative)"] <= 1e-6 + 100 * (2 * np.pi / 500) ** 2
+    assert "2 GiB" in lc.report(result)
+
+
+def test_cli_benchmark_splits_the_wall_time(tmp_path):
+    """benchmarks/cli.py: one command, one round: the phases add up to the wall time and the
+    command writes what it wrote when probed."""
+    cli = load_benchmark("cli")
+    result = cli.run(1, [("analyze sine_press", ["analyze", str(BENCHMARKS.parent / "examples"
+                                                               / "sine_press.toml")])])
+    ph = result["commands"]["analyze sine_press"]
+    parts = sum(ph[p][0] for p in ("start-up", "imports", "computation", "output"))
+    assert abs(parts - ph["total"][0]) < 1e-9
+    assert ph["computation"][0] > 0 and ph["imports"][0] > 0 and ph["output"][0] > 0
 
 
 def test_synthesis_benchmark_runs_tiny():

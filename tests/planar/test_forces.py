@@ -744,6 +744,36 @@ def test_loads_that_do_not_fit_the_mechanism_are_named(cs_kin, loads, match):
         inverse_dynamics(cs_kin, loads=loads)
 
 
+@pytest.mark.parametrize("case", sorted(CASES))
+def test_chunks_of_positions_give_the_same_loads_and_reactions(case, monkeypatch):
+    """inverse_dynamics in chunks of 7 positions (the loads evaluated over the whole cycle,
+    then sliced) gives the unchunked result bit for bit: reactions, Q, shaking, every load's
+    value, power, energy, length, and load_power, V; with a press-force diagram that acts only
+    on the way down (its band of rest from the whole cycle) and a varying driver speed."""
+    import linkwork.planar.dynamics as dynamics
+
+    make, elements = CASES[case]
+    mech = make()
+    phi = np.linspace(0.1, 2 * np.pi + 0.1, 61)[:-1]
+    w, e = 6.0 + np.cos(phi), -4.0 + 3 * np.sin(2 * phi)
+    kin = kinematics(mech, phi, w, e)
+    loads = list(elements)
+    if case == "crank-slider":
+        loads.append(SlideForce("G", LoadDiagram([0.0, 0.5], [2e3, 0.0], over="G",
+                                                 when="decreasing"), name="press"))
+    whole = inverse_dynamics(kin, gravity=(0.0, -9.81), loads=loads, about=(0.05, -0.02))
+    monkeypatch.setattr(dynamics, "CHUNK", 7)
+    chunked = inverse_dynamics(kin, gravity=(0.0, -9.81), loads=loads, about=(0.05, -0.02))
+    for name in ("fx", "fy", "mz", "px", "py", "Q", "shaking_fx", "shaking_fy", "shaking_m",
+                 "T", "load_power", "V"):
+        assert np.array_equal(getattr(whole, name), getattr(chunked, name), equal_nan=True), name
+    assert [ap.name for ap in chunked.loads] == [ap.name for ap in whole.loads]
+    for a, b in zip(whole.loads, chunked.loads, strict=True):
+        for f in ("value", "power", "energy"):
+            assert np.array_equal(getattr(a, f), getattr(b, f)), (a.name, f)
+    assert np.any(whole.load_power != 0)
+
+
 def _perp(v):
     return np.array([-v[1], v[0]])
 

@@ -795,3 +795,51 @@ def test_journal_larger_than_the_link():
     js = tuple(dataclasses.replace(j, friction=0.1, radius=0.12) if j.name == "A" else j
                for j in mech.joints)
     assert Mechanism(mech.frame, mech.bodies, js, mech.driver, mech.branches).joint("A").radius
+
+
+# -- chunks of positions ----------------------------------------------------------------------
+
+_ALL_FIELDS = ("fx", "fy", "mz", "px", "py", "Q", "shaking_fx", "shaking_fy", "shaking_m", "T",
+               "Q_frictionless", "friction_fx", "friction_fy", "friction_mz", "friction_power",
+               "locked", "kappa")
+
+
+@pytest.mark.parametrize("builder", BUILDERS, ids=lambda b: b.__name__)
+@pytest.mark.parametrize("fric", [False, True], ids=["frictionless", "friction"])
+def test_chunks_of_positions_change_nothing(builder, fric, monkeypatch):
+    """inverse_dynamics in chunks of 7 positions (partial last chunk; per-position loads and a
+    driver speed that varies, so the friction law's sign width must come from the whole
+    cycle) gives the unchunked result bit for bit, every field (NaN where undefined), the
+    Newton count of the friction solve included."""
+    import linkwork.planar.dynamics as dynamics
+
+    mech, phi, _ = builder()
+    if fric:
+        mech = with_friction(mech)
+    w1 = mech.driver.omega1 * (1.0 + 0.5 * np.sin(np.linspace(0.0, 3.0, phi.size)))
+    kin = kinematics(mech, phi, w1, on_failure="nan")
+    g = (0.0, -9.81)
+    loads = _loads(mech, kin)
+    whole = inverse_dynamics(kin, gravity=g, loads=loads, about=(0.02, -0.01))
+    monkeypatch.setattr(dynamics, "CHUNK", 7)
+    chunked = inverse_dynamics(kin, gravity=g, loads=loads, about=(0.02, -0.01))
+    for name in _ALL_FIELDS:
+        a, b = getattr(whole, name), getattr(chunked, name)
+        assert a.shape == b.shape and np.array_equal(a, b, equal_nan=True), name
+    assert chunked.friction_iterations == whole.friction_iterations
+    assert chunked.friction_static == whole.friction_static
+    assert chunked.kinematics is kin and chunked.joints == whole.joints
+    if fric:
+        assert whole.friction_iterations > 0 and whole.friction_power.any()
+
+
+def test_chunks_check_per_position_loads_against_the_whole_cycle(monkeypatch):
+    """A load array of the wrong length is refused naming the load, before any chunk."""
+    import linkwork.planar.dynamics as dynamics
+
+    mech, phi, _ = BUILDERS[0]()
+    kin = kinematics(mech, phi)
+    monkeypatch.setattr(dynamics, "CHUNK", 7)
+    bad = PointForce(mech.bodies[0].name, "com", fx=np.zeros(phi.size + 1))
+    with pytest.raises(ParameterError, match=r"loads\[0\]\.fx"):
+        inverse_dynamics(kin, loads=[bad])

@@ -102,8 +102,17 @@ _KERNEL_FAULTS = r"""
 import resource, sys
 import numpy as np
 sys.path.insert(0, {tests!r})
-from test_tolerance import TOLS, _setup
+sys.path.insert(0, {shared!r})
+from _fourbar_reference import geometry, spatial_model, wrenches
+from test_tolerance import TOLS
 import linkwork.redundancy.tolerance as tol
+
+PHI = np.linspace(0.0, 2 * np.pi, 360, endpoint=False)  # a full cycle: a 0.8 MB map
+
+
+def _setup():
+    return (spatial_model(z=(0.0, 0.02, 0.02, 0.0)), geometry(PHI),
+            wrenches(PHI, z_g=(0.01, 0.02, 0.01)))
 
 captured = {{}}
 real = tol.evaluate
@@ -115,21 +124,41 @@ m, g, w = _setup()
 tol.tolerance_study(m, g, w, TOLS, 2000, seed=1)
 d = captured.pop("draws")
 zb, n, nj = captured["zb"], captured["n"], captured["n_joints"]
-tol._chunk(d, zb=zb, n=n, n_joints=nj)
-a = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
-tol._chunk(d, zb=zb, n=n, n_joints=nj)
-faults = resource.getrusage(resource.RUSAGE_SELF).ru_minflt - a
-buffers = zb.shape[0] * zb.shape[1] * tol.KERNEL_BLOCK * 8 + d.shape[0] * nj * 7 * 8
-print(faults, buffers // 4096)
+# as a dask worker receives it: an unaligned copy (Dask's frames start at any byte)
+raw = bytearray(zb.nbytes + 1)
+zu = np.frombuffer(memoryview(raw)[1:], dtype=np.float64).reshape(zb.shape)
+zu[...] = zb
+assert not zu.flags.aligned
+
+
+def work(out):  # in a thread, as on a dask worker (its own malloc arena)
+    tol._chunk(d, zb=zu, n=n, n_joints=nj)
+    a = resource.getrusage(resource.RUSAGE_THREAD).ru_minflt
+    got = tol._chunk(d, zb=zu, n=n, n_joints=nj)
+    out.append(resource.getrusage(resource.RUSAGE_THREAD).ru_minflt - a)
+    assert np.array_equal(got, tol._chunk(d, zb=zb, n=n, n_joints=nj))
+
+import threading
+out = []
+th = threading.Thread(target=work, args=(out,))
+th.start()
+th.join()
+# touched once a chunk: the result, and the aligned copy of the map
+buffers = d.shape[0] * nj * 7 * 8 + zb.nbytes
+print(out[0], buffers // 4096)
 """
 
 
 def test_kernel_reuses_its_buffers_under_dask_malloc_settings():
     """Under dask's worker setting MALLOC_TRIM_THRESHOLD_=65536 (every temporary over 128 kB
-    a fresh mmap) a chunk of 2000 samples touches little more than its own buffers once: page
-    faults (getrusage, a fresh interpreter) below twice the 229 pages of the block buffer and
-    the chunk's result (121 measured). The kernel before (a new product and squares per block)
-    made 3 380 here."""
+    a fresh mmap, freed heap returned at once), run in a thread as a dask worker runs it, on an
+    unaligned affine map as a worker receives it, a chunk of 2000 samples touches little more
+    than its result and one aligned copy of the map: page faults (getrusage of the thread, a
+    fresh interpreter) below twice their pages; the same peaks as from the aligned map. The
+    block buffers are made once per thread. Measured on the loom four-bar's full size on a
+    worker: 5 518 faults a chunk before the map was aligned once (matmul copied it every
+    block), 1 767 here in a thread when the strided moments were squared in place (NumPy
+    copied them), 3 380 for the kernel before (a new product per block)."""
     import os
     import subprocess
     import sys
@@ -137,7 +166,8 @@ def test_kernel_reuses_its_buffers_under_dask_malloc_settings():
 
     if not sys.platform.startswith("linux"):
         pytest.skip("glibc malloc thresholds")
-    code = _KERNEL_FAULTS.format(tests=str(Path(__file__).parent))
+    code = _KERNEL_FAULTS.format(tests=str(Path(__file__).parent),
+                                 shared=str(Path(__file__).parents[1]))
     res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          env={**os.environ, "MALLOC_TRIM_THRESHOLD_": "65536"}, check=True,
                          timeout=120, cwd=Path(__file__).parents[1])

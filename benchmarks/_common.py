@@ -1,0 +1,237 @@
+"""What every benchmark here shares: interleaved sampling, min/median/max, ratios per round,
+the machine's load, the agreement check of outputs, and the formatting of times.
+
+Sampling: each round takes one sample of every contender of a case in turn (each sample
+looping long enough to take ``min_time``), so that a burst of load from other processes on the
+shared machine hits all of them alike. A contender's time is reported as min / median / max
+over the rounds; a ratio of two contenders as min / median / max of the ratios of their
+samples taken in the same round (paired), which is the spread a target must be judged against.
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import sys
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+
+@dataclass
+class Spread:
+    """Samples of one quantity (seconds per call, or a ratio): min, median, max."""
+
+    samples: list[float] = field(default_factory=list)
+
+    @property
+    def min(self) -> float:
+        return min(self.samples)
+
+    @property
+    def median(self) -> float:
+        return statistics.median(self.samples)
+
+    @property
+    def max(self) -> float:
+        return max(self.samples)
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"min": self.min, "median": self.median, "max": self.max,
+                "samples": list(self.samples)}
+
+
+def time_rounds(fns: Sequence[Callable[[], Any]], repeat: int, min_time: float = 0.02,
+                first: Sequence[float] | None = None, long_repeat: int | None = None,
+                long_call: float = 1.0) -> list[Spread]:
+    """Seconds per call of each function, sampled round-robin: ``repeat`` rounds, one sample of
+    every function per round (functions whose call takes over ``long_call`` s only in the first
+    ``long_repeat`` rounds). ``first``: the time of a call already made (sets the calls per
+    sample); otherwise one untimed call is made for it (a warm-up)."""
+    numbers, singles = [], []
+    for i, fn in enumerate(fns):
+        if first is None:
+            t0 = time.perf_counter()
+            fn()
+            single = time.perf_counter() - t0
+        else:
+            single = first[i]
+        singles.append(single)
+        numbers.append(max(1, int(min_time / max(single, 1e-7))))
+    rounds = [min(repeat, long_repeat) if long_repeat is not None and t > long_call else repeat
+              for t in singles]
+    out = [Spread() for _ in fns]
+    for k in range(repeat):
+        for i, fn in enumerate(fns):
+            if k >= rounds[i]:
+                continue
+            t0 = time.perf_counter()
+            for _ in range(numbers[i]):
+                fn()
+            out[i].samples.append((time.perf_counter() - t0) / numbers[i])
+    return out
+
+
+def ratio(a: Spread, b: Spread) -> Spread:
+    """``a / b`` per round (the samples taken in the same round), over the rounds both have."""
+    k = min(len(a.samples), len(b.samples))
+    return Spread([x / y for x, y in zip(a.samples[:k], b.samples[:k], strict=True)])
+
+
+def verdict(r: Spread, target: float, better: str = "below") -> str:
+    """How a ratio stands against a target, judged against its spread: ``met`` (every round),
+    ``met by the median only`` (the median, not every round), ``missed``."""
+    def ok(x: float) -> bool:
+        return x <= target if better == "below" else x >= target
+
+    if ok(r.max if better == "below" else r.min):
+        return "met"
+    if ok(r.median):
+        return "met by the median only"
+    return "missed"
+
+
+def load() -> float:
+    """The 1-minute load average (the machine is shared: report it with every run)."""
+    return os.getloadavg()[0]
+
+
+def header(extra: str = "") -> str:
+    """One line: versions, CPUs and the load average now."""
+    return (f"numpy {np.__version__}, python {sys.version.split()[0]}, {os.cpu_count()} CPUs, "
+            f"load average {load():.2f}{'; ' + extra if extra else ''}")
+
+
+def finish(result: dict[str, Any], text: str, what: str, load0: float, t0: float,
+           json_path: str | None = None) -> None:
+    """Print the run's header (versions, ``what``, the load average before and now, the run's
+    time) and ``text``; write ``result`` with the load averages to ``json_path`` if given."""
+    import json
+
+    print(header(f"{what}; load average {load0:.2f} before; run "
+                 f"{time.perf_counter() - t0:.0f} s"))
+    print(text)
+    if json_path:
+        with open(json_path, "w") as fh:
+            json.dump({**result, "load_average": [load0, load()]}, fh, indent=1)
+
+
+def fmt_time(s: float) -> str:
+    if s < 1e-3:
+        return f"{s * 1e6:.1f} us"
+    if s < 1.0:
+        return f"{s * 1e3:.2f} ms"
+    return f"{s:.2f} s"
+
+
+def fmt_spread(sp: Spread, unit: str = "time") -> str:
+    """``min / median / max`` of times or of ratios."""
+    if unit == "time":
+        return f"{fmt_time(sp.min)} / {fmt_time(sp.median)} / {fmt_time(sp.max)}"
+    return f"{sp.min:.2f} / {sp.median:.2f} / {sp.max:.2f}"
+
+
+def max_rel_diff(got: Sequence[Any], want: Sequence[Any], angles: Sequence[int] = (),
+                 groups: Sequence[Sequence[int]] = ()) -> float:
+    """The largest difference of corresponding arrays, each relative to the largest value of
+    its reference, or of its group's references (``groups``: indices of outputs that share a
+    scale, e.g. the x and y of a vector); angles at the indices ``angles`` compared modulo
+    2 pi. NaN on both sides counts as equal, on one side only as a disagreement (inf)."""
+    g_all = [np.asarray(g, dtype=float) for g in got]
+    w_all = [np.asarray(w, dtype=float) for w in want]
+    if len(g_all) != len(w_all):
+        return float("inf")
+
+    def top(w: np.ndarray) -> float:
+        return float(np.nanmax(np.abs(w))) if np.any(np.isfinite(w)) else 0.0
+
+    scale = [top(w) for w in w_all]
+    for grp in groups:
+        s = max(scale[i] for i in grp)
+        for i in grp:
+            scale[i] = s
+    worst = 0.0
+    for i, (g, w) in enumerate(zip(g_all, w_all, strict=True)):
+        if g.shape != w.shape:
+            g, w = np.broadcast_arrays(g, w)
+        if np.any(np.isnan(g) != np.isnan(w)):
+            return float("inf")
+        d = g - w
+        if i in angles:
+            d = (d + np.pi) % (2 * np.pi) - np.pi
+        err = float(np.nanmax(np.abs(d))) if d.size else 0.0
+        worst = max(worst, err / scale[i] if scale[i] > 0 else err)
+    return worst
+
+
+def local_clusters(workers: Sequence[int]) -> tuple[dict[str, Any], list[Any]]:
+    """Local dask clusters of worker processes (``LocalCluster(processes=True)``: what a
+    ``--scheduler`` address gives on one machine), one per entry of ``workers``, 1 thread per
+    worker, dask's default worker settings (its nanny sets ``MALLOC_TRIM_THRESHOLD_=65536``).
+    Returns {label: Client} and the objects to close."""
+    import logging
+
+    from dask.distributed import Client, LocalCluster
+
+    logging.getLogger("distributed").setLevel(logging.ERROR)
+    clients, owned = {}, []
+    for w in workers:
+        cluster = LocalCluster(n_workers=w, threads_per_worker=1, processes=True,
+                               dashboard_address=":0", silence_logs=logging.ERROR)
+        client = Client(cluster)
+        clients[f"process cluster, {w} worker{'s' if w > 1 else ''}"] = client
+        owned += [client, cluster]
+    return clients, owned
+
+
+def _process_cpu() -> float:
+    """CPU seconds (user + system) of this process so far (run on a worker by the client)."""
+    t = os.times()
+    return t.user + t.system
+
+
+def cpu_split(fn: Callable[[], Any], client: Any = None, repeat: int = 3) -> dict[str, float]:
+    """CPU seconds that one call of ``fn`` costs, median of ``repeat`` calls: in this process
+    (``client``), and with a dask ``client`` on each of its workers (``workers``: sorted, the
+    busiest last). Unlike wall time this does not depend on other load of the machine: the
+    busiest process bounds the wall time the call would take on free cores."""
+    runs: list[dict[str, Any]] = []
+    for _ in range(repeat):
+        w0 = client.run(_process_cpu) if client is not None else {}
+        s0 = client.run_on_scheduler(_process_cpu) if client is not None else 0.0
+        c0 = _process_cpu()
+        fn()
+        c1 = _process_cpu()
+        w1 = client.run(_process_cpu) if client is not None else {}
+        s1 = client.run_on_scheduler(_process_cpu) if client is not None else 0.0
+        runs.append({"client": c1 - c0, "scheduler": s1 - s0,
+                     "workers": sorted(w1[k] - w0[k] for k in w0)})
+    out: dict[str, Any] = {"client": statistics.median(r["client"] for r in runs)}
+    if client is not None:
+        out["scheduler"] = statistics.median(r["scheduler"] for r in runs)
+        n = len(runs[0]["workers"])
+        out["workers"] = [statistics.median(r["workers"][i] for r in runs) for i in range(n)]
+    return out
+
+
+def cpu_lines(cpu: dict[str, dict[str, Any]]) -> list[str]:
+    """The CPU seconds of :func:`cpu_split` per executor, and the speed-up the busiest process
+    allows on free cores (in-process CPU / busiest process's CPU: a bound, not a measurement)."""
+    if not cpu:
+        return []
+    base = cpu["in-process"]["client"]
+    out = ["", "CPU seconds per call (median of 3; load-independent): in-process "
+           f"{base:.2f} s"]
+    for label, c in cpu.items():
+        if label == "in-process":
+            continue
+        busiest = max([c["client"], *c["workers"]])
+        total = c["client"] + c["scheduler"] + sum(c["workers"])
+        out.append(f"  {label}: client {c['client']:.2f} s, scheduler {c['scheduler']:.2f} s, "
+                   "workers " + ", ".join(f"{w:.2f}" for w in c["workers"])
+                   + f" s (all {total:.2f} s); in-process / busiest process = "
+                   f"{base / busiest:.2f} (the speed-up on free cores at most)")
+    return out
