@@ -402,7 +402,8 @@ def test_synthesis_designs_are_chosen_and_each_drawn_by_the_engine(opened):
     assert len(labels) == len(designs) == len(o.data["alternatives"]) + 1
     q = o.data["scene"]["q"]
     studies = {k: study_synthesis.run(doc, k) for k in ("path", "function", "motion")}
-    for j in (1, 4, len(designs) - 1):                  # a path, a function, a motion design
+    f1 = len(studies["path"].designs)                   # function design 1's drawing
+    for j in (1, f1, len(designs) - 1):                 # a path, a function, a motion design
         o.page.select_option("#lw-choice", str(j))      # a person choosing
         assert o.api("choice()") == j
         shown = o.page.eval_on_selector_all(
@@ -426,14 +427,14 @@ def test_synthesis_designs_are_chosen_and_each_drawn_by_the_engine(opened):
     assert o.api("choice()") == len(designs) - len(studies["motion"].designs) + 1
     # the cursor of function design 1's error diagram: hidden unless that design is shown
     chart = next(c for c in o.data["charts"] if c["linked"] and not c["parametric"]
-                 and c["scene"] == 4)
+                 and c["scene"] == f1)
     cursor = o.page.locator(f"#{chart['id']}-cursor")
     o.api("show(10)")
     assert cursor.get_attribute("visibility") == "hidden"
     o.page.locator(f"#{chart['id']}").scroll_into_view_if_needed()
     box = o.page.locator(f"#{chart['id']}").bounding_box()
     o.page.mouse.click(box["x"] + 0.5 * box["width"], box["y"] + 0.5 * box["height"])
-    assert o.api("choice()") == 4 and cursor.get_attribute("visibility") is None
+    assert o.api("choice()") == f1 and cursor.get_attribute("visibility") is None
     assert q > 0 and [m for m in o.messages if m[0] in ("error", "pageerror")] == []
 
 
