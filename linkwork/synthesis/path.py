@@ -56,7 +56,7 @@ from numpy.typing import ArrayLike
 from linkwork.checks import require_finite
 from linkwork.errors import InfeasibleError, ParameterError
 from linkwork.planar.kinematics import kinematics
-from linkwork.sweep import check_client, evaluate, rich_progress
+from linkwork.sweep import Generated, check_client, evaluate, rich_progress
 from linkwork.synthesis.design import (
     PARAMS,
     FourbarDesign,
@@ -391,15 +391,24 @@ def crank_rockers(X: np.ndarray, u: np.ndarray, tk: PathTask) -> None:
     X[ok, 1] = tk.lo[1] + u[ok] * (ub[ok] - tk.lo[1])
 
 
-def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]:
+def _candidates(tk: PathTask, n: int, seed: int | None, start: int = 0,
+                stop: int | None = None) -> dict[str, np.ndarray]:
     """A scrambled Sobol sample of the free parameters (fixed ones at their value), the two
-    branches alternating."""
+    branches alternating: its candidates ``start .. stop-1`` of ``n``, the same numbers however
+    the sample is cut (the sequence fast-forwarded to ``start``, the halves and branches by the
+    candidate's index), so that each worker of a cluster makes its own chunk."""
     from scipy.stats import qmc
 
+    stop = n if stop is None else stop
     free = tk.free
     k = int(free.sum())
-    m = max(4, math.ceil(math.log2(max(n, 2))))
-    U = qmc.Sobol(max(k + tk.free_start, 1), scramble=True, seed=seed).random_base2(m)[:n]
+    sobol = qmc.Sobol(max(k + tk.free_start, 1), scramble=True, seed=seed)
+    if start == 0:  # a power of two drawn (the sequence's balance), the first ones kept
+        U = sobol.random_base2(max(4, math.ceil(math.log2(max(stop, 2)))))[:stop]
+    else:
+        sobol.fast_forward(start)
+        U = sobol.random(stop - start)
+    even = np.arange(start, stop) % 2 == 0
     # half the sample in the bounds cut to the targets' scale (default_bounds), where wide
     # bounds (the literature's 50 times the path) would leave few useful candidates; half in
     # the whole box, link lengths log-uniform where the bounds span more than a decade
@@ -410,18 +419,18 @@ def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]
     lo = np.tile(tk.lo, (len(U), 1))
     hi = np.tile(tk.hi, (len(U), 1))
     if near:
-        lo[::2], hi[::2] = near_lo, near_hi
+        lo[even], hi[even] = near_lo, near_hi
     X = lo.copy()
     X[:, free] = lo[:, free] + U[:, :k] * (hi - lo)[:, free]
     logs = np.zeros(9, dtype=bool)
     logs[:4] = free[:4] & (tk.hi[:4] > 10 * tk.lo[:4])
-    rows = np.arange(len(U)) % 2 == 1 if near else np.ones(len(U), dtype=bool)
+    rows = ~even if near else np.ones(len(U), dtype=bool)
     for i in np.flatnonzero(logs):
         u = U[rows, int(free[:i].sum())]
         X[rows, i] = tk.lo[i] * (tk.hi[i] / tk.lo[i]) ** u
     if (tk.grashof or tk.closed) and free[1]:
         crank_rockers(X, U[:, int(free[:1].sum())], tk)
-    br = np.where(np.arange(len(U)) % 2 == 0, 1.0, -1.0)
+    br = np.where(even, 1.0, -1.0)
     if tk.free_start:  # the first crank angle of a timing given by its advances
         return {"X": X, "branch": br, "start": TWO_PI * U[:, k]}
     return {"X": X, "branch": br}
@@ -797,7 +806,12 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
         raise ParameterError("n_candidates", n_candidates, f"must be at most {MAX_CANDIDATES} "
                              "(2^22); more refinements, not more candidates, sharpen the optimum")
     check_client(client)
-    cands = _candidates(tk, int(n_candidates), seed)
+    if seed is None:  # one scramble for every chunk
+        seed = int(np.random.SeedSequence().generate_state(1)[0])
+    # the candidates made chunk by chunk (on a cluster, by the worker: nothing but the chunk's
+    # bounds travels with a task)
+    cands = Generated(int(n_candidates), functools.partial(_candidates, tk, int(n_candidates),
+                                                           seed))
     keep = max(4 * n_refine, 64)
     screen = functools.partial(_screen, n_samples=int(n_samples), keep=keep)
     with _progress_bar(progress, "screening candidates") as bar:
@@ -806,7 +820,7 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
     t_global = time.perf_counter() - t_start
     counts = {k: int(v) for k, v in zip(DEFECTS, res["counts"].sum(axis=0), strict=True)}
     closest = dict(zip(DEFECTS, res["closest"].min(axis=0), strict=True))
-    n_eval = len(cands["X"])
+    n_eval = int(n_candidates)
     if len(res["err"]) == 0:
         raise _infeasible_screen(tk, counts, closest, n_eval)
     span = tk.hi - tk.lo

@@ -10,6 +10,7 @@ linkwork.models.fourbar over designs x angles (1e-12 of the link lengths).
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import _synthesis_reference as ref
@@ -175,6 +176,25 @@ def test_dask_screening_gives_the_in_process_result():
         remote = path(pts, client=client, **kw)
     assert remote.best.params == local.best.params
     assert remote.rejected == local.rejected
+
+
+@pytest.mark.parametrize("free_start", [False, True])
+def test_candidates_made_chunk_by_chunk_are_the_whole_samples(free_start):
+    """The global sample made in chunks (each worker of a cluster makes its own: the Sobol
+    sequence fast-forwarded, the halves and branches by the candidate's index) is bit for bit
+    the sample made at once, whatever the cut (odd starts and lengths included)."""
+    from linkwork.synthesis.path import _candidates
+
+    th = np.linspace(0.2, 5.5, 6)
+    tk = task(_targets(th), timing=th if free_start else None, free_start=free_start)
+    n = 1000
+    whole = _candidates(tk, n, 7)
+    assert set(whole) == ({"X", "branch", "start"} if free_start else {"X", "branch"})
+    for cuts in ([0, 512, 1000], [0, 3, 700, 701, 1000], [0, 1000]):
+        parts = [_candidates(tk, n, 7, a, b) for a, b in itertools.pairwise(cuts)]
+        for k, v in whole.items():
+            assert np.array_equal(np.concatenate([p[k] for p in parts]), v), (cuts, k)
+    assert np.array_equal(whole["branch"][:4], [1, -1, 1, -1])
 
 
 def test_design_file_runs_through_the_planar_study(tmp_path):
