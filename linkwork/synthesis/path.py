@@ -391,23 +391,33 @@ def crank_rockers(X: np.ndarray, u: np.ndarray, tk: PathTask) -> None:
     X[ok, 1] = tk.lo[1] + u[ok] * (ub[ok] - tk.lo[1])
 
 
-def _candidates(tk: PathTask, n: int, seed: int | None, start: int = 0,
+def _sobol_rows(dim: int, seed: int, start: int, stop: int) -> np.ndarray:
+    """Points ``start .. stop-1`` of the scrambled Sobol sequence of ``dim`` dimensions seeded
+    by ``seed``: the same numbers however the sequence is cut (fast-forwarded to ``start``)."""
+    from scipy.stats import qmc
+
+    sobol = qmc.Sobol(dim, scramble=True, seed=seed)
+    if start == 0:  # a power of two drawn (the sequence's balance), the first ones kept
+        return sobol.random_base2(max(4, math.ceil(math.log2(max(stop, 2)))))[:stop]
+    sobol.fast_forward(start)
+    return sobol.random(stop - start)
+
+
+def _seed(seed: int | None) -> int:
+    """``seed``, or one drawn from the system's entropy: one scramble for every chunk."""
+    return int(np.random.SeedSequence().generate_state(1)[0]) if seed is None else int(seed)
+
+
+def _candidates(tk: PathTask, n: int, seed: int, start: int = 0,
                 stop: int | None = None) -> dict[str, np.ndarray]:
     """A scrambled Sobol sample of the free parameters (fixed ones at their value), the two
     branches alternating: its candidates ``start .. stop-1`` of ``n``, the same numbers however
     the sample is cut (the sequence fast-forwarded to ``start``, the halves and branches by the
     candidate's index), so that each worker of a cluster makes its own chunk."""
-    from scipy.stats import qmc
-
     stop = n if stop is None else stop
     free = tk.free
     k = int(free.sum())
-    sobol = qmc.Sobol(max(k + tk.free_start, 1), scramble=True, seed=seed)
-    if start == 0:  # a power of two drawn (the sequence's balance), the first ones kept
-        U = sobol.random_base2(max(4, math.ceil(math.log2(max(stop, 2)))))[:stop]
-    else:
-        sobol.fast_forward(start)
-        U = sobol.random(stop - start)
+    U = _sobol_rows(max(k + tk.free_start, 1), seed, start, stop)
     even = np.arange(start, stop) % 2 == 0
     # half the sample in the bounds cut to the targets' scale (default_bounds), where wide
     # bounds (the literature's 50 times the path) would leave few useful candidates; half in
@@ -806,12 +816,10 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
         raise ParameterError("n_candidates", n_candidates, f"must be at most {MAX_CANDIDATES} "
                              "(2^22); more refinements, not more candidates, sharpen the optimum")
     check_client(client)
-    if seed is None:  # one scramble for every chunk
-        seed = int(np.random.SeedSequence().generate_state(1)[0])
     # the candidates made chunk by chunk (on a cluster, by the worker: nothing but the chunk's
     # bounds travels with a task)
     cands = Generated(int(n_candidates), functools.partial(_candidates, tk, int(n_candidates),
-                                                           seed))
+                                                           _seed(seed)))
     keep = max(4 * n_refine, 64)
     screen = functools.partial(_screen, n_samples=int(n_samples), keep=keep)
     with _progress_bar(progress, "screening candidates") as bar:

@@ -58,7 +58,7 @@ from linkwork.errors import InfeasibleError, ParameterError
 from linkwork.planar.kinematics import kinematics
 from linkwork.planar.model import Body, Crank, Mechanism, Revolute, bar
 from linkwork.results import Result
-from linkwork.sweep import check_client, evaluate
+from linkwork.sweep import Generated, check_client, evaluate
 from linkwork.synthesis.design import _loop, design_columns, run_range, write_planar_toml
 from linkwork.synthesis.path import (
     DEFECTS,
@@ -69,6 +69,8 @@ from linkwork.synthesis.path import (
     _keep_best,
     _ordered,
     _progress_bar,
+    _seed,
+    _sobol_rows,
     _unpack,
     _vector,
     check_bound,
@@ -388,31 +390,33 @@ def _task(points: ArrayLike, kind: str, timing: ArrayLike | None,
                     theta0_index=SIXBAR_PARAMS.index("theta0"))
 
 
-def _candidates(tk: PathTask, n: int, seed: int | None, kind: str) -> dict[str, np.ndarray]:
+def _candidates(tk: PathTask, n: int, seed: int, kind: str, start: int = 0,
+                stop: int | None = None) -> dict[str, np.ndarray]:
     """A scrambled Sobol sample of the free parameters; crank-rockers by construction where
     asked; every other candidate's dyad assembled by construction at the first crank angle
     (D at ``r5`` from C, O6 at ``r6`` from D, in directions drawn from two more dimensions;
-    kept only where O6 falls within its bounds); the branch pairs alternating (code 0..3)."""
-    from scipy.stats import qmc
-
+    kept only where O6 falls within its bounds); the branch pairs alternating (code 0..3).
+    Its candidates ``start .. stop-1`` of ``n``, the same however the sample is cut (as the
+    four-bar's), so that each worker of a cluster makes its own chunk."""
+    stop = n if stop is None else stop
     free = tk.free
     k = int(free.sum())
     extra = 3 + int(tk.free_start)  # directions of D and O6, a first crank angle
-    m = max(4, math.ceil(math.log2(max(n, 2))))
-    U = qmc.Sobol(k + extra, scramble=True, seed=seed).random_base2(m)[:n]
+    U = _sobol_rows(k + extra, seed, start, stop)
+    index = np.arange(start, stop)
     X = np.tile(tk.lo, (len(U), 1))
     X[:, free] = tk.lo[free] + U[:, :k] * (tk.hi - tk.lo)[free]
     if (tk.grashof or tk.closed) and free[1]:
         crank_rockers(X, U[:, int(free[:1].sum())], tk)
-    code = np.arange(len(U)) % 4
+    code = index % 4
     br = _BRANCHES[code].astype(float)
     if tk.timing is not None:
-        start = tk.angles(TWO_PI * U[:, k + 3] if tk.free_start else np.zeros(len(U)))[:, 0]
+        first = tk.angles(TWO_PI * U[:, k + 3] if tk.free_start else np.zeros(len(U)))[:, 0]
     else:
-        start = TWO_PI * U[:, k + 2]
+        first = TWO_PI * U[:, k + 2]
     # the dyad by construction on every other candidate
-    sel = np.arange(len(U)) % 2 == 1
-    c = _chain(start[sel, None], X[sel], br[sel, :1], br[sel, 1:], kind)
+    sel = index % 2 == 1
+    c = _chain(first[sel, None], X[sel], br[sel, :1], br[sel, 1:], kind)
     cx_, cy_ = c["cx"][:, 0], c["cy"][:, 0]
     phi, psi = TWO_PI * U[sel, k], TWO_PI * U[sel, k + 1]
     dx = cx_ + X[sel, 9] * np.cos(phi)
@@ -428,7 +432,7 @@ def _candidates(tk: PathTask, n: int, seed: int | None, kind: str) -> dict[str, 
     code = 2 * (br[:, 0] < 0) + (br[:, 1] < 0)
     out = {"X": X, "branch": code.astype(float)}
     if tk.free_start:
-        out["start"] = start
+        out["start"] = first
     return out
 
 
@@ -616,7 +620,8 @@ def sixbar_path(points: ArrayLike, *, kind: Literal["stephenson", "watt"] = "ste
     if n_candidates > 2**22:
         raise ParameterError("n_candidates", n_candidates, "must be at most 4194304 (2^22)")
     check_client(client)
-    cands = _candidates(tk, int(n_candidates), seed, kind)
+    cands = Generated(int(n_candidates), functools.partial(
+        _candidates, tk, int(n_candidates), _seed(seed), kind))
     keep = max(4 * int(n_refine), 64)
     screen = functools.partial(_screen, kind=kind, n_samples=int(n_samples), keep=keep)
     with _progress_bar(progress, "screening six-bars") as bar:
@@ -626,7 +631,7 @@ def sixbar_path(points: ArrayLike, *, kind: Literal["stephenson", "watt"] = "ste
     rejected = {k: int(v) for k, v in zip(DEFECTS, res["counts"].sum(axis=0), strict=True)}
     if len(res["err"]) == 0:
         raise InfeasibleError("a six-bar within the bounds whose coupler point reaches the "
-                              "points", f"none of {len(cands['X'])} candidates assembles "
+                              "points", f"none of {int(n_candidates)} candidates assembles "
                               "along them", ", ".join(f"{v} {k}" for k, v in rejected.items()
                                                       if v))
     starts = _distinct(np.c_[res["X"], res["branch"]], range(len(res["err"])),
@@ -675,7 +680,7 @@ def sixbar_path(points: ArrayLike, *, kind: Literal["stephenson", "watt"] = "ste
     return SixbarResult(designs=tuple(designs[i] for i in keep_i[:int(n_designs)]),
                         points=tk.points, timing=tk.timing, closed=tk.closed,
                         constraints=tk.constraint_names(), kind=kind,
-                        n_evaluated=len(cands["X"]), rejected=rejected, n_refined=len(starts),
+                        n_evaluated=int(n_candidates), rejected=rejected, n_refined=len(starts),
                         n_residual_evaluations=nres, time=time.perf_counter() - t_start,
                         time_global=t_global,
                         samples_per_candidate=tk.n if tk.timing is not None else int(n_samples))

@@ -16,6 +16,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -128,6 +129,24 @@ def test_planted_watt_with_timing_from_wide_bounds():
     d = res.best
     assert d.error < 1e-10 * L * L
     assert d.checks["engine_deviation"] <= 1e-9 * L and d.checks["max_deviation"] < 1e-5 * L
+
+
+@pytest.mark.parametrize(("kind", "timing"), [("stephenson", None), ("watt", TH)])
+def test_candidates_made_chunk_by_chunk_are_the_whole_samples(kind, timing):
+    """The six-bar's global sample made in chunks (as each worker of a cluster makes its own)
+    is bit for bit the sample made at once, dyads by construction and branch codes included,
+    whatever the cut (odd starts and lengths)."""
+    from linkwork.synthesis.sixbar import _candidates, _task
+
+    pts, _ = _targets(kind)
+    tk = _task(pts, kind, timing, _bounds(), ("grashof", "order"), False, False)
+    n = 1000
+    whole = _candidates(tk, n, 11, kind)
+    assert set(whole["branch"][:4]) == {0.0, 1.0, 2.0, 3.0} or timing is not None
+    for cuts in ([0, 512, 1000], [0, 3, 700, 701, 1000]):
+        parts = [_candidates(tk, n, 11, kind, a, b) for a, b in itertools.pairwise(cuts)]
+        for k, v in whole.items():
+            assert np.array_equal(np.concatenate([p[k] for p in parts]), v), (cuts, k)
 
 
 def test_dask_screening_gives_the_in_process_result():
