@@ -108,10 +108,14 @@ def mechanism(p: Mapping[str, float], kind: str, branches: tuple[int, int] = (1,
               omega1: float = 1.0) -> Mechanism:
     """The engine model of a six-bar design: frame points O2, O4, O6; bodies crank (O2 -> A),
     coupler (A, B; and C for Stephenson), rocker (O4 -> B; and C for Watt), link5 (C, D, P),
-    link6 (O6 -> D); the crank drives at O2 (``phi1 = theta0 + theta2``)."""
+    link6 (O6 -> D); the crank drives at O2 (``phi1 = theta0 + theta2``).
+
+    The parameters (and ``branches``) may be arrays over designs: the engine's batch of those
+    designs (``Mechanism.n_designs``), solved in one call."""
     t0 = p["theta0"]
     o2 = (p["x0"], p["y0"])
-    o4 = (p["x0"] + p["r1"] * math.cos(t0), p["y0"] + p["r1"] * math.sin(t0))
+    cos, sin = (np.cos, np.sin) if np.ndim(t0) else (math.cos, math.sin)
+    o4 = (p["x0"] + p["r1"] * cos(t0), p["y0"] + p["r1"] * sin(t0))
     frame = Body("frame", {"O2": o2, "O4": o4, "O6": (p["x6"], p["y6"])})
     crank = bar("crank", "O2", "A", p["r2"], inertia=0.0)
     cpts = {"A": (0.0, 0.0), "B": (p["r3"], 0.0)}
@@ -127,7 +131,13 @@ def mechanism(p: Mapping[str, float], kind: str, branches: tuple[int, int] = (1,
               Revolute("C", host, "link5"), Revolute("D", "link5", "link6"),
               Revolute("O6", "frame", "link6"))
     return Mechanism(frame, (crank, coupler, rocker, link5, link6), joints,
-                     Crank("O2", omega1, 0.0), {"B": int(branches[0]), "D": int(branches[1])})
+                     Crank("O2", omega1, 0.0), {"B": _branch(branches[0]),
+                                                "D": _branch(branches[1])})
+
+
+def _branch(b: Any) -> Any:
+    """A branch +1/-1 as an int, or an int array over a batch's designs."""
+    return int(b) if np.ndim(b) == 0 else np.asarray(b, dtype=int)
 
 
 def coupler_points(X: np.ndarray, branches: np.ndarray, theta2: np.ndarray, kind: str

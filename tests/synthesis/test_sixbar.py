@@ -78,6 +78,30 @@ def test_closed_form_equals_the_engine(kind):
                                                                              atol=1e-12 * 4)
 
 
+@pytest.mark.parametrize("kind", S.KINDS)
+def test_the_engines_batch_of_designs_equals_the_closed_form(kind):
+    """sixbar.mechanism of arrays over the designs (the engine's batch, one kinematics call for
+    all of them) gives the closed form's P and assembly at every crank angle, all four branch
+    pairs, to 1e-12 of the size; each design of the batch is the one-design model's."""
+    rng = np.random.default_rng(2)
+    Xs = X * (1 + 0.05 * rng.standard_normal((48, 15)))
+    br = np.array(BRANCHES * 12)
+    th = np.linspace(0.0, 2 * math.pi, 37)
+    p = {k: Xs[:, i] for i, k in enumerate(S.SIXBAR_PARAMS)}
+    batch = S.mechanism(p, kind, (br[:, 0], br[:, 1]))
+    assert batch.n_designs == 48
+    kin = kinematics(batch, p["theta0"][:, None] + th, on_failure="nan")
+    x, y, ok = S.sixbar_point(th, Xs, br, kind)
+    assert np.array_equal(np.asarray(kin.valid), ok) and ok.mean() > 0.5
+    Q = kin.point("link5", "P")
+    assert np.allclose(Q.x[ok], x[ok], atol=1e-12 * 4) and np.allclose(Q.y[ok], y[ok],
+                                                                       atol=1e-12 * 4)
+    one = dict(zip(S.SIXBAR_PARAMS, map(float, Xs[5]), strict=True))
+    alone = kinematics(S.mechanism(one, kind, tuple(br[5])), one["theta0"] + th,
+                       on_failure="nan").point("link5", "P")
+    assert np.allclose(Q.x[5], alone.x, atol=1e-12 * 4, equal_nan=True)
+
+
 def _bounds():
     b = {k: (0.5 * v, 1.5 * v) if k in ("r1", "r2", "r3", "r4", "r5", "r6") else (v - 2, v + 2)
          for k, v in P.items()}
