@@ -297,6 +297,7 @@ def register(app: typer.Typer) -> None:
                 if given is not None:
                     raise ParameterError(option, given, "is for one crank's cycle; several "
                                          "drivers are balanced along their path")
+            doc.check_whole_cycle(file, "`linkwork balance` of several drivers")
             with output_run(out, command="balance", file=file), load_errors(file, doc):
                 render_path(study_balance.run_path(doc), out=out, console=make_console(),
                             name=doc.name or None)
