@@ -172,6 +172,7 @@ from linkwork.io.toml import (
     Torque,
     Velocity,
     _validation_error,
+    message,
     parameter_error,
     quantity,
 )
@@ -982,14 +983,7 @@ def _spatial_error(path: str | Path, err: Any) -> FileFormatError:
     """The error of the ``[spatial]`` table, worded as ``linkwork reactions`` words it: the
     dotted key from ``spatial``, pydantic's message with the value given."""
     key = ".".join(["spatial", *(str(x) for x in err["loc"])])
-    msg = err["msg"].removeprefix("Value error, ")
-    if err["type"] == "extra_forbidden":
-        msg = "unknown key"
-    elif err["type"] == "missing":
-        msg = "missing required key"
-    elif "input" in err:
-        msg = f"{msg} (got {err['input']!r})"
-    return FileFormatError(str(path), key, msg)
+    return FileFormatError(str(path), key, message(err))
 
 
 def read_spatial(path: str | Path, raw: dict[str, Any]) -> SpatialSpec:
