@@ -368,7 +368,7 @@ def render(study: Study, *, out: Path, console: Any) -> None:
             step(f"writing {FILES[1]}")
             written.append(write_csv(out / FILES[1], study.dynamics_columns()))
             step(f"writing {FILES[2]}")
-            written.append(write_json(out / FILES[2], study.to_dict()))
+            written.append(write_json(out / FILES[2], study.to_dict(lists=False)))
         else:
             written = [out / FILES[0], out / FILES[1]]
             step(f"writing {FILES[2]}")

@@ -523,13 +523,14 @@ MAX_POSITIONS = 1_000_000
 #: a file of one driver goes chunk by chunk), and every command that holds the whole cycle
 #: (``analyze`` with several drivers, ``balance`` along several drivers' path, ``report``):
 #: about :data:`BYTES_PER_POSITION` per position (kinematics, dynamics, the CSV/JSON columns
-#: of every body and named point, the plots), so the largest example peaks near 1.1 GB here.
+#: of every body and named point, the plots), so the largest example peaks near 0.3 GB here.
 MAX_WHOLE_POSITIONS = 50_000
 
 #: Peak memory per position of ``linkwork analyze examples/loom_sixbar.toml`` over the whole
-#: cycle [bytes], stated in the message: resident set size 1.10 GB at 5*10^4 positions,
-#: 2.08 GB at 10^5 (named-point columns included; 1.26 GB before them), rounded up.
-BYTES_PER_POSITION = 21_000
+#: cycle [bytes], stated in the message: resident set size 296 MB at 5*10^4 positions (457 MB
+#: before ``planar.json`` was written from the arrays, 1.10 GB before the dynamics were solved
+#: in chunks), rounded up.
+BYTES_PER_POSITION = 6_000
 
 #: Bytes of ``planar_kinematics.csv`` and ``planar_dynamics.csv`` per position for
 #: ``examples/loom_sixbar.toml`` (213 MB at 10^5 positions), rounded up.
