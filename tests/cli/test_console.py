@@ -115,6 +115,7 @@ def test_counting_bar_only_on_a_terminal_and_counts():
     (["reactions", "loom_fourbar_spatial.toml"], "reactions",
      "solving the spatial reactions at 360 positions"),
     (["swashplate", "analyze", "swashplate_1.toml"], "swashplate", "solving 361 rotor angles"),
+    (["synthesize", "function", "synthesis_tasks.toml"], "synthesize", "function synthesis"),
 ])
 def test_every_step_of_a_command_is_under_a_progress_bar(command, module, first, tmp_path,
                                                          capsys, monkeypatch):
@@ -142,4 +143,5 @@ def test_every_step_of_a_command_is_under_a_progress_bar(command, module, first,
     assert files
     for f in files:  # each file named by a step (a plot "drawing ...", the rest "writing ...")
         stem = f.rsplit(".", 1)[0]
-        assert stem in text or f in text or (module == "balance" and f.endswith(".png")), f
+        assert (stem in text or f in text or (module == "balance" and f.endswith(".png"))
+                or (f.startswith("design_") and "design files" in text)), f
