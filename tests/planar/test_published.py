@@ -16,6 +16,27 @@ independent references and another program's output.
   ``tests/data/references/stephenson3_slvs.csv`` and the script beside it; slvs is not needed
   by the suite), to 5e-8 mm, SolveSpace's own convergence being about 1e-8 mm (measured
   1.3e-8 mm).
+* Marghitu's R-RTR-RRT six-bar (a shaper-type drive: crank, slotted lever with its block, rod,
+  slider), the dynamic force analysis of D. B. Marghitu's examples 6.1 (dyad method) and 6.2
+  (contour method), whose printed results (MATLAB output, ``%6.3f``) were read from the
+  author's programs as published with them (a public GitHub copy; the book's page itself was
+  not seen). Data: AB = 0.20 m, A = (0, 0), D = (0, -0.40) m, CD = 0.70 m, CE = 0.30 m, E on
+  y = 0.35 m, crank at 45 deg turning at 200 rpm, steel links (8000 kg/m^3; bars 10 mm x 1 mm,
+  blocks 20 x 50 x 1 mm), g = 9.807 m/s^2, 500 N on the slider against its velocity. Every
+  printed joint force, the driving moment, the point of the block's reaction and the printed
+  kinematics are reproduced from the drawing (``sketch`` and ``tests/data/published/
+  marghitu_r_rtr_rrt.toml``) to half a unit of the printed last digit (forces 5e-4 N, moment
+  5e-4 N m; measured 3.65e-4 at most). The book's inertia of the rod CE is computed with the
+  block's mass (printed 6.007e-5 kg m^2 instead of 1.802e-4); the comparison uses the printed
+  value, and the change the correct value brings is checked by hand (``docs/errata.md``).
+* A second R-RTR-RRT arrangement, "example 5.6" of a collection of textbook MATLAB programs in
+  the same contour method (public copy: github.com/xenakas/matlab_projects, commit 363c5aa,
+  ``dynamics/dynamics_MATLAB_programs/chapter5/E5_6.m``; the book is not named there): the
+  lever pivoted between the block and the rod's pin (AB = 0.15, AC = 0.30, CD = 0.20,
+  DE = 0.14, CF = 0.50 m, slider on the vertical x = -AC - 0.25 m, crank at 200 deg, 700 rpm).
+  Its printed kinematics (3 decimals: angles, angular velocities and accelerations of the
+  lever and the rod, the block's sliding velocity and acceleration in the lever, the velocity
+  and acceleration of D and E) reproduced to half a unit of the last digit.
 """
 
 from __future__ import annotations
@@ -26,10 +47,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from _planar_newton_euler import _check_engine
+from _planar_newton_euler import _check_engine, energy_rate
 
 from linkwork import io
-from linkwork.planar import kinematics
+from linkwork.planar import Drag, LinkMass, Slider, inverse_dynamics, kinematics, sketch
 
 ROOT = Path(__file__).resolve().parents[2]
 JANSEN = {"a": 38.0, "b": 41.5, "c": 39.3, "d": 40.1, "e": 55.8, "f": 39.4, "g": 36.7,
@@ -145,3 +166,236 @@ def test_stephenson_iii_equals_solvespace():
         worst = max(worst, float(np.max(np.abs(pm.x * 1e3 - col[f"{p}.x"]))),
                     float(np.max(np.abs(pm.y * 1e3 - col[f"{p}.y"]))))
     assert worst <= 5e-8  # mm
+
+
+# Marghitu's R-RTR-RRT six-bar (examples 6.1 and 6.2): the data as given ...
+MARGHITU = {"AB": 0.20, "AD": 0.40, "CD": 0.70, "CE": 0.30, "yE": 0.35, "phi": 45.0,
+            "n": 200.0, "rho": 8000.0, "h": 0.01, "d": 0.001, "h_block": 0.02,
+            "w_block": 0.05, "g": 9.807, "F": 500.0}
+#: ... and its printed results at phi = 45 deg: the force of body i on body j [N] (bodies 0
+#: frame, 1 crank, 2 block, 3 lever, 4 rod, 5 slider), the driving moment on the crank [N m]
+MARGHITU_FORCES = {"F01": (-626.106, 162.525), "F12": (-625.610, 162.864),
+                   "F32": (625.114, -163.282), "F03": (123.647, -38.376),
+                   "F34": (-500.685, 124.998), "F54": (500.140, -125.037),
+                   "F05": (0.0, -124.959)}
+MARGHITU_MMOT = 111.518
+#: which linkwork joint carries each printed force (its reaction is by body a on body b)
+MARGHITU_JOINTS = {"F01": ("A", 1.0), "F12": ("B", 1.0), "F32": ("block", 1.0),
+                   "F03": ("D", 1.0), "F34": ("C", 1.0), "F54": ("E", -1.0),
+                   "F05": ("ram", 1.0)}
+#: printed to 3 decimals: half a unit of the last digit
+PRINTED = 5e-4
+
+
+def _marghitu_masses(rod_mass_for_inertia):
+    """Masses and centroidal inertias of links 1..5 from the book's formulas; the rod's inertia
+    with the mass given (the book's: the block's)."""
+    m = MARGHITU
+    bar = m["rho"] * m["h"] * m["d"]
+    block = m["rho"] * m["h_block"] * m["w_block"] * m["d"]
+
+    def plate(mass, a, b):
+        return mass * (a ** 2 + b ** 2) / 12
+
+    i_block = plate(block, m["h_block"], m["w_block"])
+    return {"crank": LinkMass(bar * m["AB"], inertia=plate(bar * m["AB"], m["AB"], m["h"])),
+            "block": LinkMass(block, inertia=i_block),
+            "lever": LinkMass(bar * m["CD"], inertia=plate(bar * m["CD"], m["CD"], m["h"])),
+            "rod": LinkMass(bar * m["CE"], inertia=plate(rod_mass_for_inertia, m["CE"], m["h"])),
+            "ram": LinkMass(block, inertia=i_block)}
+
+
+def _marghitu_drawing():
+    """The drawn points from the book's lengths: B on the crank circle at 45 deg, C on the line
+    DB at CD from D, E on y = 0.35 at CE from C (on the side of A)."""
+    m = MARGHITU
+    phi = math.radians(m["phi"])
+    B = (m["AB"] * math.cos(phi), m["AB"] * math.sin(phi))
+    D = (0.0, -m["AD"])
+    lever = math.atan2(B[1] - D[1], B[0] - D[0])
+    C = (D[0] + m["CD"] * math.cos(lever), D[1] + m["CD"] * math.sin(lever))
+    E = (C[0] - math.sqrt(m["CE"] ** 2 - (m["yE"] - C[1]) ** 2), m["yE"])
+    return {"A": (0.0, 0.0), "B": B, "C": C, "D": D, "E": E}
+
+
+def _marghitu(rod_mass_for_inertia=None):
+    """Kinematics and dynamics of the sketched six-bar at the book's position."""
+    m = MARGHITU
+    block = m["rho"] * m["h_block"] * m["w_block"] * m["d"]
+    mech = sketch(_marghitu_drawing(),
+                  {"crank": ["A", "B"], "lever": ["D", "C"], "rod": ["C", "E"]},
+                  ground=["A", "D"], drivers="A",
+                  sliders={"block": Slider("B", "lever", along=("D", "C")),
+                           "ram": Slider("E", "frame", angle=0.0)},
+                  masses=_marghitu_masses(block if rod_mass_for_inertia is None
+                                          else rod_mass_for_inertia))
+    omega1 = m["n"] * math.pi / 30
+    kin = kinematics(mech, [math.radians(m["phi"])], omega1=omega1, eps1=0.0)
+    dyn = inverse_dynamics(kin, gravity=(0.0, -m["g"]),
+                           loads=[Drag("ram", "E", force=m["F"])])
+    return mech, kin, dyn
+
+
+def _check_marghitu_printed(kin, dyn, k):
+    worst = 0.0
+    for key, (fx, fy) in MARGHITU_FORCES.items():
+        joint, sign = MARGHITU_JOINTS[key]
+        gx, gy = (sign * v[k] for v in dyn.reaction(joint))
+        worst = max(worst, abs(gx - fx), abs(gy - fy))
+        assert gx == pytest.approx(fx, abs=PRINTED), key
+        assert gy == pytest.approx(fy, abs=PRINTED), key
+    assert dyn.Q[k] == pytest.approx(MARGHITU_MMOT, abs=PRINTED)
+    # the slider's reaction acts at E: no couple in its guide
+    assert abs(dyn.mz[dyn.joints.index("ram"), k]) <= 1e-9
+    return max(worst, abs(dyn.Q[k] - MARGHITU_MMOT))
+
+
+def test_marghitu_r_rtr_rrt_printed_kinematics():
+    """The drawing's motion at 45 deg against the printed positions, velocities and
+    accelerations, those of the centres of mass included (printed to the digits compared:
+    half a unit of the last)."""
+    mech, kin, _ = _marghitu()
+    assert [g.kind for g in mech.structure.groups] == ["driver", "RPR", "RRP"]
+    assert math.degrees(kin.angle("lever")[0]) == pytest.approx(75.361, abs=5e-4)
+    assert math.degrees(kin.angle("rod")[0]) == pytest.approx(165.971, abs=5e-4)
+    lever, rod = mech.index["lever"], mech.index["rod"]
+    assert kin.omega[lever, 0] == pytest.approx(6.46, abs=5e-3)
+    assert kin.eps[lever, 0] == pytest.approx(30.4, abs=0.05)
+    assert kin.omega[rod, 0] == pytest.approx(3.93, abs=5e-3)
+    assert kin.eps[rod, 0] == pytest.approx(-82.5, abs=0.05)
+    c = kin.point("lever", "C")
+    assert (c.x[0], c.y[0]) == pytest.approx((0.177, 0.277), abs=5e-4)
+    assert (c.vx[0], c.vy[0]) == pytest.approx((-4.374, 1.143), abs=5e-4)
+    assert (c.ax[0], c.ay[0]) == pytest.approx((-27.947, -22.882), abs=5e-4)
+    e = kin.point("ram", "E")
+    assert (e.x[0], e.y[0]) == pytest.approx((-0.114, 0.350), abs=5e-4)
+    assert (e.vx[0], e.vy[0]) == pytest.approx((-4.660, 0.0), abs=5e-4)
+    assert (e.ax[0], e.ay[0]) == pytest.approx((-17.464, 0.0), abs=5e-4)
+    # the accelerations of the centres of mass the book's inertia forces are made of
+    for body, acc in (("crank", (-31.017, -31.017)), ("block", (-62.034, -62.034)),
+                      ("lever", (-13.974, -11.441)), ("rod", (-22.705, -11.441)),
+                      ("ram", (-17.464, 0.0))):
+        c = kin.point(body, "com")
+        assert (c.ax[0], c.ay[0]) == pytest.approx(acc, abs=5e-4), body
+
+
+def test_marghitu_r_rtr_rrt_printed_forces():
+    """Every printed joint force and the driving moment (printed to 3 decimals: agreement to
+    half a unit of the last digit, measured 3.65e-4 N at most), the printed masses and inertias
+    of the data, the printed point Q = (0.141421, 0.141421) m of the block's reaction (where
+    the guide's couple vanishes: 6 decimals), and the driving moment from the power balance
+    written out from the kinematics alone (dT/dt minus the powers of gravity and of the
+    500 N; 1e-9 relative)."""
+    mech, kin, dyn = _marghitu()
+    _check_marghitu_printed(kin, dyn, 0)
+    printed = {"crank": (0.016, 5.34667e-05), "block": (0.008, 1.933e-06),
+               "lever": (0.056, 2.287e-03), "rod": (0.024, 6.007e-05), "ram": (0.008, 1.933e-06)}
+    for b in mech.bodies:
+        mass, inertia = printed[b.name]
+        assert b.mass == pytest.approx(mass, abs=5e-4)
+        assert b.inertia == pytest.approx(inertia, rel=5e-4)
+    # the block's reaction (force F32 and couple mz at B) as one force on the line DB at Q
+    j = dyn.joints.index("block")
+    u = np.array([math.cos(kin.angle("lever")[0]), math.sin(kin.angle("lever")[0])])
+    f = np.array([dyn.fx[j, 0], dyn.fy[j, 0]])
+    t = dyn.mz[j, 0] / (u[0] * f[1] - u[1] * f[0])
+    q = np.array([dyn.px[j, 0], dyn.py[j, 0]]) + t * u
+    assert q == pytest.approx((0.141421, 0.141421), abs=5e-7)
+    dT, p_g = energy_rate(mech, kin, (0.0, -MARGHITU["g"]))
+    e = kin.point("ram", "E")
+    p_load = -MARGHITU["F"] * abs(e.vx[0])
+    q_power = (dT[0] - p_g[0] - p_load) / kin.omega1[0]
+    assert dyn.Q[0] == pytest.approx(q_power, rel=1e-9)
+    assert q_power == pytest.approx(MARGHITU_MMOT, abs=PRINTED)
+
+
+def test_marghitu_r_rtr_rrt_from_file():
+    """The same six-bar from its planar file (``[sketch]``, ``[[load]] type = "drag"``),
+    analysed over a turn at 1 deg: at 45 deg the printed numbers, and every reaction equal to
+    the Python sketch's (1e-9 relative)."""
+    doc = io.load(ROOT / "tests" / "data" / "published" / "marghitu_r_rtr_rrt.toml")
+    mech = doc.mechanism()
+    phi = doc.positions()
+    kin = kinematics(mech, phi)
+    dyn = inverse_dynamics(kin, gravity=doc.analysis.gravity, loads=doc.loads(phi))
+    assert kin.valid.all()
+    k = 45
+    assert phi[k] == pytest.approx(math.radians(MARGHITU["phi"]), abs=1e-15)
+    _check_marghitu_printed(kin, dyn, k)
+    _, _, ref = _marghitu()
+    for joint in ref.joints:
+        for got, want in zip(dyn.reaction(joint), ref.reaction(joint), strict=True):
+            assert got[k] == pytest.approx(want[0], rel=1e-9, abs=1e-9)
+    assert dyn.Q[k] == pytest.approx(ref.Q[0], rel=1e-9)
+
+
+def test_marghitu_rod_inertia_as_printed_and_corrected():
+    """The book's IC4 = 6.007e-5 kg m^2 is m2 (CE^2 + h^2)/12 with the block's mass m2 =
+    0.008 kg; the rod's own mass m4 = 0.024 kg gives 1.802e-4. The correction adds the couple
+    -dI alpha4 on the rod only; by hand (statics of the rod: moments about E, no horizontal
+    force change since the guide takes none) F34 changes by (0, dI alpha4 / (xC - xE)) and,
+    by virtual power, the driving moment by dI alpha4 omega4 / omega1 (-1.86e-3 N m: 111.516
+    instead of 111.518). The engine's changes equal these to 1e-9 relative."""
+    m = MARGHITU
+    m4 = m["rho"] * m["h"] * m["d"] * m["CE"]
+    mech, kin, printed = _marghitu()
+    _, _, fixed = _marghitu(rod_mass_for_inertia=m4)
+    d_inertia = (m4 - m["rho"] * m["h_block"] * m["w_block"] * m["d"]) * (m["CE"] ** 2
+                                                                       + m["h"] ** 2) / 12
+    assert m4 * (m["CE"] ** 2 + m["h"] ** 2) / 12 == pytest.approx(1.802e-4, abs=5e-8)
+    rod = mech.index["rod"]
+    alpha4, omega4 = kin.eps[rod, 0], kin.omega[rod, 0]
+    xc, xe = kin.point("lever", "C").x[0], kin.point("ram", "E").x[0]
+    dfx = fixed.reaction("C")[0][0] - printed.reaction("C")[0][0]
+    dfy = fixed.reaction("C")[1][0] - printed.reaction("C")[1][0]
+    assert abs(dfx) <= 1e-9
+    assert dfy == pytest.approx(d_inertia * alpha4 / (xc - xe), rel=1e-9)
+    dq = fixed.Q[0] - printed.Q[0]
+    assert dq == pytest.approx(d_inertia * alpha4 * omega4 / kin.omega1[0], rel=1e-9)
+    assert fixed.Q[0] == pytest.approx(111.516, abs=PRINTED)
+
+
+def test_r_rtr_rrt_example_5_6_printed_kinematics():
+    """The lever CF with its pivot C between the block's path and the rod's pin D (D on the
+    far side of C): every printed position, velocity and acceleration at 200 deg, 700 rpm, to
+    half a unit of the printed last digit. The program's relative motion of the lever's point
+    B3 seen from the block 2 is minus linkwork's slide of the block in the lever (``slide`` is
+    body b relative to body a), so its vB32 = -6.751 m/s and aB32 = -1086.945 m/s^2 are
+    ``-rate`` and ``-acceleration`` of the slide."""
+    AB, AC, CD, DE, CF, a = 0.15, 0.30, 0.20, 0.14, 0.50, 0.25
+    phi = math.radians(200.0)
+    B = (AB * math.cos(phi), AB * math.sin(phi))
+    C = (-AC, 0.0)
+    lever = math.atan2(B[1] - C[1], B[0] - C[0])
+    F = (C[0] + CF * math.cos(lever), C[1] + CF * math.sin(lever))
+    D = (C[0] - CD * math.cos(lever), C[1] - CD * math.sin(lever))
+    E = (-AC - a, D[1] + math.sqrt(DE ** 2 - (-AC - a - D[0]) ** 2))
+    mech = sketch({"A": (0.0, 0.0), "B": B, "C": C, "D": D, "E": E, "F": F},
+                  {"crank": ["A", "B"], "lever": ["C", "F", "D"], "rod": ["D", "E"]},
+                  ground=["A", "C"], drivers="A",
+                  sliders={"block": Slider("B", "lever", along=("D", "F")),
+                           "ram": Slider("E", "frame", angle=math.pi / 2)})
+    assert [g.kind for g in mech.structure.groups] == ["driver", "RPR", "RRP"]
+    kin = kinematics(mech, [phi], omega1=700 * math.pi / 30, eps1=0.0)
+    half = 5e-4
+    for p, body, xy in (("B", "crank", (-0.141, -0.051)), ("D", "lever", (-0.490, 0.061)),
+                        ("E", "ram", (-0.550, 0.188)), ("F", "lever", (0.176, -0.153))):
+        pm = kin.point(body, p)
+        assert (pm.x[0], pm.y[0]) == pytest.approx(xy, abs=half), p
+    assert math.degrees(kin.angle("lever")[0]) == pytest.approx(-17.878, abs=half)
+    rod_angle = math.degrees(kin.angle("rod")[0])  # printed as atan of the slope: mod 180
+    assert (rod_angle + 90.0) % 180.0 - 90.0 == pytest.approx(-64.778, abs=half)
+    lever_i, rod_i = mech.index["lever"], mech.index["rod"]
+    assert kin.omega[lever_i, 0] == pytest.approx(-51.934, abs=half)
+    assert kin.eps[lever_i, 0] == pytest.approx(7157.347, abs=half)
+    assert kin.omega[rod_i, 0] == pytest.approx(25.176, abs=half)
+    assert kin.eps[rod_i, 0] == pytest.approx(882.339, abs=half)
+    _, rate, accel = kin.slide("block")
+    assert -rate[0] == pytest.approx(-6.751, abs=half)
+    assert -accel[0] == pytest.approx(-1086.945, abs=half)
+    d = kin.point("lever", "D")
+    assert (d.vx[0], d.vy[0]) == pytest.approx((3.189, 9.885), abs=half)
+    assert (d.ax[0], d.ay[0]) == pytest.approx((73.937, -1527.948), abs=half)
+    e = kin.point("ram", "E")
+    assert (e.vx[0], e.vy[0]) == pytest.approx((0.0, 8.383), abs=half)
+    assert (e.ax[0], e.ay[0]) == pytest.approx((0.0, -1660.866), abs=half)
