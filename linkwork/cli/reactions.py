@@ -28,7 +28,7 @@ from linkwork.cli._args import (
     table_positions,
 )
 from linkwork.cli._console import console as make_console
-from linkwork.cli._console import steps
+from linkwork.cli._console import counting, steps
 from linkwork.cli._format import fmt
 from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
@@ -40,7 +40,7 @@ from linkwork.redundancy.tolerance import CHUNK_SAMPLES, check_samples
 from linkwork.results import write_json
 from linkwork.studies import reactions as study_reactions
 from linkwork.studies.reactions import ReactionsStudy
-from linkwork.sweep import check_client, rich_progress
+from linkwork.sweep import check_client
 
 __all__ = ["load_problem", "register", "render", "render_tolerance", "run"]
 
@@ -160,7 +160,8 @@ def _report(study: ReactionsStudy, *, out: Path, console: Any, plots: bool, n: i
     written = render(study, out=out, console=console, plots=plots, mechanism=mechanism)
     tol = None
     if n:
-        with rich_progress("tolerance study", console=console) as progress:
+        # on a terminal's stderr, erased when done (it was printed into stdout, a pipe too)
+        with counting("tolerance study", console=make_console(stderr=True)) as progress:
             tol = study_reactions.tolerance(study, n, tols=tols, seed=seed, scheduler=scheduler,
                                             chunk_size=chunk_size, progress=progress)
         written += render_tolerance(study, tol, out=out, console=console, plots=plots,

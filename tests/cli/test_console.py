@@ -145,3 +145,15 @@ def test_every_step_of_a_command_is_under_a_progress_bar(command, module, first,
         stem = f.rsplit(".", 1)[0]
         assert (stem in text or f in text or (module == "balance" and f.endswith(".png"))
                 or (f.startswith("design_") and "design files" in text)), f
+
+
+def test_the_tolerance_study_bar_stays_out_of_stdout(tmp_path, capsys):
+    """Its progress bar was drawn on the command's stdout console, so a piped stdout got a line
+    'tolerance study ━━━ 500/500' among the tables; it is on a terminal's stderr now, like
+    every other bar."""
+    assert main(["reactions", str(EXAMPLES / "loom_fourbar_spatial.toml"), "--no-plots",
+                 "--tolerance-study", "50", "--out", str(tmp_path / "o")]) == 0
+    out = capsys.readouterr()
+    assert "tolerance study: peaks over the cycle, N = 50" in out.out
+    bar = re.compile(r"tolerance study ━+ \d+/\d+")
+    assert not bar.search(out.out) and not bar.search(out.err) and "50/50" not in out.out
