@@ -249,14 +249,17 @@ def _request(opts: dict[str, Any]) -> syn.Request:
         opt, text = given.get(exc.parameter, ("", None))
         if text is None:
             raise
-        hint = f"from {opt} {text!r}"
+        # the option and its value as typed (the Request's field and SI value only in the
+        # detail, where they say what a plain number was read as)
+        hint = ""
         if exc.parameter.startswith(("delta", "phi")):
             try:
                 float(text)
-                hint += '; a plain number is in radians: write e.g. "8 deg"'
+                hint = (f"read as {exc.parameter} = {exc.value}: a plain number is in "
+                        'radians; write e.g. "8 deg"')
             except ValueError:
                 pass
-        raise ParameterError(exc.parameter, exc.value, exc.limit, hint) from None
+        raise ParameterError(opt, text, exc.limit, hint) from None
 
 
 def render_synthesis(study: SwashplateSynthesis, *, out: Path, console: Any) -> None:
