@@ -961,6 +961,18 @@ def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
         raise ParameterError("positions", "[]", "must hold at least one driver position")
     if isinstance(chunk, bool) or int(chunk) != chunk or chunk < 2:
         raise ParameterError("chunk", chunk, "must be an integer >= 2 (positions per chunk)")
+    tphi = default_table_positions(doc) if angles is None else np.asarray(angles, float)
+
+    def table() -> tuple[Kinematics, Dynamics]:
+        try:
+            return _solve(doc, mech, tphi)
+        except AssemblyError as exc:
+            raise table_positions_error(exc, tphi, not crank) from None
+
+    # given table positions first: where the mechanism does not assemble there (--angles) is
+    # refused before the chunks are solved and streamed (minutes for 10^6 positions); the
+    # default ones lie in the file's range, which the chunks check with their own error
+    given = table() if angles is not None else None
     stats = _ChunkStats(mech, phi)
     for lo in range(0, n, int(chunk)):
         q = phi[lo:lo + int(chunk)]
@@ -988,11 +1000,7 @@ def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
         if progress is not None:
             progress(lo + q.size, n)
     dcs = dead_centres_over(mech, phi, stats.rates, stats.branches)
-    tphi = default_table_positions(doc) if angles is None else np.asarray(angles, float)
-    try:
-        tk, td = _solve(doc, mech, tphi)
-    except AssemblyError as exc:
-        raise table_positions_error(exc, tphi, not crank) from None
+    tk, td = table() if given is None else given
     return PlanarSummary(
         doc=doc, mechanism=mech, n=n, first=float(phi[0]), last=float(phi[-1]),
         branches=stats.branches, dead_centres=dcs,

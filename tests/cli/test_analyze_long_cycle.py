@@ -29,6 +29,7 @@ from linkwork.results import CsvRows
 from linkwork.studies import planar as study_planar
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+ROOT_DATA = Path(__file__).resolve().parents[1] / "data"
 
 
 def _with_n(tmp_path: Path, example: str, n: int) -> Path:
@@ -207,3 +208,24 @@ def test_the_whole_cycle_study_refuses_a_long_cycle(tmp_path):
     with pytest.raises(ParameterError, match="analyze_chunked") as exc:
         study_planar.analyze(doc)
     assert exc.value.parameter == "analysis.n"
+
+
+def test_table_positions_outside_the_range_are_refused_before_the_cycle(tmp_path, capsys,
+                                                                        monkeypatch):
+    """--angles where the mechanism does not assemble: refused before any chunk is solved or
+    streamed (a long cycle takes minutes), one line, no CSV."""
+    monkeypatch.setattr(cli_planar, "MAX_WHOLE_POSITIONS", 10)  # the file has 41
+    solved = []
+    real = study_planar._solve
+
+    def solve(doc, mech, phi, *a):
+        solved.append(np.size(phi))
+        return real(doc, mech, phi, *a)
+
+    monkeypatch.setattr(study_planar, "_solve", solve)
+    out = tmp_path / "out"
+    code, _, err = run_cli(["analyze", str(ROOT_DATA / "slider_driven_crank.toml"), "--angles",
+                            "100", "--out", str(out)], capsys)
+    assert code == 2 and err.count("\n") == 1 and "--angles" in err, err
+    assert solved == [1]  # the table alone
+    assert not list(out.glob("planar*"))
