@@ -364,8 +364,14 @@ def _evaluate_dask(func: Callable[..., Any], candidates: Any, slices: list[slice
     cl = Client(client) if own else client
     futures: list[Any] = []  # Future or None (gathered)
     try:
-        # the shared inputs go to every worker once; the tasks refer to them
-        scattered = cl.scatter(shared, broadcast=True, hash=False) if shared else {}
+        # the shared inputs go to every worker once; the tasks refer to them. Scattered as a
+        # list (random keys): a mapping's own keys would become the data's keys on the
+        # cluster, and the same name scattered again by the next call while the previous
+        # call's data under that name is being released got the new tasks cancelled ('lost
+        # dependencies') or left waiting for ever (every second call on a process cluster)
+        names = list(shared)
+        scattered = (dict(zip(names, cl.scatter([shared[k] for k in names], broadcast=True,
+                                                hash=False), strict=True)) if shared else {})
         if isinstance(candidates, Generated):  # make each chunk on its worker
             futures = list(cl.map(functools.partial(_make_on_worker, func, candidates.make),
                                   [sl.start for sl in slices], [sl.stop for sl in slices],

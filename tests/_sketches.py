@@ -7,6 +7,19 @@ import math
 
 import numpy as np
 
+from linkwork.planar import kinematics
+
+
+def drawing_of(mech, phi):
+    """World coordinates of every named point of ``mech`` at driver position ``phi``."""
+    kin = kinematics(mech, [phi])
+    pts = {p: tuple(map(float, v)) for p, v in mech.frame.points.items()}
+    for b in mech.bodies:
+        for p in b.points:
+            pm = kin.point(b.name, p)
+            pts[p] = (float(pm.x[0]), float(pm.y[0]))
+    return pts
+
 
 def paper001_drawing() -> str:
     """Paper 001's four-bar (examples/fourbar_paper001.toml) as its drawing at phi1 = 0:

@@ -101,6 +101,7 @@ from linkwork.planar.model import (
     crank_slider_mechanism,
     fourbar,
     fourbar_mechanism,
+    stack,
 )
 from linkwork.planar.self_locking import WorkingRange, working_range
 from linkwork.planar.sketch import Cylinder, LinkMass, Slider, Slot, sketch
@@ -148,6 +149,7 @@ __all__ = [
     "kinetic_energy",
     "mobility",
     "sketch",
+    "stack",
     "transmission_angles",
     "working_range",
 ]

@@ -42,8 +42,9 @@ from linkwork.checks import require_finite
 from linkwork.cycles import mean_over_range
 from linkwork.errors import ParameterError, angle_ranges, format_angle_ranges
 from linkwork.planar import forces, friction
+from linkwork.planar.designs import pick
 from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
-from linkwork.planar.inertia import inertia_wrenches
+from linkwork.planar.inertia import inertia_couple, inertia_force, inertia_wrenches
 from linkwork.planar.joints import ResolvedJoint, row_entries
 from linkwork.planar.kinematics import Kinematics, require_kinematics, state_of
 from linkwork.planar.model import Mechanism
@@ -342,9 +343,11 @@ def kinetic_energy(kin: Kinematics) -> Arr:
 
 
 
-#: Positions per chunk of :func:`inverse_dynamics`: its temporaries are those of one chunk,
-#: whatever the cycle (four-bar, 10^6 positions: the peak rose by 824 bytes per position
-#: unchunked, by the result's 345 in chunks; 7.1 s -> 3.8 s on the loaded machine).
+#: Positions per chunk of :func:`inverse_dynamics` of one design, and (design, position)
+#: elements per block of a batch of designs (:func:`_blocks`): its temporaries are those of
+#: one chunk or block, whatever the cycle and the number of designs (four-bar, 10^6
+#: positions: the peak rose by 824 bytes per position unchunked, by the result's 345 in
+#: chunks; 7.1 s -> 3.8 s on the loaded machine).
 CHUNK = 8192
 
 #: Per-position result fields of :class:`Dynamics` (positions last), filled chunk by chunk.
@@ -374,7 +377,10 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     Returns
     -------
     Dynamics
-        See the module docstring for the sign conventions.
+        See the module docstring for the sign conventions. For a batch of designs
+        (:mod:`~linkwork.planar.designs`) every per-position array has the designs before the
+        positions: ``fx`` (n_joints, m, n), ``Q`` (m, n), ``shaking_fx`` (m, n), ...; the
+        loads are the same for every design.
 
     Notes
     -----
@@ -383,6 +389,12 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     long cycle that must not be held at all goes through
     :func:`linkwork.studies.planar.analyze_chunked`). The friction law's sign width is taken
     from the driver speed over all positions, as without chunks.
+
+    A batch of designs without loads, friction and gear pairs' separating forces is solved in
+    blocks of :data:`CHUNK` (design, position) elements flattened together (several designs
+    of a short cycle, or chunks of one design's positions), on the plan picked there; with
+    them, design by design (each in chunks of positions). Either way the temporaries are those
+    of at most :data:`CHUNK` elements.
     """
     require_kinematics(kin)
     g = (0.0, 0.0) if gravity is None else tuple(float(v) for v in require_finite(
@@ -392,6 +404,8 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     ab = tuple(float(v) for v in require_finite("about", about).ravel())
     if len(ab) != 2:
         raise ParameterError("about", about, "must be a point (x, y) [m]")
+    if kin.n_designs is not None:
+        return _batch_dynamics(kin, (g[0], g[1]), (ab[0], ab[1]), loads)
     # the loads are checked and evaluated over the whole cycle (a load diagram's rest band,
     # a spring's length), once; the chunks take their slices
     applied = forces.apply(kin, loads)
@@ -552,6 +566,124 @@ def _shaking(plan: Plan, st: State, fr: str, reactions: tuple[Arr, Arr, Arr, Arr
         sfy += w.fy
         sm += (w.px - ab[0]) * w.fy - (w.py - ab[1]) * w.fx + w.mz
     return sfx, sfy, sm
+
+
+def _batch_dynamics(kin: Kinematics, g: tuple[float, float], ab: tuple[float, float],
+                    loads: Sequence[Load]) -> Dynamics:
+    """:func:`inverse_dynamics` of a batch of designs (arrays ``(..., m, n)``): without loads,
+    friction and gear pairs' separating forces, blocks of designs flattened with their
+    positions and solved on the plan picked there (as :func:`kinematics` does); with them,
+    design by design (the loads the same for every design)."""
+    mech = kin.mechanism
+    plan = mech.plan
+    m = kin.n_designs
+    assert m is not None
+    if loads or friction.has_friction(plan) or friction.has_separation(plan):
+        return _stacked(kin, [inverse_dynamics(kin.design(i), gravity=g, loads=loads, about=ab)
+                              for i in range(m)])
+    n = kin.n
+    nb, nj, nd = plan.nb, len(plan.joints), len(plan.drivers)
+    react = np.empty((5, nj, m, n))  # fx, fy, mz, px, py
+    Q = np.empty((nd, m, n))
+    shake = np.empty((4, m, n))  # shaking fx, fy, m; kinetic energy
+    keys = ("x", "y", "theta", "vx", "vy", "omega", "ax", "ay", "eps")
+    for ds, ps, index in _blocks(m, n):
+        sub = plan.pick(index)
+        shape = (ds.stop - ds.start, ps.stop - ps.start)
+        st = State(nb, shape[0] * shape[1])
+        rows = {key: getattr(kin, key)[:, ds, ps].reshape(nb, -1) for key in keys}
+        for i in range(1, nb):
+            st.X[i], st.Y[i], st.VX[i], st.VY[i], st.W[i], st.AX[i], st.AY[i], st.E[i] = (
+                rows[key][i] for key in ("x", "y", "vx", "vy", "omega", "ax", "ay", "eps"))
+            st.set_angle(i, rows["theta"][i])
+        bodies = [(pick(b.mass, index), pick(b.com, index), pick(b.inertia, index))
+                  for b in mech.bodies]
+        with np.errstate(all="ignore"):
+            f, T = _body_forces(st, bodies, g)
+            points = [rj.joint.reaction_point(st, rj) for rj in sub.joints]
+            if sub.global_reactions:
+                fxr, fyr, mzr, q = _global_reactions(sub, st, f, kin.valid[ds, ps].reshape(-1))
+            else:
+                fxr, fyr, mzr, q = _group_reactions(sub, st, f)
+            pxr = np.array([p[0] + np.zeros(st.n) for p in points]).reshape(nj, -1)
+            pyr = np.array([p[1] + np.zeros(st.n) for p in points]).reshape(nj, -1)
+            sh = _shaking(sub, st, mech.frame.name, (fxr, fyr, mzr, q), pxr, pyr, ab, [])
+        for k, arr in enumerate((fxr, fyr, mzr, pxr, pyr)):
+            react[k, :, ds, ps] = arr.reshape(nj, *shape)
+        Q[:, ds, ps] = q.reshape(nd, *shape)
+        for k, arr in enumerate((*sh, T)):
+            shake[k, ds, ps] = arr.reshape(shape)
+    one = nd == 1
+    zeros = np.zeros((nj, m, n))
+    return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), react[0], react[1],
+                    react[2], react[3], react[4], Q[0] if one else Q, shake[0], shake[1],
+                    shake[2], ab, shake[3], g,
+                    Q_frictionless=Q[0] if one else Q, friction_fx=zeros, friction_fy=zeros,
+                    friction_mz=zeros, friction_power=zeros,
+                    locked=np.zeros((m, n), dtype=bool),
+                    kappa=np.ones((m, n)), friction_iterations=0,
+                    friction_static=False, loads=(), load_power=np.zeros((0, m, n)),
+                    V=np.zeros((m, n)))
+
+
+def _blocks(m: int, n: int) -> list[tuple[slice, slice, Any]]:
+    """The blocks of a batch's (design, position) elements solved at once: (designs,
+    positions, index) with index the design of each flattened element, or the one design
+    (an int) of a block of positions."""
+    if n >= CHUNK:
+        return [(slice(d, d + 1), slice(lo, min(lo + CHUNK, n)), d)
+                for d in range(m) for lo in range(0, n, CHUNK)]
+    k = max(1, CHUNK // max(n, 1))
+    return [(slice(d0, min(d0 + k, m)), slice(0, n),
+             np.repeat(np.arange(d0, min(d0 + k, m)), n)) for d0 in range(0, m if n else 0, k)]
+
+
+def _body_forces(st: State, bodies: Sequence[tuple[Any, Any, Any]], g: tuple[float, float]
+                 ) -> tuple[Arr, Arr]:
+    """The generalised applied-minus-inertia forces on every moving body about its origin
+    (columns x, y, theta of each; :mod:`~linkwork.planar.inertia`) and the kinetic energy,
+    from the solver state and each body's (mass, centre of mass, inertia)."""
+    n = st.n
+    f = np.zeros((n, 3 * len(bodies)))
+    T = np.zeros(n)
+    for k, (mass, com, inertia) in enumerate(bodies):
+        i = k + 1
+        rx, ry = st.rot(i, com)
+        vx, vy = st.point_vel(i, com)
+        ax, ay = st.point_acc(i, com)
+        fx, fy = inertia_force(mass, ax, ay, g[0], g[1])
+        f[:, 3 * k] += fx
+        f[:, 3 * k + 1] += fy
+        f[:, 3 * k + 2] += rx * fy - ry * fx + inertia_couple(inertia, st.E[i])
+        T += 0.5 * mass * (vx**2 + vy**2) + 0.5 * inertia * st.W[i]**2
+    return f, T
+
+
+def _stacked(kin: Kinematics, parts: Sequence[Dynamics]) -> Dynamics:
+    """The designs' results ``parts`` as one result of the batch ``kin`` (arrays (..., m, n))."""
+
+    def stack(values: Sequence[Any]) -> Any:
+        if isinstance(values[0], np.ndarray):
+            return np.stack(values, axis=-2)
+        return values[0]
+
+    def load(k: int) -> AppliedLoad:
+        aps = [p.loads[k] for p in parts]
+        ws = tuple(replace(w, **{a: stack([getattr(x.wrenches[j], a) for x in aps])
+                                 for a in ("fx", "fy", "px", "py", "mz")})
+                   for j, w in enumerate(aps[0].wrenches))
+        return replace(aps[0], value=stack([a.value for a in aps]),
+                       power=stack([a.power for a in aps]), energy=stack([a.energy for a in aps]),
+                       length=None if aps[0].length is None else stack([a.length for a in aps]),
+                       wrenches=ws)
+
+    arrays = {name: stack([getattr(p, name) for p in parts])
+              for name in (*_PER_POSITION, "load_power", "V")}
+    first = parts[0]
+    return Dynamics(kin, kin.phi1, first.joints, about=first.about, gravity=first.gravity,
+                    friction_iterations=max(p.friction_iterations for p in parts),
+                    friction_static=all(p.friction_static for p in parts),
+                    loads=tuple(load(k) for k in range(len(first.loads))), **arrays)
 
 
 @dataclass(frozen=True)

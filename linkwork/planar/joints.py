@@ -28,12 +28,13 @@ from typing import Any, ClassVar, Protocol
 
 import numpy as np
 
-from linkwork.checks import require_number, require_point
+from linkwork.checks import require_number
 from linkwork.errors import AssemblyError, ParameterError, StructureError
+from linkwork.planar.designs import design_point, design_value
 from linkwork.planar.state import Arr, State, Vec
 
 __all__ = ["GearPair", "Joint", "PinInSlot", "Prismatic", "ResolvedJoint", "Revolute",
-           "row_entries", "smooth_sign"]
+           "design_length", "row_entries", "smooth_sign"]
 
 Point = tuple[float, float]
 #: a constraint row: ``ja``, ``jb`` (d/dx, d/dy, d/dtheta of bodies a and b), ``gam``
@@ -75,6 +76,13 @@ class Hung(Protocol):
     def w(self) -> tuple[Arr | float, float]: ...
 
     def e(self) -> tuple[Arr | float, float]: ...
+
+
+def design_length(dx: Any, dy: Any) -> Any:
+    """The length of a local vector: a Python float, or an array over the elements of a batch
+    of designs."""
+    r = np.hypot(dx, dy)
+    return float(r) if r.ndim == 0 else r
 
 
 @dataclass(frozen=True, eq=False)
@@ -379,8 +387,9 @@ class Revolute(Joint):
         sizes = []
         for body in moving:
             p = body.point(self.pa if body.name == self.a else self.pb)
-            size = max((float(np.hypot(q[0] - p[0], q[1] - p[1])) for q in body.points.values()),
-                       default=0.0)
+            dist = [np.hypot(q[0] - p[0], q[1] - p[1]) for q in body.points.values()]
+            # the smallest over the designs of a batch
+            size = float(np.min(np.max(np.broadcast_arrays(*dist), axis=0))) if dist else 0.0
             if size > 0:
                 sizes.append((size, body.name))
         if sizes and self.radius >= max(sizes)[0]:
@@ -461,8 +470,8 @@ class Revolute(Joint):
         p_ext = r.qa if body == r.ia else r.pb
         p_known = r.pb if body == r.ia else r.qa
         A = st.wpt(r.other(body), p_known)
-        rad = float(np.hypot(p_int[0] - p_ext[0], p_int[1] - p_ext[1]))
-        if rad == 0.0:
+        rad = design_length(p_int[0] - p_ext[0], p_int[1] - p_ext[1])
+        if np.any(rad == 0.0):
             raise StructureError(f"joint {self.name}: body {body_name} has its two "
                                  "joint centres at the same point; the dyad is not determined")
         return "circle", (A, rad, p_ext)
@@ -505,13 +514,17 @@ class _LineJoint(Joint):
     point: str | None = None
     has_line: ClassVar[bool] = True
 
+    def __post_init__(self) -> None:
+        # a NaN angle would only surface as 'cannot be assembled' at every position; angles
+        # and points may vary over the designs of a batch (linkwork.planar.designs)
+        object.__setattr__(self, "angle", design_value(f"joint {self.name}.angle", self.angle))
+        if self.through is not None and not isinstance(self.through, str):
+            object.__setattr__(self, "through",
+                               design_point(f"joint {self.name}.through", self.through))
+
     def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
-        # a NaN angle would only surface as 'cannot be assembled' at every position
-        require_number(f"joint {self.name}.angle", self.angle)
         if isinstance(self.through, str):
             self._has(ba, "through", self.through)
-        elif self.through is not None:
-            require_point(f"joint {self.name}.through", self.through)
         if self.point is not None:
             self._has(bb, "point", self.point)
 
@@ -521,10 +534,10 @@ class _LineJoint(Joint):
         elif isinstance(self.through, str):
             qa = ba.point(self.through)
         else:
-            qa = require_point("through", self.through)
+            qa = self.through  # checked by __post_init__
         pb = (bb.point(self.point) if self.point is not None
               else bb.points.get(self.name, (0.0, 0.0)))
-        return qa, pb, float(self.angle)
+        return qa, pb, self.angle
 
     def _line_rows(self, st: State, r: ResolvedJoint, need_gamma: bool) -> tuple[Row, Row | None]:
         """The normal row (and the row along the line, for a driver) of ``e . (P_b - Q_a)``."""
@@ -663,6 +676,9 @@ class Prismatic(_LineJoint):
     spatial_family: ClassVar[str | None] = "P"
 
     def __post_init__(self) -> None:
+        super().__post_init__()
+        object.__setattr__(self, "rel_angle",
+                           design_value(f"joint {self.name}.rel_angle", self.rel_angle))
         f = self._check_friction(self.friction)
         ln = require_number(f"joint {self.name}.length", self.length)
         if ln < 0:
@@ -697,11 +713,6 @@ class Prismatic(_LineJoint):
         ft = -self.friction * (np.abs(n1) + np.abs(n2)) * smooth_sign(ux * vx + uy * vy,
                                                                       width[1])
         return ft * ux, ft * uy, np.zeros(st.n)
-
-    def check_points(self, ba: _BodyLike, bb: _BodyLike) -> None:
-        require_number(f"joint {self.name}.angle", self.angle)
-        require_number(f"joint {self.name}.rel_angle", self.rel_angle)
-        super().check_points(ba, bb)
 
     def constraint_rows(self, st: State, r: ResolvedJoint, need_gamma: bool = True
                         ) -> list[Row]:
@@ -791,6 +802,7 @@ class PinInSlot(_LineJoint):
     row_kinds: ClassVar[tuple[str, ...]] = ("n",)
 
     def __post_init__(self) -> None:
+        super().__post_init__()
         f = self._check_friction(self.friction)
         r = require_number(f"joint {self.name}.radius", self.radius)
         if r < 0:
@@ -948,6 +960,10 @@ class GearPair(Joint):
             on_gear, on_carrier = (qa, pb) if pivot.a == gear else (pb, qa)
             centres.append((on_gear, on_carrier))
         (ca, oa), (cb, ob) = centres
+        if any(isinstance(v, np.ndarray) for c in centres for p in c for v in p):
+            raise ParameterError(f"joint {self.name}", "gear centres per design",
+                                 "a gear pair whose centres vary over the designs is not "
+                                 "batched yet: analyse such designs one at a time")
         d = math.hypot(ob[0] - oa[0], ob[1] - oa[1])
         s = -1.0 if self.internal else 1.0
         if self.teeth is not None:

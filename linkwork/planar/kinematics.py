@@ -35,13 +35,14 @@ from numpy.typing import ArrayLike
 from linkwork.checks import require_finite, require_point
 from linkwork.deprecation import renamed_attribute, renamed_keywords
 from linkwork.errors import AssemblyError, ParameterError, angle_ranges, format_angle_ranges
+from linkwork.planar.designs import branch_value, column, design_point, pick
 from linkwork.planar.extremes import (
     DeadCentre,
     dead_centres_of_rates,
     output_rates,
     transmission_angles_of,
 )
-from linkwork.planar.model import Mechanism
+from linkwork.planar.model import Drawing, Mechanism
 from linkwork.planar.positions import solve_group
 from linkwork.planar.rates import group_rates
 from linkwork.planar.state import Arr, State
@@ -153,17 +154,49 @@ class Kinematics(Result):
             raise ParameterError("body", body, f"no such body; known: {list(self.bodies)}"
                                  ) from None
 
+    @property
+    def n_designs(self) -> int | None:
+        """The number of designs of a batch (arrays ``(..., m, n)``), None for one design."""
+        return self.mechanism.n_designs
+
+    def design(self, i: int) -> Kinematics:
+        """The motion of design ``i`` of a batch, as :func:`kinematics` gives it for that
+        design alone (``self`` for one design and ``i = 0``)."""
+        mech = self.mechanism.design(i)
+        if self.n_designs is None:
+            return self
+        k = int(i) % self.n_designs
+        nd = mech.n_drivers
+        q = self.phi1 if self.phi1.ndim == (1 if nd == 1 else 2) else self.phi1[..., k, :]
+
+        def row(a: Arr) -> Arr:
+            return np.array(a[..., k, :])
+
+        return Kinematics(mech, np.array(q), row(self.omega1), row(self.eps1), self.bodies,
+                          row(self.x), row(self.y), row(self.theta), row(self.vx),
+                          row(self.vy), row(self.omega), row(self.ax), row(self.ay),
+                          row(self.eps), row(self.valid),
+                          {key: int(pick(v, k)) for key, v in self.branches.items()})
+
     def point(self, body: str, point: str | tuple[float, float] = "com") -> PointMotion:
-        """Motion of a point of ``body``: a named point, ``"com"``, or local (x, y) [m]."""
+        """Motion of a point of ``body``: a named point, ``"com"``, or local (x, y) [m] (for a
+        batch, numbers or arrays over the designs; fields of shape (m, n))."""
         i = self._row(body)
-        p = self.mechanism.body(body).point(point) if isinstance(point, str) else require_point(
-            f"point of {body}", point)
-        return PointMotion(self.phi1, *self._motion(i, p[0], p[1]))
+        p = self.mechanism.body(body).point(point) if isinstance(point, str) else (
+            design_point(f"point of {body}", point) if self.n_designs is not None
+            else require_point(f"point of {body}", point))
+        return PointMotion(self.phi1, *self._motion(i, column(p[0]), column(p[1])))
 
     def centres_of_mass(self) -> PointMotion:
         """Motion of the centres of mass of the moving bodies, in the mechanism's order: every
-        field of shape ``(n_moving_bodies, n)`` (the same numbers as :meth:`point` per body)."""
+        field of shape ``(n_moving_bodies, n)`` (the same numbers as :meth:`point` per body;
+        ``(n_moving_bodies, m, n)`` for a batch)."""
         bodies = self.mechanism.bodies
+        m = self.n_designs
+        if m is not None:
+            com = np.array([np.broadcast_to(v, (m,)) for b in bodies for v in b.com])
+            cx, cy = com[0::2, :, None], com[1::2, :, None]
+            return PointMotion(self.phi1, *self._motion(slice(1, 1 + len(bodies)), cx, cy))
         com = np.array([b.point("com") for b in bodies], dtype=float).reshape(-1, 2)
         # the moving bodies are rows 1.. of the arrays, in order: a slice, so no copies
         return PointMotion(self.phi1, *self._motion(slice(1, 1 + len(bodies)), com[:, :1],
@@ -195,7 +228,7 @@ class Kinematics(Result):
         qa, pb, ang = m.joint_geometry(j)
         ia = self._row(j.a)
         ta = self.theta[ia]
-        ux, uy = np.cos(ta + ang), np.sin(ta + ang)
+        ux, uy = np.cos(ta + column(ang)), np.sin(ta + column(ang))
         Q = self.point(j.a, qa)
         P = self.point(j.b, pb)
         dx, dy = P.x - Q.x, P.y - Q.y
@@ -256,14 +289,13 @@ def _solve_chunk(plan: Plan, branches: dict[str, int], q: Arr, w1: Arr, e1: Arr)
 _PATH_STEP = (np.radians(3.0), 0.02)
 
 
-def _from_drawing(mech: Mechanism, plan: Plan, used: dict[str, int], q: Arr) -> Plan:
+def _from_drawing(drawing: Drawing, drivers: tuple[Any, ...], plan: Plan,
+                  used: dict[str, int], q: Arr) -> Plan:
     """The plan whose Newton groups start at the first position ``q[:, 0]`` from the poses
     continued there from the drawing (the drawn poses if the continuation fails)."""
-    drawing = mech.drawing
-    assert drawing is not None
     ref = np.array(drawing.positions)
     first = q[:, 0]
-    crank = np.array([d.kind == "crank" for d in mech.drivers])
+    crank = np.array([d.kind == "crank" for d in drivers])
     # a crank reaches the first position the short way (the mechanism repeats every turn)
     delta = np.where(crank, np.remainder(first - ref + np.pi, 2 * np.pi) - np.pi, first - ref)
     step = np.where(crank, _PATH_STEP[0], _PATH_STEP[1] * plan.length_scale)
@@ -327,9 +359,22 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     Returns
     -------
     Kinematics
+
+    Notes
+    -----
+    A batch of m designs (``mech.n_designs``, :mod:`~linkwork.planar.designs`) is evaluated
+    in one call: ``phi1`` of shape ``(n,)`` (the same positions for every design) or ``(m, n)``
+    (``(n_drivers, n)`` or ``(n_drivers, m, n)`` with several drivers), ``omega1``, ``eps1``
+    anything that broadcasts to ``(m, n)`` (per design: ``(m, 1)``), ``branches`` values +1/-1
+    or arrays of them over the designs. The result's arrays are ``(nb, m, n)`` and ``valid``
+    ``(m, n)``: each design's own assembly mask; with ``on_failure="raise"`` the error names
+    the designs that do not assemble (``AssemblyError.designs``). Design i of the result is
+    that design's own analysis (``kin.design(i)``).
     """
     if not isinstance(mech, Mechanism):
         raise ParameterError("mech", mech, "must be a Mechanism")
+    if mech.n_designs is not None:
+        return _batch_kinematics(mech, phi1, omega1, eps1, branches, on_failure)
     nd = mech.n_drivers
     q = np.atleast_1d(require_finite("phi1", phi1)).astype(float)
     if nd == 1 and q.ndim != 1:
@@ -347,23 +392,10 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     e1 = mech.driver_values("eps1", np.array([d.eps1 for d in drivers]) if eps1 is None
                             else eps1, n)
     q2, w2, e2 = q.reshape(nd, n), w1.reshape(nd, n), e1.reshape(nd, n)
-    if branches is not None and not isinstance(branches, Mapping):
-        raise ParameterError("branches", branches, "must map group keys to +1 or -1")
-    br = dict(mech.branches)
-    br.update(branches or {})
-    for k_, v_ in br.items():
-        if isinstance(v_, bool) or v_ not in (1, -1):  # True == 1
-            raise ParameterError(f"branches.{k_}", v_, "must be +1 or -1")
+    used = _branches_used(mech, branches)
     structure = mech.structure
     plan = mech.plan
     nb = plan.nb
-    group_keys = [g.key for g in structure.groups if g.kind != "driver"]
-    # (the driver's key is accepted too: Kinematics.branches lists every group)
-    unknown = sorted(set(br) - {g.key for g in structure.groups})
-    if unknown:  # a misspelt key would silently leave that group on branch +1
-        raise ParameterError("branches", unknown[0],
-                             f"no assembly group has this key; known: {group_keys}")
-    used = {g.key: int(br.get(g.key, 1)) for g in structure.groups}
     keys = ("X", "Y", "T", "VX", "VY", "W", "AX", "AY", "E")
     block = np.empty((len(keys), nb, n))  # one allocation: much faster than nine
     pos_bad = np.zeros(n, dtype=bool)
@@ -371,7 +403,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     failed: set[str] = set()
     parallel: set[str] = set()
     if plan.newton and mech.drawing is not None and n:
-        plan = _from_drawing(mech, plan, used, q2)
+        plan = _from_drawing(mech.drawing, mech.drivers, plan, used, q2)
     # chunks keep the temporaries in cache; Newton groups need the whole sequence
     step = n if plan.newton else _CHUNK
     for lo in range(0, n, step):
@@ -408,6 +440,166 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     return Kinematics(mech, q, w1.copy(), e1.copy(), mech.body_names, out["X"], out["Y"],
                       out["T"], out["VX"], out["VY"], out["W"], out["AX"], out["AY"], out["E"],
                       ~bad, used)
+
+
+def _batch_inputs(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None,
+                  eps1: ArrayLike | None) -> tuple[Arr, Arr, Arr, Arr, Arr]:
+    """The driver positions, speeds and accelerations of a batch, as given (``q``) and as
+    read-only views of shape ``(n_drivers, m, n)``."""
+    nd = mech.n_drivers
+    m = mech.n_designs
+    assert m is not None
+    q = np.atleast_1d(require_finite("phi1", phi1)).astype(float)
+    shapes = f"(n,) or ({m}, n)" if nd == 1 else f"({nd}, n) or ({nd}, {m}, n)"
+    lead = q[None] if nd == 1 else q
+    if (lead.ndim not in (2, 3) or lead.shape[0] != nd
+            or (lead.ndim == 3 and lead.shape[1] != m)):
+        raise ParameterError("phi1", q.shape, f"must have shape {shapes}: the driver "
+                             f"positions, the same for the {m} designs or per design")
+    n = lead.shape[-1]
+    qv = np.broadcast_to(lead[:, None, :] if lead.ndim == 2 else lead, (nd, m, n))
+    drivers = mech.drivers
+    out = []
+    for name, value, default in (("omega1", omega1, [d.omega1 for d in drivers]),
+                                 ("eps1", eps1, [d.eps1 for d in drivers])):
+        a = require_finite(name, np.array(default) if value is None else value)
+        given = a.shape
+        if nd > 1 and a.ndim == 1 and a.shape[0] == nd:
+            a = a[:, None, None]  # one value per driver
+        elif nd > 1 and a.ndim >= 2 and a.shape[0] == nd:
+            a = a[:, None, :] if a.ndim == 2 else a
+        elif nd == 1:
+            a = a[None]
+        else:
+            a = a[None] if a.ndim == 0 else a
+        try:
+            out.append(np.broadcast_to(a, (nd, m, n)))
+        except ValueError:
+            raise ParameterError(name, given, f"must broadcast to the driver "
+                                 f"positions {shapes}: a scalar, per position (n,), per "
+                                 f"design ({m}, 1) or both ({m}, n)"
+                                 + (f", each with the {nd} drivers first" if nd > 1 else "")
+                                 ) from None
+    return q, qv, out[0], out[1], np.zeros(0)
+
+
+def _batch_kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None,
+                      eps1: ArrayLike | None, branches: Mapping[str, Any] | None,
+                      on_failure: str) -> Kinematics:
+    """:func:`kinematics` of a batch of designs (``mech.n_designs`` not None): each block of
+    designs flattened with its positions and solved on the plan picked there; one design at a
+    time (in chunks of positions) when the positions alone fill a chunk or a Newton group
+    continues along them, exactly as that design alone."""
+    q, qv, wv, ev, _ = _batch_inputs(mech, phi1, omega1, eps1)
+    if on_failure not in ("raise", "nan"):
+        raise ParameterError("on_failure", on_failure, "must be 'raise' or 'nan'")
+    used = _branches_used(mech, branches)
+    structure = mech.structure
+    plan = mech.plan
+    nd, m, n = qv.shape
+    nb = plan.nb
+    keys = ("X", "Y", "T", "VX", "VY", "W", "AX", "AY", "E")
+    block = np.zeros((len(keys), nb, m, n))
+    pos_bad = np.zeros((m, n), dtype=bool)
+    bad = np.zeros((m, n), dtype=bool)
+    failed: set[str] = set()
+    parallel: set[str] = set()
+    per_design = plan.newton or n >= _CHUNK
+    k = 1 if per_design else max(1, _CHUNK // max(n, 1))
+    step = n if plan.newton else _CHUNK
+    for d0 in range(0, m if n else 0, k):
+        d1 = min(d0 + k, m)
+        if per_design:
+            sub = plan.pick(d0)
+            br = {key: int(pick(v, d0)) for key, v in used.items()}
+            if plan.newton and mech.drawing is not None:
+                sub = _from_drawing(mech.drawing.design(d0) if mech.drawing.batched
+                                    else mech.drawing, mech.drivers, sub, br, qv[:, d0])
+            parts = [(slice(d0, d1), slice(lo, min(lo + step, n))) for lo in range(0, n, step)]
+        else:
+            index = np.repeat(np.arange(d0, d1), n)
+            sub = plan.pick(index)
+            br = {key: pick(v, index) for key, v in used.items()}
+            parts = [(slice(d0, d1), slice(0, n))]
+        for ds, ps in parts:
+            shape = (d1 - d0, ps.stop - ps.start)
+            st = _solve_chunk(sub, br, qv[:, ds, ps].reshape(nd, -1),
+                              wv[:, ds, ps].reshape(nd, -1), ev[:, ds, ps].reshape(nd, -1))
+            pos_bad[ds, ps] = st.pos_bad.reshape(shape)
+            failed.update(st.failed)
+            parallel.update(st.parallel_groups)
+            b = st.bad.copy()
+            for i in range(1, nb):
+                b |= ~np.isfinite(st.W[i])
+            bad[ds, ps] = b.reshape(shape)
+            for kk, key in enumerate(keys):
+                for i, arr in enumerate(getattr(st, key)):
+                    if i:
+                        block[kk, i, ds, ps] = arr.reshape(shape)
+    if on_failure == "raise" and bad.any():
+        raise _batch_assembly_error(mech, structure, qv, pos_bad, bad, failed, parallel)
+    if bad.any():
+        block[:, :, bad] = np.nan
+    out = dict(zip(keys, block, strict=True))
+    w1 = wv[0] if nd == 1 else wv
+    e1 = ev[0] if nd == 1 else ev
+    return Kinematics(mech, q, w1, e1, mech.body_names, out["X"], out["Y"], out["T"],
+                      out["VX"], out["VY"], out["W"], out["AX"], out["AY"], out["E"], ~bad, used)
+
+
+def _batch_assembly_error(mech: Mechanism, structure: Any, qv: Arr, pos_bad: Arr, bad: Arr,
+                          failed: set[str], parallel: set[str]) -> AssemblyError:
+    """The AssemblyError of a batch: how many designs fail, the first of them with their
+    ranges of the driver coordinate (of the position index, with several drivers)."""
+    designs = np.flatnonzero(bad.any(axis=-1))
+    m, n = bad.shape
+    if pos_bad.any():
+        groups = [f"{g.kind}({', '.join(g.bodies)}) with joints {', '.join(g.joints)}"
+                  + _newton_hint(mech, g) + (_PARALLEL if g.key in parallel else "")
+                  for g in structure.groups if g.key in failed]
+        which = (f" (group{'s' if len(groups) > 1 else ''} that cannot close: "
+                 f"{'; '.join(groups)})" if groups else "")
+        what = f"mechanism cannot be assembled{which}"
+    else:
+        what = "mechanism is at a singular (toggle) position where velocities are undefined"
+    one = mech.n_drivers == 1
+    coordinate, unit = mech.driver.coordinate if one else ("position index", "")
+    shown = []
+    for d in designs[:5]:
+        x = qv[0, d] if one else np.arange(n)
+        shown.append(f"design {d} at {coordinate} "
+                     f"{format_angle_ranges(angle_ranges(x, bad[d]), unit)}")
+    more = f" and {designs.size - 5} more designs" if designs.size > 5 else ""
+    err = AssemblyError(f"{what} in {designs.size} of {m} designs: {'; '.join(shown)}{more} "
+                        "(on_failure='nan' gives every design, with valid (m, n) False "
+                        "where it does not assemble)")
+    err.designs = [int(d) for d in designs]  # type: ignore[attr-defined]
+    return err
+
+
+def _branches_used(mech: Mechanism, branches: Mapping[str, Any] | None) -> dict[str, Any]:
+    """The branch of every group: ``mech.branches`` updated by ``branches`` (+1 or -1, or an
+    array of them over the designs of a batch), +1 where not given."""
+    if branches is not None and not isinstance(branches, Mapping):
+        raise ParameterError("branches", branches, "must map group keys to +1 or -1")
+    br = dict(mech.branches)
+    m = mech.n_designs
+    for k_, v_ in (branches or {}).items():
+        v_ = branch_value(f"branches.{k_}", v_)
+        if isinstance(v_, np.ndarray) and v_.shape != (m,):
+            raise ParameterError(f"branches.{k_}", f"{v_.shape[0]} branches",
+                                 "must be one branch, or one per design of a batch "
+                                 f"({m or 'not a batch'})")
+        br[k_] = v_
+    structure = mech.structure
+    group_keys = [g.key for g in structure.groups if g.kind != "driver"]
+    # (the driver's key is accepted too: Kinematics.branches lists every group)
+    unknown = sorted(set(br) - {g.key for g in structure.groups})
+    if unknown:  # a misspelt key would silently leave that group on branch +1
+        raise ParameterError("branches", unknown[0],
+                             f"no assembly group has this key; known: {group_keys}")
+    return {g.key: br[g.key] if isinstance(br.get(g.key), np.ndarray) else int(br.get(g.key, 1))
+            for g in structure.groups}
 
 
 def _assembly_error(mech: Mechanism, q2: Arr, mask: Arr, what: str) -> AssemblyError:

@@ -25,6 +25,7 @@ x-axis measured counter-clockwise from ``a``'s x-axis); :class:`Linear` on a pri
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -37,12 +38,18 @@ import numpy as np
 from linkwork.checks import (
     per_position,
     require_finite,
-    require_number,
-    require_point,
-    require_positive,
 )
 from linkwork.deprecation import renamed_function
 from linkwork.errors import ParameterError, StructureError
+from linkwork.planar.designs import (
+    branch_value,
+    count_designs,
+    design_point,
+    design_value,
+    is_batched,
+    pick,
+    pick_fields,
+)
 from linkwork.planar.joints import GearPair, Joint, PinInSlot, Point, Prismatic, Revolute
 from linkwork.planar.structure import Plan, Structure, analyse, compile_plan
 
@@ -99,20 +106,26 @@ class Body:
         except (TypeError, ValueError):
             raise ParameterError(f"{self.name}.points", self.points,
                                  "must map point names to (x, y) [m]") from None
-        pts = {str(k): require_point(f"{self.name}.points.{k}", v) for k, v in items}
+        pts = {str(k): design_point(f"{self.name}.points.{k}", v) for k, v in items}
         object.__setattr__(self, "points", MappingProxyType(pts))
-        object.__setattr__(self, "com", require_point(f"{self.name}.com", self.com))
+        object.__setattr__(self, "com", design_point(f"{self.name}.com", self.com))
         for attr in ("mass", "inertia"):
-            v = require_number(f"{self.name}.{attr}", getattr(self, attr))
-            if v < 0:
-                raise ParameterError(f"{self.name}.{attr}", v, "must be finite and >= 0")
+            v = design_value(f"{self.name}.{attr}", getattr(self, attr))
+            if np.any(np.asarray(v) < 0):
+                raise ParameterError(f"{self.name}.{attr}", _first(v, np.asarray(v) < 0),
+                                     "must be finite and >= 0")
             object.__setattr__(self, attr, v)
         if self.guess is not None:
-            g = require_finite(f"{self.name}.guess", self.guess)
-            if g.shape != (3,):
+            if isinstance(self.guess, str):
+                require_finite(f"{self.name}.guess", self.guess)  # names what it is not
+            try:
+                if len(self.guess) != 3:
+                    raise TypeError
+            except TypeError:
                 raise ParameterError(f"{self.name}.guess", self.guess,
-                                     "must be (x [m], y [m], theta [rad])")
-            object.__setattr__(self, "guess", tuple(float(v) for v in g))
+                                     "must be (x [m], y [m], theta [rad])") from None
+            object.__setattr__(self, "guess", tuple(
+                design_value(f"{self.name}.guess", v) for v in self.guess))
 
     def point(self, name: str) -> Point:
         """Local coordinates [m] of the named point; ``"com"`` is the centre of mass."""
@@ -123,6 +136,22 @@ class Body:
         except KeyError:
             raise ParameterError(f"{self.name}.points", name,
                                  f"no such point; known: {sorted(self.points)}") from None
+
+
+def _first(value: Any, bad: Any) -> Any:
+    """The first offending value of a number or of an array over the designs."""
+    return float(np.asarray(value)[bad].flat[0]) if np.ndim(value) else value
+
+
+def _show(value: Any) -> str:
+    """A number, or the range of an array over the designs, for a message."""
+    if np.ndim(value):
+        return f"{float(np.min(value)):g}..{float(np.max(value)):g} over the designs"
+    return f"{value:g}"
+
+
+def _show_point(p: Any) -> str:
+    return "(" + ", ".join(_show(v) for v in p) + ")"
 
 
 def bar(name: str, start: str, end: str, length: float, *, mass: float = 0.0,
@@ -148,27 +177,36 @@ def bar(name: str, start: str, end: str, length: float, *, mass: float = 0.0,
     points : mapping, optional
         Further named points in the link's frame.
     """
-    length = require_number(f"{name}.length", require_positive(f"{name}.length", length))
+    length = design_value(f"{name}.length", length)
+    if np.any(np.asarray(length) <= 0):
+        raise ParameterError(f"{name}.length", _first(length, np.asarray(length) <= 0),
+                             "must be > 0")
     if start == end:  # one dict key: the start point would silently move to (length, 0)
         raise ParameterError(f"{name}.end", end, f"must differ from start {start!r}")
     for key, at in ((start, (0.0, 0.0)), (end, (length, 0.0))):
-        if key in (points or {}) and require_point(f"{name}.points.{key}",
-                                                   (points or {})[key]) != at:
-            raise ParameterError(f"{name}.points.{key}", tuple((points or {})[key]),
-                                 f"redefines the link's {'start' if at[0] == 0 else 'end'} "
-                                 f"point, which is at {at} for length {length:g}")
+        if key in (points or {}):
+            given = design_point(f"{name}.points.{key}", (points or {})[key])
+            pairs = [np.broadcast_arrays(np.asarray(g), np.asarray(a))
+                     for g, a in zip(given, at, strict=True)]
+            if not all(np.array_equal(u, v) for u, v in pairs):
+                shown = _show_point(at) if is_batched(at) else str(at)
+                raise ParameterError(f"{name}.points.{key}", tuple((points or {})[key]),
+                                     f"redefines the link's {'start' if key == start else 'end'}"
+                                     f" point, which is at {shown} for length {_show(length)}")
     c: Point = (length / 2, 0.0) if com is None else (
-        (require_number(f"{name}.com", com), 0.0) if np.ndim(com) == 0
-        else require_point(f"{name}.com", com))
+        (design_value(f"{name}.com", com), 0.0) if np.ndim(com) == 0
+        else design_point(f"{name}.com", com))
     pts = {start: (0.0, 0.0), end: (length, 0.0)}
     pts.update(dict(points or {}))
     if inertia is None:  # a thin uniform rod
-        m = require_number(f"{name}.mass", mass)
+        m = design_value(f"{name}.mass", mass)
         r = length / 12.0**0.5  # products overflow to inf, powers of floats would raise
-        inert = m * r * r
-        if not math.isfinite(inert):
-            raise ParameterError(f"{name}.length", length, f"gives a rod inertia m L^2/12 beyond "
-                                 f"the float range with mass = {m:g}; give lengths in metres")
+        with np.errstate(over="ignore"):
+            inert = m * r * r
+        if not np.all(np.isfinite(inert)):
+            raise ParameterError(f"{name}.length", _show(length), f"gives a rod inertia m L^2/12 "
+                                 f"beyond the float range with mass = {_show(m)}; give lengths "
+                                 "in metres")
     else:
         inert = inertia
     return Body(name, pts, mass=mass, com=c, inertia=inert)
@@ -257,7 +295,20 @@ class Drawing:
     def __post_init__(self) -> None:
         object.__setattr__(self, "points", MappingProxyType(dict(self.points)))
         object.__setattr__(self, "poses", MappingProxyType(dict(self.poses)))
-        object.__setattr__(self, "positions", tuple(float(v) for v in self.positions))
+        object.__setattr__(self, "positions", tuple(
+            design_value("drawing.positions", v) for v in self.positions))
+
+    @property
+    def batched(self) -> bool:
+        """Some drawn number varies over the designs of a batch."""
+        return any(is_batched(v) for v in (*self.points.values(), *self.poses.values(),
+                                            self.positions))
+
+    def design(self, i: int) -> Drawing:
+        """The drawing of design ``i`` of a batch."""
+        return Drawing({k: pick(v, i) for k, v in self.points.items()},
+                       {k: pick(v, i) for k, v in self.poses.items()},
+                       pick(self.positions, i))
 
 
 @dataclass(frozen=True)
@@ -293,7 +344,7 @@ class Mechanism:
         driver: Crank | Linear
     else:
         driver: Crank | Linear | tuple[Crank | Linear, ...]
-    branches: Mapping[str, int] = field(default_factory=dict)
+    branches: Mapping[str, Any] = field(default_factory=dict)
     drawing: Drawing | None = None
 
     def __post_init__(self) -> None:
@@ -342,9 +393,8 @@ class Mechanism:
             if j.a == j.b:
                 raise ParameterError(f"joint {j.name}", j.a, "must join two different bodies")
             self._check_joint_points(j)
-        for k, v in self.branches.items():
-            if isinstance(v, bool) or v not in (1, -1):  # True == 1
-                raise ParameterError(f"branches.{k}", v, "must be +1 or -1")
+        object.__setattr__(self, "branches", MappingProxyType(
+            {k: branch_value(f"branches.{k}", v) for k, v in self.branches.items()}))
         jmap = {j.name: j for j in self.joints}
         driven = [d.joint for d in self.drivers]
         for d in self.drivers:
@@ -357,6 +407,7 @@ class Mechanism:
                                      else "a Linear driver needs a prismatic joint")
             if driven.count(d.joint) > 1:
                 raise ParameterError("driver.joint", d.joint, "is driven twice")
+        object.__setattr__(self, "_n_designs", count_designs(self._design_values()))
 
     def _check_joint_points(self, j: Joint) -> None:
         if j.carrier_of(self.frame.name) is not None:
@@ -424,9 +475,54 @@ class Mechanism:
         """
         return j.resolve(self)[:3]
 
-    def branch(self, key: str) -> int:
-        """Assembly branch of the group with this key (+1 unless set in ``branches``)."""
-        return int(self.branches.get(key, 1))
+    def branch(self, key: str) -> Any:
+        """Assembly branch of the group with this key (+1 unless set in ``branches``): +1 or
+        -1, or an int array of them over the designs of a batch."""
+        v = self.branches.get(key, 1)
+        return v if isinstance(v, np.ndarray) else int(v)
+
+    # -- designs in batches (linkwork.planar.designs) ---------------------------------------
+    @property
+    def n_designs(self) -> int | None:
+        """The number of designs of a batch (some dimension, mass property or branch given
+        as an array over the designs), or None for one design."""
+        return self._n_designs  # type: ignore[attr-defined]
+
+    def _design_values(self) -> list[tuple[str, Any]]:
+        """Every value that may vary over the designs, named as in messages."""
+        out: list[tuple[str, Any]] = []
+        for b in (self.frame, *self.bodies):
+            out += [(f"{b.name}.points.{k}", v) for k, v in b.points.items()]
+            out += [(f"{b.name}.{k}", getattr(b, k)) for k in ("com", "mass", "inertia", "guess")]
+        for j in self.joints:
+            out += [(f"joint {j.name}.{f.name}", getattr(j, f.name))
+                    for f in dataclasses.fields(j)]
+        out += [(f"branches.{k}", v) for k, v in self.branches.items()]
+        return out
+
+
+    def design(self, i: int) -> Mechanism:
+        """Design ``i`` of a batch as a mechanism of its own (every array over the designs
+        replaced by its value at ``i``); a one-design mechanism itself (i = 0)."""
+        m = self.n_designs
+        if m is None:
+            if i not in (0, -1):
+                raise ParameterError("i", i, "must be 0: the mechanism is one design")
+            return self
+        if isinstance(i, bool) or not isinstance(i, int | np.integer) or not -m <= i < m:
+            raise ParameterError("i", i, f"must be a design index in [0, {m})")
+        k = int(i) % m
+
+        def body(b: Body) -> Body:
+            return Body(b.name, {p: pick(v, k) for p, v in b.points.items()},
+                        mass=pick(b.mass, k), com=pick(b.com, k), inertia=pick(b.inertia, k),
+                        guess=pick(b.guess, k))
+
+        return Mechanism(body(self.frame), tuple(body(b) for b in self.bodies),
+                         tuple(pick_fields(j, k) for j in self.joints), self.driver,
+                         {key: int(pick(v, k)) for key, v in self.branches.items()},
+                         self.drawing if self.drawing is None or not self.drawing.batched
+                         else self.drawing.design(k))
 
     def with_branches(self, **branches: int) -> Mechanism:
         """A copy with some group branches changed (``m.with_branches(B=-1)``)."""
@@ -502,7 +598,7 @@ def fourbar_mechanism(a: float, b: float, c: float, d: float, *,
     links = [("crank", "O2", "A", a), ("coupler", "A", "B", b), ("rocker", "O4", "B", c)]
     bodies = [bar(n, s, e, L, mass=m, inertia=i, com=cm)
               for (n, s, e, L), m, i, cm in zip(links, masses, inertias, coms, strict=True)]
-    frame = Body("frame", {"O2": (0.0, 0.0), "O4": (float(d), 0.0)})
+    frame = Body("frame", {"O2": (0.0, 0.0), "O4": (design_value("d", d), 0.0)})
     joints = (Revolute("O2", "frame", "crank"), Revolute("A", "crank", "coupler"),
               Revolute("B", "coupler", "rocker"), Revolute("O4", "frame", "rocker"))
     return Mechanism(frame, _as_bodies(bodies), joints, Crank("O2", omega1, eps1), {"B": branch})
@@ -524,8 +620,12 @@ def crank_slider_mechanism(r: float, l: float, e: float = 0.0, *, guide_angle: f
     """
     _per_link(masses=masses, n=3)
     _per_link(inertias=inertias, coms=coms, n=2)
-    guide_angle = require_number("guide_angle", guide_angle)
-    ca, sa = math.cos(guide_angle), math.sin(guide_angle)
+    guide_angle = design_value("guide_angle", guide_angle)
+    e = design_value("e", e)
+    if is_batched(guide_angle):
+        ca, sa = np.cos(guide_angle), np.sin(guide_angle)
+    else:
+        ca, sa = math.cos(guide_angle), math.sin(guide_angle)
     through = (-e * sa, e * ca)
     frame = Body("frame", {"O": (0.0, 0.0), "G": through})
     crank = bar("crank", "O", "A", r, mass=masses[0], inertia=inertias[0], com=coms[0])
@@ -542,3 +642,83 @@ def crank_slider_mechanism(r: float, l: float, e: float = 0.0, *, guide_angle: f
 #: the linkwork.models.crank_slider module); they call the new ones and warn.
 fourbar = renamed_function(fourbar_mechanism, "linkwork.planar.fourbar")
 crank_slider = renamed_function(crank_slider_mechanism, "linkwork.planar.crank_slider")
+
+
+def stack(mechanisms: Sequence[Mechanism]) -> Mechanism:
+    """One batch of designs from one-design mechanisms of the same structure.
+
+    The mechanisms must have the same bodies, points, joints (types, names, bodies) and
+    drivers; every number that differs between them (a point, a centre of mass, a mass, an
+    inertia, a guess pose, a guide's angle or point, a relative angle, a branch) becomes an
+    array over the designs, in the given order (``stack(ms).design(i)`` has the numbers of
+    ``ms[i]``). A joint's friction data and a driver's default speed must be equal (not
+    batched).
+    """
+    ms = list(mechanisms) if not isinstance(mechanisms, Mechanism) else []
+    if not ms or not all(isinstance(x, Mechanism) for x in ms):
+        raise ParameterError("mechanisms", mechanisms, "must be a non-empty sequence of "
+                             "Mechanism")
+    for k, x in enumerate(ms):
+        if x.n_designs is not None:
+            raise ParameterError(f"mechanisms[{k}]", f"{x.n_designs} designs",
+                                 "must be one design (Mechanism.design(i) takes one of a "
+                                 "batch)")
+    t = ms[0]
+
+    def same(what: str, values: list[Any]) -> Any:
+        if any(v != values[0] for v in values[1:]):
+            k = next(i for i, v in enumerate(values) if v != values[0])
+            raise ParameterError(f"mechanisms[{k}]", what, "differs from mechanisms[0]: "
+                                 "stack designs of one structure")
+        return values[0]
+
+    def merge(values: list[Any]) -> Any:
+        if isinstance(values[0], tuple):
+            return tuple(merge([v[i] for v in values]) for i in range(len(values[0])))
+        if values[0] is None or isinstance(values[0], str):
+            return same("a name or an unset value", values)
+        if all(v == values[0] for v in values[1:]):
+            return values[0]
+        return np.array(values, dtype=float)
+
+    def bodies(get: Any) -> list[Body]:
+        out = []
+        for k, b in enumerate(get(t)):
+            group: list[Any] = [get(x)[k] if len(get(x)) > k else None for x in ms]
+            same(f"body {b.name!r}", [None if g is None else (g.name, tuple(g.points))
+                                       for g in group])
+            out.append(Body(b.name, {p: merge([g.points[p] for g in group]) for p in b.points},
+                            mass=merge([g.mass for g in group]),
+                            com=merge([g.com for g in group]),
+                            inertia=merge([g.inertia for g in group]),
+                            guess=merge([g.guess for g in group])))
+        return out
+
+    for x in ms:
+        same("the number of bodies and joints", [(len(y.bodies), len(y.joints)) for y in (t, x)])
+    frame = bodies(lambda x: [x.frame])[0]
+    joints = []
+    batched = {"angle", "through", "rel_angle"}
+    for k, j in enumerate(t.joints):
+        group = [x.joints[k] for x in ms]
+        same(f"joint {j.name!r}", [(type(g), g.name, g.a, g.b) for g in group])
+        values = {}
+        for f in dataclasses.fields(j):
+            vals = [getattr(g, f.name) for g in group]
+            values[f.name] = merge(vals) if f.name in batched else same(
+                f"joint {j.name}.{f.name} (not batched)", vals)
+        joints.append(dataclasses.replace(j, **values))
+    driver = same("the drivers", [x.drivers for x in ms])
+    keys = sorted({k for x in ms for k in x.branches})
+    branches = {}
+    for key in keys:
+        v = merge([x.branch(key) for x in ms])
+        branches[key] = v.astype(np.int64) if isinstance(v, np.ndarray) else v
+    drawing = None
+    if all(x.drawing is not None for x in ms):
+        ds = [x.drawing for x in ms]
+        drawing = Drawing({p: merge([d.points[p] for d in ds]) for p in ds[0].points},  # type: ignore[union-attr]
+                          {p: merge([d.poses[p] for d in ds]) for p in ds[0].poses},  # type: ignore[union-attr]
+                          merge([tuple(d.positions) for d in ds]))  # type: ignore[union-attr]
+    return Mechanism(frame, tuple(bodies(lambda x: x.bodies)), tuple(joints),
+                     driver[0] if len(driver) == 1 else driver, branches, drawing)

@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 
 from linkwork.errors import StructureError
-from linkwork.planar.joints import ResolvedJoint, row_entries
+from linkwork.planar.joints import ResolvedJoint, design_length, row_entries
 from linkwork.planar.state import Arr, State, Vec
 from linkwork.planar.structure import CYLINDER, Plan, PlanGroup, length_scale
 
@@ -45,10 +45,12 @@ def _finish_side(st: State, body: int, kind: str, data: Any, p_int: tuple[float,
     if kind == "circle":
         A, rad, p_ext = data
         ex, ey = (B[0] - A[0]) / rad, (B[1] - A[1]) / rad
-        phi0 = float(np.arctan2(p_int[1] - p_ext[1], p_int[0] - p_ext[0]))
+        phi0 = np.arctan2(p_int[1] - p_ext[1], p_int[0] - p_ext[0])
+        if phi0.ndim == 0:
+            phi0 = float(phi0)
         c0, s0 = np.cos(phi0), np.sin(phi0)
         th = np.arctan2(ey, ex)
-        if phi0 != 0.0:
+        if isinstance(phi0, np.ndarray) or phi0 != 0.0:
             st.set_angle(body, th - phi0, ex * c0 + ey * s0, ey * c0 - ex * s0)
         else:
             st.set_angle(body, th, ex, ey)
@@ -197,8 +199,8 @@ def solve_slot_group(st: State, g: PlanGroup, branch: int) -> None:
         _rotating_line(st, b, A, a_loc, qa, ang, h, X, branch)
         return
     # the body carries the pin; slot in known body a
-    rad = float(np.hypot(pb[0] - a_loc[0], pb[1] - a_loc[1]))
-    if rad == 0.0:  # as for a dyad whose two joint centres coincide
+    rad = design_length(pb[0] - a_loc[0], pb[1] - a_loc[1])
+    if np.any(rad == 0.0):  # as for a dyad whose two joint centres coincide
         raise StructureError(f"joint {rs.joint.name}: the pin of body {g.group.bodies[0]} is at "
                              f"its pivot ({jt.name}), so the slot cannot turn it; its angle is "
                              "not determined")

@@ -53,8 +53,8 @@ from typing import Any
 
 import numpy as np
 
-from linkwork.checks import require_number, require_point
 from linkwork.errors import AssemblyError, ParameterError, StructureError
+from linkwork.planar.designs import design_point, design_value
 from linkwork.planar.joints import GearPair, Joint, PinInSlot, Prismatic, Revolute
 from linkwork.planar.kinematics import kinematics
 from linkwork.planar.model import Body, Crank, Drawing, Linear, Mechanism
@@ -143,8 +143,35 @@ class LinkMass:
     inertia: float | None = None
 
 
+def _batched(*values: Any) -> bool:
+    return any(isinstance(v, np.ndarray) for v in values)
+
+
+def _cos(x: Any) -> Any:
+    return np.cos(x) if _batched(x) else math.cos(x)
+
+
+def _sin(x: Any) -> Any:
+    return np.sin(x) if _batched(x) else math.sin(x)
+
+
+def _atan2(y: Any, x: Any) -> Any:
+    return np.arctan2(y, x) if _batched(y, x) else math.atan2(y, x)
+
+
+def _hypot(x: Any, y: Any) -> Any:
+    return np.hypot(x, y) if _batched(x, y) else math.hypot(x, y)
+
+
+def _design(value: Any) -> str:
+    """Where a per-design test fails: '' for one design, else ' (design i)'."""
+    if isinstance(value, np.ndarray) and value.ndim:
+        return f" (design {int(np.flatnonzero(value)[0])})"
+    return ""
+
+
 def _rot(th: float, v: Point) -> Point:
-    c, s = math.cos(th), math.sin(th)
+    c, s = _cos(th), _sin(th)
     return (c * v[0] - s * v[1], s * v[0] + c * v[1])
 
 
@@ -169,7 +196,7 @@ def _direction(key: str, spec: Slider | Slot, pts: Mapping[str, Point], scale: f
                              "give the guide's direction either as angle or as along (two "
                              "points), not both or neither")
     if spec.angle is not None:
-        return require_number(f"{key}.angle", spec.angle)
+        return design_value(f"{key}.angle", spec.angle)
     along = spec.along
     if isinstance(along, str) or not isinstance(along, Sequence) or len(along) != 2:
         raise ParameterError(f"{key}.along", along, "must be two point names")
@@ -177,24 +204,28 @@ def _direction(key: str, spec: Slider | Slot, pts: Mapping[str, Point], scale: f
         if p not in pts:
             raise ParameterError(f"{key}.along", p, f"no such point; known: {sorted(pts)}")
     (ax, ay), (bx, by) = pts[along[0]], pts[along[1]]
-    length = math.hypot(bx - ax, by - ay)
-    if length == 0.0:
-        raise ParameterError(f"{key}.along", list(along), "the two points coincide: no direction")
+    length = _hypot(bx - ax, by - ay)
+    if np.any(length == 0.0):
+        raise ParameterError(f"{key}.along", list(along), "the two points coincide: no direction"
+                             + _design(length == 0.0))
     ux, uy = (bx - ax) / length, (by - ay) / length
     px, py = pts[spec.point]
     off = abs(-uy * (px - ax) + ux * (py - ay))
-    if off > ON_LINE_TOLERANCE * scale:
+    far = off > ON_LINE_TOLERANCE * scale
+    if np.any(far):
+        k = int(np.flatnonzero(far)[0]) if _batched(far) else None
+        shown = off if k is None else off[k]
         raise AssemblyError(f"drawing is not assembled: point {spec.point!r} of {key} is "
-                            f"{off * 1e3:.6g} mm off the line through {along[0]!r} and "
-                            f"{along[1]!r} that guides it")
-    return math.atan2(uy, ux)
+                            f"{shown * 1e3:.6g} mm off the line through {along[0]!r} and "
+                            f"{along[1]!r} that guides it" + _design(far))
+    return _atan2(uy, ux)
 
 
 def _line_geometry(pose: tuple[float, float, float], P: Point, angle: float
                    ) -> tuple[Point, float]:
     """A line through world point P at world angle ``angle``, on a body at ``pose``: the foot
     of the perpendicular from the body's origin (local) and the line's local angle."""
-    ux, uy = math.cos(angle), math.sin(angle)
+    ux, uy = _cos(angle), _sin(angle)
     t = (pose[0] - P[0]) * ux + (pose[1] - P[1]) * uy
     foot = (P[0] + t * ux, P[1] + t * uy)
     return _local(pose, foot), angle - pose[2]
@@ -210,8 +241,13 @@ def _frame_pose(name: str, order: list[str], pts: Mapping[str, Point], origin: s
     rest = order[order.index(origin) + 1:] + order[:order.index(origin)]
     for p in rest:
         dx, dy = pts[p][0] - ox, pts[p][1] - oy
-        if math.hypot(dx, dy) > 0.0:
-            return ox, oy, math.atan2(dy, dx)
+        apart = _hypot(dx, dy) > 0.0
+        if np.all(apart):
+            return ox, oy, _atan2(dy, dx)
+        if np.any(apart):
+            raise ParameterError(f"links.{name}", order, f"point {p!r} coincides with "
+                                 f"{origin!r} in some designs only: the link's direction is "
+                                 "drawn differently (not batched)" + _design(~apart))
     raise ParameterError(f"links.{name}", order, "its points all coincide: the link's "
                          "direction is not drawn")
 
@@ -231,8 +267,8 @@ def _mass_of(name: str, spec: Any, local: dict[str, Point], pose: tuple[float, f
             spec = LinkMass(**dict(spec))
         else:
             spec = LinkMass(mass=spec)
-    m = require_number(f"masses.{name}.mass", spec.mass)
-    if m < 0:
+    m = design_value(f"masses.{name}.mass", spec.mass)
+    if np.any(np.asarray(m) < 0):
         raise ParameterError(f"masses.{name}.mass", m, "must be >= 0 [kg]")
     if spec.com is None:
         com = default_com
@@ -242,10 +278,10 @@ def _mass_of(name: str, spec: Any, local: dict[str, Point], pose: tuple[float, f
                                  f"no such point; known: {sorted(pts)}")
         com = _local(pose, pts[spec.com])
     else:
-        com = _local(pose, require_point(f"masses.{name}.com", spec.com))
+        com = _local(pose, design_point(f"masses.{name}.com", spec.com))
     if spec.inertia is not None:
-        inertia = require_number(f"masses.{name}.inertia", spec.inertia)
-        if inertia < 0:
+        inertia = design_value(f"masses.{name}.inertia", spec.inertia)
+        if np.any(np.asarray(inertia) < 0):
             raise ParameterError(f"masses.{name}.inertia", inertia, "must be >= 0 [kg m^2]")
     else:
         inertia = m * rod * rod / 12.0 if rod is not None else 0.0
@@ -253,23 +289,29 @@ def _mass_of(name: str, spec: Any, local: dict[str, Point], pose: tuple[float, f
 
 
 def drawn_state(mech: Mechanism) -> State:
-    """A solver state holding the drawn poses of ``mech`` (one position)."""
+    """A solver state holding the drawn poses of ``mech`` (one position; for a batch of
+    designs, one element per design)."""
     if mech.drawing is None:
         raise ParameterError("mech", mech.frame.name, "has no drawing (not built by sketch)")
-    st = State(len(mech.body_names), 1)
+    n = mech.n_designs or 1
+    st = State(len(mech.body_names), n)
     for i, name in enumerate(mech.body_names[1:], start=1):
-        x, y, th = mech.drawing.poses[name]
-        st.X[i], st.Y[i] = np.array([x]), np.array([y])
-        st.set_angle(i, np.array([th]))
+        x, y, th = (np.broadcast_to(v, (n,)).astype(float) for v in mech.drawing.poses[name])
+        st.X[i], st.Y[i] = x, y
+        st.set_angle(i, th)
     return st
 
 
-def _branches(mech: Mechanism, scale: float) -> dict[str, int]:
-    """The branch of every closed-form group that reproduces the drawing."""
+def _branches(mech: Mechanism, scale: Any) -> dict[str, Any]:
+    """The branch of every closed-form group that reproduces the drawing (for a batch, per
+    design: an array over the designs where they differ)."""
     assert mech.drawing is not None
-    plan = mech.plan
-    q = np.array(mech.drawing.positions)[:, None]
-    out: dict[str, int] = {}
+    m = mech.n_designs
+    n = m or 1
+    plan = mech.plan if m is None else mech.plan.pick(np.arange(m))
+    q = np.array([np.broadcast_to(v, (n,)) for v in mech.drawing.positions], dtype=float)
+    tol = BRANCH_TOLERANCE * np.asarray(scale)
+    out: dict[str, Any] = {}
     for g in plan.groups:
         if g.kind in _UNIQUE:
             continue
@@ -278,47 +320,63 @@ def _branches(mech: Mechanism, scale: float) -> dict[str, int]:
             st = drawn_state(mech)
             with np.errstate(all="ignore"):
                 solve_group(plan, st, g, b, q)
-            found[b] = np.array([[st.X[i][0], st.Y[i][0], st.T[i][0]] for i in g.bodies])
-        drawn = np.array([mech.drawing.poses[plan.body_names[i]] for i in g.bodies])
+            found[b] = np.array([[st.X[i], st.Y[i], st.T[i]] for i in g.bodies])
+        drawn = np.array([[np.broadcast_to(v, (n,)) for v in mech.drawing.poses[
+            plan.body_names[i]]] for i in g.bodies], dtype=float)
 
-        def gap(a: np.ndarray, c: np.ndarray) -> float:
+        def gap(a: np.ndarray, c: np.ndarray) -> np.ndarray:
             d = a - c
             d[:, 2] = (np.remainder(d[:, 2] + np.pi, 2 * np.pi) - np.pi) * scale
-            return float(np.max(np.abs(d))) if np.all(np.isfinite(d)) else math.inf
+            return np.where(np.all(np.isfinite(d), axis=(0, 1)), np.max(np.abs(d), axis=(0, 1)),
+                            math.inf)
 
         what = (f"group {g.kind}({', '.join(g.group.bodies)}) with joints "
                 f"{', '.join(g.group.joints)}")
-        if gap(found[1], found[-1]) <= BRANCH_TOLERANCE * scale:
+        toggle = gap(found[1], found[-1]) <= tol
+        if toggle.any():
             raise AssemblyError(f"drawing is at a toggle of joint {g.key!r}: its two assemblies "
                                 f"coincide in the drawn position ({what}), so the branch cannot "
                                 "be taken from the drawing; draw the mechanism in another "
-                                "position")
-        ok = [b for b in (1, -1) if gap(found[b], drawn) <= BRANCH_TOLERANCE * scale]
-        if not ok:
+                                "position" + (_design(toggle) if m else ""))
+        plus, minus = gap(found[1], drawn) <= tol, gap(found[-1], drawn) <= tol
+        neither = ~(plus | minus)
+        if neither.any():
             raise AssemblyError(f"drawing is not assembled at joint {g.key!r}: neither "
-                                f"assembly of {what} reproduces the drawn points")
-        out[g.key] = ok[0]
+                                f"assembly of {what} reproduces the drawn points"
+                                + (_design(neither) if m else ""))
+        br = np.where(plus, 1, -1)
+        out[g.key] = int(br[0]) if m is None or (br == br[0]).all() else br
     return out
 
 
-def _round_trip(mech: Mechanism, scale: float) -> None:
+def _round_trip(mech: Mechanism, scale: Any) -> None:
     """The mechanism at the drawn driver positions reproduces every drawn point."""
     assert mech.drawing is not None
-    q = np.array(mech.drawing.positions)
-    phi = q[0] if q.size == 1 else q[:, None]
-    kin = kinematics(mech, phi, 0.0 if q.size == 1 else np.zeros((q.size, 1)), None,
-                     on_failure="nan")
+    m = mech.n_designs
+    nd = len(mech.drawing.positions)
+    if m is None:
+        q = np.array(mech.drawing.positions)
+        phi = q[0] if q.size == 1 else q[:, None]
+        speed: Any = 0.0 if q.size == 1 else np.zeros((q.size, 1))
+    else:  # one position per design
+        q = np.array([np.broadcast_to(v, (m,)) for v in mech.drawing.positions], dtype=float)
+        phi = q[0][:, None] if nd == 1 else q[:, :, None]
+        speed = 0.0
+    kin = kinematics(mech, phi, speed, None, on_failure="nan")
     for b in mech.bodies:
         for p in b.points:
             if p not in mech.drawing.points:
                 continue
             pm = kin.point(b.name, p)
-            miss = math.hypot(float(pm.x[0]) - mech.drawing.points[p][0],
-                              float(pm.y[0]) - mech.drawing.points[p][1])
-            if not miss <= ROUND_TRIP_TOLERANCE * scale:
+            miss = np.hypot(pm.x[..., 0] - mech.drawing.points[p][0],
+                            pm.y[..., 0] - mech.drawing.points[p][1])
+            bad = ~(miss <= ROUND_TRIP_TOLERANCE * np.asarray(scale))
+            if bad.any():
+                k = int(np.flatnonzero(bad)[0]) if m else 0
                 raise AssemblyError(f"drawing is not assembled: the mechanism solved at the "
                                     f"drawn driver positions misses point {p!r} of link "
-                                    f"{b.name!r} by {miss * 1e3:.6g} mm")
+                                    f"{b.name!r} by {float(np.ravel(miss)[k]) * 1e3:.6g} mm"
+                                    + (f" (design {k})" if m else ""))
 
 
 def _driver_specs(drivers: Any) -> list[Any]:
@@ -377,7 +435,10 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     -------
     Mechanism
         With its ``drawing`` (drawn points, poses and driver positions) and the branches that
-        reproduce it.
+        reproduce it. Drawn coordinates (and slider or slot angles, masses) given as 1-D arrays
+        over m designs make a batch of m designs (:mod:`~linkwork.planar.designs`): every
+        design's frames, local points and branches are taken from its own drawing, at once
+        (an error names the first design whose drawing is not assembled).
 
     Raises
     ------
@@ -393,7 +454,7 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     """
     if not isinstance(points, Mapping) or not points:
         raise ParameterError("points", points, "must map point names to (x, y) [m]")
-    pts: dict[str, Point] = {str(k): require_point(f"points.{k}", v) for k, v in points.items()}
+    pts: dict[str, Point] = {str(k): design_point(f"points.{k}", v) for k, v in points.items()}
     if not isinstance(links, Mapping) or not links:
         raise ParameterError("links", links, "must map link names to lists of point names")
     link_pts: dict[str, list[str]] = {}
@@ -420,7 +481,9 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
     for p in gnd:
         if p not in pts:
             raise ParameterError("ground", p, f"no such point; known: {sorted(pts)}")
-    scale = max(max(abs(c) for p in pts.values() for c in p), 1e-3)
+    coords = [abs(c) for p in pts.values() for c in p]
+    scale: Any = (np.maximum(np.max(np.broadcast_arrays(*coords), axis=0), 1e-3)
+                  if _batched(*coords) else max(max(coords), 1e-3))
     sliders = dict(sliders or {})
     slots = dict(slots or {})
     sl: dict[str, Slider] = {}
@@ -449,7 +512,8 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
             if getattr(c, end) not in pts:
                 raise ParameterError(f"cylinders.{key}.{end}", getattr(c, end),
                                      f"no such point; known: {sorted(pts)}")
-        if pts[c.start] == pts[c.end]:
+        if np.any((np.asarray(pts[c.start][0]) == pts[c.end][0])
+                  & (np.asarray(pts[c.start][1]) == pts[c.end][1])):
             raise ParameterError(f"cylinders.{key}", [c.start, c.end], "its pivots coincide: "
                                  "a cylinder has a length")
         taken = {*link_pts, frame, *sl, *so}
@@ -554,7 +618,7 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
         s = sl[key]
         poses[key] = (*pts[s.point], _direction(f"sliders.{key}", s, pts, scale))
     for key, c in cy.items():
-        axis = math.atan2(pts[c.end][1] - pts[c.start][1], pts[c.end][0] - pts[c.start][0])
+        axis = _atan2(pts[c.end][1] - pts[c.start][1], pts[c.end][0] - pts[c.start][0])
         poses[f"{key}_barrel"] = (*pts[c.start], axis)
         poses[f"{key}_rod"] = (*pts[c.end], axis)
     frame_pose = (0.0, 0.0, 0.0)
@@ -618,7 +682,7 @@ def sketch(points: Mapping[str, Any], links: Mapping[str, Sequence[str]], *,
         if name in link_pts and len(order) == 2:
             a, b = local[order[0]], local[order[1]]
             default_com: Point = ((a[0] + b[0]) / 2, (a[1] + b[1]) / 2)
-            rod: float | None = math.hypot(b[0] - a[0], b[1] - a[1])
+            rod: float | None = _hypot(b[0] - a[0], b[1] - a[1])
         else:
             default_com = (sum(v[0] for v in local.values()) / len(local),
                            sum(v[1] for v in local.values()) / len(local))
@@ -674,10 +738,10 @@ def _drawn_position(mech: Mechanism, d: Crank | Linear, pose_of: Any) -> float:
     j = mech.joint(d.joint)
     pa, pb = pose_of(j.a), pose_of(j.b)
     if isinstance(d, Crank):
-        return float(pb[2] - pa[2])
+        return pb[2] - pa[2]
     qa, pbl, ang = mech.joint_geometry(j)
     Q = _rot(pa[2], qa)
     P = _rot(pb[2], pbl)
-    u = (math.cos(pa[2] + ang), math.sin(pa[2] + ang))
+    u = (_cos(pa[2] + ang), _sin(pa[2] + ang))
     return (pb[0] + P[0] - pa[0] - Q[0]) * u[0] + (pb[1] + P[1] - pa[1] - Q[1]) * u[1]
 

@@ -9,6 +9,8 @@ acceleration ``AX, AY`` [m/s^2], angular acceleration ``E`` [rad/s^2]. The posit
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 __all__ = ["Arr", "State", "Vec"]
@@ -40,7 +42,7 @@ class State:
         self.failed: dict[str, Arr] = {}  # group key -> positions where it does not close
         self.parallel = False  # set when two lines of the group being solved were parallel
         self.parallel_groups: set[str] = set()
-        self._rot: dict[tuple[int, float, float], Vec] = {}
+        self._rot: dict[tuple[Any, ...], Any] = {}
 
     def set_angle(self, i: int, th: Arr, c: Arr | None = None, s: Arr | None = None) -> None:
         """Set body i's angle (with its cosine and sine when already known)."""
@@ -50,20 +52,38 @@ class State:
         if self._rot:
             self._rot = {k: v for k, v in self._rot.items() if k[0] != i}
 
-    def rot(self, i: int, v: tuple[float, float]) -> Vec:
-        """A local vector of body i in frame axes (cached per body and vector)."""
-        key = (i, float(v[0]), float(v[1]))
+    def rot(self, i: int, v: tuple[Any, Any]) -> Vec:
+        """A local vector of body i in frame axes (cached per body and vector; the components
+        are numbers, or arrays over the elements of a batch of designs)."""
+        x, y = v
+        if type(x) is not float or type(y) is not float:
+            if isinstance(x, np.ndarray) or isinstance(y, np.ndarray):
+                return self._rot_array(i, x, y)
+            x, y = float(x), float(y)
+        key = (i, x, y)
         hit = self._rot.get(key)
         if hit is not None:
             return hit
         c, s = self.C[i], self.S[i]
-        if key[2] == 0.0:
-            out = (c * key[1], s * key[1])
-        elif key[1] == 0.0:
-            out = (-s * key[2], c * key[2])
+        if y == 0.0:
+            out = (c * x, s * x)
+        elif x == 0.0:
+            out = (-s * y, c * y)
         else:
-            out = (c * key[1] - s * key[2], s * key[1] + c * key[2])
+            out = (c * x - s * y, s * x + c * y)
         self._rot[key] = out
+        return out
+
+    def _rot_array(self, i: int, x: Any, y: Any) -> Vec:
+        """:meth:`rot` of a vector that varies over the designs: cached by the arrays'
+        identity (the cache holds them, so that no other array takes their place)."""
+        key = (i, id(x), id(y))
+        hit = self._rot.get(key)
+        if hit is not None:
+            return hit[0]
+        c, s = self.C[i], self.S[i]
+        out = (c * x - s * y, s * x + c * y)
+        self._rot[key] = (out, x, y)
         return out
 
     def wpt(self, i: int, p: tuple[float, float]) -> Vec:

@@ -46,12 +46,13 @@ from __future__ import annotations
 
 import itertools
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from typing import Any, Protocol
 
 import numpy as np
 
 from linkwork.errors import ParameterError, StructureError
+from linkwork.planar.designs import Index, is_batched, pick, pick_fields
 from linkwork.planar.joints import Joint, Point, ResolvedJoint
 
 __all__ = ["CYLINDER", "HUNG", "Group", "Plan", "PlanGroup", "Structure", "analyse",
@@ -427,10 +428,38 @@ class Plan:
         """Number of bodies, the frame included."""
         return len(self.body_names)
 
+    def pick(self, index: Index) -> Plan:
+        """The plan of the designs ``index`` of a batch (:func:`linkwork.planar.designs.pick`):
+        a design (an int: every value a Python float, the one-design plan) or the designs of
+        a block of flattened (design, position) elements (an index array)."""
+        joints = {id(r): _pick_joint(r, index) for r in self.joints}
+        groups = tuple(PlanGroup(g.group, g.kind, g.key, g.bodies,
+                                 tuple(joints[id(r)] for r in g.joints),
+                                 tuple(pick(gs, index) for gs in g.guesses))
+                       for g in self.groups)
+        return Plan(self.body_names, tuple(joints[id(r)] for r in self.joints), groups,
+                    joints[id(self.driver)], self.driver_kind, pick(self.length_scale, index),
+                    self.newton, tuple(joints[id(r)] for r in self.drivers), self.driver_kinds)
 
-def length_scale(mech: Mechanism) -> float:
-    """The largest absolute point coordinate of the mechanism's bodies [m], at least 1 mm."""
+
+def _pick_joint(r: ResolvedJoint, index: Index) -> ResolvedJoint:
+    """A resolved joint at the designs ``index`` (its joint's fields too)."""
+    if not (is_batched((r.qa, r.pb, r.ang, r.u_loc, r.params))
+            or any(is_batched(getattr(r.joint, f.name)) for f in fields(r.joint))):
+        return r
+    return ResolvedJoint(pick_fields(r.joint, index), r.index, r.ia, r.ib, pick(r.qa, index),
+                         pick(r.pb, index), pick(r.ang, index), pick(r.u_loc, index), r.drive,
+                         r.drive_index, r.ic, pick(r.params, index))
+
+
+def length_scale(mech: Mechanism) -> Any:
+    """The largest absolute point coordinate of the mechanism's bodies [m], at least 1 mm
+    (per design, an array over the designs, for a batch)."""
     pts = [abs(c) for b in (mech.frame, *mech.bodies) for p in b.points.values() for c in p]
+    if any(isinstance(c, np.ndarray) for c in pts):
+        out = np.maximum(np.max(np.broadcast_arrays(*pts), axis=0), 1e-3)
+        out.flags.writeable = False
+        return out
     return max(max(pts, default=1.0), 1e-3)
 
 
@@ -442,8 +471,9 @@ def compile_plan(mech: Mechanism) -> Plan:
     resolved: dict[str, ResolvedJoint] = {}
     for k, j in enumerate(mech.joints):
         qa, pb, ang, ic, params = j.resolve(mech)
-        resolved[j.name] = ResolvedJoint(j, k, index[j.a], index[j.b], qa, pb, ang,
-                                         (float(np.cos(ang)), float(np.sin(ang))),
+        u_loc = ((np.cos(ang), np.sin(ang)) if isinstance(ang, np.ndarray)
+                 else (float(np.cos(ang)), float(np.sin(ang))))
+        resolved[j.name] = ResolvedJoint(j, k, index[j.a], index[j.b], qa, pb, ang, u_loc,
                                          j.name in drive_index, drive_index.get(j.name, -1),
                                          ic, params)
     groups = tuple(

@@ -26,6 +26,7 @@ def test_benchmark_runs_and_all_contenders_agree(bench):
                       ("four-bar engine", "engine"),
                       ("four-bar engine + reactions", "engine + reactions"),
                       ("four-bar, one position (fixed cost)", "engine"),
+                      ("four-bar designs (5 x 360)", "engine, one batch call"),
                       ("four-bar designs (5 x 360)", "engine, one call per design")):
         assert (case, who) in names
     assert (("four-bar engine", "fused numba loop") in names) == fused

@@ -15,6 +15,7 @@ import math
 import numpy as np
 import pytest
 from _mechanisms import m_ps_sine, m_rrr, m_triad, stephenson_sixbar
+from _sketches import drawing_of
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -29,17 +30,6 @@ from linkwork.planar import (
     kinematics,
     sketch,
 )
-
-
-def drawing_of(mech, phi):
-    """World coordinates of every named point of ``mech`` at driver position ``phi``."""
-    kin = kinematics(mech, [phi])
-    pts = {p: tuple(map(float, v)) for p, v in mech.frame.points.items()}
-    for b in mech.bodies:
-        for p in b.points:
-            pm = kin.point(b.name, p)
-            pts[p] = (float(pm.x[0]), float(pm.y[0]))
-    return pts
 
 
 def assert_same_motion(k1, k2, bodies_points, scale):
