@@ -117,7 +117,8 @@ _FILE = Annotated[Path, typer.Argument(help="synthesis task file (TOML)")]
 @sub.command("path")
 def path_cmd(file: _FILE, out: _OUT = Path("linkwork-output"), scheduler: _SCHED = None,
              seed: _SEED = None, candidates: _CAND = None) -> None:
-    """Four-bars whose coupler point passes through the [path] targets, defect-free, ranked."""
+    """Four-bars (or Watt / Stephenson six-bars: [path] linkage) whose coupler point passes
+    through the [path] targets, defect-free, ranked."""
     _run("path", file, out, scheduler, seed, candidates)
 
 

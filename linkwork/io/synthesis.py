@@ -6,9 +6,11 @@ Example (path generation, Kunjur and Krishnamurty's six points on a line)::
     name = "six points on a vertical line"
 
     [path]
+    # linkage = "fourbar"                  # or "stephenson" / "watt": a six-bar's point P
     points = [["20 mm", "20 mm"], ["20 mm", "25 mm"], ["20 mm", "30 mm"],
               ["20 mm", "35 mm"], ["20 mm", "40 mm"], ["20 mm", "45 mm"]]
     # timing = ["30 deg", "45 deg", ...]   # crank angles from the frame line (optional)
+    # free_start = true                    # with timing: only its advances prescribed
     closed = false
     constraints = ["grashof", "order"]
     min_transmission = "30 deg"            # optional
@@ -68,6 +70,7 @@ from pydantic_core import PydanticCustomError
 from linkwork.io.toml import Angle, AngularVelocity, FileModel, Force, Length, Mass
 from linkwork.synthesis.design import PARAMS
 from linkwork.synthesis.forces import ForceModel, Objective
+from linkwork.synthesis.sixbar import SIXBAR_PARAMS
 from linkwork.units import to_si
 
 __all__ = ["FunctionSection", "MotionSection", "ObjectiveSection", "PathSection",
@@ -122,10 +125,14 @@ def _default_constraints() -> list[Literal["grashof", "order"]]:
 
 
 class PathSection(FileModel):
-    """``[path]``: target points, optional timing, closed, constraints, bounds."""
+    """``[path]``: the linkage, target points, optional timing, closed, constraints, bounds
+    (the four-bar's parameters, or the six-bar's :data:`~linkwork.synthesis.sixbar.
+    SIXBAR_PARAMS`)."""
 
+    linkage: Literal["fourbar", "stephenson", "watt"] = "fourbar"
     points: list[XY]
     timing: list[Angle] | None = None
+    free_start: bool = False
     closed: bool = False
     constraints: list[Literal["grashof", "order"]] = Field(default_factory=_default_constraints)
     min_transmission: Annotated[Angle, Field(gt=0, lt=math.pi / 2)] | None = None
@@ -133,11 +140,16 @@ class PathSection(FileModel):
 
     @model_validator(mode="after")
     def _check(self) -> PathSection:
+        if self.free_start and self.timing is None:
+            raise PydanticCustomError("free_start", "free_start needs timing (the crank's "
+                                      "advances between the points)")
+        known = (*PARAMS, "theta2") if self.linkage == "fourbar" else SIXBAR_PARAMS
         for k in self.bounds:
-            if k not in (*PARAMS, "theta2"):
-                raise PydanticCustomError("bounds", "bounds.{k}: unknown parameter; known: "
-                                          "{known}", {"k": k, "known": ", ".join(
-                                              (*PARAMS, "theta2"))})
+            if k not in known:
+                raise PydanticCustomError("bounds", "bounds.{k}: unknown parameter of the "
+                                          "{linkage}; known: {known}",
+                                          {"k": k, "linkage": self.linkage,
+                                           "known": ", ".join(known)})
         for k, v in self.bounds.items():
             for x in v:
                 try:
@@ -260,6 +272,12 @@ class SynthesisFile(FileModel):
     def _one(self) -> SynthesisFile:
         if self.path is None and self.function is None and self.motion is None:
             raise PydanticCustomError("task", "needs a [path], [function] or [motion] section")
+        if (self.path is not None and self.path.linkage != "fourbar"
+                and self.objective.kind != "sum_squares"):
+            raise PydanticCustomError("objective", "objective.kind = {kind!r}: judging by "
+                                      "forces is for four-bars; a {linkage} six-bar is judged "
+                                      "by the error alone", {"kind": self.objective.kind,
+                                                             "linkage": self.path.linkage})
         try:
             self.objective.objective()
         except ValueError as exc:

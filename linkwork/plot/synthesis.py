@@ -19,28 +19,30 @@ if TYPE_CHECKING:
     from linkwork.synthesis.design import SynthesisResult
     from linkwork.synthesis.function import FunctionResult
     from linkwork.synthesis.motion import MotionResult
+    from linkwork.synthesis.sixbar import SixbarResult
 
 __all__ = ["function_figure", "motion_figure", "pareto_figure", "path_figure",
            "plot_function_error", "plot_motion", "plot_pareto", "plot_path"]
 
 
-def plot_path(res: SynthesisResult, ax: Any = None, n_designs: int = 1, *,
+def plot_path(res: SynthesisResult | SixbarResult, ax: Any = None, n_designs: int = 1, *,
               name: str | None = None) -> Any:
     """Target points and the coupler curves of the first ``n_designs`` designs (with the first
-    design's linkage at the first point): returns the axes."""
+    design's linkage at the first point, four-bar or six-bar): returns the axes."""
     ax = axes_or_new(ax, figsize=(7, 6))
     pts = np.asarray(res.points) * 1e3
-    for i, d in enumerate(res.designs[:n_designs]):
+    designs: list[Any] = list(res.designs[:n_designs])
+    for i, d in enumerate(designs):
         _, x, y = d.coupler_curve(721)
         ax.plot(x * 1e3, y * 1e3, lw=1.4 if i == 0 else 0.9,
                 label=f"design {i + 1}: error {d.error:.3g} m²")
         if i == 0:  # the linkage at the first point
-            j = d.joints_at(float(d.theta2[0]))
-            g = np.array([j["O2"], j["A"], j["B"], j["O4"]]) * 1e3
-            ax.plot(g[:, 0], g[:, 1], "-", color="0.35", lw=1.0)
-            tri = np.array([j["A"], j["P"], j["B"]]) * 1e3
-            ax.plot(tri[:, 0], tri[:, 1], "-", color="0.35", lw=0.8)
-            ax.plot(g[[0, 3], 0], g[[0, 3], 1], "^", color="0.2", ms=8, label="fixed pivots")
+            lines, pivots = d.skeleton(float(d.theta2[0]))
+            for k, line in enumerate(lines):
+                g = np.asarray(line) * 1e3
+                ax.plot(g[:, 0], g[:, 1], "-", color="0.35", lw=1.0 if k == 0 else 0.8)
+            pv = np.asarray(pivots) * 1e3
+            ax.plot(pv[:, 0], pv[:, 1], "^", color="0.2", ms=8, label="fixed pivots")
     ax.plot(pts[:, 0], pts[:, 1], "o", mfc="none", mec="k", ms=7, label="targets")
     for i, (x, y) in enumerate(pts):
         ax.annotate(str(i + 1), (x, y), fontsize=8, xytext=(4, 4), textcoords="offset points")
@@ -51,7 +53,8 @@ def plot_path(res: SynthesisResult, ax: Any = None, n_designs: int = 1, *,
     return ax
 
 
-def path_figure(res: SynthesisResult, ax: Any = None, n_designs: int = 1, **kw: Any) -> Figure:
+def path_figure(res: SynthesisResult | SixbarResult, ax: Any = None, n_designs: int = 1,
+                **kw: Any) -> Figure:
     """:func:`plot_path` as a :class:`Figure` (1 axes)."""
     a = plot_path(res, ax=ax, n_designs=n_designs, **kw)
     return Figure(a.figure, np.array([a]))

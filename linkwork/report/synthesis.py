@@ -4,12 +4,14 @@ synthesize path|function|motion`` finds), each one animated.
 One renderer per task kind (``[path]``, ``[function]``, ``[motion]``), each running
 :func:`linkwork.studies.synthesis.run`. Every design is a drawing the player chooses between
 (:attr:`linkwork.plot.html.Page.choices`): the linkage over the range it runs
-(:meth:`~linkwork.studies.synthesis.SynthesisStudy.motion`), with the task's target points or
-poses numbered. The diagrams: each design's coupler curve against the targets (path), its
-generated output against the wanted function and its structural error (function), its
-coupler's angle through the poses (motion), linked to that design's drawing; all designs'
-curves together; the Pareto set of accuracy against a force where the task judges by forces;
-the Burmester centre and circle points. The ranked designs table: a row shows that design.
+(:meth:`~linkwork.studies.synthesis.SynthesisStudy.motion`; a path task's four-bar, or its
+Watt II or Stephenson III six-bar with the traced point P on the dyad's link), with the task's
+target points or poses numbered. The diagrams: each design's coupler curve against the
+targets (path), its generated output against the wanted function and its structural error
+(function), its coupler's angle through the poses (motion), linked to that design's
+drawing; all designs' curves together; the Pareto set of accuracy against a force where the
+task judges by forces; the Burmester centre and circle points. The ranked designs table: a
+row shows that design.
 """
 
 from __future__ import annotations
@@ -31,6 +33,9 @@ __all__ = ["RENDERERS", "scenes", "section"]
 
 #: Positions of a design's drawing over the range it runs.
 POSITIONS = 361
+#: What a path task's ``linkage`` names.
+LINKAGES = {"fourbar": "four-bar", "stephenson": "Stephenson III six-bar",
+            "watt": "Watt II six-bar"}
 #: Units and labels of the force metrics a task may judge by.
 METRICS = {"error": ("error f", "m²"), "peak_torque": ("peak driving torque", "N·m"),
            "peak_bearing": ("peak bearing load", "N"), "rms_shaking": ("RMS shaking force", "N"),
@@ -98,7 +103,7 @@ def _path_diagrams(study: SynthesisStudy) -> list[Diagram]:
     curves = []
     for i in range(len(study.designs)):
         kin = study.motion(i, POSITIONS)
-        P = kin.point("coupler", "P")
+        P = kin.point(study.traced_body, "P")
         curves.append((P.x * 1e3, P.y * 1e3, np.asarray(kin.phi1)))
     out.append(Diagram(
         title="coupler curves of the designs against the targets",
@@ -234,9 +239,10 @@ def _table(study: SynthesisStudy) -> Table:
     res = study.result
     head, rows = design_table(study)
     n = len(rows)
-    if study.kind == "path" and res.pareto:
+    pareto = getattr(res, "pareto", ())           # a six-bar search has no Pareto set
+    if study.kind == "path" and pareto:
         head = [*head, "Pareto"]
-        rows = [[*r, "yes" if i in res.pareto else ""] for i, r in enumerate(rows)]
+        rows = [[*r, "yes" if i in pareto else ""] for i, r in enumerate(rows)]
     caption = design_summary(study)
     return Table(f"{caption}; click a row to show the design", head, rows,
                  chooses=list(range(n)))
@@ -247,7 +253,9 @@ def section(study: SynthesisStudy, options: Options) -> Section:
     res = study.result
     kind = study.kind
     if kind == "path":
-        intro = [f"{len(res.points)} target points{' (closed path)' if res.closed else ''}, "
+        linkage = "fourbar" if study.doc.path is None else study.doc.path.linkage
+        intro = [f"{LINKAGES[linkage]}s: {len(res.points)} target points"
+                 f"{' (closed path)' if res.closed else ''}, "
                  f"timing {'prescribed' if res.timing is not None else 'free'}, constraints "
                  f"{', '.join(res.constraints) or 'none'}, {res.objective} objective; search "
                  f"of {res.n_evaluated} candidates in {fmt(res.time, digits=3)} s."]
@@ -269,6 +277,20 @@ def section(study: SynthesisStudy, options: Options) -> Section:
 
 def notes(study: SynthesisStudy) -> list[tuple[str, str]]:
     """The parametrisation and conventions of the designs (docs/synthesis.md)."""
+    if study.kind == "path" and study.doc.path is not None and \
+            study.doc.path.linkage != "fourbar":
+        host = ("coupler (Stephenson III: (cx, cy) in the coupler's frame, origin A, x along "
+                "A→B)" if study.doc.path.linkage == "stephenson" else
+                "rocker (Watt II: (cx, cy) in the rocker's frame, origin O4, x along O4→B)")
+        return [(f"{study.kind} synthesis: conventions",
+                 "Six-bars: a driving four-bar in the literature's parameters (r1 frame O2O4, r2 "
+                 "crank, r3 coupler AB, r4 rocker, the crank pivot (x0, y0), θ0 the frame line's "
+                 f"angle; crank angles from the frame line), a point C on its {host}, a dyad "
+                 "C-D-O6 (r5 = CD, r6 = O6D, the fixed pivot O6 = (x6, y6)) and the traced point "
+                 "P at (px, py) in the frame of CD (origin C, x along C→D); branches of B and of "
+                 "D (the engine's convention). The error f is the sum of squared distances to "
+                 "the targets. Every design shown is defect-free (order, circuit, toggle of "
+                 "either loop, transmission checked by the engine); see docs/synthesis.md.")]
     return [(f"{study.kind} synthesis: conventions",
              "Four-bars in the literature's parameters (Cabrera et al. 2002): r1 frame O2O4, "
              "r2 crank, r3 coupler AB, r4 rocker, the coupler point (rcx, rcy) in the "
@@ -288,7 +310,8 @@ def _inputs(kind: str, doc: SynthesisFile) -> list[Table]:
             [] if p.timing is None else ["crank angle [deg]"]),
             [[str(i + 1), _mm(x), _mm(y)] + ([] if p.timing is None else [_deg(p.timing[i])])
              for i, (x, y) in enumerate(p.points)])
-        rows = [["timing", "free" if p.timing is None else "prescribed"],
+        rows = [["linkage", LINKAGES[p.linkage]],
+                ["timing", "free" if p.timing is None else "prescribed"],
                 ["closed path", "yes" if p.closed else "no"],
                 ["constraints", ", ".join(p.constraints) or "none"],
                 ["min. transmission angle", "-" if p.min_transmission is None else

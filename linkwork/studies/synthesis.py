@@ -21,6 +21,7 @@ from linkwork.plot.numbers import fmt
 from linkwork.synthesis import function as fn
 from linkwork.synthesis import motion as mo
 from linkwork.synthesis import path as pa
+from linkwork.synthesis import sixbar
 
 __all__ = ["KINDS", "SynthesisStudy", "design_summary", "design_table", "run"]
 
@@ -36,7 +37,7 @@ class SynthesisStudy:
     ----------
     doc : SynthesisFile
     kind : {"function", "motion", "path"}
-    result : SynthesisResult, FunctionResult or MotionResult
+    result : SynthesisResult, SixbarResult, FunctionResult or MotionResult
         Designs best first, each with ``.mechanism()`` and ``.to_toml(path)``.
     """
 
@@ -47,6 +48,12 @@ class SynthesisStudy:
     @property
     def designs(self) -> tuple[Any, ...]:
         return tuple(self.result.designs)
+
+    @property
+    def traced_body(self) -> str:
+        """The engine body that carries the traced point ``P`` of a path generator: the
+        four-bar's ``coupler``, a six-bar's ``link5``."""
+        return "coupler" if _fourbar(self) else "link5"
 
     def crank_angles(self, i: int, n: int = 361) -> np.ndarray:
         """The driver positions [rad] (the engine's ``phi1``) over which design ``i`` runs:
@@ -97,11 +104,19 @@ def run(doc: SynthesisFile, kind: str, *, client: Any = None, progress: Any = Fa
         raise ParameterError(f"[{kind}]", "missing", f"the file has no [{kind}] section "
                              f"(it has {', '.join(f'[{k}]' for k in have)})")
     s = doc.search
-    if kind == "path":
-        res: Any = pa.path(
+    if kind == "path" and section.linkage != "fourbar":
+        res: Any = sixbar.sixbar_path(
+            section.points, kind=section.linkage, timing=section.timing,
+            bounds=section.si_bounds() or None, constraints=section.constraint_tuple(),
+            closed=section.closed, free_start=section.free_start,
+            seed=s.seed if seed is None else seed, client=client, progress=progress,
+            n_candidates=n_candidates or s.candidates, n_refine=s.refine, n_designs=s.designs)
+    elif kind == "path":
+        res = pa.path(
             section.points, timing=section.timing, bounds=section.si_bounds() or None,
             constraints=section.constraint_tuple(), objective=doc.objective.objective(),
-            closed=section.closed, seed=s.seed if seed is None else seed, client=client,
+            closed=section.closed, free_start=section.free_start,
+            seed=s.seed if seed is None else seed, client=client,
             progress=progress, n_candidates=n_candidates or s.candidates,
             n_refine=s.refine, n_designs=s.designs)
     elif kind == "function":
@@ -132,13 +147,18 @@ def _deg(x: float) -> str:
     return fmt(math.degrees(float(x)))
 
 
+def _fourbar(study: SynthesisStudy) -> bool:
+    return study.doc.path is None or study.doc.path.linkage == "fourbar"
+
+
 def design_summary(study: SynthesisStudy) -> str:
     """What the search found and did, in one line (the title of :func:`design_table`)."""
     res = study.result
     n = len(res.designs)
     rej = ", ".join(f"{v} {k}" for k, v in getattr(res, "rejected", {}).items() if v) or "none"
     if study.kind == "path":
-        return (f"{n} defect-free four-bars of {res.n_evaluated} candidates, {res.n_refined} "
+        what = "four-bars" if _fourbar(study) else f"{res.kind} six-bars"
+        return (f"{n} defect-free {what} of {res.n_evaluated} candidates, {res.n_refined} "
                 f"refined ({res.time:.3g} s; rejected: {rej})")
     if study.kind == "function":
         return (f"{n} {res.kind.replace('_', '-')} function generators (structural error over "
@@ -151,10 +171,21 @@ def design_table(study: SynthesisStudy) -> tuple[list[str], list[list[str]]]:
     """The ranked designs as ``linkwork synthesize`` prints them (and the report shows them):
     the column heads with units and one row of formatted values per design (path: the error,
     the largest distance to a target, the literature's parameters, branch, minimum
-    transmission angle and the forces when judged by them; function: the method, the link
+    transmission angle and the forces when judged by them, or a six-bar's parameters and
+    branches; function: the method, the link
     lengths, branch and the structural error; motion: the pivots, link lengths, minimum
     transmission angle and the pose error)."""
     res = study.result
+    if study.kind == "path" and not _fourbar(study):
+        lengths = ("r1", "r2", "r3", "r4", "x0", "y0", "cx", "cy", "r5", "r6", "x6", "y6",
+                   "px", "py")
+        return (["#", "error [mm²]", "max dev. [mm]", *(f"{k} [mm]" for k in lengths),
+                 "θ0 [deg]", "branches B, D", "μmin [deg]"],
+                [[str(i + 1), fmt(d.error * 1e6), _mm(d.checks.get("max_deviation", math.nan)),
+                  *(_mm(d.params[k]) for k in lengths), _deg(d.params["theta0"]),
+                  f"{d.branches[0]:+d}, {d.branches[1]:+d}",
+                  _deg(d.checks.get("min_transmission_angle", math.nan))]
+                 for i, d in enumerate(res.designs)])
     if study.kind == "path":
         head = ["#", "error [mm²]", "max dev. [mm]", "r1 [mm]", "r2 [mm]", "r3 [mm]",
                 "r4 [mm]", "rcx [mm]", "rcy [mm]", "x0 [mm]", "y0 [mm]", "θ0 [deg]", "branch",

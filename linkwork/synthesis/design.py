@@ -43,7 +43,7 @@ if TYPE_CHECKING:
     from linkwork.plot import Figure
 
 __all__ = ["PARAMS", "FourbarDesign", "LinkMasses", "SynthesisResult", "coupler_point",
-           "write_planar_toml"]
+           "design_columns", "run_range", "write_planar_toml"]
 
 TWO_PI = 2.0 * math.pi
 
@@ -54,17 +54,14 @@ PARAMS = ("r1", "r2", "r3", "r4", "rcx", "rcy", "x0", "y0", "theta0")
 # ---------------------------------------------------------------------------------------------
 # the closed form, vectorised over designs x crank angles
 # ---------------------------------------------------------------------------------------------
-def _kernel(th2: Any, *geometry: Any) -> tuple[Any, Any, Any, Any]:
-    """Coupler point (x, y) in the task's frame, ``h2`` (>= 0 where it assembles) and the
-    cosine of the transmission angle at B, for crank angles ``th2`` from the frame line.
+def _loop(th2: Any, r1: Any, r2: Any, r3: Any, r4: Any, br: Any) -> tuple[Any, ...]:
+    """The loop of a four-bar in the frame of the frame line (origin O2, x along O2 -> O4) at
+    crank angles ``th2``: the crank pin ``A``, ``s = O4 - A``, the coupler vector ``u = B - A``
+    and ``h2`` (>= 0 where it assembles): ``ax, ay, sx, sy, ux, uy, h2``.
 
-    In the frame of the frame line (origin O2, x along O2 -> O4): ``A = r2 (cos th2, sin
-    th2)``, ``s = O4 - A``, ``B = A + k s + h s_perp`` with ``k = (r3^2 - r4^2 + |s|^2) /
-    (2 |s|^2)``, ``h = br sqrt(h2)``, ``h2 = r3^2/|s|^2 - k^2`` (the closed form of
-    :func:`linkwork.models.fourbar.fourbar`); ``P = A + (rcx e3 + rcy e3_perp)``.
-    ``geometry``: ``r1 r2 r3 r4 rcx rcy x0 y0 theta0`` and the branch ``br``.
-    """
-    r1, r2, r3, r4, rcx, rcy, x0, y0, t0, br = geometry
+    ``B = A + k s + h s_perp`` with ``k = (r3^2 - r4^2 + |s|^2) / (2 |s|^2)``,
+    ``h = br sqrt(h2)``, ``h2 = r3^2/|s|^2 - k^2`` (the closed form of
+    :func:`linkwork.models.fourbar.fourbar`)."""
     ax = r2 * np.cos(th2)
     ay = r2 * np.sin(th2)
     sx = r1 - ax
@@ -73,14 +70,79 @@ def _kernel(th2: Any, *geometry: Any) -> tuple[Any, Any, Any, Any]:
     k = (r3 * r3 - r4 * r4 + f2) / (2.0 * f2)
     h2 = r3 * r3 / f2 - k * k
     h = br * np.sqrt(np.maximum(h2, 0.0))
-    ux = k * sx - h * sy
-    uy = k * sy + h * sx
+    return ax, ay, sx, sy, k * sx - h * sy, k * sy + h * sx, h2
+
+
+def _kernel(th2: Any, *geometry: Any) -> tuple[Any, Any, Any, Any]:
+    """Coupler point (x, y) in the task's frame, ``h2`` (>= 0 where it assembles) and the
+    cosine of the transmission angle at B, for crank angles ``th2`` from the frame line.
+
+    The loop by :func:`_loop`, then ``P = A + (rcx e3 + rcy e3_perp)`` and the frame
+    placement. ``geometry``: ``r1 r2 r3 r4 rcx rcy x0 y0 theta0`` and the branch ``br``.
+    """
+    r1, r2, r3, r4, rcx, rcy, x0, y0, t0, br = geometry
+    ax, ay, sx, sy, ux, uy, h2 = _loop(th2, r1, r2, r3, r4, br)
     px = ax + (rcx * ux - rcy * uy) / r3
     py = ay + (rcx * uy + rcy * ux) / r3
     c0, s0 = np.cos(t0), np.sin(t0)
     # transmission angle ABO4: between B->A = -u and B->O4 = -(u - s)
     cos_mu = (ux * (ux - sx) + uy * (uy - sy)) / (r3 * r4)
     return x0 + c0 * px - s0 * py, y0 + s0 * px + c0 * py, h2, cos_mu
+
+
+def _kernel_jacobian(th2: np.ndarray, *geometry: float) -> tuple[np.ndarray, np.ndarray]:
+    """Exact derivatives of the coupler point of :func:`_kernel` (one design, crank angles
+    ``th2`` (n,)) with respect to ``r1 r2 r3 r4 rcx rcy x0 y0 theta0`` and the crank angle:
+    ``dx, dy`` of shape (n, 10).
+
+    By implicit differentiation of the loop closure ``|B - A| = r3``, ``|B - O4| = r4``:
+    ``[u; w] dB = [r3 dr3 + u . dA; r4 dr4 + w . dO4]`` with ``u = B - A``, ``w = B - O4``
+    (singular at a toggle, where the coupler point's derivatives are unbounded), then
+    ``P = A + (rcx u + rcy u_perp) / r3`` and the frame placement. Finite differences fail
+    near a toggle, where optima of the literature's problems often sit (the square root of
+    the assembly condition changes faster than any fixed step resolves).
+    """
+    r1, r2, r3, r4, rcx, rcy, _x0, _y0, t0, br = geometry
+    c, s = np.cos(th2), np.sin(th2)
+    ax, ay, sx, sy, ux, uy, _ = _loop(th2, r1, r2, r3, r4, br)
+    wx, wy = ux - sx, uy - sy
+    det = ux * wy - uy * wx
+    tiny = 1e-12 * r3 * r4
+    det = np.where(np.abs(det) < tiny, np.where(det < 0, -tiny, tiny), det)
+    n = len(th2)
+    zero, one = np.zeros(n), np.ones(n)
+    # columns: r1 r2 r3 r4 rcx rcy x0 y0 theta0 theta2
+    dA = [(zero, zero), (c, s), (zero, zero), (zero, zero), (zero, zero), (zero, zero),
+          (zero, zero), (zero, zero), (zero, zero), (-ay, ax)]
+    dO4 = [(one, zero)] + [(zero, zero)] * 9
+    dr3 = [zero, zero, one] + [zero] * 7
+    dr4 = [zero, zero, zero, one] + [zero] * 6
+    px_l = (rcx * ux - rcy * uy) / r3
+    py_l = (rcx * uy + rcy * ux) / r3
+    c0, s0 = math.cos(t0), math.sin(t0)
+    dx = np.empty((n, 10))
+    dy = np.empty((n, 10))
+    for j in range(10):
+        (dax, day), (dox, doy) = dA[j], dO4[j]
+        b1 = r3 * dr3[j] + ux * dax + uy * day
+        b2 = r4 * dr4[j] + wx * dox + wy * doy
+        dbx = (wy * b1 - uy * b2) / det
+        dby = (ux * b2 - wx * b1) / det
+        dux, duy = dbx - dax, dby - day
+        dpx = dax + (rcx * dux - rcy * duy) / r3 - px_l * dr3[j] / r3
+        dpy = day + (rcx * duy + rcy * dux) / r3 - py_l * dr3[j] / r3
+        if j == 4:
+            dpx, dpy = dpx + ux / r3, dpy + uy / r3
+        elif j == 5:
+            dpx, dpy = dpx - uy / r3, dpy + ux / r3
+        dx[:, j] = c0 * dpx - s0 * dpy
+        dy[:, j] = s0 * dpx + c0 * dpy
+    px, py = ax + px_l, ay + py_l
+    dx[:, 6], dy[:, 6] = 1.0, 0.0
+    dx[:, 7], dy[:, 7] = 0.0, 1.0
+    dx[:, 8] = -(s0 * px + c0 * py)
+    dy[:, 8] = c0 * px - s0 * py
+    return dx, dy
 
 
 def coupler_point(theta2: ArrayLike, params: Mapping[str, Any], branch: int = 1
@@ -96,6 +158,20 @@ def coupler_point(theta2: ArrayLike, params: Mapping[str, Any], branch: int = 1
     ok = h2 >= 0
     return np.where(ok, x, np.nan), np.where(ok, y, np.nan), ok
 
+
+
+def run_range(theta2: np.ndarray, checks: Mapping[str, Any], closed: bool, n: int
+              ) -> np.ndarray:
+    """Crank angles a design runs through (see :meth:`FourbarDesign.run_range`): a full turn
+    from the first point when ``checks["crank_rotates"]`` or ``closed``, else from the first
+    point to the last in the sense ``checks["direction"]`` (the angles are kept within a
+    turn)."""
+    t = np.asarray(theta2, dtype=float)
+    s = float(checks.get("direction", 1.0 if len(t) < 2 or t[-1] >= t[0] else -1.0))
+    if checks.get("crank_rotates", False) or closed:
+        return t[0] + s * np.linspace(0.0, 2 * math.pi, n)
+    total = float(np.sum(np.mod(s * np.diff(t), 2 * math.pi)))
+    return t[0] + s * np.linspace(0.0, total, n)
 
 
 @dataclass(frozen=True)
@@ -189,14 +265,19 @@ class FourbarDesign:
         b = np.array([np.nan, np.nan]) if nan else np.array([bx[0], by[0]])
         return {"O2": o2, "A": a, "B": b, "O4": o4, "P": np.array([px[0], py[0]])}
 
+    def skeleton(self, theta2: float) -> tuple[list[np.ndarray], np.ndarray]:
+        """The links at the crank angle ``theta2`` as polylines [m] (O2-A-B-O4 and the coupler
+        triangle A-P-B) and the fixed pivots (O2, O4)."""
+        j = self.joints_at(theta2)
+        return ([np.array([j["O2"], j["A"], j["B"], j["O4"]]), np.array([j["A"], j["P"], j["B"]])],
+                np.array([j["O2"], j["O4"]]))
+
     def run_range(self, n: int = 361) -> np.ndarray:
         """Crank angles from the frame line [rad] the design runs through: a full turn from the
-        first point when the crank rotates fully, else from the first to the last point."""
-        t = self.theta2
-        if self.checks.get("crank_rotates", False) or self.closed:
-            s = 1.0 if len(t) < 2 or t[-1] >= t[0] else -1.0
-            return t[0] + s * np.linspace(0.0, 2 * math.pi, n)
-        return np.linspace(t[0], t[-1], n)
+        first point when the crank rotates fully, else from the first to the last point in
+        the sense the points are reached (``checks["direction"]``; the angles themselves are
+        kept within a turn)."""
+        return run_range(self.theta2, self.checks, self.closed, n)
 
     # -- engine model and file ----------------------------------------------------------------
     def mechanism(self, masses: LinkMasses | None = None, omega1: float | None = None
@@ -355,6 +436,10 @@ class SynthesisResult(Result):
     pareto : tuple of int
         Indices (into ``designs``) of the Pareto set of accuracy against dynamics (empty
         unless the objective was Pareto).
+    scales : dict
+        What each metric was measured against when judged by forces (``error`` [m^2]: n
+        (0.01 L)^2; ``peak_torque`` [N m], ``peak_bearing``, ``rms_shaking`` [N]: their
+        medians over the screened candidates); empty for the literature's objective.
     """
 
     designs: tuple[FourbarDesign, ...]
@@ -370,6 +455,7 @@ class SynthesisResult(Result):
     time_global: float
     objective: str = "sum_squares"
     pareto: tuple[int, ...] = ()
+    scales: Mapping[str, float] = field(default_factory=dict)
 
     units: ClassVar[dict[str, str]] = {
         "r1": "m", "r2": "m", "r3": "m", "r4": "m", "rcx": "m", "rcy": "m", "x0": "m",
@@ -393,17 +479,7 @@ class SynthesisResult(Result):
         return self.n_evaluated / self.time_global if self.time_global > 0 else math.inf
 
     def columns(self) -> dict[str, np.ndarray]:
-        cols: dict[str, np.ndarray] = {"rank": self.rank}
-        for k in (*PARAMS, "branch", "error"):
-            cols[k] = np.array([d.summary()[k] for d in self.designs], dtype=float)
-        for k in ("max_deviation", "min_transmission_angle"):
-            cols[k] = np.array([float(d.checks.get(k, math.nan)) for d in self.designs])
-        for k in ("peak_torque", "peak_bearing", "rms_shaking"):
-            if any(k in d.forces for d in self.designs):
-                cols[k] = np.array([float(d.forces.get(k, math.nan)) for d in self.designs])
-        for i in range(len(self.points)):
-            cols[f"theta2_{i + 1}"] = np.array([float(d.theta2[i]) for d in self.designs])
-        return cols
+        return design_columns(self, (*PARAMS, "branch", "error"))
 
     def _unit_of(self, column: str) -> str:
         return "rad" if column.startswith("theta2_") else self.units.get(column, "")
@@ -415,7 +491,7 @@ class SynthesisResult(Result):
                 "n_refined": self.n_refined,
                 "n_residual_evaluations": self.n_residual_evaluations, "time": self.time,
                 "time_global": self.time_global, "objective": self.objective,
-                "pareto": list(self.pareto),
+                "pareto": list(self.pareto), "scales": dict(self.scales),
                 "points": [[float(x), float(y)] for x, y in self.points]}
 
     def to_dict(self) -> dict[str, Any]:
@@ -429,6 +505,24 @@ class SynthesisResult(Result):
         from linkwork.plot.synthesis import path_figure
 
         return path_figure(self, ax=ax, n_designs=n_designs, **kw)
+
+
+def design_columns(res: Any, keys: tuple[str, ...]) -> dict[str, np.ndarray]:
+    """The table of a synthesis result's designs: rank, ``keys`` of each design's summary,
+    what the checks measured, the forces when judged by them, the crank angles at the
+    points."""
+    ds = res.designs
+    cols: dict[str, np.ndarray] = {"rank": np.arange(1, len(ds) + 1)}
+    for k in keys:
+        cols[k] = np.array([d.summary()[k] for d in ds], dtype=float)
+    for k in ("max_deviation", "min_transmission_angle"):
+        cols[k] = np.array([float(d.checks.get(k, math.nan)) for d in ds])
+    for k in ("peak_torque", "peak_bearing", "rms_shaking"):
+        if any(k in getattr(d, "forces", {}) for d in ds):
+            cols[k] = np.array([float(d.forces.get(k, math.nan)) for d in ds])
+    for i in range(len(res.points)):
+        cols[f"theta2_{i + 1}"] = np.array([float(d.theta2[i]) for d in ds])
+    return cols
 
 
 def check_design_params(params: Mapping[str, Any], n: int) -> None:

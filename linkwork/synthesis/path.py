@@ -56,15 +56,16 @@ from numpy.typing import ArrayLike
 from linkwork.checks import require_finite
 from linkwork.errors import InfeasibleError, ParameterError
 from linkwork.planar.kinematics import kinematics
-from linkwork.sweep import check_client, evaluate, rich_progress
+from linkwork.sweep import Generated, check_client, evaluate, rich_progress
 from linkwork.synthesis.design import (
     PARAMS,
     FourbarDesign,
     SynthesisResult,
+    _kernel_jacobian,
     coupler_point,
 )
 from linkwork.synthesis.design import _kernel as _kernel
-from linkwork.synthesis.forces import Objective, judge
+from linkwork.synthesis.forces import ForceModel, Objective, force_metrics, judge
 
 __all__ = ["CONSTRAINTS", "DEFECTS", "MAX_CANDIDATES", "PathTask", "check_design",
            "coupler_point", "path", "task"]
@@ -101,6 +102,9 @@ class PathTask:
     order: bool
     mu_min: float | None
     scale: float
+    free_start: bool = False
+    #: Where ``theta0`` is in the parameter vector (8 of :data:`PARAMS`; the six-bar's 6).
+    theta0_index: int = 8
 
     @property
     def free(self) -> np.ndarray:
@@ -110,6 +114,22 @@ class PathTask:
     @property
     def n(self) -> int:
         return len(self.points)
+
+    @property
+    def theta0_periodic(self) -> bool:
+        """The bounds of ``theta0`` span a full turn: it is searched as the angle it is (the
+        refinement does not stop at 0 or 2 pi), and returned within the bounds."""
+        i = self.theta0_index
+        return bool(self.hi[i] - self.lo[i] >= TWO_PI * (1 - 1e-12))
+
+    def angles(self, start: np.ndarray | float) -> np.ndarray:
+        """Crank angles at the points of a task with timing, for the first crank angle
+        ``start`` ((m,) -> (m, n)): the timing itself, or with :attr:`free_start` its advances
+        from ``start``."""
+        assert self.timing is not None
+        if not self.free_start:
+            return np.broadcast_to(self.timing, (*np.shape(start), self.n))
+        return np.asarray(start)[..., None] + (self.timing - self.timing[0])
 
     def constraint_names(self) -> tuple[str, ...]:
         out = [k for k, on in (("grashof", self.grashof), ("order", self.order)) if on]
@@ -163,9 +183,24 @@ def _parse_constraints(constraints: Any) -> tuple[bool, bool, float | None]:
     return grashof, order, mu
 
 
+def check_bound(name: str, value: Any, length: bool) -> tuple[float, float]:
+    """The bound ``(low, high)`` of parameter ``name``, checked: finite, low <= high, and for a
+    ``length`` low > 0."""
+    try:
+        lo, hi = (float(x) for x in value)
+    except (TypeError, ValueError):
+        raise ParameterError(f"bounds[{name}]", value, "must be (low, high)") from None
+    if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
+        raise ParameterError(f"bounds[{name}]", (lo, hi), "needs finite low <= high")
+    if length and not lo > 0:
+        raise ParameterError(f"bounds[{name}]", (lo, hi), "a link length needs low > 0")
+    return lo, hi
+
+
 def task(points: ArrayLike, *, timing: ArrayLike | None = None,
          bounds: Mapping[str, tuple[float, float]] | None = None,
-         constraints: Any = ("grashof", "order"), closed: bool = False) -> PathTask:
+         constraints: Any = ("grashof", "order"), closed: bool = False,
+         free_start: bool = False) -> PathTask:
     """Check a path-generation task and return it (see :func:`path` for the arguments).
 
     Raises
@@ -191,6 +226,9 @@ def task(points: ArrayLike, *, timing: ArrayLike | None = None,
         if len(tim) != len(pts):
             raise ParameterError("timing", len(tim), f"must give one crank angle per point "
                                  f"({len(pts)})")
+    elif free_start:
+        raise ParameterError("free_start", free_start, "needs timing (the crank's advances "
+                             "between the points); without timing every crank angle is free")
     grashof, order, mu = _parse_constraints(constraints)
     base = default_bounds(pts)
     th2b: tuple[float, float] | None = None
@@ -204,19 +242,12 @@ def task(points: ArrayLike, *, timing: ArrayLike | None = None,
         if k not in PARAMS:
             raise ParameterError("bounds", k, f"unknown parameter; known: "
                                  f"{', '.join((*PARAMS, 'theta2'))}")
-        try:
-            lo, hi = (float(x) for x in v)
-        except (TypeError, ValueError):
-            raise ParameterError(f"bounds[{k}]", v, "must be (low, high)") from None
-        if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
-            raise ParameterError(f"bounds[{k}]", (lo, hi), "needs finite low <= high")
-        if k in ("r1", "r2", "r3", "r4") and not lo > 0:
-            raise ParameterError(f"bounds[{k}]", (lo, hi), "a link length needs low > 0")
-        base[k] = (lo, hi)
+        base[k] = check_bound(k, v, k in ("r1", "r2", "r3", "r4"))
     lo_a = np.array([base[k][0] for k in PARAMS])
     hi_a = np.array([base[k][1] for k in PARAMS])
     return PathTask(points=pts.astype(float), timing=tim, closed=bool(closed), lo=lo_a, hi=hi_a,
-                    theta2_bounds=th2b, grashof=grashof, order=order, mu_min=mu, scale=span)
+                    theta2_bounds=th2b, grashof=grashof, order=order, mu_min=mu, scale=span,
+                    free_start=bool(free_start) and tim is not None)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -308,10 +339,11 @@ def _screen(chunk: dict[str, np.ndarray], *, tk: PathTask, n_samples: int, keep:
     Xo, bo = X[ok], br[ok]
     pts = tk.points
     if tk.timing is not None:
-        x, y, h2, _ = _kernel(tk.timing[None, :], *_cols(Xo), bo[:, None])
+        th = tk.angles(np.asarray(chunk["start"], dtype=float)[ok] if tk.free_start
+                       else np.zeros(len(Xo))).copy()
+        x, y, h2, _ = _kernel(th, *_cols(Xo), bo[:, None])
         valid = (h2 >= 0).all(axis=1)
         err = ((x - pts[:, 0]) ** 2 + (y - pts[:, 1]) ** 2).sum(axis=1)
-        th = np.broadcast_to(tk.timing, (len(Xo), tk.n)).copy()
     else:
         ths = np.linspace(0.0, TWO_PI, n_samples, endpoint=False)
         x, y, h2, _ = _kernel(ths[None, :], *_cols(Xo), bo[:, None])
@@ -347,15 +379,46 @@ def _keep_best(keep: int) -> Callable[[dict[str, np.ndarray], dict[str, np.ndarr
     return combine
 
 
-def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]:
-    """A scrambled Sobol sample of the free parameters (fixed ones at their value), the two
-    branches alternating."""
+def crank_rockers(X: np.ndarray, u: np.ndarray, tk: PathTask) -> None:
+    """Crank-rockers by construction, in place: the crank ``r2`` (column 1 of ``X``, the links
+    ``r1 r2 r3 r4`` its first columns) redrawn from ``u`` in [0, 1) below the largest value
+    that keeps it the shortest link and r2 + l < p + q (the others as drawn); where even its
+    lower bound breaks that, the candidate stays as drawn and is rejected by the screening."""
+    others = X[:, [0, 2, 3]]
+    cap = np.minimum(others.min(axis=1), others.sum(axis=1) - 2 * others.max(axis=1))
+    ub = np.minimum(tk.hi[1], cap * (1 - 1e-9))
+    ok = ub > tk.lo[1]
+    X[ok, 1] = tk.lo[1] + u[ok] * (ub[ok] - tk.lo[1])
+
+
+def _sobol_rows(dim: int, seed: int, start: int, stop: int) -> np.ndarray:
+    """Points ``start .. stop-1`` of the scrambled Sobol sequence of ``dim`` dimensions seeded
+    by ``seed``: the same numbers however the sequence is cut (fast-forwarded to ``start``)."""
     from scipy.stats import qmc
 
+    sobol = qmc.Sobol(dim, scramble=True, seed=seed)
+    if start == 0:  # a power of two drawn (the sequence's balance), the first ones kept
+        return sobol.random_base2(max(4, math.ceil(math.log2(max(stop, 2)))))[:stop]
+    sobol.fast_forward(start)
+    return sobol.random(stop - start)
+
+
+def _seed(seed: int | None) -> int:
+    """``seed``, or one drawn from the system's entropy: one scramble for every chunk."""
+    return int(np.random.SeedSequence().generate_state(1)[0]) if seed is None else int(seed)
+
+
+def _candidates(tk: PathTask, n: int, seed: int, start: int = 0,
+                stop: int | None = None) -> dict[str, np.ndarray]:
+    """A scrambled Sobol sample of the free parameters (fixed ones at their value), the two
+    branches alternating: its candidates ``start .. stop-1`` of ``n``, the same numbers however
+    the sample is cut (the sequence fast-forwarded to ``start``, the halves and branches by the
+    candidate's index), so that each worker of a cluster makes its own chunk."""
+    stop = n if stop is None else stop
     free = tk.free
     k = int(free.sum())
-    m = max(4, math.ceil(math.log2(max(n, 2))))
-    U = qmc.Sobol(max(k, 1), scramble=True, seed=seed).random_base2(m)[:n]
+    U = _sobol_rows(max(k + tk.free_start, 1), seed, start, stop)
+    even = np.arange(start, stop) % 2 == 0
     # half the sample in the bounds cut to the targets' scale (default_bounds), where wide
     # bounds (the literature's 50 times the path) would leave few useful candidates; half in
     # the whole box, link lengths log-uniform where the bounds span more than a decade
@@ -366,26 +429,20 @@ def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]
     lo = np.tile(tk.lo, (len(U), 1))
     hi = np.tile(tk.hi, (len(U), 1))
     if near:
-        lo[::2], hi[::2] = near_lo, near_hi
+        lo[even], hi[even] = near_lo, near_hi
     X = lo.copy()
     X[:, free] = lo[:, free] + U[:, :k] * (hi - lo)[:, free]
     logs = np.zeros(9, dtype=bool)
     logs[:4] = free[:4] & (tk.hi[:4] > 10 * tk.lo[:4])
-    rows = np.arange(len(U)) % 2 == 1 if near else np.ones(len(U), dtype=bool)
+    rows = ~even if near else np.ones(len(U), dtype=bool)
     for i in np.flatnonzero(logs):
         u = U[rows, int(free[:i].sum())]
         X[rows, i] = tk.lo[i] * (tk.hi[i] / tk.lo[i]) ** u
     if (tk.grashof or tk.closed) and free[1]:
-        # crank-rockers by construction: the crank r2 drawn below the largest value that keeps
-        # it the shortest link and r2 + l < p + q (the others as drawn); where even its lower
-        # bound breaks that, the candidate stays as drawn and is rejected by the screening
-        others = X[:, [0, 2, 3]]
-        cap = np.minimum(others.min(axis=1), others.sum(axis=1) - 2 * others.max(axis=1))
-        ub = np.minimum(tk.hi[1], cap * (1 - 1e-9))
-        ok = ub > tk.lo[1]
-        u2 = U[:, int(free[:1].sum())]
-        X[ok, 1] = tk.lo[1] + u2[ok] * (ub[ok] - tk.lo[1])
-    br = np.where(np.arange(len(U)) % 2 == 0, 1.0, -1.0)
+        crank_rockers(X, U[:, int(free[:1].sum())], tk)
+    br = np.where(even, 1.0, -1.0)
+    if tk.free_start:  # the first crank angle of a timing given by its advances
+        return {"X": X, "branch": br, "start": TWO_PI * U[:, k]}
     return {"X": X, "branch": br}
 
 
@@ -394,20 +451,44 @@ def _candidates(tk: PathTask, n: int, seed: int | None) -> dict[str, np.ndarray]
 # ---------------------------------------------------------------------------------------------
 def _unpack(V: np.ndarray, x9: np.ndarray, free: np.ndarray, tk: PathTask, s: float
             ) -> tuple[np.ndarray, np.ndarray]:
-    """Parameters (m, 9) and crank angles (m, n) of refinement vectors ``V`` (m, nv)."""
+    """Parameters (m, 9; the six-bar's 15) and crank angles (m, n) of refinement vectors
+    ``V`` (m, nv)."""
     X = np.tile(x9, (len(V), 1))
     k = int(free.sum())
     X[:, free] = V[:, :k]
     if tk.timing is not None:
-        return X, np.broadcast_to(tk.timing, (len(V), tk.n))
+        return X, tk.angles(V[:, k] if tk.free_start else np.zeros(len(V)))
     inc = np.concatenate([np.zeros((len(V), 1)), np.cumsum(V[:, k + 1:], axis=1)], axis=1)
     return X, V[:, k:k + 1] + s * inc
 
 
+@dataclass(frozen=True)
+class _Judged:
+    """The refinement's objective judged by forces: the point residuals (and the penalties)
+    times ``point`` = sqrt(w_error / ref_error), then one residual sqrt(w_k m_k / ref_k) per
+    metric of ``terms`` (``(metric, w_k / ref_k)``; the transmission angle enters as
+    (pi/2) / mu_min), the metrics by :func:`~linkwork.synthesis.forces.force_metrics`."""
+
+    model: ForceModel
+    point: float
+    terms: tuple[tuple[str, float], ...]
+
+    def rows(self, X: np.ndarray, br: float, th: np.ndarray, tk: PathTask) -> np.ndarray:
+        rotates = (_crank_rocker_margin(X) < 0) | tk.closed
+        m = force_metrics(X, np.full(len(X), br), th, rotates, self.model)
+        out = []
+        for k, c in self.terms:
+            v = m[k] if k != "min_transmission_angle" else (math.pi / 2) / np.maximum(
+                m[k], 1e-9)
+            out.append(np.sqrt(np.where(np.isfinite(v), c * v, 1e6)))
+        return np.stack(out, axis=1)
+
+
 def _residuals(V: np.ndarray, x9: np.ndarray, free: np.ndarray, tk: PathTask, s: float,
-               br: float, weight: float) -> np.ndarray:
+               br: float, weight: float, judged: _Judged | None = None) -> np.ndarray:
     """Residuals of refinement vectors ``V`` (m, nv), one row each: coupler point minus
-    target (x then y), then the penalties (zero where the constraints hold)."""
+    target (x then y), then the penalties (zero where the constraints hold), then with
+    ``judged`` the forces' residuals (the others scaled, see :class:`_Judged`)."""
     X, th = _unpack(V, x9, free, tk, s)
     x, y, h2, cos_mu = _kernel(th, *(X[:, i:i + 1] for i in range(9)), br)
     L = tk.scale
@@ -426,52 +507,126 @@ def _residuals(V: np.ndarray, x9: np.ndarray, free: np.ndarray, tk: PathTask, s:
         if tk.theta2_bounds is not None:
             lo, hi = tk.theta2_bounds
             pen.append(wl * (np.maximum(lo - th, 0.0) + np.maximum(th - hi, 0.0)))
-    return np.concatenate([x - tk.points[:, 0], y - tk.points[:, 1], *pen], axis=1)
+    R = np.concatenate([x - tk.points[:, 0], y - tk.points[:, 1], *pen], axis=1)
+    if judged is None:
+        return R
+    return np.concatenate([judged.point * R, judged.rows(X, br, th, tk)], axis=1)
 
 
 def _jacobian(v: np.ndarray, *args: Any) -> np.ndarray:
-    """Forward differences of :func:`_residuals`, all columns in one vectorised call."""
+    """Jacobian of :func:`_residuals`: the coupler-point rows exact
+    (:func:`~linkwork.synthesis.design._kernel_jacobian`, chained through the refinement
+    vector), the penalty rows by forward differences, all columns in one vectorised call."""
+    x9, free, tk, s, br = args[:5]
     h = 1.5e-8 * np.maximum(np.abs(v), 1.0)
     V = np.vstack([v, v + np.diag(h)])
     R = _residuals(V, *args)
-    return ((R[1:] - R[0]) / h[:, None]).T
+    J = ((R[1:] - R[0]) / h[:, None]).T
+    X, th = _unpack(v[None, :], x9, free, tk, s)
+    dx, dy = _kernel_jacobian(th[0], *X[0], br)
+    n, k = tk.n, int(free.sum())
+    dth = np.zeros((n, len(v) - k))  # d theta2_i / d (the angle entries of v)
+    if tk.timing is None:
+        dth[:, 0] = 1.0
+        dth[:, 1:] = s * np.tri(n, n - 1, -1)
+    elif tk.free_start:
+        dth[:, 0] = 1.0
+    c = args[6].point if len(args) > 6 and args[6] is not None else 1.0
+    J[:n, :k], J[n:2 * n, :k] = c * dx[:, :9][:, free], c * dy[:, :9][:, free]
+    J[:n, k:], J[n:2 * n, k:] = c * dx[:, 9:] * dth, c * dy[:, 9:] * dth
+    return J
 
 
-def _refine(x9: np.ndarray, br: float, th: np.ndarray, tk: PathTask, max_nfev: int
-            ) -> tuple[np.ndarray, np.ndarray, int]:
+def _refine(x9: np.ndarray, br: float, th: np.ndarray, tk: PathTask, max_nfev: int,
+            judged: _Judged | None = None) -> tuple[np.ndarray, np.ndarray, int]:
     """Refine one start; returns (parameters, crank angles, residual evaluations, counting
     each finite-difference column as one)."""
     from scipy.optimize import least_squares
 
     free = tk.free
-    lo, hi = tk.lo[free], tk.hi[free]
-    v0 = [np.clip(x9[free], lo, hi)]
-    vlo, vhi = [lo], [hi]
+    v, s, blo, bhi = refinement_start(x9, th, tk)
+    nfev = 0
+    for weight in (1e2, 1e4):
+        args = (x9, free, tk, s, br, weight, judged)
+        res = least_squares(lambda u, *a: _residuals(u[None, :], *a)[0], v, jac=_jacobian,
+                            bounds=(blo, bhi), method="trf", x_scale="jac",
+                            max_nfev=max_nfev, args=args, ftol=1e-15, xtol=1e-15, gtol=1e-15,
+                            callback=exact_stop(tk))
+        nfev += int(res.nfev) + int(res.njev or 0) * len(v)
+        v = res.x
+        R = _residuals(v[None, :], *args)[0]
+        pen = R[2 * tk.n:len(R) - (len(judged.terms) if judged else 0)]
+        if not np.any(pen > 0):
+            break
+    X, th_r = _unpack(v[None, :], x9, free, tk, s)
+    if tk.theta0_periodic:  # searched unbounded: back within the bounds, the same linkage
+        wrap_theta0(X, tk)
+    return X[0], th_r[0].copy(), nfev
+
+
+def refinement_start(x: np.ndarray, th: np.ndarray, tk: PathTask
+                     ) -> tuple[np.ndarray, float, np.ndarray, np.ndarray]:
+    """The refinement vector of a start (:func:`_vector`), its sense of rotation and bounds
+    (:func:`_vector_bounds`), the vector moved just inside them."""
+    v, s = _vector(x, th, tk, pad=1e-6)
+    blo, bhi = _vector_bounds(tk)
+    fin = np.isfinite(blo) & np.isfinite(bhi)
+    span = np.where(fin, bhi - blo, 0.0)
+    v = np.clip(v, np.where(fin, blo + 1e-12 * span, blo), np.where(fin, bhi - 1e-12 * span, bhi))
+    return v, s, blo, bhi
+
+
+def exact_stop(tk: PathTask) -> Callable[..., bool]:
+    """A ``least_squares`` callback that stops a refinement once its residuals are exact to
+    round-off (an RMS of 1e-13 of the targets' size: ``ftol`` cannot see that, the cost
+    falling towards 0 relative to itself)."""
+    tol = tk.n * (1e-13 * tk.scale) ** 2
+
+    def stop(intermediate_result: Any) -> bool:
+        return bool(2.0 * intermediate_result.cost <= tol)
+
+    return stop
+
+
+def wrap_theta0(X: np.ndarray, tk: PathTask) -> None:
+    """Frame angles of designs ``X`` (m, k) back within their bounds (a full turn), in place."""
+    i = tk.theta0_index
+    X[:, i] = tk.lo[i] + np.mod(X[:, i] - tk.lo[i], TWO_PI)
+
+
+def _vector(x9: np.ndarray, th: np.ndarray, tk: PathTask, pad: float = 0.0
+            ) -> tuple[np.ndarray, float]:
+    """The refinement vector of a design (parameters ``x9``, crank angles ``th``): its free
+    parameters, then without timing the first crank angle and the increments between
+    consecutive points (their absolute values plus ``pad``: the sense of rotation ``s``,
+    returned, stays fixed), or with a timing of free start the first crank angle."""
+    parts = [x9[tk.free]]
     s = 1.0
     if tk.timing is None:
         d = np.diff(th)
         s = 1.0 if d.sum() >= 0 else -1.0
-        v0 += [[th[0]], np.abs(d) + 1e-6]
-        vlo += [[-np.inf], np.zeros(len(d))]
-        vhi += [[np.inf], np.full(len(d), TWO_PI)]
-    v = np.concatenate(v0).astype(float)
-    blo, bhi = np.concatenate(vlo).astype(float), np.concatenate(vhi).astype(float)
-    fin = np.isfinite(blo) & np.isfinite(bhi)
-    span = np.where(fin, bhi - blo, 0.0)
-    v = np.clip(v, np.where(fin, blo + 1e-12 * span, blo), np.where(fin, bhi - 1e-12 * span, bhi))
-    nfev = 0
-    for weight in (1e2, 1e4):
-        args = (x9, free, tk, s, br, weight)
-        res = least_squares(lambda u, *a: _residuals(u[None, :], *a)[0], v, jac=_jacobian,
-                            bounds=(blo, bhi), method="trf", x_scale="jac",
-                            max_nfev=max_nfev, args=args, ftol=1e-15, xtol=1e-15, gtol=1e-15)
-        nfev += int(res.nfev) + int(res.njev or 0) * len(v)
-        v = res.x
-        pen = _residuals(v[None, :], *args)[0, 2 * tk.n:]
-        if not np.any(pen > 0):
-            break
-    X, th_r = _unpack(v[None, :], x9, free, tk, s)
-    return X[0], th_r[0].copy(), nfev
+        parts += [[th[0]], np.abs(d) + pad]
+    elif tk.free_start:
+        parts.append([th[0]])
+    return np.concatenate(parts).astype(float), s
+
+
+def _vector_bounds(tk: PathTask) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of the refinement vector (:func:`_vector`); a frame angle free over a whole turn
+    and the first crank angle are unbounded (angles)."""
+    lo, hi = tk.lo[tk.free].copy(), tk.hi[tk.free].copy()
+    i = tk.theta0_index
+    if tk.theta0_periodic and tk.free[i]:
+        j = int(tk.free[:i].sum())  # theta0's place among the free parameters
+        lo[j], hi[j] = -np.inf, np.inf
+    vlo, vhi = [lo], [hi]
+    if tk.timing is None:
+        vlo += [[-np.inf], np.zeros(tk.n - 1)]
+        vhi += [[np.inf], np.full(tk.n - 1, TWO_PI)]
+    elif tk.free_start:
+        vlo.append([-np.inf])
+        vhi.append([np.inf])
+    return np.concatenate(vlo).astype(float), np.concatenate(vhi).astype(float)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -593,8 +748,9 @@ def _wrap_theta2(th: np.ndarray) -> list[float]:
 def path(points: ArrayLike, *, timing: ArrayLike | None = None,
          bounds: Mapping[str, tuple[float, float]] | None = None,
          constraints: Any = ("grashof", "order"), objective: Any = "sum_squares",
-         closed: bool = False, seed: int | None = None, client: Any = None,
-         progress: Any = True, n_candidates: int = 2**16, n_samples: int = 120,
+         closed: bool = False, free_start: bool = False, seed: int | None = None,
+         client: Any = None, progress: Any = True, n_candidates: int = 2**16,
+         n_samples: int = 120,
          n_refine: int = 24, n_designs: int = 5, chunk_size: int = 2048,
          max_nfev: int = 1000) -> SynthesisResult:
     """Four-bars whose coupler point passes through ``points``, defect-free, best first.
@@ -620,6 +776,10 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
         (weighted, or a Pareto set of accuracy against dynamics).
     closed : bool
         A closed path: the crank turns fully and the points are reached cyclically.
+    free_start : bool
+        With ``timing``: only the crank's advances between the points are prescribed
+        (``timing - timing[0]``); the first crank angle is searched (as in the literature's
+        18-point closed path, the crank 20 deg between points from a free start).
     seed : int, optional
         Seed of the Sobol sample (the search is reproducible with a seed).
     client : dask.distributed.Client or str, optional
@@ -644,7 +804,8 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
         No defect-free design found: names what cannot be met and the closest value reached.
     """
     t_start = time.perf_counter()
-    tk = task(points, timing=timing, bounds=bounds, constraints=constraints, closed=closed)
+    tk = task(points, timing=timing, bounds=bounds, constraints=constraints, closed=closed,
+              free_start=free_start)
     obj = Objective.parse(objective)
     for name, val, least in (("n_candidates", n_candidates, 1), ("n_samples", n_samples, 8),
                              ("n_refine", n_refine, 1), ("n_designs", n_designs, 1),
@@ -655,7 +816,10 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
         raise ParameterError("n_candidates", n_candidates, f"must be at most {MAX_CANDIDATES} "
                              "(2^22); more refinements, not more candidates, sharpen the optimum")
     check_client(client)
-    cands = _candidates(tk, int(n_candidates), seed)
+    # the candidates made chunk by chunk (on a cluster, by the worker: nothing but the chunk's
+    # bounds travels with a task)
+    cands = Generated(int(n_candidates), functools.partial(_candidates, tk, int(n_candidates),
+                                                           _seed(seed)))
     keep = max(4 * n_refine, 64)
     screen = functools.partial(_screen, n_samples=int(n_samples), keep=keep)
     with _progress_bar(progress, "screening candidates") as bar:
@@ -664,33 +828,25 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
     t_global = time.perf_counter() - t_start
     counts = {k: int(v) for k, v in zip(DEFECTS, res["counts"].sum(axis=0), strict=True)}
     closest = dict(zip(DEFECTS, res["closest"].min(axis=0), strict=True))
-    n_eval = len(cands["X"])
+    n_eval = int(n_candidates)
     if len(res["err"]) == 0:
         raise _infeasible_screen(tk, counts, closest, n_eval)
     span = tk.hi - tk.lo
     starts = _distinct(res["X"], range(len(res["err"])), span, int(n_refine))
     pool: list[FourbarDesign] = []
-    nres = 0
     rejected_refined = dict.fromkeys(DEFECTS, 0)
     last_checks: list[tuple[str, dict[str, Any]]] = []
-    # successive halving: every start refined briefly, the better third then to convergence
-    first = []
-    for i in starts:
-        br = float(res["branch"][i])
-        X, th, nf = _refine(res["X"][i], br, res["theta2"][i], tk, max(int(max_nfev) // 4, 10))
-        nres += nf
-        r = _residuals(np.concatenate([X[tk.free], [th[0]], np.abs(np.diff(th))])[None, :]
-                       if tk.timing is None else X[tk.free][None, :], X, tk.free, tk,
-                       1.0 if np.diff(th).sum() >= 0 else -1.0, br, 1e4)
-        first.append((float(np.sum(r ** 2)), X, th, br))
-    first.sort(key=lambda f: f[0])
-    keep_n = max(3, len(first) // 3)
-    refined = []
-    for _, X, th, br in first[:keep_n]:
-        X, th, nf = _refine(X, br, th, tk, int(max_nfev))
-        nres += nf
-        refined.append((X, th, br))
-    refined += [(X, th, br) for _, X, th, br in first[keep_n:]]
+    scales = _scales(res, tk, obj)
+    judged = _judged(obj, scales, tk) if obj.kind == "weighted" else None
+    refined, nres = _refine_starts(res, starts, tk, int(max_nfev), judged)
+    if obj.kind == "pareto":  # accuracy traded for dynamics by growing weights on them
+        base = refined[:max(2, int(n_refine) // 6)]
+        for lam in PARETO_WEIGHTS:
+            judged = _judged(obj, scales, tk, lam)
+            for X, th, br in base:
+                Xr, thr, nf = _refine(X, br, th, tk, int(max_nfev), judged)
+                nres += nf
+                refined.append((Xr, thr, br))
     for X, th, br in refined:
         params: dict[str, Any] = {k: float(v) for k, v in zip(PARAMS, X, strict=True)}
         params["theta2"] = [float(v) for v in th]
@@ -712,12 +868,76 @@ def path(points: ArrayLike, *, timing: ArrayLike | None = None,
     Xp = np.array([[d.params[k] for k in PARAMS] + [d.branch] for d in pool])
     order = _distinct(Xp, range(len(pool)), np.append(span, 2.0), len(pool))
     pool = [pool[i] for i in order]
-    designs, pareto = judge(pool, obj, int(n_designs))
+    designs, pareto = judge(pool, obj, int(n_designs), scales)
     return SynthesisResult(designs=tuple(designs), points=tk.points, timing=tk.timing,
                            closed=tk.closed, constraints=tk.constraint_names(),
                            n_evaluated=n_eval, rejected=counts, n_refined=len(starts),
                            n_residual_evaluations=nres, time=time.perf_counter() - t_start,
-                           time_global=t_global, objective=obj.kind, pareto=pareto)
+                           time_global=t_global, objective=obj.kind, pareto=pareto,
+                           scales=scales)
+
+
+#: The weights on the dynamics (each normalised, the error by n (0.01 L)^2) of the refinements
+#: that trace a Pareto set, continued from the most accurate designs.
+PARETO_WEIGHTS = (1e-3, 1e-2, 1e-1, 1.0, 10.0)
+
+
+def _refine_starts(res: Mapping[str, np.ndarray], starts: Sequence[int], tk: PathTask,
+                   max_nfev: int, judged: _Judged | None
+                   ) -> tuple[list[tuple[np.ndarray, np.ndarray, float]], int]:
+    """Successive halving: every start refined briefly, the better third then to
+    convergence; the refined (parameters, crank angles, branch), best first, and the
+    residual evaluations."""
+    nres = 0
+    first = []
+    for i in starts:
+        br = float(res["branch"][i])
+        X, th, nf = _refine(res["X"][i], br, res["theta2"][i], tk, max(max_nfev // 4, 10),
+                            judged)
+        nres += nf
+        vec, sense = _vector(X, th, tk)
+        r = _residuals(vec[None, :], X, tk.free, tk, sense, br, 1e4, judged)
+        first.append((float(np.sum(r ** 2)), X, th, br))
+    first.sort(key=lambda f: f[0])
+    keep_n = max(3, len(first) // 3)
+    refined = []
+    for _, X, th, br in first[:keep_n]:
+        X, th, nf = _refine(X, br, th, tk, max_nfev, judged)
+        nres += nf
+        refined.append((X, th, br))
+    return refined + [(X, th, br) for _, X, th, br in first[keep_n:]], nres
+
+
+def _scales(res: Mapping[str, np.ndarray], tk: PathTask, obj: Objective) -> dict[str, float]:
+    """What the metrics are measured against when judged by forces: the error against
+    n (0.01 L)^2 (an RMS deviation of 1 % of the targets' size L), each force against its
+    median over the screened candidates (:func:`~linkwork.synthesis.forces.force_metrics`),
+    the transmission angle as (pi/2) / mu_min against 1. Empty for the literature's objective."""
+    if obj.kind == "sum_squares":
+        return {}
+    out = {"error": tk.n * (0.01 * tk.scale) ** 2, "min_transmission_angle": 1.0}
+    X = np.asarray(res["X"])
+    rotates = (_crank_rocker_margin(X) < 0) | tk.closed
+    m = force_metrics(X, np.asarray(res["branch"]), np.asarray(res["theta2"]), rotates,
+                      obj.forces)
+    for k in ("peak_torque", "peak_bearing", "rms_shaking"):
+        v = m[k][np.isfinite(m[k]) & (m[k] > 0)]
+        out[k] = float(np.median(v)) if len(v) else 1.0
+    return out
+
+
+def _judged(obj: Objective, scales: Mapping[str, float], tk: PathTask,
+            lam: float | None = None) -> _Judged:
+    """The refinement's objective of a weighted search (``obj.weights``, the error's weight 1
+    when not given), or of a Pareto search with the weight ``lam`` on each metric but the
+    error."""
+    if lam is None:
+        w = dict(obj.weights) or {"peak_torque": 1.0}
+    else:
+        w = {k: lam for k in obj.metrics if k != "error"}
+    we = w.pop("error", 1.0)
+    terms = tuple((k, v / scales[k]) for k, v in w.items() if v > 0)
+    return _Judged(model=obj.forces, point=math.sqrt(we / scales["error"]), terms=terms)
 
 
 def _infeasible_screen(tk: PathTask, counts: Mapping[str, int], closest: Mapping[str, float],

@@ -83,7 +83,48 @@ def test_motion_task_three_poses(tmp_path, capsys):
     assert "four-bars through 3 poses" in capsys.readouterr().out.replace("\n", " ")
 
 
+def test_sixbar_path_task_writes_designs_that_analyze_reads(tmp_path, capsys):
+    """[path] linkage = "stephenson": the planted six-bar of tests/synthesis/test_sixbar.py in
+    mm, bounds +-50 % around it, timing: the ranked table, the files, a design file that
+    linkwork analyze reads and whose coupler point passes through the targets."""
+    from linkwork.synthesis import sixbar as S
+
+    p = dict(r1=40, r2=10, r3=35, r4=30, x0=0, y0=0, theta0=0, cx=15, cy=15, r5=35, r6=30,
+             x6=40, y6=40, px=10, py=5)
+    th = np.linspace(0.3, 5.0, 8)
+    x, y, _ = S.sixbar_point(th, np.array([[p[k] * 1e-3 for k in S.SIXBAR_PARAMS]]),
+                             [(1, 1)], "stephenson")
+    pl = ", ".join(f'["{float(a) * 1e3!r} mm", "{float(b) * 1e3!r} mm"]'
+                   for a, b in zip(x[0], y[0], strict=True))
+    lims = {k: (0.5 * v, 1.5 * v) if k[0] == "r" else (v - 20, v + 20) for k, v in p.items()}
+    bounds = ", ".join(f'{k} = ["{lo} mm", "{hi} mm"]' for k, (lo, hi) in lims.items()
+                       if k != "theta0")
+    f = _write(tmp_path, f'type = "synthesis"\nname = "six"\n[path]\nlinkage = "stephenson"\n'
+                         f'points = [{pl}]\ntiming = [{", ".join(repr(float(t)) for t in th)}]\n'
+                         f'constraints = ["order"]\nbounds = {{ {bounds}, theta0 = ["0 deg", '
+                         '"360 deg"] }\n[search]\ncandidates = 8192\nrefine = 6\ndesigns = 2\n')
+    out = tmp_path / "out"
+    rc = main(["synthesize", "path", str(f), "--out", str(out)])
+    text = capsys.readouterr().out
+    assert rc == 0, text
+    assert "stephenson six-bars" in text.replace("\n", " ")
+    data = json.loads((out / "synthesis.json").read_text())
+    d = data["result"]["designs"][0]
+    assert data["result"]["linkage"] == "stephenson" and d["error"] < 1e-20
+    for name in ("synthesis.csv", "design_1.toml", "path.png"):
+        assert (out / name).stat().st_size > 0, name
+    doc = io.load(out / "design_1.toml")
+    P = kinematics(doc.mechanism(), np.asarray(d["theta2"]) + d["theta0"]).point("link5", "P")
+    assert np.allclose(P.x, x[0], atol=1e-12) and np.allclose(P.y, y[0], atol=1e-12)
+    assert main(["analyze", str(out / "design_1.toml"), "--out", str(tmp_path / "a")]) == 0
+
+
 @pytest.mark.parametrize(("body", "needle"), [
+    ('[path]\nlinkage = "watt"\npoints = [[0, 0], [1, 1], [2, 0]]\nbounds = { rcx = [1, 2] }\n',
+     "bounds.rcx"),
+    ('[path]\nlinkage = "watt"\npoints = [[0, 0], [1, 1], [2, 0]]\n[objective]\n'
+     'kind = "pareto"\n', "judging by forces is for four-bars"),
+    ('[path]\nlinkage = "klann"\npoints = [[0, 0], [1, 1], [2, 0]]\n', "linkage"),
     ('[function]\ny = "__import__(1)"\nx_range = [1, 2]\ninput = { span = 1 }\n'
      'output = { span = 1 }\n', "y:"),
     ('[path]\npoints = [[0, 0], [1, 1], [2, 0]]\nbounds = { crank = [1, 2] }\n', "bounds.crank"),

@@ -402,7 +402,8 @@ def test_synthesis_designs_are_chosen_and_each_drawn_by_the_engine(opened):
     assert len(labels) == len(designs) == len(o.data["alternatives"]) + 1
     q = o.data["scene"]["q"]
     studies = {k: study_synthesis.run(doc, k) for k in ("path", "function", "motion")}
-    for j in (1, 4, len(designs) - 1):                  # a path, a function, a motion design
+    f1 = len(studies["path"].designs)                   # function design 1's drawing
+    for j in (1, f1, len(designs) - 1):                 # a path, a function, a motion design
         o.page.select_option("#lw-choice", str(j))      # a person choosing
         assert o.api("choice()") == j
         shown = o.page.eval_on_selector_all(
@@ -426,15 +427,51 @@ def test_synthesis_designs_are_chosen_and_each_drawn_by_the_engine(opened):
     assert o.api("choice()") == len(designs) - len(studies["motion"].designs) + 1
     # the cursor of function design 1's error diagram: hidden unless that design is shown
     chart = next(c for c in o.data["charts"] if c["linked"] and not c["parametric"]
-                 and c["scene"] == 4)
+                 and c["scene"] == f1)
     cursor = o.page.locator(f"#{chart['id']}-cursor")
     o.api("show(10)")
     assert cursor.get_attribute("visibility") == "hidden"
     o.page.locator(f"#{chart['id']}").scroll_into_view_if_needed()
     box = o.page.locator(f"#{chart['id']}").bounding_box()
     o.page.mouse.click(box["x"] + 0.5 * box["width"], box["y"] + 0.5 * box["height"])
-    assert o.api("choice()") == 4 and cursor.get_attribute("visibility") is None
+    assert o.api("choice()") == f1 and cursor.get_attribute("visibility") is None
     assert q > 0 and [m for m in o.messages if m[0] in ("error", "pageerror")] == []
+
+
+def test_a_six_bar_synthesis_design_is_drawn_by_the_engine(browser, tmp_path):
+    """A Stephenson III six-bar path task (tests/data/synthesis/stephenson_path.toml): each
+    design, chosen, is drawn with every joint (C on the coupler, D, O6 included) at the
+    engine's positions of that design (SynthesisStudy.motion, run here) at several frames; no
+    error on the page; the section shot for review."""
+    task = ROOT / "tests" / "data" / "synthesis" / "stephenson_path.toml"
+    doc = io.load(task)
+    html = report.write(report.build(doc, path=task), tmp_path / "six.html")
+    study = study_synthesis.run(doc, "path")
+    o = Opened(browser, html)
+    try:
+        o.api("pause()")
+        assert len(o.data["alternatives"]) + 1 == len(study.designs)
+        for j in range(len(study.designs)):
+            o.page.select_option("#lw-choice", str(j))
+            assert o.api("choice()") == j
+            engine = _joint_points(study.motion(j))
+            assert {"joint C", "joint D", "joint O6"} <= set(engine)
+            scene = o.data["scene"] if j == 0 else o.data["alternatives"][j - 1]
+            for k in _frames_to_check(o):
+                o.api(f"show({k})")
+                f = scene["frames"][k]
+                for name, xy in engine.items():
+                    svg = "#lw-scene" if j == 0 else f"#lw-v{j}-scene"
+                    loc = o.page.locator(f'{svg} circle[data-name="{name}"]').first
+                    drawn = (float(loc.get_attribute("cx")), -float(loc.get_attribute("cy")))
+                    assert drawn == pytest.approx((xy[0, f], xy[1, f]),
+                                                  abs=0.51 * scene["q"] + 1e-6), name
+        SCREENSHOTS.mkdir(parents=True, exist_ok=True)
+        o.page.locator("#lw-synthesis-path").screenshot(
+            path=str(SCREENSHOTS / "stephenson_path-synthesis-path.png"))
+        assert [m for m in o.messages if m[0] in ("error", "pageerror")] == []
+    finally:
+        o.close()
 
 
 SECTIONS = [("loom_sixbar", "dynamics"), ("sine_press", "dynamics"),

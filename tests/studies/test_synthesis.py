@@ -32,7 +32,7 @@ def doc():
 
 def test_path_design_motion_is_the_closed_form_coupler_curve(doc):
     st = study_synthesis.run(doc, "path")
-    assert len(st.designs) == 4                         # seed 4, 4096 candidates
+    assert len(st.designs) >= 2 and st.result.pareto == tuple(range(len(st.designs)))
     for i, d in enumerate(st.designs):
         kin = st.motion(i, 181)
         phi = st.crank_angles(i, 181)

@@ -10,6 +10,7 @@ linkwork.models.fourbar over designs x angles (1e-12 of the link lengths).
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import _synthesis_reference as ref
@@ -177,6 +178,25 @@ def test_dask_screening_gives_the_in_process_result():
     assert remote.rejected == local.rejected
 
 
+@pytest.mark.parametrize("free_start", [False, True])
+def test_candidates_made_chunk_by_chunk_are_the_whole_samples(free_start):
+    """The global sample made in chunks (each worker of a cluster makes its own: the Sobol
+    sequence fast-forwarded, the halves and branches by the candidate's index) is bit for bit
+    the sample made at once, whatever the cut (odd starts and lengths included)."""
+    from linkwork.synthesis.path import _candidates
+
+    th = np.linspace(0.2, 5.5, 6)
+    tk = task(_targets(th), timing=th if free_start else None, free_start=free_start)
+    n = 1000
+    whole = _candidates(tk, n, 7)
+    assert set(whole) == ({"X", "branch", "start"} if free_start else {"X", "branch"})
+    for cuts in ([0, 512, 1000], [0, 3, 700, 701, 1000], [0, 1000]):
+        parts = [_candidates(tk, n, 7, a, b) for a, b in itertools.pairwise(cuts)]
+        for k, v in whole.items():
+            assert np.array_equal(np.concatenate([p[k] for p in parts]), v), (cuts, k)
+    assert np.array_equal(whole["branch"][:4], [1, -1, 1, -1])
+
+
 def test_design_file_runs_through_the_planar_study(tmp_path):
     from linkwork import io
     from linkwork.studies import planar as planar_study
@@ -201,3 +221,85 @@ def test_bounds_that_exclude_every_assembled_design_say_so():
     with pytest.raises(InfeasibleError, match="assembles") as ex:
         path(pts, bounds=b, constraints=("order",), **FAST)
     assert "no candidate assembles" in str(ex.value)
+
+
+def test_refinement_jacobian_equals_central_differences():
+    """The coupler-point rows of the refinement's Jacobian (exact, by implicit differentiation
+    of the loop closure) against central differences of the residuals (step 1e-6), for free
+    timing, prescribed timing and timing with a free start: to 1e-7 of the largest entry."""
+    from linkwork.synthesis import path as pa
+
+    th = np.linspace(0.2, 5.5, 8)
+    pts = _targets(th) + 0.01
+    x9 = np.array([PLANT[k] for k in pa.PARAMS])
+    for kw in ({}, {"timing": th}, {"timing": th, "free_start": True}):
+        tk = task(pts, constraints=("order",), **kw)
+        for br in (1.0, -1.0):
+            v, s = pa._vector(x9, th, tk)
+            args = (x9, tk.free, tk, s, br, 1e2)
+            J = pa._jacobian(v, *args)
+            Jc = np.empty_like(J)
+            for j in range(len(v)):
+                e = np.zeros(len(v))
+                e[j] = 1e-6 * max(1.0, abs(v[j]))
+                Jc[:, j] = (pa._residuals((v + e)[None, :], *args)[0]
+                            - pa._residuals((v - e)[None, :], *args)[0]) / (2 * e[j])
+            rows = slice(0, 2 * tk.n)
+            assert np.abs(J[rows] - Jc[rows]).max() <= 1e-7 * np.abs(Jc[rows]).max()
+
+
+def test_planted_timing_with_a_free_start_is_recovered():
+    """Only the crank's advances between the points are prescribed (the literature's 18-point
+    problem does this): the planted crank-rocker is found with the advances kept."""
+    th = 1.1 + np.linspace(0.0, 4.0, 7)
+    pts = _targets(th)
+    res = path(pts, timing=th - 1.1, free_start=True, **FAST)
+    L = float(np.hypot(*np.ptp(pts, axis=0)))
+    assert res.best.error < 1e-20 * L * L
+    _independent(res)
+    for d in res.designs:
+        adv = np.mod(np.diff(d.theta2) + math.pi, 2 * math.pi) - math.pi
+        assert np.allclose(adv, np.diff(th), atol=1e-12)
+    with pytest.raises(ParameterError, match="free_start"):
+        path(pts, free_start=True, progress=False)
+
+
+def test_frame_angle_bounded_by_a_full_turn_is_refined_across_zero():
+    """theta0 of the planted linkage just below 2 pi (= -0.05 rad), bounds (0, 2 pi), the
+    refinement started at theta0 = 0.02: it does not stop at the bound 0 (as a box bound
+    would make it) but reaches the exact design, returned with theta0 inside the bounds."""
+    from linkwork.synthesis import path as pa
+
+    p = dict(PLANT, theta0=-0.05)
+    th = np.linspace(0.2, 5.5, 8)
+    pts = _targets(th, p)
+    tk = task(pts, timing=th, bounds={"theta0": (0.0, 2 * math.pi)})
+    x9 = np.array([dict(PLANT, theta0=0.02)[k] for k in pa.PARAMS])
+    X, th_r, _ = pa._refine(x9, 1.0, th, tk, 200)
+    assert X[8] == pytest.approx(2 * math.pi - 0.05, abs=1e-9)
+    assert np.allclose(X[:8], [PLANT[k] for k in pa.PARAMS[:8]], atol=1e-9)
+    assert np.array_equal(th_r, th)
+
+
+def test_run_range_of_a_rocker_whose_points_straddle_zero(tmp_path):
+    """A triple rocker (the crank swings from -1.65 to 1.65 rad) through points at crank
+    angles -0.8 ... 0.8, kept within a turn as designs keep them (5.48, 5.98, 0.3, 0.8): the
+    range it runs is the short way from the first point to the last (1.6 rad, assembled
+    throughout), not back through pi; its planar file runs through the engine."""
+    from linkwork import io
+    from linkwork.planar.kinematics import kinematics
+    from linkwork.synthesis.design import FourbarDesign
+
+    rocker = dict(r1=2.0, r2=1.5, r3=1.2, r4=1.4, rcx=0.5, rcy=0.3, x0=0.0, y0=0.0,
+                  theta0=0.0)
+    th = np.array([-0.8, -0.3, 0.3, 0.8])
+    pts = _targets(th, rocker)
+    params = dict(rocker, theta2=list(np.mod(th, 2 * math.pi)))
+    defect, checks = check_design(params, 1, task(pts, timing=th, constraints=("order",)))
+    assert defect is None and not checks["crank_rotates"]
+    d = FourbarDesign(params=params, branch=1, error=0.0, points=pts, checks=checks)
+    run = d.run_range(9)
+    assert np.allclose(np.mod(run - run[0], 2 * math.pi)[-1], 1.6)
+    assert coupler_point(run, rocker, 1)[2].all()
+    doc = io.load(d.to_toml(tmp_path / "rocker.toml"))
+    assert kinematics(doc.mechanism(), doc.positions()).valid.all()
