@@ -215,11 +215,29 @@ def _json_lines(value: Any, level: int, where: str = "") -> Iterator[str]:
             yield ("," if i else "") + pad
             yield from _json_lines(v, level + 1, f"{where}[{i}]")
         yield "\n" + " " * level + "]"
+    elif isinstance(value, np.ndarray) and value.ndim == 1 and value.dtype.kind == "f":
+        yield from _json_array_pieces(value, where)
     else:
         try:  # the common case: nothing to replace
             yield json.dumps(value, allow_nan=False)
         except ValueError:  # NaN (-> null) or an infinity (refused, naming where)
             yield json.dumps(strict_json_values(value, where), allow_nan=False)
+
+
+def _json_array_pieces(values: np.ndarray, where: str) -> Iterator[str]:
+    """A float array as the JSON text of the list :func:`json_array` makes of it (``[1.0,
+    null, 2.5]``: the same text, as the C encoder writes a list), :data:`CSV_BLOCK_ROWS` values
+    at a time: the list of Python floats (32 bytes a value) is never made."""
+    inf = np.isinf(values)
+    if inf.any():
+        i = int(np.argmax(inf))
+        raise ParameterError(f"{where}[{i}]", float(values[i]), _TOO_LARGE)
+    yield "["
+    for start in range(0, values.size, CSV_BLOCK_ROWS):
+        block = values[start:start + CSV_BLOCK_ROWS].tolist()
+        # repr(float) is json's float text; NaN -> null (no other value contains "nan")
+        yield (", " if start else "") + ", ".join(map(repr, block)).replace("nan", "null")
+    yield "]"
 
 
 def write_json(path: str | Path, data: Any) -> Path:
@@ -230,8 +248,9 @@ def write_json(path: str | Path, data: Any) -> Path:
     refused (:func:`strict_json_values`) and leaves no file.  Objects are indented one
     key per line; a list of numbers (an array over the positions) is one line, encoded by
     Python's C encoder (the indenting encoder is pure Python: 1.8x slower on a 40 000-position
-    analysis).  Written piece by piece beside ``path`` and renamed when complete
-    (:func:`atomic_path`).  Returns the path.
+    analysis); a one-dimensional float NumPy array is written as that list would be, block by
+    block, without making the list (NaN as null).  Written piece by piece beside ``path`` and
+    renamed when complete (:func:`atomic_path`).  Returns the path.
     """
     p = Path(path)
     with atomic_path(p) as tmp, tmp.open("w") as fh:

@@ -11,12 +11,13 @@ pint is imported lazily, on the first conversion of a string, so importing linkw
 from __future__ import annotations
 
 import math
+import re
 from functools import lru_cache
 from typing import Any
 
 from linkwork.errors import ParameterError
 
-__all__ = ["KINDS", "deg", "rpm", "to_deg", "to_si"]
+__all__ = ["KINDS", "deg", "expressed_like", "rpm", "to_deg", "to_si"]
 
 #: SI unit of each kind of quantity that files and the CLI accept.
 KINDS: dict[str, str] = {
@@ -117,6 +118,30 @@ def to_si(value: Any, kind: str, name: str = "value") -> float:
         raise ParameterError(name, value, f"must be {article} {kind.replace('_', ' ')} in "
                              f"{unit}: {why}")
     return si
+
+
+_NUMBER_THEN_UNIT = re.compile(r"\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*(?P<unit>\S.*?)\s*")
+
+
+def expressed_like(si: float, written: Any) -> str | None:
+    """The SI value ``si`` written in the unit of ``written`` (a file's value such as
+    ``"1500 rpm"``): ``expressed_like(157.0796, "1500 rpm") == "1500 rpm"``, so that a limit
+    reads in the user's unit. None if ``written`` is not a number with a unit, or its unit is
+    not of the value's kind (pint's base units of the unit are taken as the SI unit: rad/s for
+    rpm, m for mm, kg*m**2 for g*m^2)."""
+    if not isinstance(written, str):
+        return None
+    m = _NUMBER_THEN_UNIT.fullmatch(written)
+    if m is None:
+        return None
+    try:
+        ureg = _registry()
+        unit = ureg.Unit(m["unit"])
+        value = float(ureg.Quantity(float(si), ureg.Quantity(1.0, unit).to_base_units().units)
+                      .to(unit).magnitude)
+    except Exception:  # pint raises several unrelated types
+        return None
+    return f"{value:.6g} {m['unit']}"
 
 
 def deg(x: float) -> float:

@@ -29,7 +29,12 @@ import typer
 
 from linkwork import __version__
 from linkwork.cli import examples
-from linkwork.errors import FileFormatError, LinkworkError
+from linkwork.errors import (
+    ExternalToolError,
+    FileFormatError,
+    LinkworkError,
+    MissingExtraError,
+)
 
 __all__ = ["COMMAND_HELP", "COMMAND_MODULES", "app", "main"]
 
@@ -243,9 +248,27 @@ def _main(args: list[str]) -> int:
         return _fail(fmt() if callable(fmt) else str(exc))
     except FileFormatError as exc:
         return _fail(str(exc) + _bundled_hint(exc))
-    except (LinkworkError, OSError) as exc:
+    except LinkworkError as exc:
+        return _fail(_on_file(exc, args))
+    except OSError as exc:
         return _fail(str(exc))
     return int(rv) if isinstance(rv, int) else 0
+
+
+def _on_file(exc: LinkworkError, args: Sequence[str]) -> str:
+    """The message of an error found while a command worked on its input file (a mechanism
+    that does not assemble, a study's limit) with the file in front, as the file's own errors
+    name it; an error of an option (``--angles = ...``) or one that names the file already as
+    it is."""
+    text = str(exc)
+    if (isinstance(exc, MissingExtraError | ExternalToolError)  # of the machine, not the file
+            or str(getattr(exc, "parameter", "")).startswith("-")):
+        return text
+    files = [a for a in args if not a.startswith("-") and a.endswith(".toml")
+             and Path(a).is_file()]
+    if not files or files[0] in text:
+        return text
+    return f"{files[0]}: {text}"
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -65,3 +65,23 @@ def steps(total: int, *, console: Any) -> Iterator[Callable[[str], None]]:
 
         yield step
         bar.update(task, completed=total)
+
+
+@contextlib.contextmanager
+def counting(description: str, *, console: Any) -> Iterator[Callable[[int, int], None]]:
+    """A progress bar of counted work (positions, revolutions) as a ``progress(done, total)``
+    callback: on ``console`` (a stderr console) where it is a terminal, erased when done;
+    elsewhere the callback does nothing (as :func:`steps`)."""
+    if not console.is_terminal:
+        yield lambda done, total: None
+        return
+    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
+
+    with Progress(escape(description), BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
+                  console=console, transient=True) as bar:
+        task = bar.add_task("", total=None)
+
+        def update(done: int, total: int) -> None:
+            bar.update(task, completed=done, total=total)
+
+        yield update

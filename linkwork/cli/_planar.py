@@ -14,6 +14,7 @@ diagrams also their ranges, work and diagrams' ranges (a table), their columns a
 
 from __future__ import annotations
 
+import contextlib
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -24,39 +25,76 @@ from rich.markup import escape
 from rich.table import Table
 
 from linkwork.cli._console import console as make_console
-from linkwork.cli._console import steps
+from linkwork.cli._console import counting, steps
 from linkwork.cli._format import fmt, scale_of, unit_label
 from linkwork.cli._tables import print_table
-from linkwork.io.planar import PlanarFile
-from linkwork.results import write_csv, write_json
+from linkwork.io.planar import MAX_WHOLE_POSITIONS, PlanarFile
+from linkwork.results import CsvRows, csv_rows, write_csv, write_json
 from linkwork.studies import planar as study_planar
 from linkwork.studies.planar import (
+    PLOT_POSITIONS,
     PlanarStudy,
+    PlanarSummary,
     cycle_peaks,
     dead_centre_label,
     named_columns,
     table_positions_error,
 )
 
-__all__ = ["analyze_planar", "cycle_peaks", "dead_centre_label", "named_columns", "render",
-           "table_positions_error"]
+__all__ = ["analyze_long", "analyze_planar", "cycle_peaks", "dead_centre_label",
+           "named_columns", "render", "table_positions_error"]
+
+#: What the tables show: a cycle held whole, or a long cycle's summary.
+Study = PlanarStudy | PlanarSummary
 
 #: Deprecated private name (tests reach it): :func:`linkwork.studies.planar.distinct_paths`.
 _distinct_paths = study_planar.distinct_paths
 
 
 def analyze_planar(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, console: Any
-                   ) -> PlanarStudy:
+                   ) -> PlanarStudy | PlanarSummary:
     """Analyse a planar mechanism file: table on ``console``, CSV/JSON/PNG into ``out``.
 
     ``angles``: the table's driver positions [rad, or m for a linear driver]; None: those of
-    every command (:func:`linkwork.studies.planar.default_table_positions`).
+    every command (:func:`linkwork.studies.planar.default_table_positions`). A cycle of more
+    than :data:`~linkwork.io.planar.MAX_WHOLE_POSITIONS` positions of one driver goes chunk
+    by chunk (:func:`analyze_long`).
     """
+    if doc.analysis.n > MAX_WHOLE_POSITIONS and len(doc.drivers) == 1:
+        return analyze_long(doc, out=out, angles=angles, console=console)
     with steps(1, console=make_console(stderr=True)) as step:
         step(f"solving {doc.analysis.n} positions")
         study = study_planar.analyze(doc, angles=angles)
     render(study, out=out, console=console)
     return study
+
+
+def analyze_long(doc: PlanarFile, *, out: Path, angles: np.ndarray | None, console: Any
+                 ) -> PlanarSummary:
+    """:func:`analyze_planar` of a long cycle: solved chunk by chunk
+    (:func:`~linkwork.studies.planar.analyze_chunked`), each chunk's rows streamed into
+    ``planar_kinematics.csv`` and ``planar_dynamics.csv`` (written beside them and renamed
+    when complete), under a progress bar of positions; ``planar.json`` without the
+    per-position arrays; the plots drawn at :data:`~linkwork.studies.planar.PLOT_POSITIONS`
+    positions (:meth:`~linkwork.studies.planar.PlanarSummary.sample`)."""
+    with contextlib.ExitStack() as files, counting(
+            f"solving and writing {doc.analysis.n} positions",
+            console=make_console(stderr=True)) as progress:
+        streams: list[CsvRows] = []
+
+        def sink(kc: dict[str, Any], dc: dict[str, Any]) -> None:
+            if not streams:  # headed by the first chunk's columns (the same every chunk)
+                for name, cols in zip(FILES[:2], (kc, dc), strict=True):
+                    streams.append(files.enter_context(
+                        csv_rows(out / name, {k: u for k, (_, u) in cols.items()})))
+            for rows, cols in zip(streams, (kc, dc), strict=True):
+                rows.append({k: v for k, (v, _) in cols.items()})
+
+        summary = study_planar.analyze_chunked(doc, angles=angles, sink=sink, units=True,
+                                               chunk=study_planar.CHUNK_POSITIONS,
+                                               progress=progress)
+    render(summary, out=out, console=console)
+    return summary
 
 
 @dataclass(frozen=True)
@@ -75,11 +113,11 @@ _SHOWN = {"rad": _Shown("φ1 [deg]", "deg", 180.0 / np.pi, "driving torque", "N�
           "m": _Shown("s1 [mm]", "mm", 1e3, "driving force", "N")}
 
 
-def _shown(study: PlanarStudy) -> _Shown:
+def _shown(study: Study) -> _Shown:
     return _SHOWN[study.mechanism.drivers[0].coordinate[1]]
 
 
-def _driver_heads(study: PlanarStudy) -> list[tuple[str, _Shown, str]]:
+def _driver_heads(study: Study) -> list[tuple[str, _Shown, str]]:
     """Per driver: the column head of its position, how it is shown, the head of its Q (one
     driver: ``φ1 [deg]``, ``Q [N·m]``; several: ``φ1 O1 [deg]``, ``Q O1 [N·m]``)."""
     drivers = study.mechanism.drivers
@@ -94,7 +132,7 @@ def _driver_heads(study: PlanarStudy) -> list[tuple[str, _Shown, str]]:
     return out
 
 
-def _structure_and_dead_centres(study: PlanarStudy, console: Any) -> None:
+def _structure_and_dead_centres(study: Study, console: Any) -> None:
     s, shown = study.structure, _shown(study)
     title = escape(study.doc.name or "planar mechanism")
     drivers = study.mechanism.drivers
@@ -109,7 +147,7 @@ def _structure_and_dead_centres(study: PlanarStudy, console: Any) -> None:
                           highlight=False)
 
 
-def _scales(study: PlanarStudy) -> dict[str, float]:
+def _scales(study: Study) -> dict[str, float]:
     """The round-off scale of each unit (``N``, ``N*m``; the driver's ``Q`` in its own unit):
     the largest peak over the cycle of the quantities in that unit (:func:`fmt`)."""
     scales: dict[str, float] = {}
@@ -119,14 +157,14 @@ def _scales(study: PlanarStudy) -> dict[str, float]:
     return scales
 
 
-def _table(study: PlanarStudy) -> Table:
+def _table(study: Study) -> Table:
     shown = _shown(study)
     tphi = np.atleast_2d(study.table_positions)
     tk, td, trans = study.table_kinematics, study.table_dynamics, study.table_transmission
     tq = np.atleast_2d(td.Q)
     scales = _scales(study)
     f_n, f_nm = scales.get("N", 0.0), scales.get("N*m", 0.0)
-    ab = np.asarray(study.dynamics.about, dtype=float) * 1e3
+    ab = np.asarray(study.table_dynamics.about, dtype=float) * 1e3
     several = study.mechanism.n_drivers > 1
     table = Table(title=escape(
         f"{'driving loads' if several else shown.load}, joint reactions |R| (force of a on "
@@ -149,10 +187,18 @@ def _table(study: PlanarStudy) -> Table:
     return table
 
 
-def _extremes(study: PlanarStudy) -> Table:
+def _power_scale(study: Study) -> float:
+    """The round-off scale of the driving power: its largest value over the cycle (a long
+    cycle's summary keeps its mean and the table's positions)."""
+    if isinstance(study, PlanarStudy):
+        return scale_of(study.dynamics.total_power)
+    return max(scale_of(study.table_dynamics.total_power), abs(study.means["power_mean"]))
+
+
+def _extremes(study: Study) -> Table:
     shown, scales = _shown(study), _scales(study)
     several = study.mechanism.n_drivers > 1
-    ptab = Table(title=escape(f"extremes over the cycle ({study.kinematics.n} positions of "
+    ptab = Table(title=escape(f"extremes over the cycle ({study.n} positions of "
                               "[analysis])"))
     ptab.add_column("quantity", no_wrap=True)
     dh = _driver_heads(study)
@@ -180,18 +226,18 @@ def _extremes(study: PlanarStudy) -> Table:
                          scales.get(d.field_units["Q"], 0.0)), *blank)
     ptab.add_row("driving power, mean [W]" if not several else
                  "driving power of all drivers, mean [W]",
-                 fmt(study.means["power_mean"], scale_of(study.dynamics.total_power)), *blank)
+                 fmt(study.means["power_mean"], _power_scale(study)), *blank)
     return ptab
 
 
-def _friction(study: PlanarStudy, console: Any) -> None:
+def _friction(study: Study, console: Any) -> None:
     """With friction in some joint: the losses per joint over the cycle, the cycle efficiency
     and the self-locking ranges (nothing is printed without friction)."""
     fr = study.friction
     if fr is None:
         return
     shown = _shown(study)
-    tab = Table(title=escape(f"friction losses over the cycle ({study.kinematics.n} positions "
+    tab = Table(title=escape(f"friction losses over the cycle ({study.n} positions "
                              "of [analysis])"))
     for h in ("joint", "loss [J]", "share of the driver's work [%]"):
         tab.add_column(escape(h), justify="left" if h == "joint" else "right", no_wrap=True)
@@ -217,13 +263,13 @@ def _friction(study: PlanarStudy, console: Any) -> None:
         console.print("self-locking: none over the range", highlight=False)
 
 
-def _loads(study: PlanarStudy, console: Any) -> None:
+def _loads(study: Study, console: Any) -> None:
     """With force elements or load diagrams: each one's range of values, length, and work over
     the cycle, and where each diagram acts (nothing is printed without them)."""
     if not study.loads:
         return
     shown = _shown(study)
-    tab = Table(title=escape(f"loads and force elements over the cycle ({study.kinematics.n} "
+    tab = Table(title=escape(f"loads and force elements over the cycle ({study.n} "
                              "positions of [analysis]; springs and dampers: tension +)"))
     heads = ("load", "kind", "min", "max", "unit", "length [mm]", "work [J]")
     for h in heads:
@@ -263,13 +309,17 @@ FILES = ("planar_kinematics.csv", "planar_dynamics.csv", "planar.json", "planar_
          "planar_loads.png")
 
 
-def _plots(study: PlanarStudy, out: Path, step: Callable[[str], None] = lambda what: None
+def _plots(study: Study, out: Path, step: Callable[[str], None] = lambda what: None
            ) -> list[Path]:
     from linkwork.plot import planar as pplot
     from linkwork.plot import save
 
+    if isinstance(study, PlanarStudy):
+        kin, dyn = study.kinematics, study.dynamics
+    else:  # a long cycle: drawn at PLOT_POSITIONS of its positions
+        step(f"solving {min(study.n, PLOT_POSITIONS)} positions for the plots")
+        kin, dyn = study.sample()
     step(f"drawing {FILES[3]}")
-    kin, dyn = study.kinematics, study.dynamics
     plt = pplot.pyplot()
     fig, ax = plt.subplots(figsize=(7, 6))
     good = np.flatnonzero(kin.valid)
@@ -298,20 +348,35 @@ def _plots(study: PlanarStudy, out: Path, step: Callable[[str], None] = lambda w
     return written
 
 
-def render(study: PlanarStudy, *, out: Path, console: Any) -> None:
+def render(study: Study, *, out: Path, console: Any) -> None:
     """Print a :class:`~linkwork.studies.planar.PlanarStudy` on ``console`` and write its CSV,
-    JSON and plots into ``out``."""
+    JSON and plots into ``out``; a long cycle's
+    :class:`~linkwork.studies.planar.PlanarSummary`: its CSV files were streamed while it was
+    solved (:func:`analyze_long`), its JSON holds no per-position arrays and its plots are
+    drawn at :data:`~linkwork.studies.planar.PLOT_POSITIONS` positions."""
     _structure_and_dead_centres(study, console)
     print_table(console, _table(study))
     print_table(console, _extremes(study))
     _friction(study, console)
     _loads(study, console)
-    with steps(len(FILES) - (not study.loads), console=make_console(stderr=True)) as step:
-        step(f"writing {FILES[0]}")
-        written = [write_csv(out / FILES[0], study.kinematics_columns())]
-        step(f"writing {FILES[1]}")
-        written.append(write_csv(out / FILES[1], study.dynamics_columns()))
-        step(f"writing {FILES[2]}")
-        written.append(write_json(out / FILES[2], study.to_dict()))
+    whole = isinstance(study, PlanarStudy)
+    n_steps = len(FILES) - (not study.loads) - (0 if whole else 1)
+    with steps(n_steps, console=make_console(stderr=True)) as step:
+        if isinstance(study, PlanarStudy):
+            step(f"writing {FILES[0]}")
+            written = [write_csv(out / FILES[0], study.kinematics_columns())]
+            step(f"writing {FILES[1]}")
+            written.append(write_csv(out / FILES[1], study.dynamics_columns()))
+            step(f"writing {FILES[2]}")
+            written.append(write_json(out / FILES[2], study.to_dict(lists=False)))
+        else:
+            written = [out / FILES[0], out / FILES[1]]
+            step(f"writing {FILES[2]}")
+            written.append(write_json(out / FILES[2], study.to_dict(files=FILES[:2])))
         written += _plots(study, out, step)
+    if not whole:
+        console.print(escape(f"(a long cycle: {FILES[0]} and {FILES[1]} hold all {study.n} "
+                             f"positions, written chunk by chunk; {FILES[2]} its summary, the "
+                             f"plots {min(study.n, PLOT_POSITIONS)} positions over the same "
+                             "range)"), highlight=False)
     console.print(escape("wrote " + ", ".join(str(w) for w in written)), highlight=False)

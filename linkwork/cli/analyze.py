@@ -91,6 +91,8 @@ def register(app: typer.Typer) -> None:
         if isinstance(doc, io.PlanarFile):
             # None: the positions every command tables (studies.planar.default_table_positions)
             table = None if angles is None else table_positions(doc, angles)
+            if len(doc.drivers) > 1:  # one driver's long cycle goes chunk by chunk
+                doc.check_whole_cycle(file, "`linkwork analyze` of several drivers")
         else:
             table = parse_angles(DEFAULT_ANGLES if angles is None else angles)
         if isinstance(doc, io.SynthesisFile):  # before the output folder is touched

@@ -31,6 +31,7 @@ from rich.table import Table
 from linkwork import io
 from linkwork.cli._args import load_errors, output_dir, output_run, parse_angles_deg
 from linkwork.cli._console import console as make_console
+from linkwork.cli._console import steps
 from linkwork.cli._format import fmt, scale_of, unit_label
 from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
@@ -208,13 +209,17 @@ def render(study: BalanceStudy, *, out: Path, console: Any, name: str | None = N
     _tables(study, console)
     output_dir(out)
     comp = study.comparison
-    comp.to_csv(out / "balance_table.csv")
-    comp.to_json(out / "balance_table.json")
-    comp.cycle.to_csv(out / "balance_cycle.csv")
-    write_json(out / "balance_summary.json", study.summary())
-    _plots(study, out, name)
+    with steps(2, console=make_console(stderr=True)) as step:
+        step("writing balance_table.csv/.json, balance_cycle.csv, balance_summary.json")
+        comp.to_csv(out / "balance_table.csv")
+        comp.to_json(out / "balance_table.json")
+        comp.cycle.to_csv(out / "balance_cycle.csv")
+        write_json(out / "balance_summary.json", study.summary())
+        step("drawing the plots")
+        _plots(study, out, name)
+        if study.pareto is not None:
+            write_json(out / "balance_pareto.json", study.pareto_dict())
     if study.pareto is not None:
-        write_json(out / "balance_pareto.json", study.pareto_dict())
         console.print(f"Pareto set: {int((~study.pareto.dominated).sum())} non-dominated of "
                       f"{len(study.pareto.designs)}", highlight=False)
     console.print(f"written to {escape(str(out))}", highlight=False)
@@ -297,6 +302,7 @@ def register(app: typer.Typer) -> None:
                 if given is not None:
                     raise ParameterError(option, given, "is for one crank's cycle; several "
                                          "drivers are balanced along their path")
+            doc.check_whole_cycle(file, "`linkwork balance` of several drivers")
             with output_run(out, command="balance", file=file), load_errors(file, doc):
                 render_path(study_balance.run_path(doc), out=out, console=make_console(),
                             name=doc.name or None)
@@ -310,7 +316,9 @@ def register(app: typer.Typer) -> None:
                               "the bearing reactions, not the shaking-moment table (inertia "
                               "forces)", highlight=False)
             try:
-                study = study_balance.run(doc, angles=table, pareto=pareto)
+                with steps(1, console=make_console(stderr=True)) as step:
+                    step("balancing" + (" and optimising the counterweights" if pareto else ""))
+                    study = study_balance.run(doc, angles=table, pareto=pareto)
             except ParameterError as exc:  # the joints' friction locks it: the file's keys
                 if exc.parameter != "friction":
                     raise

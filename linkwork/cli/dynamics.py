@@ -17,9 +17,8 @@ marked). Long transients show a progress bar on a terminal.
 
 from __future__ import annotations
 
-import contextlib
 import math
-from collections.abc import Callable, Iterator
+from collections.abc import Callable
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -31,7 +30,7 @@ from rich.table import Table
 from linkwork import io
 from linkwork.cli._args import output_run
 from linkwork.cli._console import console as make_console
-from linkwork.cli._console import steps
+from linkwork.cli._console import counting, steps
 from linkwork.cli._format import fmt, scale_of
 from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
@@ -59,24 +58,6 @@ def load_dynamics_file(path: Path) -> Any:
         raise FileFormatError(str(path), "driver.type", f"{doc.driver.type!r}: linkwork dynamics "
                               "needs a crank driver (a motor turning the crank)")
     return doc
-
-
-@contextlib.contextmanager
-def _progress(console: Any) -> Iterator[Callable[[int, int], None]]:
-    """A progress bar of revolutions on a terminal's stderr (nothing elsewhere)."""
-    if not console.is_terminal:
-        yield lambda done, total: None
-        return
-    from rich.progress import BarColumn, MofNCompleteColumn, Progress, TimeElapsedColumn
-
-    with Progress("revolutions", BarColumn(), MofNCompleteColumn(), TimeElapsedColumn(),
-                  console=console, transient=True) as bar:
-        task = bar.add_task("", total=None)
-
-        def update(done: int, total: int) -> None:
-            bar.update(task, completed=done, total=total)
-
-        yield update
 
 
 def _motors(study: DynamicsStudy, console: Any) -> None:
@@ -271,7 +252,7 @@ def register(app: typer.Typer) -> None:
         verdicts."""
         doc = load_dynamics_file(file)
         with output_run(out, command="dynamics", file=file):
-            with _progress(make_console(stderr=True)) as progress:
+            with counting("revolutions", console=make_console(stderr=True)) as progress:
                 try:
                     study = study_dynamics.run(doc, progress=progress)
                 except ParameterError as exc:

@@ -28,6 +28,7 @@ from linkwork.cli._args import (
     table_positions,
 )
 from linkwork.cli._console import console as make_console
+from linkwork.cli._console import counting, steps
 from linkwork.cli._format import fmt
 from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
@@ -39,7 +40,7 @@ from linkwork.redundancy.tolerance import CHUNK_SAMPLES, check_samples
 from linkwork.results import write_json
 from linkwork.studies import reactions as study_reactions
 from linkwork.studies.reactions import ReactionsStudy
-from linkwork.sweep import check_client, rich_progress
+from linkwork.sweep import check_client
 
 __all__ = ["load_problem", "register", "render", "render_tolerance", "run"]
 
@@ -159,7 +160,8 @@ def _report(study: ReactionsStudy, *, out: Path, console: Any, plots: bool, n: i
     written = render(study, out=out, console=console, plots=plots, mechanism=mechanism)
     tol = None
     if n:
-        with rich_progress("tolerance study", console=console) as progress:
+        # on a terminal's stderr, erased when done (it was printed into stdout, a pipe too)
+        with counting("tolerance study", console=make_console(stderr=True)) as progress:
             tol = study_reactions.tolerance(study, n, tols=tols, seed=seed, scheduler=scheduler,
                                             chunk_size=chunk_size, progress=progress)
         written += render_tolerance(study, tol, out=out, console=console, plots=plots,
@@ -206,14 +208,18 @@ def render(study: ReactionsStudy, *, out: Path, console: Any, plots: bool = True
             ("fx", "fy", "fz", "mx", "my", "bending"), col_scale, strict=True)))
     t.caption = _driving(study, _driver_peaks(study), f_n, f_nm, peak=True)
     print_table(console, t)
-    written = [res.to_csv(out / "reactions.csv"), res.to_json(out / "reactions.json"),
-               write_json(out / "reactions_peaks.json", study.peaks_dict())]
-    if plots:
-        from linkwork.plot import save
-        from linkwork.plot.redundancy import plot_bending
+    with steps(2 + plots, console=make_console(stderr=True)) as step:
+        step("writing reactions.csv, reactions.json")
+        written = [res.to_csv(out / "reactions.csv"), res.to_json(out / "reactions.json")]
+        step("writing reactions_peaks.json")
+        written.append(write_json(out / "reactions_peaks.json", study.peaks_dict()))
+        if plots:
+            from linkwork.plot import save
+            from linkwork.plot.redundancy import plot_bending
 
-        fig = plot_bending(res, name=mechanism)["axes"].ravel()[0].figure
-        written.append(save(fig, out / "reactions_bending.png"))
+            step("drawing reactions_bending.png")
+            fig = plot_bending(res, name=mechanism)["axes"].ravel()[0].figure
+            written.append(save(fig, out / "reactions_bending.png"))
     return written
 
 
@@ -297,7 +303,10 @@ def register(app: typer.Typer) -> None:
                           parameter="--tolerance-study")
         table = None if angles is None else table_positions(doc, angles)
         with output_run(out, command="reactions", file=file), load_errors(file, doc):
-            study = study_reactions.run(doc, angles=table, method=method)
+            n = doc.spatial.positions or doc.analysis.n
+            with steps(1, console=make_console(stderr=True)) as step:
+                step(f"solving the spatial reactions at {n} positions")
+                study = study_reactions.run(doc, angles=table, method=method)
             console = make_console()
             rubbing = [j.name for j in doc.mechanism().joints if j.has_friction]
             if rubbing:  # said, not silently left out: Q differs from analyze's

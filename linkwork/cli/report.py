@@ -86,6 +86,8 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Write a self-contained HTML report: animated mechanism, diagrams, tables."""
         doc = io.load(file)
+        if isinstance(doc, io.PlanarFile):
+            doc.check_whole_cycle(file, "`linkwork report`")
         if not 1 <= frames <= MAX_ANIMATION_FRAMES:
             raise ParameterError("--frames", frames, f"must be 1 to {MAX_ANIMATION_FRAMES}")
         paths = [parse_path(p, doc) for p in path or ()]

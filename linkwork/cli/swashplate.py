@@ -24,6 +24,7 @@ from rich.table import Table
 from linkwork import io
 from linkwork.cli._args import output_run, parse_angles, reach_scheduler
 from linkwork.cli._console import console as make_console
+from linkwork.cli._console import steps
 from linkwork.cli._format import fmt
 from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
@@ -54,7 +55,9 @@ def _mm(x: Any, scale: Any = 0.0) -> str:
 def analyze_swashplate(doc: SwashplateFile, out: Path, angles: np.ndarray, console: Any
                        ) -> SwashplateStudy:
     """Analyse a validated ``swashplate`` document; see the module docstring for the outputs."""
-    study = study_swashplate.analyze(doc, angles=angles)
+    with steps(1, console=make_console(stderr=True)) as step:
+        step(f"solving {doc.output.samples} rotor angles")
+        study = study_swashplate.analyze(doc, angles=angles)
     render(study, out=out, console=console)
     return study
 
@@ -132,14 +135,8 @@ def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
 
     print_table(console, _table(study))
     print_table(console, _characteristics(study))
-    study.cycle.to_csv(out / "cycle.csv")
-    study.cycle.to_json(out / "cycle.json")
-    save(plot_kinematics(study.cycle, name=study.doc.name)[0].figure, out / "kinematics.png")
     f = study.forces
     if f is not None:
-        f.to_csv(out / "forces.csv")
-        f.to_json(out / "forces.json")
-        save(plot_drive_forces(f, name=study.doc.name)[0].figure, out / "forces.png")
         u = study.doc.operation.positions
         slides = f"{u} slide" + ("" if u == 1 else "s")
         eff = (fmt(f.efficiency, decimals=4) if math.isfinite(f.efficiency) else
@@ -147,7 +144,21 @@ def render(study: SwashplateStudy, *, out: Path, console: Any) -> None:
         console.print(f"drive: peak rod force {np.max(np.abs(f.S)) * 1e-3:.4g} kN, peak torque "
                       f"{np.max(np.abs(f.M_total)):.4g} N·m ({slides}), efficiency {eff}",
                       highlight=False)
-    write_json(out / "characteristics.json", _json_values(study.to_dict()))
+    with steps(3 if f is None else 5, console=make_console(stderr=True)) as step:
+        step("writing cycle.csv, cycle.json")
+        study.cycle.to_csv(out / "cycle.csv")
+        study.cycle.to_json(out / "cycle.json")
+        step("drawing kinematics.png")
+        save(plot_kinematics(study.cycle, name=study.doc.name)[0].figure,
+             out / "kinematics.png")
+        if f is not None:
+            step("writing forces.csv, forces.json")
+            f.to_csv(out / "forces.csv")
+            f.to_json(out / "forces.json")
+            step("drawing forces.png")
+            save(plot_drive_forces(f, name=study.doc.name)[0].figure, out / "forces.png")
+        step("writing characteristics.json")
+        write_json(out / "characteristics.json", _json_values(study.to_dict()))
     console.print(escape(f"written: {out}/cycle.csv, cycle.json, characteristics.json, "
                          "kinematics.png" + (", forces.csv, forces.json, forces.png"
                                              if f is not None else "")), highlight=False)
@@ -238,14 +249,17 @@ def _request(opts: dict[str, Any]) -> syn.Request:
         opt, text = given.get(exc.parameter, ("", None))
         if text is None:
             raise
-        hint = f"from {opt} {text!r}"
+        # the option and its value as typed (the Request's field and SI value only in the
+        # detail, where they say what a plain number was read as)
+        hint = ""
         if exc.parameter.startswith(("delta", "phi")):
             try:
                 float(text)
-                hint += '; a plain number is in radians: write e.g. "8 deg"'
+                hint = (f"read as {exc.parameter} = {exc.value}: a plain number is in "
+                        'radians; write e.g. "8 deg"')
             except ValueError:
                 pass
-        raise ParameterError(exc.parameter, exc.value, exc.limit, hint) from None
+        raise ParameterError(opt, text, exc.limit, hint) from None
 
 
 def render_synthesis(study: SwashplateSynthesis, *, out: Path, console: Any) -> None:

@@ -21,6 +21,7 @@ from rich.table import Table
 from linkwork import io
 from linkwork.cli._args import output_run, reach_scheduler
 from linkwork.cli._console import console as make_console
+from linkwork.cli._console import steps
 from linkwork.cli._tables import print_table
 from linkwork.errors import FileFormatError, ParameterError
 from linkwork.io.synthesis import SynthesisFile
@@ -55,19 +56,25 @@ def render(study: SynthesisStudy, *, out: Path, console: Any) -> list[Path]:
 
     res = study.result
     print_table(console, _table(study))
-    written = [res.to_csv(out / "synthesis.csv"), write_json(out / "synthesis.json",
-                                                              study.to_dict())]
-    for i, d in enumerate(res.designs):
-        written.append(d.to_toml(out / f"design_{i + 1}.toml",
-                                 name=f"{study.doc.name}: design {i + 1}"))
-    fig = res.plot(n_designs=min(3, len(res.designs))) if study.kind != "function" \
-        else res.plot()
-    written.append(save(fig.figure, out / f"{study.kind}.png"))
-    if study.kind == "path" and res.objective != "sum_squares":
-        from linkwork.plot.synthesis import pareto_figure
+    pareto = study.kind == "path" and res.objective != "sum_squares"
+    with steps(3 + pareto, console=make_console(stderr=True)) as step:
+        step("writing synthesis.csv, synthesis.json")
+        written = [res.to_csv(out / "synthesis.csv"), write_json(out / "synthesis.json",
+                                                                  study.to_dict())]
+        step(f"writing {len(res.designs)} design files")
+        for i, d in enumerate(res.designs):
+            written.append(d.to_toml(out / f"design_{i + 1}.toml",
+                                     name=f"{study.doc.name}: design {i + 1}"))
+        step(f"drawing {study.kind}.png")
+        fig = res.plot(n_designs=min(3, len(res.designs))) if study.kind != "function" \
+            else res.plot()
+        written.append(save(fig.figure, out / f"{study.kind}.png"))
+        if pareto:
+            from linkwork.plot.synthesis import pareto_figure
 
-        written.append(save(pareto_figure(res, name=study.doc.name).figure,
-                            out / "pareto.png"))
+            step("drawing pareto.png")
+            written.append(save(pareto_figure(res, name=study.doc.name).figure,
+                                out / "pareto.png"))
     console.print(escape(f"written: {out}/" + ", ".join(p.name for p in written)),
                   highlight=False)
     return written
@@ -93,8 +100,10 @@ def _run(kind: str, file: Path, out: Path, scheduler: str | None, seed: int | No
         if err.is_terminal and kind == "path":
             with rich_progress("screening candidates", console=err, transient=True) as bar:
                 study = study_synthesis.run(doc, kind, progress=bar, **kw)
-        else:
-            study = study_synthesis.run(doc, kind, progress=False, **kw)
+        else:  # the search's own bar is the path's screening; the rest in one step
+            with steps(1, console=err) as step:
+                step(f"{kind} synthesis")
+                study = study_synthesis.run(doc, kind, progress=False, **kw)
         render(study, out=out, console=console)
 
 

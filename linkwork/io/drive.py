@@ -127,6 +127,7 @@ class MotorSection(FileModel):
         if missing:
             raise PydanticCustomError("motor_keys", "a {t} motor needs '{k}'",
                                       {"t": self.type, "k": missing[0]})
+        self.build()  # the motor's own checks (rated below synchronous speed): at the file
         return self
 
     def build(self, index: int = 0) -> Motor:

@@ -172,6 +172,7 @@ from linkwork.io.toml import (
     Torque,
     Velocity,
     _validation_error,
+    message,
     parameter_error,
     quantity,
 )
@@ -201,11 +202,11 @@ from linkwork.planar.sketch import sketch
 from linkwork.redundancy.core import DEFAULT_BEARING_STIFFNESS, check_tilt
 from linkwork.units import to_si
 
-__all__ = ["BYTES_PER_POSITION", "BYTES_PER_SPATIAL_POSITION", "MAX_ANGLE", "MAX_POSITIONS",
-           "MAX_SPATIAL_POSITIONS", "AnalysisSection",
-           "BalanceSection", "BodySection", "DeviationSpec", "DriverSection", "FrameSection",
-           "JointSection", "JointSpec", "LoadSection", "OutOfPlaneSpec", "PlanarFile",
-           "SpatialSpec", "ToleranceSpec", "read_spatial"]
+__all__ = ["BYTES_PER_POSITION", "BYTES_PER_SPATIAL_POSITION", "CSV_BYTES_PER_POSITION",
+           "MAX_ANGLE", "MAX_POSITIONS", "MAX_SPATIAL_POSITIONS", "MAX_WHOLE_POSITIONS",
+           "AnalysisSection", "BalanceSection", "BodySection", "DeviationSpec", "DriverSection",
+           "FrameSection", "JointSection", "JointSpec", "LoadSection", "OutOfPlaneSpec",
+           "PlanarFile", "SpatialSpec", "ToleranceSpec", "read_spatial", "whole_cycle_limit"]
 
 XY = tuple[Length, Length]
 
@@ -509,18 +510,40 @@ class SketchSection(FileModel):
             raise ParameterError("sketch", "the drawing", str(exc)) from None
 
 
-#: The most driver positions of ``[analysis] n``: ``linkwork analyze`` keeps about
-#: :data:`BYTES_PER_POSITION` per position (kinematics, dynamics, the CSV/JSON columns of every
-#: body and named point, the plots), so the largest example (``loom_sixbar``, five moving
-#: bodies, 104 columns of kinematics) peaks near 1.1 GB at the limit. Beyond it (the schema
-#: allowed 10^7: 11 GB and 8 GB of CSV) a file is refused before any work; a finer step over
-#: part of the cycle is a narrower ``start``/``stop``.
-MAX_POSITIONS = 50_000
+#: The most driver positions of ``[analysis] n``. ``linkwork analyze`` on a file of one driver
+#: works through a cycle longer than :data:`MAX_WHOLE_POSITIONS` chunk by chunk in bounded
+#: memory (:func:`linkwork.studies.planar.analyze_chunked`), but its two CSV files grow with
+#: the positions: about :data:`CSV_BYTES_PER_POSITION` for the largest example
+#: (``loom_sixbar``: 2.1 GB at the limit, some three minutes on this machine). Beyond it (the
+#: schema allowed 10^7: 11 GB of memory and 8 GB of CSV) a file is refused before any work;
+#: a finer step over part of the cycle is a narrower ``start``/``stop``.
+MAX_POSITIONS = 1_000_000
 
-#: Peak memory per position of ``linkwork analyze examples/loom_sixbar.toml`` [bytes], stated in
-#: the message: resident set size 1.10 GB at 5*10^4 positions, 2.08 GB at 10^5 (named-point
-#: columns included; 1.26 GB before them), rounded up.
-BYTES_PER_POSITION = 21_000
+#: The most positions of a cycle held whole in memory: ``linkwork analyze`` up to it (above it
+#: a file of one driver goes chunk by chunk), and every command that holds the whole cycle
+#: (``analyze`` with several drivers, ``balance`` along several drivers' path, ``report``):
+#: about :data:`BYTES_PER_POSITION` per position (kinematics, dynamics, the CSV/JSON columns
+#: of every body and named point, the plots), so the largest example peaks near 0.3 GB here.
+MAX_WHOLE_POSITIONS = 50_000
+
+#: Peak memory per position of ``linkwork analyze examples/loom_sixbar.toml`` over the whole
+#: cycle [bytes], stated in the message: resident set size 296 MB at 5*10^4 positions (457 MB
+#: before ``planar.json`` was written from the arrays, 1.10 GB before the dynamics were solved
+#: in chunks), rounded up.
+BYTES_PER_POSITION = 6_000
+
+#: Bytes of ``planar_kinematics.csv`` and ``planar_dynamics.csv`` per position for
+#: ``examples/loom_sixbar.toml`` (213 MB at 10^5 positions), rounded up.
+CSV_BYTES_PER_POSITION = 2_200
+
+
+def whole_cycle_limit(n: int, needs: str) -> str:
+    """The message for a cycle of ``n`` positions above :data:`MAX_WHOLE_POSITIONS` where
+    ``needs`` (e.g. ``"linkwork report"``) holds the whole cycle."""
+    return (f"must be at most {MAX_WHOLE_POSITIONS} positions for {needs}, which holds the "
+            f"whole cycle (got {n}): about {BYTES_PER_POSITION // 1000} kB of memory per "
+            f"position, {n * BYTES_PER_POSITION / 1e9:.3g} GB asked; for a finer step "
+            "analyse part of the range (start, stop)")
 
 
 class AnalysisSection(FileModel):
@@ -538,11 +561,12 @@ class AnalysisSection(FileModel):
     def _bounded(cls, v: int) -> int:
         if v > MAX_POSITIONS:
             raise ValueError(
-                f"must be at most {MAX_POSITIONS} positions (got {v}): about "
-                f"{BYTES_PER_POSITION // 1000} kB of memory per position, "
-                f"{v * BYTES_PER_POSITION / 1e9:.3g} GB asked, "
-                f"{MAX_POSITIONS * BYTES_PER_POSITION / 1e9:.2g} GB at the limit; for a finer "
-                "step analyse part of the range (start, stop)")
+                f"must be at most {MAX_POSITIONS} positions (got {v}): above "
+                f"{MAX_WHOLE_POSITIONS} `linkwork analyze` works chunk by chunk in bounded "
+                f"memory, but its CSV files take about {CSV_BYTES_PER_POSITION / 1000:g} kB "
+                f"per position ({v * CSV_BYTES_PER_POSITION / 1e9:.3g} GB asked, "
+                f"{MAX_POSITIONS * CSV_BYTES_PER_POSITION / 1e9:.2g} GB at the limit); for a "
+                "finer step analyse part of the range (start, stop)")
         return v
 
 
@@ -960,14 +984,7 @@ def _spatial_error(path: str | Path, err: Any) -> FileFormatError:
     """The error of the ``[spatial]`` table, worded as ``linkwork reactions`` words it: the
     dotted key from ``spatial``, pydantic's message with the value given."""
     key = ".".join(["spatial", *(str(x) for x in err["loc"])])
-    msg = err["msg"].removeprefix("Value error, ")
-    if err["type"] == "extra_forbidden":
-        msg = "unknown key"
-    elif err["type"] == "missing":
-        msg = "missing required key"
-    elif "input" in err:
-        msg = f"{msg} (got {err['input']!r})"
-    return FileFormatError(str(path), key, msg)
+    return FileFormatError(str(path), key, message(err))
 
 
 def read_spatial(path: str | Path, raw: dict[str, Any]) -> SpatialSpec:
@@ -1048,6 +1065,13 @@ class PlanarFile(FileModel):
             raise FileFormatError(str(path), "analysis.n", spatial_positions_limit(n)
                                   + f" (got {n}); set [spatial] positions to resample the "
                                   "range for the reactions")
+
+    def check_whole_cycle(self, path: str | Path, needs: str) -> None:
+        """Refuse ``[analysis] n`` above :data:`MAX_WHOLE_POSITIONS` for ``needs`` (a command
+        that holds the whole cycle: ``"linkwork report"``), before any work."""
+        n = self.analysis.n
+        if n > MAX_WHOLE_POSITIONS:
+            raise FileFormatError(str(path), "analysis.n", whole_cycle_limit(n, needs))
 
     @model_validator(mode="after")
     def _as_driver_tables(self) -> PlanarFile:

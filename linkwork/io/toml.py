@@ -11,6 +11,7 @@ classes themselves and the registry of file types are in :mod:`linkwork.io`.
 from __future__ import annotations
 
 import math
+import re
 import tomllib
 from collections.abc import Callable
 from pathlib import Path
@@ -20,7 +21,7 @@ import pydantic
 from pydantic import BaseModel, BeforeValidator, ConfigDict
 
 from linkwork.errors import FileFormatError, LinkworkError, ParameterError
-from linkwork.units import KINDS, to_si
+from linkwork.units import KINDS, expressed_like, to_si
 
 __all__ = [
     "Acceleration",
@@ -40,6 +41,7 @@ __all__ = [
     "Time",
     "Torque",
     "Velocity",
+    "message",
     "quantity",
     "read_toml",
     "validate",
@@ -69,9 +71,14 @@ def _quantity(kind: str) -> Callable[[Any], float]:
             raise ValueError(exc.limit) from None
         if not math.isfinite(si):  # "1e400 rpm", nan: never let them reach the models
             raise ValueError("must be a finite number")
-        if abs(si) > limit:
-            raise ValueError(f"must lie within +-{limit:g} {KINDS[kind]}, far beyond any machine "
-                             "mechanism (check the number and its unit)")
+        if abs(si) > limit:  # the limit also in the unit the value is written in
+            shown = expressed_like(limit, value)
+            within = (f"+-{limit:g} {KINDS[kind]}" if shown is None
+                      or float(shown.split()[0]) == float(f"{limit:.6g}") else
+                      f"+-{shown} ({limit:g} {KINDS[kind]})")
+            raise ValueError(f"{_written(value) or repr(value)} is invalid: must lie within "
+                             f"{within}, far beyond any machine mechanism (check the number "
+                             "and its unit)")
         return si
 
     return convert
@@ -84,8 +91,9 @@ def quantity(value: Any, kind: str, key: str) -> float:
     :class:`~linkwork.errors.ParameterError` naming ``key`` otherwise."""
     try:
         return _quantity(kind)(value)
-    except ValueError as exc:
-        raise ParameterError(key, value, str(exc)) from None
+    except ValueError as exc:  # the ParameterError says "<value> is invalid: " itself
+        limit = str(exc).removeprefix(f"{_written(value) or repr(value)} is invalid: ")
+        raise ParameterError(key, value, limit) from None
 
 
 def _key(loc: tuple[Any, ...]) -> str | None:
@@ -95,6 +103,12 @@ def _key(loc: tuple[Any, ...]) -> str | None:
              if isinstance(x, int) or not (x in _TYPE_TAGS or "[" in str(x))]
     return ".".join(parts) or None
 
+
+#: pydantic's bound constraints (``Field(gt=0)``): the bound's key in the error's context and
+#: how a message writes it.
+_BOUNDS = {"gt": ">", "ge": ">=", "lt": "<", "le": "<="}
+_BOUNDS.update({"greater_than": ">", "greater_than_equal": ">=", "less_than": "<",
+                "less_than_equal": "<="})
 
 _TYPE_TAGS = frozenset({"str", "int", "float", "bool", "list", "dict", "tuple", "none",
                         "is-instance", "literal", "tagged-union"})
@@ -174,7 +188,7 @@ def _validation_error(path: str, exc: pydantic.ValidationError,
         err = next((e for e in errs[1:] if k0 and not e["type"].endswith("_type")
                     and f"{_key(e['loc'])}.".startswith(f"{k0}.")), err)
     key = _key(err["loc"])
-    msg = err["msg"].removeprefix("Value error, ")
+    msg = message(err)
     cause = (err.get("ctx") or {}).get("error")
     if isinstance(cause, ParameterError):
         # raised by a validator that builds the mechanism: its parameter is the key, its
@@ -183,17 +197,40 @@ def _validation_error(path: str, exc: pydantic.ValidationError,
         msg = str(cause).removeprefix(f"{cause.parameter} = ")
     elif isinstance(cause, LinkworkError):
         msg = str(cause)
-    elif err["type"] == "extra_forbidden":
-        msg = "unknown key"
-    elif err["type"] == "missing":
-        msg = "missing required key"
-    elif "input" in err and len(repr(err["input"])) <= 80 and "(got " not in msg:  # short only
-        msg = f"{msg} (got {err['input']!r})"
+    elif err["type"] in _BOUNDS and key is not None:  # Field(gt=0, ...): the entry's name
+        cause = ParameterError(key, err.get("input"), _bound(err))
     extra = f" (+{len(errs) - 1} more problems)" if len(errs) > 1 else ""
     out = FileFormatError(path, key, msg)
     if isinstance(cause, ParameterError) and data is not None:
         out = _as_written(out, data, cause)
     return FileFormatError(out.file, out.key, out.problem + extra)
+
+
+def _bound(err: Any) -> str:
+    """The limit of a pydantic bound error (``Field(gt=0)``): ``must be > 0``, a bound that is
+    not zero also in the unit the value is written in."""
+    op, bound = next((_BOUNDS[k], v) for k, v in (err.get("ctx") or {}).items()
+                     if k in _BOUNDS)
+    shown = "0" if bound == 0 else (expressed_like(bound, err.get("input")) or f"{bound:g}")
+    return f"must be {op} {shown}"
+
+
+def message(err: Any) -> str:
+    """What a pydantic error says of its value, as the file writes it: ``unknown key``,
+    ``missing required key``, ``-100 mm is invalid: must be > 0``, or pydantic's message with
+    the value given (``(got '90 mm')``, short values only)."""
+    msg = str(err["msg"]).removeprefix("Value error, ")
+    written = _written(err.get("input"))
+    if err["type"] == "extra_forbidden":
+        return "unknown key"
+    if err["type"] == "missing":
+        return "missing required key"
+    if err["type"] in _BOUNDS:
+        return f"{written or repr(err.get('input'))} is invalid: {_bound(err)}"
+    if ("input" in err and len(repr(err["input"])) <= 80 and "(got " not in msg
+            and not msg.startswith(f"{written} is invalid")):  # not said already
+        return f"{msg} (got {err['input']!r})"
+    return msg
 
 
 def validate(path: str | Path, data: dict[str, Any], schema: type[BaseModel]) -> Any:
@@ -292,5 +329,30 @@ def _as_written(err: FileFormatError, data: dict[str, Any],
     if isinstance(raw, list) and not isinstance(cause.value, list | tuple):
         written = None  # the key names a list and the message one of its items: keep it
     if written is not None:
-        msg = f"{written} is invalid: {cause.limit}"
+        msg = f"{written} is invalid: {_siblings_as_written(cause.limit, data, file_key)}"
     return FileFormatError(err.file, file_key, msg)
+
+
+_SIBLING = re.compile(r"\b(?P<key>[A-Za-z_]\w*) = (?P<value>[-+]?[0-9.]+(?:e[-+]?\d+)?)"
+                      r"(?: (?P<unit>[A-Za-z*/^0-9]+))?")
+
+
+def _siblings_as_written(limit: str, data: dict[str, Any], file_key: str) -> str:
+    """``limit`` with the values of other keys of the same entry it quotes in SI
+    (``must be < synchronous_speed = 157.08 rad/s``) as the file writes them
+    (``synchronous_speed = 1500 rpm``)."""
+    parent = file_key.split(" ")[0].split(".")[:-1]
+    try:
+        entry = _lookup(data, parent)
+    except KeyError:
+        return limit
+    if not isinstance(entry, dict):
+        return limit
+
+    def sub(m: re.Match[str]) -> str:
+        raw = entry.get(m["key"])
+        if not isinstance(raw, str | int | float) or isinstance(raw, bool):
+            return m[0]
+        return f"{m['key']} = {raw}"
+
+    return _SIBLING.sub(sub, limit)

@@ -28,7 +28,12 @@ from linkwork.balancing.mechanism import (
 from linkwork.balancing.optimal import ParetoSet, pareto_set
 from linkwork.cycles import peak
 from linkwork.errors import AssemblyError, ParameterError
-from linkwork.io.planar import BalanceSection, PlanarFile
+from linkwork.io.planar import (
+    MAX_WHOLE_POSITIONS,
+    BalanceSection,
+    PlanarFile,
+    whole_cycle_limit,
+)
 from linkwork.planar import Dynamics, Mechanism, inverse_dynamics, kinematics
 from linkwork.studies.planar import default_table_positions
 
@@ -267,6 +272,9 @@ def run_path(doc: PlanarFile) -> PathBalanceStudy:
             raise ParameterError(f"balance.{key}", getattr(section, key),
                                  "is a crank cycle's; several drivers are balanced along "
                                  "their path ([analysis] n positions, tables at 12 of them)")
+    if doc.analysis.n > MAX_WHOLE_POSITIONS:
+        raise ParameterError("analysis.n", doc.analysis.n,
+                             whole_cycle_limit(doc.analysis.n, "run_path()"))
     phi = doc.positions()
     about = doc.analysis.about
     kin = kinematics(mech, phi)

@@ -8,7 +8,7 @@ prints, writes and plots. Nothing is printed.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
@@ -18,7 +18,7 @@ from numpy.typing import ArrayLike
 from linkwork.balancing.loads import mean_over_range
 from linkwork.checks import require_finite
 from linkwork.errors import AssemblyError, ParameterError, angle_ranges, format_angle_ranges
-from linkwork.io.planar import PlanarFile
+from linkwork.io.planar import MAX_WHOLE_POSITIONS, PlanarFile, whole_cycle_limit
 from linkwork.planar import (
     AppliedLoad,
     Crank,
@@ -40,7 +40,8 @@ from linkwork.planar.kinematics import dead_centres_over, state_of
 from linkwork.planar.structure import Structure
 from linkwork.results import json_array
 
-__all__ = ["CHUNK_POSITIONS", "PlanarStudy", "PlanarSummary", "analyze", "analyze_chunked",
+__all__ = ["CHUNK_POSITIONS", "PLOT_POSITIONS", "PlanarStudy", "PlanarSummary", "analyze",
+           "analyze_chunked",
            "cycle_peaks", "dead_centre_label", "default_table_positions", "distinct_paths",
            "driver_columns", "dynamics_columns_of", "friction_summary", "kinematics_columns_of",
            "load_summary", "named_columns", "reported_loads", "table_positions_error"]
@@ -461,46 +462,71 @@ class PlanarStudy:
         plot_driving_torque(self.dynamics, ax=ax[1], name=name)
         return Figure.of(ax)
 
-    def to_dict(self) -> dict[str, Any]:
-        """Everything of the study as JSON-able values (``planar.json``)."""
-        mech, s, kin, dyn = self.mechanism, self.structure, self.kinematics, self.dynamics
+    @property
+    def n(self) -> int:
+        """Number of positions analysed."""
+        return int(self.kinematics.n)
+
+    def to_dict(self, *, lists: bool = True) -> dict[str, Any]:
+        """Everything of the study as JSON-able values (``planar.json``). ``lists=False``: the
+        per-position columns as float arrays, which :func:`~linkwork.results.write_json` writes
+        as the same JSON without making lists of them (32 bytes a value: 197 MB for the
+        six-bar's 123 columns at 50 000 positions)."""
         cols = self.columns()
-        a_x, a_y = (float(v) for v in dyn.about)
-        extra: dict[str, Any] = {} if self.friction is None else {"friction": self.friction}
-        if self.loads:
-            extra["loads"] = self.loads
-        signs = []
-        for d in mech.drivers:
-            drv = mech.joint(d.joint)
-            turn = d.kind == "crank"
-            signs.append(f"{'torque' if turn else 'force along the guide'} on body {drv.b!r} "
-                         f"of driver joint {d.joint!r} through body {drv.a!r}"
-                         f"{', counter-clockwise +' if turn else ''}")
-        torque_sign = (f"Q: {signs[0]}; driving power Q*omega1" if len(signs) == 1 else
-                       "Q.<driver joint>: " + "; ".join(signs) + "; driving power of each "
-                       "Q*omega1")
         return {
-            "name": self.doc.name, "mobility": s.mobility, "structure": s.formula(),
-            "groups": [{"kind": g.kind, "bodies": list(g.bodies), "joints": list(g.joints),
-                        "class": g.cls, "order": g.order, "key": g.key,
-                        "branch": kin.branches.get(g.key, 1)} for g in s.groups],
-            "reaction_sign": "force exerted by joint body a on joint body b, frame axes",
-            "torque_sign": torque_sign,
-            "shaking_sign": ("force and moment exerted by the moving bodies on the frame "
-                             "(motor reaction included), moment counter-clockwise + about "
-                             f"({a_x:g}, {a_y:g}) m"),
-            "positions_unit": mech.driver_units["phi1"],
-            "dead_centres": [{"group": d.group, "body": d.body, "phi1": d.phi1, "kind": d.kind,
-                              "of": lab[0], "joint": lab[1]}
-                             for d, lab in zip(self.dead_centres, self.dead_centre_labels,
-                                               strict=True)],
-            "peaks": self.peaks,
-            "means": {**self.means, "units": {"Q_mean": mech.driver_units["Q"],
-                                              "power_mean": "W"}},
+            **_summary_dict(self.doc, self.mechanism, self.kinematics.branches,
+                            self.dynamics.about, self.dead_centres, self.dead_centre_labels,
+                            self.peaks, self.means),
             "units": {k: u for k, (_, u) in cols.items()},
-            "columns": {k: json_array(v) for k, (v, _) in cols.items()},
-            **extra,
+            "columns": {k: (json_array(v) if lists else np.asarray(v, dtype=float))
+                        for k, (v, _) in cols.items()},
+            **_friction_and_loads(self.friction, self.loads),
         }
+
+
+def _friction_and_loads(friction: dict[str, Any] | None, loads: list[dict[str, Any]]
+                        ) -> dict[str, Any]:
+    """The ``friction`` and ``loads`` entries of ``planar.json`` (each only if there is one)."""
+    extra: dict[str, Any] = {} if friction is None else {"friction": friction}
+    if loads:
+        extra["loads"] = loads
+    return extra
+
+
+def _summary_dict(doc: PlanarFile, mech: Mechanism, branches: Mapping[str, int], about: Any,
+                  dcs: list[DeadCentre], labels: list[tuple[str, str]],
+                  peaks: list[dict[str, Any]], means: dict[str, Any]) -> dict[str, Any]:
+    """What ``planar.json`` says of a cycle besides its per-position columns: the structure
+    with the branches, the sign conventions, the dead centres, extremes and means."""
+    s = mech.structure
+    a_x, a_y = (float(v) for v in about)
+    signs = []
+    for d in mech.drivers:
+        drv = mech.joint(d.joint)
+        turn = d.kind == "crank"
+        signs.append(f"{'torque' if turn else 'force along the guide'} on body {drv.b!r} "
+                     f"of driver joint {d.joint!r} through body {drv.a!r}"
+                     f"{', counter-clockwise +' if turn else ''}")
+    torque_sign = (f"Q: {signs[0]}; driving power Q*omega1" if len(signs) == 1 else
+                   "Q.<driver joint>: " + "; ".join(signs) + "; driving power of each "
+                   "Q*omega1")
+    return {
+        "name": doc.name, "mobility": s.mobility, "structure": s.formula(),
+        "groups": [{"kind": g.kind, "bodies": list(g.bodies), "joints": list(g.joints),
+                    "class": g.cls, "order": g.order, "key": g.key,
+                    "branch": branches.get(g.key, 1)} for g in s.groups],
+        "reaction_sign": "force exerted by joint body a on joint body b, frame axes",
+        "torque_sign": torque_sign,
+        "shaking_sign": ("force and moment exerted by the moving bodies on the frame "
+                         "(motor reaction included), moment counter-clockwise + about "
+                         f"({a_x:g}, {a_y:g}) m"),
+        "positions_unit": mech.driver_units["phi1"],
+        "dead_centres": [{"group": d.group, "body": d.body, "phi1": d.phi1, "kind": d.kind,
+                          "of": lab[0], "joint": lab[1]}
+                         for d, lab in zip(dcs, labels, strict=True)],
+        "peaks": peaks,
+        "means": {**means, "units": {"Q_mean": mech.driver_units["Q"], "power_mean": "W"}},
+    }
 
 
 def _solve(doc: PlanarFile, mech: Mechanism, phi: np.ndarray, on_failure: OnFailure = "raise"
@@ -589,8 +615,14 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None,
         The mechanism does not assemble over the file's range (with ``on_failure="nan"``:
         at no position of it).
     ParameterError
-        The table positions leave the range where the mechanism assembles (``--angles``).
+        The table positions leave the range where the mechanism assembles (``--angles``), or
+        ``[analysis] n`` exceeds :data:`~linkwork.io.planar.MAX_WHOLE_POSITIONS` (a longer
+        cycle of one driver: :func:`analyze_chunked`).
     """
+    if doc.analysis.n > MAX_WHOLE_POSITIONS:
+        raise ParameterError("analysis.n", doc.analysis.n, whole_cycle_limit(
+            doc.analysis.n, "analyze(), which holds the whole cycle") +
+            "; a cycle of one driver: analyze_chunked()")
     mech = doc.mechanism()
     crank = isinstance(mech.driver, Crank)
     phi = doc.positions()
@@ -626,6 +658,10 @@ def analyze(doc: PlanarFile, *, angles: ArrayLike | None = None,
 #: chunks of 8192, 162 MiB in chunks of 32768, the same time), besides the positions and 8
 #: bytes per position and group kept for the dead centres.
 CHUNK_POSITIONS = 16_384
+
+#: Positions of :meth:`PlanarSummary.sample`: what the plots of a long cycle draw (a step of
+#: 0.036 deg over a turn, finer than a plot's pixels).
+PLOT_POSITIONS = 10_001
 
 #: What receives the per-position columns of one chunk: ``sink(kinematic, dynamic)``, two
 #: mappings name -> values, those of ``planar_kinematics.csv`` and ``planar_dynamics.csv`` in
@@ -810,6 +846,9 @@ class PlanarSummary:
         The table, as in :class:`PlanarStudy`.
     chunk : int
         Positions per chunk.
+    kinematic_units, dynamic_units : dict
+        The unit of every per-position column the sink received, in order (those of
+        ``planar_kinematics.csv`` and of ``planar_dynamics.csv``).
     """
 
     doc: PlanarFile
@@ -821,7 +860,7 @@ class PlanarSummary:
     dead_centres: list[DeadCentre]
     dead_centre_labels: list[tuple[str, str]]
     peaks: list[dict[str, Any]]
-    means: dict[str, float]
+    means: dict[str, Any]
     friction: dict[str, Any] | None
     table_positions: np.ndarray
     table_kinematics: Kinematics
@@ -829,12 +868,48 @@ class PlanarSummary:
     table_transmission: Transmission
     chunk: int
     loads: list[dict[str, Any]] = field(default_factory=list)
+    kinematic_units: dict[str, str] = field(default_factory=dict)
+    dynamic_units: dict[str, str] = field(default_factory=dict)
+
+    @property
+    def crank(self) -> bool:
+        """True for a crank driver (angles [rad]), False for a linear one (slides [m])."""
+        return isinstance(self.mechanism.driver, Crank)
+
+    @property
+    def structure(self) -> Structure:
+        """Mobility and Assur groups of the mechanism."""
+        return self.mechanism.structure
+
+    def sample(self, n: int = PLOT_POSITIONS) -> tuple[Kinematics, Dynamics]:
+        """Kinematics and dynamics at ``n`` positions evenly spaced from the first position
+        to the last (fewer if the cycle has fewer): what the plots of a long cycle draw."""
+        phi = np.linspace(self.first, self.last, max(2, min(int(n), self.n)))
+        return _solve(self.doc, self.mechanism, phi)
+
+    def to_dict(self, files: tuple[str, str] | None = None) -> dict[str, Any]:
+        """What ``planar.json`` holds of a long cycle: everything of :meth:`PlanarStudy.to_dict`
+        but the per-position arrays (``columns``), which went to the sink; ``n``, ``first``,
+        ``last`` and ``chunk`` instead, and with ``files`` (the names of the kinematic and the
+        dynamic CSV file) ``columns_in``: each file's columns, in order."""
+        return {
+            **_summary_dict(self.doc, self.mechanism, self.branches, self.table_dynamics.about,
+                            self.dead_centres, self.dead_centre_labels, self.peaks,
+                            self.means),
+            "n": self.n, "first": self.first, "last": self.last, "chunk": self.chunk,
+            "units": {**self.kinematic_units, **self.dynamic_units},
+            **({} if files is None else
+               {"columns_in": {files[0]: list(self.kinematic_units),
+                               files[1]: list(self.dynamic_units)}}),
+            **_friction_and_loads(self.friction, self.loads),
+        }
 
 
 def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
                     angles: ArrayLike | None = None, chunk: int = CHUNK_POSITIONS,
                     sink: ColumnSink | None = None,
-                    progress: Callable[[int, int], None] | None = None) -> PlanarSummary:
+                    progress: Callable[[int, int], None] | None = None,
+                    units: bool = False) -> PlanarSummary:
     """:func:`analyze` of a cycle too long to hold, chunk by chunk, in bounded memory.
 
     Each chunk of ``chunk`` positions is solved (kinematics, inverse dynamics, transmission
@@ -865,6 +940,10 @@ def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
         ``sink(kinematic_columns, dynamic_columns)`` per chunk, in order.
     progress : callable, optional
         ``progress(done, n)`` after each chunk.
+    units : bool
+        The sink receives each column as ``(values, unit)`` (to head a CSV file with the
+        first chunk's); default the values alone. The units are also in the summary
+        (``kinematic_units``, ``dynamic_units``) either way.
 
     Returns
     -------
@@ -882,6 +961,18 @@ def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
         raise ParameterError("positions", "[]", "must hold at least one driver position")
     if isinstance(chunk, bool) or int(chunk) != chunk or chunk < 2:
         raise ParameterError("chunk", chunk, "must be an integer >= 2 (positions per chunk)")
+    tphi = default_table_positions(doc) if angles is None else np.asarray(angles, float)
+
+    def table() -> tuple[Kinematics, Dynamics]:
+        try:
+            return _solve(doc, mech, tphi)
+        except AssemblyError as exc:
+            raise table_positions_error(exc, tphi, not crank) from None
+
+    # given table positions first: where the mechanism does not assemble there (--angles) is
+    # refused before the chunks are solved and streamed (minutes for 10^6 positions); the
+    # default ones lie in the file's range, which the chunks check with their own error
+    given = table() if angles is not None else None
     stats = _ChunkStats(mech, phi)
     for lo in range(0, n, int(chunk)):
         q = phi[lo:lo + int(chunk)]
@@ -897,23 +988,24 @@ def analyze_chunked(doc: PlanarFile, *, positions: ArrayLike | None = None,
             raise err from None
         trans = transmission_angles(kin)
         stats.add(lo, kin, dyn, trans)
-        if sink is not None:
+        if sink is not None or lo == 0:
             kc = kinematics_columns_of(kin)
             kc.update({f"mu_{key}": (mu, "rad") for key, (mu, _) in trans.items()})
             dc = dynamics_columns_of(kin, dyn, by_structure=True)
-            sink({k: v for k, (v, _) in kc.items()}, {k: v for k, (v, _) in dc.items()})
+            if lo == 0:
+                heads = ({k: u for k, (_, u) in kc.items()}, {k: u for k, (_, u) in dc.items()})
+            if sink is not None:
+                sink(*((kc, dc) if units else ({k: v for k, (v, _) in kc.items()},
+                                              {k: v for k, (v, _) in dc.items()})))
         if progress is not None:
             progress(lo + q.size, n)
     dcs = dead_centres_over(mech, phi, stats.rates, stats.branches)
-    tphi = default_table_positions(doc) if angles is None else np.asarray(angles, float)
-    try:
-        tk, td = _solve(doc, mech, tphi)
-    except AssemblyError as exc:
-        raise table_positions_error(exc, tphi, not crank) from None
+    tk, td = table() if given is None else given
     return PlanarSummary(
         doc=doc, mechanism=mech, n=n, first=float(phi[0]), last=float(phi[-1]),
         branches=stats.branches, dead_centres=dcs,
         dead_centre_labels=[dead_centre_label(mech, d) for d in dcs], peaks=stats.peaks(),
         means=stats.means(), friction=stats.friction(), table_positions=tphi,
         table_kinematics=tk, table_dynamics=td, table_transmission=transmission_angles(tk),
-        chunk=int(chunk), loads=stats.load_records())
+        chunk=int(chunk), loads=stats.load_records(), kinematic_units=heads[0],
+        dynamic_units=heads[1])

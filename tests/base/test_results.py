@@ -169,3 +169,28 @@ def test_json_writer_reads_back_as_the_strict_values(tmp_path):
     expected = json.loads(json.dumps({**data, "x": [0.1, None, -0.0, 1e300],
                                       "ints": [1, 2, 3]}))
     assert json.loads(p.read_text()) == expected
+
+
+@pytest.mark.parametrize("n", [0, 1, 5, 4096, 4097, 9000])
+def test_json_arrays_are_the_text_of_their_lists(tmp_path, n):
+    """A float array is written as the JSON of json_array's list of it, byte for byte (NaN as
+    null, -0.0, subnormal, huge and integer-valued floats; across the writer's 4096-value
+    blocks), so planar.json written from arrays is the file written from lists."""
+    from linkwork.results import json_array
+
+    rng = np.random.default_rng(7)
+    a = rng.normal(size=n) * 10.0 ** rng.integers(-300, 300, size=n)
+    specials = [np.nan, -0.0, 5e-324, 1.7976931348623157e308, 3.0, -np.nan]
+    a[:min(n, len(specials))] = specials[:n]
+    lists = write_json(tmp_path / "lists.json", {"c": {"x": json_array(a)}, "n": n})
+    arrays = write_json(tmp_path / "arrays.json", {"c": {"x": a}, "n": n})
+    assert arrays.read_text() == lists.read_text()
+    back = json.loads(arrays.read_text())["c"]["x"]
+    assert [None if math.isnan(v) else v for v in a.tolist()] == back
+
+
+def test_json_array_with_inf_is_refused_naming_its_place(tmp_path):
+    a = np.array([1.0, 2.0, np.inf])
+    with pytest.raises(ParameterError, match=r"columns\.x\[2\]"):
+        write_json(tmp_path / "a.json", {"columns": {"x": a}})
+    assert not list(tmp_path.iterdir())

@@ -5,7 +5,7 @@ import math
 import pytest
 
 from linkwork.errors import ParameterError
-from linkwork.units import deg, rpm, to_deg, to_si
+from linkwork.units import deg, expressed_like, rpm, to_deg, to_si
 
 
 @pytest.mark.parametrize(
@@ -66,3 +66,23 @@ def test_unit_conversions_keep_their_angle():
         to_si("2 Hz", "angular_velocity", "speed")
     with pytest.raises(ParameterError, match="angle unit"):
         to_si("600 rpm", "frequency", "productivity")
+
+
+@pytest.mark.parametrize(("si", "written", "shown"), [
+    (157.07963267948966, "1500 rpm", "1500 rpm"),
+    (-0.1, "5 mm", "-100 mm"),
+    (1e8, "100 N/um", "100 N/um"),
+    (math.pi / 2, "30 deg", "90 deg"),
+    (0.002, "2 g*m^2", "2 g*m^2"),
+    (1500.0, "1.5 kW", "1.5 kW"),
+    (9.81, "1 m/s^2", "9.81 m/s^2"),
+])
+def test_expressed_like_writes_si_in_the_unit_written(si, written, shown):
+    """SI values back in the unit a file wrote (the limits of its error messages): each pair
+    converted by hand (1500 rpm = 1500 * 2 pi / 60 rad/s, 1 N/um = 1e6 N/m, ...)."""
+    assert expressed_like(si, written) == shown
+
+
+@pytest.mark.parametrize("written", [3.0, "3", "kg", "3 parsecs of nothing", None])
+def test_expressed_like_without_a_unit_is_none(written):
+    assert expressed_like(1.0, written) is None

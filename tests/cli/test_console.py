@@ -89,3 +89,71 @@ def test_steps_bar_only_on_a_terminal_and_named_by_its_step():
         step("writing [b].json")  # markup in a name is shown as written
     shown = term.file.getvalue()
     assert "writing a.csv" in shown and "writing [b].json" in shown
+
+
+def test_counting_bar_only_on_a_terminal_and_counts():
+    import io
+
+    from rich.console import Console
+
+    from linkwork.cli._console import counting
+    pipe = Console(file=io.StringIO(), force_terminal=False)
+    with counting("solving [x]", console=pipe) as progress:
+        progress(5, 10)
+    assert pipe.file.getvalue() == ""
+    term = Console(file=io.StringIO(), force_terminal=True, width=100)
+    with counting("solving [x]", console=term) as progress:
+        progress(5, 10)
+        progress(10, 10)
+    shown = term.file.getvalue()
+    assert "solving [x]" in shown and "10/10" in shown
+
+
+@pytest.mark.parametrize(("command", "module", "first"), [
+    (["analyze", "fourbar_paper001.toml"], "_planar", "solving 361 positions"),
+    (["balance", "fourbar_paper001.toml"], "balance", "balancing"),
+    (["reactions", "loom_fourbar_spatial.toml"], "reactions",
+     "solving the spatial reactions at 360 positions"),
+    (["swashplate", "analyze", "swashplate_1.toml"], "swashplate", "solving 361 rotor angles"),
+    (["synthesize", "function", "synthesis_tasks.toml"], "synthesize", "function synthesis"),
+])
+def test_every_step_of_a_command_is_under_a_progress_bar(command, module, first, tmp_path,
+                                                         capsys, monkeypatch):
+    """The commands that took more than 2 s without a bar (balance, reactions, swash-plate
+    analyze) show one, as analyze does: the solve, then every file written (each output file
+    of the folder is named by a step)."""
+    import contextlib
+    import importlib
+
+    mod = importlib.import_module(f"linkwork.cli.{module}")
+    named: list[str] = []
+
+    @contextlib.contextmanager
+    def record(total, *, console):
+        yield named.append
+
+    monkeypatch.setattr(mod, "steps", record)
+    *cmd, name = command
+    out = tmp_path / "out"
+    assert main([*cmd, str(EXAMPLES / name), "--out", str(out)]) == 0
+    capsys.readouterr()
+    assert named[0] == first
+    text = " ".join(named)
+    files = [p.name for p in out.iterdir() if p.name != "linkwork-run.json"]
+    assert files
+    for f in files:  # each file named by a step (a plot "drawing ...", the rest "writing ...")
+        stem = f.rsplit(".", 1)[0]
+        assert (stem in text or f in text or (module == "balance" and f.endswith(".png"))
+                or (f.startswith("design_") and "design files" in text)), f
+
+
+def test_the_tolerance_study_bar_stays_out_of_stdout(tmp_path, capsys):
+    """Its progress bar was drawn on the command's stdout console, so a piped stdout got a line
+    'tolerance study ━━━ 500/500' among the tables; it is on a terminal's stderr now, like
+    every other bar."""
+    assert main(["reactions", str(EXAMPLES / "loom_fourbar_spatial.toml"), "--no-plots",
+                 "--tolerance-study", "50", "--out", str(tmp_path / "o")]) == 0
+    out = capsys.readouterr()
+    assert "tolerance study: peaks over the cycle, N = 50" in out.out
+    bar = re.compile(r"tolerance study ━+ \d+/\d+")
+    assert not bar.search(out.out) and not bar.search(out.err) and "50/50" not in out.out

@@ -34,22 +34,50 @@ def test_invalid_toml(tmp_path, capsys):
     assert "invalid TOML" in err and err.count("\n") == 1
 
 
-@pytest.mark.parametrize("text", ["x = " + "[" * 700 + "]" * 700,
-                                  "x = " + "{a=" * 700 + "1" + "}" * 700])
-def test_nesting_too_deep_one_line(tmp_path, capsys, text):
+#: Every command that reads a mechanism file.
+FILE_COMMANDS = [["analyze"], ["balance"], ["reactions"], ["dynamics"], ["report"],
+                 ["swashplate", "analyze"]]
+
+
+@pytest.mark.parametrize("command", FILE_COMMANDS)
+@pytest.mark.parametrize("text", ["x = " + "[" * 600 + "]" * 600,
+                                  "x = " + "{a=" * 600 + "1" + "}" * 600,
+                                  'type = "planar"\nname = ' + "[" * 600 + "]" * 600])
+def test_nesting_too_deep_one_line(tmp_path, capsys, text, command):
+    """Nested TOML 600 deep (the issue's case; a traceback before): one line, exit 2, no
+    output folder, from every command."""
     f = tmp_path / "deep.toml"
     f.write_text(text)
-    assert main(["analyze", str(f)]) == 2
+    assert main([*command, str(f), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
-    assert "nested too deeply" in err and err.count("\n") == 1
+    assert "deep.toml" in err and "nested too deeply" in err and err.count("\n") == 1, err
+    assert not (tmp_path / "o").exists()
 
 
-def test_endless_device_one_line(capsys):
+@pytest.mark.parametrize("command", FILE_COMMANDS)
+def test_endless_device_one_line(capsys, command, tmp_path):
     if not Path("/dev/zero").exists():
         pytest.skip("no /dev/zero on this system")
-    assert main(["analyze", "/dev/zero"]) == 2
+    assert main([*command, "/dev/zero", "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err
-    assert "limit of an input file" in err and err.count("\n") == 1
+    assert "/dev/zero" in err and "limit of an input file" in err and err.count("\n") == 1
+    assert not (tmp_path / "o").exists()
+
+
+def test_a_mechanism_that_does_not_assemble_names_its_file(tmp_path, capsys):
+    """An error found while the command works on the file (not by the file's checks) names the
+    file too: a coupler of 30 mm for the paper-001 four-bar."""
+    err = edit_example_and_run(tmp_path, capsys, "fourbar_paper001.toml", 'length = "300 mm"',
+                               'length = "30 mm"')
+    assert err.startswith(f"linkwork: error: {tmp_path / 'mech.toml'}: mechanism cannot be "
+                          "assembled"), err
+
+
+def test_an_option_error_is_not_put_on_the_file(tmp_path, capsys):
+    rc = main(["analyze", str(Path(__file__).parents[2] / "examples" / "fourbar_paper001.toml"),
+               "--angles", "1e300", "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.startswith("linkwork: error: --angles = "), err
 
 
 def test_unknown_type(tmp_path, capsys):
@@ -143,7 +171,8 @@ def test_absurd_speed_stops_with_one_line_instead_of_writing_inf(cmd, name, tmp_
     assert "speed = 1e200" in p.read_text()
     assert main([*cmd, str(p), "--out", str(tmp_path / "o")]) == 2
     err = capsys.readouterr().err.strip()
-    assert len(err.splitlines()) == 1 and "speed: must lie within +-1e+06 rad/s" in err, err
+    assert len(err.splitlines()) == 1, err
+    assert "speed: 1e+200 is invalid: must lie within +-1e+06 rad/s" in err, err
 
 
 def test_result_with_infinite_column_refuses_to_be_written(tmp_path):

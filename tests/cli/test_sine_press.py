@@ -108,7 +108,7 @@ def test_units_and_plain_si_are_equivalent(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("kw,needles", [
-    ({"L1": "-50 mm"}, ["crank.L1", "greater than 0"]),
+    ({"L1": "-50 mm"}, ["crank.L1", "-50 mm is invalid: must be > 0"]),
     ({"L1": "50 kg"}, ["crank.L1", "dimension"]),
     ({"speed": "0 rpm"}, ["crank.speed"]),
     ({"lambda2": "1.2"}, ["idle.lambda2", "|lambda_e| + 1 = 1.5"]),

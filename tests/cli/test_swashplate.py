@@ -176,12 +176,14 @@ def test_cli_swashplate_file_errors_name_file_and_key(example, old, new, words, 
 @pytest.mark.parametrize("argv,words", [
     # a plain number is radians: 8 -> 458 deg; the error named only 'delta_f', a field of the
     # Request the user never typed, without the hint
-    (["--delta", "8"], ["delta_f = 458.366 deg", "(0, 90]", "--delta '8'", "radians"]),
-    (["--delta-r", "0 deg"], ["delta_r = 0 deg", "--delta-r '0 deg'", "(0, 90]"]),
-    (["-R", "-100 mm"], ["R = -0.1", "--rotor-radius '-100 mm'", "> 0"]),
-    (["-H", "0 mm"], ["--stroke '0 mm'", "> 0"]),
-    (["--stroke-tol", "-1 mm"], ["--stroke-tol '-1 mm'", ">= 0"]),
-    (["--phi-f", "400 deg"], ["--phi-f '400 deg'", "(0, 360)"]),
+    (["--delta", "8"], ["--delta = 8 is invalid", "(0, 90]", "delta_f = 458.366 deg",
+                        "radians"]),
+    (["--delta-r", "0 deg"], ["--delta-r = 0 deg is invalid", "(0, 90]"]),
+    # as typed, with its unit: the SI value (R = -0.1) was shown first
+    (["-R", "-100 mm"], ["--rotor-radius = -100 mm is invalid", "> 0"]),
+    (["-H", "0 mm"], ["--stroke = 0 mm is invalid", "> 0"]),
+    (["--stroke-tol", "-1 mm"], ["--stroke-tol = -1 mm is invalid", ">= 0"]),
+    (["--phi-f", "400 deg"], ["--phi-f = 400 deg is invalid", "(0, 360)"]),
 ])
 def test_cli_synthesize_errors_name_the_option_as_typed(argv, words, tmp_path, capsys):
     base = {"-R": "100 mm", "-H": "60 mm"}
@@ -194,6 +196,7 @@ def test_cli_synthesize_errors_name_the_option_as_typed(argv, words, tmp_path, c
     assert rc == 2 and len(err.strip().splitlines()) == 1, err
     for w in words:
         assert w in err, (w, err)
+    assert "-0.1" not in err and "0.001" not in err  # never the SI value of what was typed
 
 
 def test_cli_swashplate_without_speed_shows_no_zero_slide_speeds(tmp_path, capsys):
@@ -261,12 +264,12 @@ def test_cli_bad_options_one_line_exit_2(argv, capsys, tmp_path):
 
 
 @pytest.mark.parametrize("extra, needle", [
-    (["--delta-f", "0 deg"], "delta_f = 0 deg"),  # was silently replaced by --delta
-    (["--delta-r", "0 deg"], "delta_r = 0 deg"),
+    (["--delta-f", "0 deg"], "--delta-f = 0 deg"),  # was silently replaced by --delta
+    (["--delta-r", "0 deg"], "--delta-r = 0 deg"),
     (["--positions", "0", "--productivity", "600 1/min"], "--positions = 0"),  # was a traceback
     (["--best", "0"], "--best = 0"),  # listed every design
     (["--speed", "0 rpm", "--v-allow", "0.3 m/s"], "--speed = 0 rpm"),
-    (["--point", "90 deg,25 mm", "--point-tol", "-1 mm"], "point_tol = -0.001"),
+    (["--point", "90 deg,25 mm", "--point-tol", "-1 mm"], "--point-tol = -1 mm"),
     (["--point", "90 deg,nan mm"], "point position s_p = nan"),
 ])
 def test_cli_bad_values_named(extra, needle, capsys, tmp_path):

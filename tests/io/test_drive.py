@@ -67,10 +67,10 @@ speed = "100 rpm"
     ('[drive]\nflywheel = 1\ndelta = 0.1\n[[drive.motor]]\ntype = "constant_speed"\n'
      'speed = 10\n', "drive", "a flywheel or a delta"),
     ('[drive]\ndelta = 0\n[[drive.motor]]\ntype = "dc"\nstall_torque = 5\n'
-     'no_load_speed = 100\n', "drive.delta", "greater than 0"),
+     'no_load_speed = 100\n', "drive.delta", "0 is invalid: must be > 0"),
     ('[drive]\n[[drive.motor]]\ntype = "induction"\nrated_power = "1 kW"\n'
      'synchronous_speed = "1500 rpm"\nrated_speed = "1400 rpm"\nbreakdown_ratio = 0.8\n',
-     "drive.motor.0.breakdown_ratio", "greater than 1"),
+     "drive.motor.0.breakdown_ratio", "0.8 is invalid: must be > 1"),
     ('[drive]\n[[drive.motor]]\ntype = "dc"\nstall_torque = "5 kg"\nno_load_speed = 100\n',
      "drive.motor.0.stall_torque", "torque"),
     ('[drive]\n[drive.gear]\nefficiency = 1.5\n[[drive.motor]]\ntype = "dc"\n'

@@ -289,7 +289,7 @@ LOAD = '\n[[load]]\ntype = "{}"\nbody = "rocker"\n{}\n'
     # a huge length: was a traceback (OverflowError in the rate solve) and exit code 1; the
     # files' sanity layer names it before any computation
     (_replace(FOURBAR, 'length = "100 mm"', "length = 1e300"),
-     "length: must lie within +-10000 m, far beyond any machine mechanism"),
+     "length: 1e+300 is invalid: must lie within +-10000 m, far beyond any machine mechanism"),
     # keys of another type of load, joint or driver were ignored silently (exit 0, no load
     # applied, the joint's default points used, the linear driver at its default 1 m/s)
     (FOURBAR + LOAD.format("force", 'mz = "10 N*m"'),
