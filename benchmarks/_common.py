@@ -230,8 +230,10 @@ def cpu_lines(cpu: dict[str, dict[str, Any]]) -> list[str]:
             continue
         busiest = max([c["client"], *c["workers"]])
         total = c["client"] + c["scheduler"] + sum(c["workers"])
+        # os.times counts in clock ticks (10 ms): a tiny call may read 0 s in every process
+        bound = (f"{base / busiest:.2f} (the speed-up on free cores at most)" if busiest > 0
+                 else "undefined (below the CPU clock's 10 ms resolution)")
         out.append(f"  {label}: client {c['client']:.2f} s, scheduler {c['scheduler']:.2f} s, "
                    "workers " + ", ".join(f"{w:.2f}" for w in c["workers"])
-                   + f" s (all {total:.2f} s); in-process / busiest process = "
-                   f"{base / busiest:.2f} (the speed-up on free cores at most)")
+                   + f" s (all {total:.2f} s); in-process / busiest process = {bound}")
     return out

@@ -110,6 +110,20 @@ def test_tolerance_study_benchmark_dask_rows_on_a_process_cluster():
     assert "speed-up over in-process" in tol.table(result)
 
 
+def test_cpu_lines_of_calls_below_the_clock_resolution():
+    """benchmarks/_common.cpu_lines: os.times counts in 10 ms ticks, so a tiny call can read
+    0 s in every process (it divided by zero in one CI run); the bound is then undefined."""
+    common = load_benchmark("_common")
+    zero = {"in-process": {"client": 0.0},
+            "process cluster, 1 worker": {"client": 0.0, "scheduler": 0.01, "workers": [0.0]}}
+    assert "undefined (below the CPU clock's 10 ms resolution)" in "\n".join(
+        common.cpu_lines(zero))
+    some = {"in-process": {"client": 1.2},
+            "process cluster, 2 workers": {"client": 0.1, "scheduler": 0.2,
+                                           "workers": [0.5, 0.6]}}
+    assert "= 2.00 (the speed-up on free cores at most)" in "\n".join(common.cpu_lines(some))
+
+
 def test_long_cycle_benchmark_runs_tiny():
     """benchmarks/long_cycle.py at tiny sizes: the chunked study equals the whole cycle, the
     long run agrees with the check run, peaks are reported."""
