@@ -20,7 +20,7 @@ demo: $(STAMP)
 	@echo "demo output written to demo-output/"
 
 lint: $(STAMP)
-	$(BIN)/ruff check linkwork tests benchmarks
+	$(BIN)/ruff check linkwork tests benchmarks docs
 	$(BIN)/mypy
 	$(BIN)/lint-imports
 
