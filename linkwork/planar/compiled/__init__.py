@@ -1,0 +1,40 @@
+"""The engine's compiled backend (optional: ``pip install 'linkwork[numba]'``).
+
+``backend="numba"`` in :func:`~linkwork.planar.kinematics` and
+:func:`~linkwork.planar.inverse_dynamics` runs the plans it covers through kernels compiled by
+numba, one pass over the positions (and designs) per call instead of one NumPy pass per
+operation; the NumPy path stays the default and the reference the compiled kernels are tested
+against. numba is imported only when the compiled backend is asked for, so ``import linkwork``
+stays light.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+from linkwork.errors import MissingExtraError, ParameterError
+
+__all__ = ["BACKENDS", "NUMBA_INSTALL", "check_backend", "numba_module"]
+
+#: The engine's backends: ``"numpy"`` (the default and the reference) and ``"numba"``.
+BACKENDS = ("numpy", "numba")
+NUMBA_INSTALL = "pip install 'linkwork[numba]'"
+
+
+def numba_module() -> Any:
+    """The numba module, or :class:`~linkwork.errors.MissingExtraError` naming the extra."""
+    try:
+        import numba
+    except ImportError:
+        raise MissingExtraError('backend="numba"', "numba", NUMBA_INSTALL) from None
+    return numba
+
+
+def check_backend(backend: Any, *, option: str = "backend") -> str:
+    """``backend`` checked: one of :data:`BACKENDS` (else a ParameterError naming ``option``);
+    ``"numba"`` also needs numba installed (else a MissingExtraError naming the extra)."""
+    if not isinstance(backend, str) or backend not in BACKENDS:
+        raise ParameterError(option, backend, f"must be one of {', '.join(map(repr, BACKENDS))}")
+    if backend == "numba":
+        numba_module()
+    return backend
