@@ -43,10 +43,13 @@ as ``func(chunk, **shared)``; on a cluster they are sent to every worker once
 
     y = evaluate(peaks_of, draws, shared={"zmat": zmat}, client=client)
 
-On a cluster the chunks are submitted at once and their results gathered in batches as they
-complete (``as_completed(...).batches()``, one ``gather`` per batch), each released on the
-workers as soon as it is here; ``combine`` folds them in candidate order as soon as the next
-one in order is in.
+On a cluster the chunks go out as tasks of consecutive chunks (:func:`task_groups`: guided
+self-scheduling, large tasks first and single chunks last, so that few tasks carry Dask's
+per-task cost and the workers still finish together; ``func`` is still called once per chunk,
+on the same chunks as in-process), submitted at once; their results are gathered in batches as
+they complete (``as_completed(...).batches()``, one ``gather`` per batch), each released on
+the workers as soon as it is here; ``combine`` folds them in candidate order as soon as the
+next one in order is in, and ``progress`` is called once per chunk.
 
 Worker malloc settings
 ----------------------
@@ -82,8 +85,18 @@ import numpy as np
 
 from linkwork.errors import MissingExtraError, ParameterError
 
-__all__ = ["DASK_INSTALL", "Generated", "aligned", "check_client", "chunk_slices", "evaluate",
-           "rich_progress", "roomy_heap"]
+__all__ = [
+    "DASK_INSTALL",
+    "MAX_TASK_CHUNKS",
+    "Generated",
+    "aligned",
+    "check_client",
+    "chunk_slices",
+    "evaluate",
+    "rich_progress",
+    "roomy_heap",
+    "task_groups",
+]
 
 #: How to install the optional dask extra (named by every "needs dask" message).
 DASK_INSTALL = "pip install 'linkwork[dask]'"
@@ -105,6 +118,36 @@ def chunk_slices(n: int, chunk_size: int) -> list[slice]:
         raise ParameterError("n", n, "must be >= 0")
     cs = int(chunk_size)
     return [slice(i, min(i + cs, int(n))) for i in range(0, int(n), cs)]
+
+
+#: The most chunks one task of a cluster carries (:func:`task_groups`): bounds the work lost
+#: with a failed worker, the results a worker holds at once, and the wait between progress
+#: updates.
+MAX_TASK_CHUNKS = 8
+
+
+def task_groups(n_chunks: int, threads: int) -> list[range]:
+    """Consecutive chunk indices of each task of a cluster with ``threads`` worker threads in
+    all, by guided self-scheduling (Polychronopoulos and Kuck, IEEE Trans. Computers C-36,
+    1987): each task takes ``ceil(remaining / (2 threads))`` chunks, at most
+    :data:`MAX_TASK_CHUNKS` and at least one.
+
+    The first tasks are large, so that Dask's cost per task (a few ms of scheduler, client and
+    worker CPU: messages, transitions, a gather) is paid a few times rather than once per
+    chunk; the last ``2 threads`` or so are single chunks, so that a worker that finishes early
+    takes the rest in small pieces and the workers finish together. 10 chunks on 2 threads:
+    tasks of 3, 2, 2, 1, 1, 1 chunks.
+    """
+    if int(n_chunks) < 0:
+        raise ParameterError("n_chunks", n_chunks, "must be >= 0")
+    if int(threads) < 1:
+        raise ParameterError("threads", threads, "must be an integer >= 1")
+    out, i, n = [], 0, int(n_chunks)
+    while i < n:
+        k = min(MAX_TASK_CHUNKS, max(1, -(-(n - i) // (2 * int(threads)))))
+        out.append(range(i, i + k))
+        i += k
+    return out
 
 
 class Generated:
@@ -224,18 +267,22 @@ def aligned(value: Any) -> Any:
     return value
 
 
-def _on_worker(func: Callable[..., Any], chunk: Any, shared: Mapping[str, Any]) -> Any:
-    """One chunk on a cluster worker: ``func(chunk, **shared)`` on aligned arrays
-    (:func:`aligned`), inside :func:`roomy_heap`."""
+def _on_worker(func: Callable[..., Any], candidates: Any, bounds: Sequence[tuple[int, int]],
+               shared: Mapping[str, Any]) -> list[Any]:
+    """One task on a cluster worker: ``func(chunk, **shared)`` for each chunk ``bounds``
+    (start, stop within the task's ``candidates``), on aligned arrays (:func:`aligned`),
+    inside :func:`roomy_heap`; the chunks' results in order."""
     with roomy_heap():
-        return func(aligned(chunk), **aligned(shared))
+        cand, kw = aligned(candidates), aligned(shared)
+        return [func(_take(cand, slice(a, b)), **kw) for a, b in bounds]
 
 
-def _make_on_worker(func: Callable[..., Any], make: Callable[[int, int], Any], start: int,
-                    stop: int, shared: Mapping[str, Any]) -> Any:
-    """One generated chunk on a cluster worker: made there, then evaluated."""
+def _make_on_worker(func: Callable[..., Any], make: Callable[[int, int], Any],
+                    bounds: Sequence[tuple[int, int]], shared: Mapping[str, Any]) -> list[Any]:
+    """One task of generated chunks on a cluster worker: each made there, then evaluated."""
     with roomy_heap():
-        return func(make(start, stop), **aligned(shared))
+        kw = aligned(shared)
+        return [func(make(a, b), **kw) for a, b in bounds]
 
 
 def _length(candidates: Any) -> int:
@@ -315,7 +362,9 @@ def evaluate(func: Callable[..., Any], candidates: Any, *, chunk_size: int = 10_
         ``N`` candidates along the first axis (e.g. an ``(N, k)`` parameter matrix, or
         ``{"r": (N,), "l": (N,)}``), or a :class:`Generated` that makes each chunk on demand.
     chunk_size : int
-        Candidates per call of ``func``; bounds the memory ``func`` uses.
+        Candidates per call of ``func``; bounds the memory ``func`` uses. On a cluster a task
+        carries one or more consecutive chunks (:func:`task_groups`), ``func`` is still called
+        on each chunk alone.
     client : dask.distributed.Client or str, optional
         Run the chunks on this cluster (a ``Client``, or a scheduler address such as
         ``"tcp://10.0.0.1:8786"``, connected for this call and closed afterwards). ``None``:
@@ -372,28 +421,34 @@ def _evaluate_dask(func: Callable[..., Any], candidates: Any, slices: list[slice
         names = list(shared)
         scattered = (dict(zip(names, cl.scatter([shared[k] for k in names], broadcast=True,
                                                 hash=False), strict=True)) if shared else {})
+        threads = max(1, sum(cl.nthreads().values()))
+        groups = task_groups(len(slices), threads)
+        tasks = [(slices[g[0]].start, slices[g[-1]].stop) for g in groups]
         if isinstance(candidates, Generated):  # make each chunk on its worker
             futures = list(cl.map(functools.partial(_make_on_worker, func, candidates.make),
-                                  [sl.start for sl in slices], [sl.stop for sl in slices],
-                                  shared=scattered, pure=False))
+                                  [[(slices[i].start, slices[i].stop) for i in g]
+                                   for g in groups], shared=scattered, pure=False))
         else:
             futures = list(cl.map(functools.partial(_on_worker, func),
-                                  [_take(candidates, sl) for sl in slices], shared=scattered,
-                                  pure=False))
-        index = {f.key: i for i, f in enumerate(futures)}
+                                  [_take(candidates, slice(lo, hi)) for lo, hi in tasks],
+                                  [[(slices[i].start - lo, slices[i].stop - lo) for i in g]
+                                   for g, (lo, _) in zip(groups, tasks, strict=True)],
+                                  shared=scattered, pure=False))
+        index = {f.key: t for t, f in enumerate(futures)}
         results: dict[int, Any] = {}
         acc: Any = None
         folded = 0   # chunks folded by combine, in order
         done = 0
         for batch in as_completed(futures).batches():
-            # one gather per batch of finished chunks (not one per chunk, nor many at once)
-            for fut, res in zip(batch, cl.gather(batch, direct=True), strict=True):
-                i = index[fut.key]
-                futures[i] = None  # released on the workers once nothing refers to it
-                results[i] = res
-                done += slices[i].stop - slices[i].start
-                if progress is not None:
-                    progress(done, n)
+            # one gather per batch of finished tasks (not one per task, nor many at once)
+            for fut, parts in zip(batch, cl.gather(batch, direct=True), strict=True):
+                t = index[fut.key]
+                futures[t] = None  # released on the workers once nothing refers to it
+                for i, res in zip(groups[t], parts, strict=True):
+                    results[i] = res
+                    done += slices[i].stop - slices[i].start
+                    if progress is not None:
+                        progress(done, n)
             del batch
             if combine is not None:  # fold the chunks that are next in order
                 while folded in results:

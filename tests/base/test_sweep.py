@@ -6,7 +6,14 @@ import numpy as np
 import pytest
 
 from linkwork.errors import ParameterError
-from linkwork.sweep import chunk_slices, evaluate, rich_progress
+from linkwork.sweep import (
+    MAX_TASK_CHUNKS,
+    Generated,
+    chunk_slices,
+    evaluate,
+    rich_progress,
+    task_groups,
+)
 
 
 def _model(x, scale=1.0):
@@ -85,8 +92,6 @@ def _make(start, stop):
 
 def test_generated_candidates_in_process_and_on_dask():
     from dask.distributed import Client
-
-    from linkwork.sweep import Generated
 
     gen = Generated(1000, _make)
     made = []
@@ -243,3 +248,55 @@ def test_aligned_copies_only_unaligned_arrays_everywhere_in_a_chunk():
     assert out["a"] is a and out["l"][0] is a and out["l"][1] == "x"
     assert out["t"][0].flags.aligned and out["t"][1] == 3 and isinstance(out["t"], tuple)
     assert aligned(u).flags.aligned and aligned(a) is a
+
+
+def test_task_groups_guided_self_scheduling():
+    """Tasks of a cluster by guided self-scheduling: each takes ceil(remaining / (2 threads))
+    consecutive chunks, at most MAX_TASK_CHUNKS; together they cover every chunk once, in
+    order. Counted by hand: 10 chunks on 2 threads -> 3, 2, 2, 1, 1, 1 (10/4 -> 3, 7/4 -> 2,
+    5/4 -> 2, then single chunks); on 1 thread -> 5, 3, 1, 1."""
+    def sizes(n, t):
+        return [len(g) for g in task_groups(n, t)]
+
+    assert sizes(10, 2) == [3, 2, 2, 1, 1, 1]
+    assert sizes(10, 1) == [5, 3, 1, 1]
+    assert sizes(4, 2) == [1, 1, 1, 1]
+    assert sizes(0, 2) == [] and sizes(1, 8) == [1]
+    for n, t in [(1000, 2), (37, 3), (9, 16)]:
+        groups = task_groups(n, t)
+        assert [i for g in groups for i in g] == list(range(n))
+        assert max(len(g) for g in groups) <= MAX_TASK_CHUNKS
+        assert all(len(g) == 1 for g in groups[-min(n, t):])   # the last tasks: one chunk
+    with pytest.raises(ParameterError, match="threads"):
+        task_groups(10, 0)
+
+
+def _chunk_start(x):
+    """Each candidate's result: the first candidate of the chunk it was evaluated in."""
+    x = np.asarray(x)
+    return np.full(len(x), x[0] if len(x) else -1.0)
+
+
+def _make_index(start, stop):
+    return np.arange(start, stop, dtype=float)
+
+
+def test_dask_tasks_of_several_chunks_call_func_on_the_in_process_chunks():
+    """On a cluster consecutive chunks travel as one task (10 chunks on 2 threads: 6 tasks),
+    but ``func`` is still called once per chunk of ``chunk_size`` on the same candidates as
+    in-process (each candidate's result names its chunk's first candidate), for arrays and for
+    chunks generated on the workers; ``progress`` is called once per chunk and reaches N."""
+    from dask.distributed import Client
+
+    x = np.arange(95.0)
+    local = evaluate(_chunk_start, x, chunk_size=10)
+    np.testing.assert_array_equal(local, np.repeat(np.arange(0.0, 95.0, 10.0), 10)[:95])
+    done = []
+    with Client(processes=False, dashboard_address=":0", n_workers=2,
+                threads_per_worker=1) as client:
+        dist = evaluate(_chunk_start, x, chunk_size=10, client=client,
+                        progress=lambda d, t: done.append((d, t)))
+        gen = evaluate(_chunk_start, Generated(95, _make_index), chunk_size=10, client=client)
+    np.testing.assert_array_equal(dist, local)
+    np.testing.assert_array_equal(gen, local)
+    assert len(done) == 10 and done[-1] == (95, 95)
