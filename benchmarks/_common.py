@@ -193,25 +193,28 @@ def _process_cpu() -> float:
     return t.user + t.system
 
 
-def cpu_split(fn: Callable[[], Any], client: Any = None, repeat: int = 3) -> dict[str, float]:
+def cpu_split(fn: Callable[[], Any], client: Any = None, repeat: int = 3) -> dict[str, Any]:
     """CPU seconds that one call of ``fn`` costs, median of ``repeat`` calls: in this process
-    (``client``), and with a dask ``client`` on each of its workers (``workers``: sorted, the
-    busiest last). Unlike wall time this does not depend on other load of the machine: the
-    busiest process bounds the wall time the call would take on free cores."""
+    (``client``), and with a dask ``client`` on its scheduler (``scheduler``; None when the
+    scheduler runs in this process, as a ``LocalCluster``'s does: it is then counted in
+    ``client`` once) and on each of its workers (``workers``: sorted, the busiest last). Unlike
+    wall time this does not depend on other load of the machine: the busiest process bounds
+    the wall time the call would take on free cores."""
+    own = client is not None and client.run_on_scheduler(os.getpid) == os.getpid()
     runs: list[dict[str, Any]] = []
     for _ in range(repeat):
         w0 = client.run(_process_cpu) if client is not None else {}
-        s0 = client.run_on_scheduler(_process_cpu) if client is not None else 0.0
+        s0 = client.run_on_scheduler(_process_cpu) if client is not None and not own else 0.0
         c0 = _process_cpu()
         fn()
         c1 = _process_cpu()
         w1 = client.run(_process_cpu) if client is not None else {}
-        s1 = client.run_on_scheduler(_process_cpu) if client is not None else 0.0
+        s1 = client.run_on_scheduler(_process_cpu) if client is not None and not own else 0.0
         runs.append({"client": c1 - c0, "scheduler": s1 - s0,
                      "workers": sorted(w1[k] - w0[k] for k in w0)})
     out: dict[str, Any] = {"client": statistics.median(r["client"] for r in runs)}
     if client is not None:
-        out["scheduler"] = statistics.median(r["scheduler"] for r in runs)
+        out["scheduler"] = None if own else statistics.median(r["scheduler"] for r in runs)
         n = len(runs[0]["workers"])
         out["workers"] = [statistics.median(r["workers"][i] for r in runs) for i in range(n)]
     return out
@@ -223,17 +226,23 @@ def cpu_lines(cpu: dict[str, dict[str, Any]]) -> list[str]:
     if not cpu:
         return []
     base = cpu["in-process"]["client"]
+    cores = os.cpu_count() or 1
     out = ["", "CPU seconds per call (median of 3; load-independent): in-process "
            f"{base:.2f} s"]
     for label, c in cpu.items():
         if label == "in-process":
             continue
+        sched = c.get("scheduler")
         busiest = max([c["client"], *c["workers"]])
-        total = c["client"] + c["scheduler"] + sum(c["workers"])
+        total = c["client"] + (sched or 0.0) + sum(c["workers"])
         # os.times counts in clock ticks (10 ms): a tiny call may read 0 s in every process
         bound = (f"{base / busiest:.2f} (the speed-up on free cores at most)" if busiest > 0
                  else "undefined (below the CPU clock's 10 ms resolution)")
-        out.append(f"  {label}: client {c['client']:.2f} s, scheduler {c['scheduler']:.2f} s, "
-                   "workers " + ", ".join(f"{w:.2f}" for w in c["workers"])
-                   + f" s (all {total:.2f} s); in-process / busiest process = {bound}")
+        # all processes on this machine's cores: at least total / cores of wall time
+        here = (f"; in-process / (all / {cores} cores) = {base * cores / total:.2f} (the "
+                "speed-up on this machine at most)" if total > 0 else "")
+        who = (f"client and scheduler (one process) {c['client']:.2f} s" if sched is None
+               else f"client {c['client']:.2f} s, scheduler {sched:.2f} s")
+        out.append(f"  {label}: {who}, workers " + ", ".join(f"{w:.2f}" for w in c["workers"])
+                   + f" s (all {total:.2f} s); in-process / busiest process = {bound}{here}")
     return out

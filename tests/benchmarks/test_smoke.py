@@ -124,6 +124,28 @@ def test_cpu_lines_of_calls_below_the_clock_resolution():
     assert "= 2.00 (the speed-up on free cores at most)" in "\n".join(common.cpu_lines(some))
 
 
+def test_cpu_split_counts_a_local_scheduler_once():
+    """benchmarks/_common.cpu_split: a LocalCluster's scheduler runs in the client's process,
+    so its CPU is the client's (measured twice before: client 0.13 s and scheduler 0.14 s of
+    one process); it is then reported as one process, and cpu_lines bounds the speed-up by all
+    processes' CPU on this machine's cores (1.2 s in-process against 0.1 + 0.5 + 0.6 s on 2
+    cores: 2.00)."""
+    from dask.distributed import Client
+
+    common = load_benchmark("_common")
+    with Client(processes=False, dashboard_address=":0", n_workers=1,
+                threads_per_worker=1) as client:
+        split = common.cpu_split(lambda: sum(range(1000)), client, repeat=1)
+    assert split["scheduler"] is None and len(split["workers"]) == 1
+    lines = "\n".join(common.cpu_lines({
+        "in-process": {"client": 1.2},
+        "process cluster, 2 workers": {"client": 0.1, "scheduler": None,
+                                       "workers": [0.5, 0.6]}}))
+    assert "client and scheduler (one process) 0.10 s" in lines
+    cores = __import__("os").cpu_count()
+    assert f"(all / {cores} cores) = {1.2 * cores / 1.2:.2f}" in lines
+
+
 def test_long_cycle_benchmark_runs_tiny():
     """benchmarks/long_cycle.py at tiny sizes: the chunked study equals the whole cycle, the
     long run agrees with the check run, peaks are reported."""
