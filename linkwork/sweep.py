@@ -321,6 +321,76 @@ def _join(parts: Sequence[Any]) -> Any:
     return np.concatenate([np.atleast_1d(np.asarray(p)) for p in parts])
 
 
+class _Joined:
+    """The chunks' results joined along the first axis as they arrive: what :func:`_join` of
+    all of them in order gives, built in arrays over all ``n`` candidates that are made when
+    the first result arrives, each result copied in (and let go) when it comes. No
+    concatenation at the end (on a cluster: after the last result, while the workers idle),
+    and one copy of the results in memory instead of two. A result whose arrays do not run
+    over their chunk's candidates, or differ in structure, dtype or trailing shape from the
+    first, is kept as it is, and the whole is then joined by :func:`_join` at the end."""
+
+    def __init__(self, slices: Sequence[slice], n: int) -> None:
+        self.slices, self.n = slices, n
+        self.out: Any = None           # array, tuple or dict of arrays over all n candidates
+        self.kind: tuple[Any, ...] = ()
+        self.placed: list[int] = []
+        self.kept: dict[int, Any] | None = None   # set when results cannot be placed
+
+    @staticmethod
+    def _leaves(res: Any) -> tuple[Any, list[Any]]:
+        """(structure, arrays) of a result: an array, a tuple or a mapping of arrays."""
+        if isinstance(res, Mapping):
+            return ("mapping", tuple(res)), list(res.values())
+        if isinstance(res, tuple):
+            return ("tuple", len(res)), list(res)
+        return ("array",), [res]
+
+    def _place(self, i: int, res: Any) -> bool:
+        kind, leaves = self._leaves(res)
+        sl = self.slices[i]
+        if not all(isinstance(a, np.ndarray) and a.ndim >= 1 and len(a) == sl.stop - sl.start
+                   for a in leaves):
+            return False
+        if self.out is None:
+            arrays = [np.empty((self.n, *a.shape[1:]), a.dtype) for a in leaves]
+            self.kind = kind
+            self.out = (dict(zip(kind[1], arrays, strict=True)) if kind[0] == "mapping"
+                        else tuple(arrays) if kind[0] == "tuple" else arrays[0])
+        if kind != self.kind:
+            return False
+        targets = self._leaves(self.out)[1]
+        if any(a.dtype != t.dtype or a.shape[1:] != t.shape[1:]
+               for a, t in zip(leaves, targets, strict=True)):
+            return False
+        for a, t in zip(leaves, targets, strict=True):
+            t[sl] = a
+        self.placed.append(i)
+        return True
+
+    def add(self, i: int, res: Any) -> None:
+        """The result of chunk ``i`` (any order)."""
+        if self.kept is None and self._place(i, res):
+            return
+        if self.kept is None:   # from now on keep every result; the placed ones as views
+            self.kept = {j: self._view(j) for j in self.placed}
+        self.kept[i] = res
+
+    def _view(self, j: int) -> Any:
+        sl = self.slices[j]
+        if isinstance(self.out, dict):
+            return {k: v[sl] for k, v in self.out.items()}
+        if isinstance(self.out, tuple):
+            return tuple(v[sl] for v in self.out)
+        return self.out[sl]
+
+    def result(self) -> Any:
+        """The joined results of all chunks."""
+        if self.kept is None:
+            return self.out
+        return _join([self.kept[j] for j in range(len(self.slices))])
+
+
 def check_client(client: Any, *, option: str = "client") -> None:
     """Check a ``client`` argument of :func:`evaluate` before any work is done.
 
@@ -390,17 +460,18 @@ def evaluate(func: Callable[..., Any], candidates: Any, *, chunk_size: int = 10_
     slices = chunk_slices(n, chunk_size) or [slice(0, 0)]
     kw = dict(shared or {})
     if client is None:
-        parts: list[Any] = []
+        joined = _Joined(slices, n)
         acc: Any = None
         for i, sl in enumerate(slices):
             res = func(_take(candidates, sl), **kw)
             if combine is None:
-                parts.append(res)
+                joined.add(i, res)
             else:
                 acc = res if i == 0 else combine(acc, res)
+            del res
             if progress is not None:
                 progress(sl.stop, n)
-        return _join(parts) if combine is None else acc
+        return joined.result() if combine is None else acc
     return _evaluate_dask(func, candidates, slices, n, client, progress, combine, kw)
 
 
@@ -435,29 +506,32 @@ def _evaluate_dask(func: Callable[..., Any], candidates: Any, slices: list[slice
                                    for g, (lo, _) in zip(groups, tasks, strict=True)],
                                   shared=scattered, pure=False))
         index = {f.key: t for t, f in enumerate(futures)}
-        results: dict[int, Any] = {}
+        results: dict[int, Any] = {}   # chunk results waiting to be folded by combine
+        joined = _Joined(slices, n)
         acc: Any = None
         folded = 0   # chunks folded by combine, in order
         done = 0
+        parts: Any = None
         for batch in as_completed(futures).batches():
             # one gather per batch of finished tasks (not one per task, nor many at once)
             for fut, parts in zip(batch, cl.gather(batch, direct=True), strict=True):
                 t = index[fut.key]
                 futures[t] = None  # released on the workers once nothing refers to it
                 for i, res in zip(groups[t], parts, strict=True):
-                    results[i] = res
+                    if combine is None:
+                        joined.add(i, res)
+                    else:
+                        results[i] = res
                     done += slices[i].stop - slices[i].start
                     if progress is not None:
                         progress(done, n)
-            del batch
+            del batch, parts
             if combine is not None:  # fold the chunks that are next in order
                 while folded in results:
                     res = results.pop(folded)
                     acc = res if folded == 0 else combine(acc, res)
                     folded += 1
-        if combine is not None:
-            return acc
-        return _join([results[i] for i in range(len(slices))])
+        return acc if combine is not None else joined.result()
     finally:
         for fut in futures:  # an error or an interrupt: cancel what is still running
             if fut is not None:

@@ -300,3 +300,53 @@ def test_dask_tasks_of_several_chunks_call_func_on_the_in_process_chunks():
     np.testing.assert_array_equal(dist, local)
     np.testing.assert_array_equal(gen, local)
     assert len(done) == 10 and done[-1] == (95, 95)
+
+
+def _varied(x):
+    """Results of three kinds by chunk: float rows, then (from candidate 40 on) int rows."""
+    x = np.asarray(x)
+    return x * 2.0 if x[0] < 40 else (x * 2).astype(np.int64)
+
+
+@pytest.mark.parametrize("model", [
+    lambda c: c * 1.5,                                          # array
+    lambda c: (c[:, 0] + c[:, 1], c[:, :2] * 2),                # tuple
+    lambda c: {"s": c.sum(axis=1), "m": c.max(axis=1)},         # mapping
+    lambda c: float(c.sum()),                                   # a scalar per chunk
+])
+def test_results_joined_as_they_arrive_equal_concatenation(model):
+    """In-process and on a cluster the chunks' results are copied into arrays over all
+    candidates as they arrive (in any order); the result equals the concatenation of the
+    chunks' results in order, bit for bit and with the same dtypes, for arrays, tuples and
+    mappings, and a result that does not run over its chunk (a scalar) falls back to the
+    concatenation."""
+    from dask.distributed import Client
+
+    x = np.random.default_rng(4).normal(size=(103, 3))
+    parts = [model(x[i:i + 10]) for i in range(0, 103, 10)]
+    first = parts[0]
+    if isinstance(first, dict):
+        want = {k: np.concatenate([p[k] for p in parts]) for k in first}
+    elif isinstance(first, tuple):
+        want = tuple(np.concatenate([p[i] for p in parts]) for i in range(len(first)))
+    else:
+        want = np.concatenate([np.atleast_1d(p) for p in parts])
+    with Client(processes=False, dashboard_address=":0", n_workers=2,
+                threads_per_worker=1) as client:
+        remote = evaluate(model, x, chunk_size=10, client=client)
+    for got in (evaluate(model, x, chunk_size=10), remote):
+        for g, w in (zip(got.values(), want.values(), strict=True) if isinstance(want, dict)
+                     else zip(got, want, strict=True) if isinstance(want, tuple)
+                     else [(got, want)]):
+            assert g.dtype == w.dtype
+            np.testing.assert_array_equal(g, w)
+
+
+def test_results_of_changing_dtype_join_as_numpy_concatenates():
+    """Chunks whose results change dtype half-way (float, then int) are joined as
+    ``np.concatenate`` joins them (floats), the chunks placed before the change included."""
+    x = np.arange(100.0)
+    got = evaluate(_varied, x, chunk_size=10)
+    want = np.concatenate([_varied(x[i:i + 10]) for i in range(0, 100, 10)])
+    assert got.dtype == want.dtype == np.float64
+    np.testing.assert_array_equal(got, want)
