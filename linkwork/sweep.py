@@ -186,8 +186,11 @@ ROOMY_TRIM_THRESHOLD = 512 * 2**20
 _GLIBC_DEFAULT = 128 * 1024
 
 
+@functools.cache
 def _libc() -> Any:
-    """glibc's ``mallopt`` and ``malloc_trim``, or None (another C library or system)."""
+    """glibc's ``mallopt`` and ``malloc_trim``, or None (another C library or system); looked
+    up once per process (``ctypes.util.find_library`` runs ``ldconfig -p`` in a subprocess:
+    4-8 ms measured, which every chunk on a worker paid before)."""
     if not sys.platform.startswith("linux"):
         return None
     try:

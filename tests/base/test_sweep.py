@@ -232,6 +232,30 @@ def test_roomy_heap_reuses_memory_under_fixed_malloc_thresholds(env):
     assert inside < 4_000
 
 
+def test_roomy_heap_looks_up_the_c_library_once(monkeypatch):
+    """``roomy_heap`` wraps every task on a worker; it found glibc anew each time, and
+    ``ctypes.util.find_library`` runs ``ldconfig -p`` in a subprocess (4-8 ms of fork and exec
+    per task measured, in a process the worker's CPU count does not include). Now the library
+    is looked up once per process: ten blocks, at most one lookup."""
+    import ctypes.util
+
+    import linkwork.sweep as sweep
+
+    calls = []
+    real = ctypes.util.find_library
+    monkeypatch.setattr(ctypes.util, "find_library",
+                        lambda name: (calls.append(name), real(name))[1])
+    monkeypatch.setenv("MALLOC_TRIM_THRESHOLD_", "65536")
+    sweep._libc.cache_clear()
+    try:
+        for _ in range(10):
+            with sweep.roomy_heap():
+                pass
+    finally:
+        sweep._libc.cache_clear()
+    assert len(calls) <= 1
+
+
 def test_aligned_copies_only_unaligned_arrays_everywhere_in_a_chunk():
     """Arrays that arrive over the network may start at any byte; ``aligned`` copies those
     (same values) in arrays, mappings, tuples and lists, and returns aligned arrays as they
