@@ -60,12 +60,12 @@ give freed memory back to the system. That setting also fixes glibc's ``mmap`` t
 a page fault, and the freed top of the heap is returned at once. A NumPy kernel that makes
 multi-megabyte temporaries then runs 1.5-3x slower on such a worker than in the user's own
 process. Two remedies, both here: the library's hottest kernel (the tolerance study's) works in
-preallocated buffers, and every chunk that runs on a cluster runs inside :func:`roomy_heap`,
-which raises the two glibc thresholds while the chunk runs and restores the environment's
-values (and trims the heap) afterwards, so that the worker gives its memory back between
-chunks as its operator asked. Nothing is needed from whoever starts the cluster; unsetting the
-variable (``distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_``) changes nothing for
-linkwork (``docs/performance.md``, section Dask).
+preallocated buffers, and every task that runs on a cluster runs inside :func:`roomy_heap`,
+which raises the two glibc thresholds while the task's chunks run and restores the
+environment's values (and trims the heap) afterwards, so that the worker gives its memory back
+between tasks as its operator asked. Nothing is needed from whoever starts the cluster;
+unsetting the variable (``distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_``)
+changes nothing for linkwork. The worker settings that do matter: ``docs/dask.md``.
 """
 
 from __future__ import annotations
