@@ -17,7 +17,9 @@ Cases, over ``n`` crank positions of one revolution (four-bar of paper 001, a, b
     positions, velocities, accelerations) and its pure-Python run as anchors.
 ``four-bar engine + reactions`` the same plus :func:`linkwork.planar.inverse_dynamics` against
     a fused loop that computes both (every reaction, point, the driving torque, shaking force
-    and moment, kinetic energy); ``closed form + reactions``
+    and moment, kinetic energy); ``engine + reactions (numba backend)``: the reactions by
+    ``backend="numba"``; the reactions alone (the motion solved before the timed call) by
+    either backend, and ``closed form + reactions``
     (:func:`linkwork.models.fourbar.fourbar_kinetostatics`) as information.
 ``crank-slider engine`` (and + reactions), pylinkage: information.
 ``four-bar designs`` ``--designs`` Grashof crank-rockers x 360 positions: the closed form in one
@@ -300,6 +302,8 @@ def engine_case(n: int, reactions: bool, fused: bool = True, pylinkage: bool = F
 
         cons.append(Contender("fused numba loop", lambda: fz.engine_fourbar(
             t, a, b, c, d, OMEGA, MASSES, reactions), fused_out, "limit"))
+        if reactions:
+            cons += reaction_backends(mech, t, eng_out)
     if reactions:
         from linkwork.models.fourbar import fourbar_kinetostatics
 
@@ -318,6 +322,25 @@ def engine_case(n: int, reactions: bool, fused: bool = True, pylinkage: bool = F
     groups = ((0, 1), (3, 4), (6, 7)) + (((9, 10), (11, 12), (14, 15)) if reactions else ())
     return Case("four-bar engine + reactions" if reactions else "four-bar engine", n, cons,
                 angles=(2,), groups=groups)
+
+
+def reaction_backends(mech: Any, t: np.ndarray, out: Callable[[Any], tuple[Any, ...]]
+                      ) -> list[Contender]:
+    """The compiled backend of :func:`linkwork.planar.inverse_dynamics` beside the NumPy engine
+    (issue 20 item 2): the engine with its reactions by ``backend="numba"`` (the kinematics by
+    the NumPy engine), and the reactions alone on a motion solved before the timed call, by
+    each backend: the two parts apart. Compiled (and loaded from numba's cache) here, before
+    the check and the timing."""
+    from linkwork.planar import inverse_dynamics, kinematics
+
+    kin = kinematics(mech, t)
+    inverse_dynamics(kin, backend="numba")
+    return [Contender("engine + reactions (numba backend)",
+                      lambda: inverse_dynamics(kinematics(mech, t), backend="numba"), out),
+            Contender("reactions alone, NumPy backend", lambda: inverse_dynamics(kin), out,
+                      "info"),
+            Contender("reactions alone, numba backend",
+                      lambda: inverse_dynamics(kin, backend="numba"), out, "info")]
 
 
 def slider_engine_case(n: int, reactions: bool, pylinkage: bool = False) -> Case:
@@ -669,6 +692,13 @@ def summary(rows: list[dict[str, Any]]) -> list[str]:
     judge(f"four-bar engine + reactions, n={n}: engine / fused loop (issue 20 item 2)",
           _get(rows, "four-bar engine + reactions", n, "engine + reactions"),
           _get(rows, "four-bar engine + reactions", n, "fused numba loop"), 3.0)
+    rx = "four-bar engine + reactions"
+    judge(f"{rx}, n={n}: engine + reactions (numba backend) / fused loop (issue 20 item 2)",
+          _get(rows, rx, n, "engine + reactions (numba backend)"),
+          _get(rows, rx, n, "fused numba loop"), 3.0)
+    judge(f"{rx}, n={n}: reactions alone, numba / NumPy backend (information)",
+          _get(rows, rx, n, "reactions alone, numba backend"),
+          _get(rows, rx, n, "reactions alone, NumPy backend"), math.inf)
     judge(f"four-bar engine kinematics, n={n}: engine / pylinkage (numba) (issue 3)",
           _get(rows, "four-bar engine", n, "engine"),
           _get(rows, "four-bar engine", n, "pylinkage (numba)"), 1.0)

@@ -49,6 +49,9 @@ _numba = numba_module()
 #: the kernels' compilation: cached on disk, IEEE arithmetic (no fastmath), NumPy's error
 #: model (a division by zero gives inf or NaN, as in the NumPy path, not an exception)
 _jit = _numba.njit(cache=True, fastmath=False, error_model="numpy")
+#: the kernel's helpers: inlined into it by numba (a call would pass every array with its
+#: reference count taken and released: 0.68 us per element of the four-bar instead of 0.1)
+_inline = _numba.njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 
 # joint types, group codes, driver kinds of the encoded plan
 _R, _P, _S = 0, 1, 2
@@ -228,92 +231,22 @@ _NO_LOADS = np.zeros((0, 3, 0))
 
 
 # ---------------------------------------------------------------------------------------------
-# the kernel (one element at a time; the helpers are inlined by the compiler)
-@_jit
-def _rot(c: Arr, s: Arr, i: int, x: float, y: float) -> tuple[float, float]:
-    """A local vector of body i in frame axes."""
-    return c[i] * x - s[i] * y, s[i] * x + c[i] * y
+# the kernel: one element at a time. Its helpers take and return numbers only: a helper
+# taking arrays, even inlined, costs a reference count taken and released per array and call
+# (0.4-0.7 us per element of the four-bar against 0.1)
+@_inline
+def _rot(c: float, s: float, x: float, y: float) -> tuple[float, float]:
+    """A local vector (x, y) of a body at angle (cos, sin) = (c, s), in frame axes."""
+    return c * x - s * y, s * x + c * y
 
 
-@_jit
-def _apply(i: int, Fx: Arr, Fy: Arr, M0: Arr, fx: float, fy: float, px: float, py: float,
-           mz: float) -> None:
-    """Add a force (fx, fy) at (px, py) and a couple mz to body i (moment about the origin);
-    the frame's own balance is never needed."""
-    if i == 0:
-        return
-    Fx[i] = Fx[i] + fx
-    Fy[i] = Fy[i] + fy
-    M0[i] = M0[i] + px * fy - py * fx + mz
-
-
-@_jit
-def _record(q: int, on: int, ja: Arr, jb: Arr, p: int, rfx: Arr, rfy: Arr, rmz: Arr,
-            Fx: Arr, Fy: Arr, M0: Arr, fx: float, fy: float, mz: float, px: float,
-            py: float) -> None:
-    """Store joint q's reaction acting on body ``on`` (as exerted by a on b) and apply it to
-    ``on``, its opposite to the joint's other body."""
-    other = jb[q] if on == ja[q] else ja[q]
-    sgn = 1.0 if on == jb[q] else -1.0
-    rfx[q, p] += sgn * fx
-    rfy[q, p] += sgn * fy
-    rmz[q, p] += sgn * mz
-    _apply(on, Fx, Fy, M0, fx, fy, px, py, mz)
-    _apply(other, Fx, Fy, M0, -fx, -fy, px, py, -mz)
-
-
-@_jit
-def _hang(q: int, b: int, jt: Arr, ja: Arr, jb: Arr, geo: Arr, d: int, X: Arr, Y: Arr,
-          c: Arr, s: Arr, p: int) -> tuple[bool, float, float]:
-    """Body b hung on its known neighbour by joint q (:class:`~linkwork.planar.rates.RatePar`):
-    (True, pivot) for a rotation about a revolute joint's centre, (False, guide direction)
-    for a sliding along a line."""
-    if jt[q] == 0:
-        k = ja[q] if b == jb[q] else jb[q]
-        o = 0 if k == ja[q] else 2
-        rx, ry = _rot(c, s, k, geo[q, o, d], geo[q, o + 1, d])
-        return True, X[k, p] + rx, Y[k, p] + ry
-    ux, uy = _rot(c, s, ja[q], geo[q, 4, d], geo[q, 5, d])
-    return False, ux, uy
-
-
-@_jit
-def _direction(rev: bool, v0: float, v1: float, x: float, y: float) -> tuple[float, float]:
-    """The velocity of the world point (x, y) of a hung body per unit of its unknown rate."""
-    if rev:
+@_inline
+def _direction(rev: float, v0: float, v1: float, x: float, y: float) -> tuple[float, float]:
+    """The velocity of the world point (x, y) of a hung body per unit of its unknown rate:
+    turning about the pivot (v0, v1) (``rev`` 1) or sliding along (v0, v1) (``rev`` 0)."""
+    if rev > 0.0:
         return -(y - v1), x - v0
     return v0, v1
-
-
-@_jit
-def _unknown_direction(k: int, rev1: bool, u0: float, u1: float, rev2: bool, w0: float,
-                       w1: float, x: float, y: float) -> tuple[float, float, bool]:
-    """:func:`_direction` of a group's body k (0 the first, 1 the second; -1 a known body:
-    no unknown) and whether it turns about a pivot."""
-    if k == 0:
-        dx, dy = _direction(rev1, u0, u1, x, y)
-        return dx, dy, rev1
-    if k == 1:
-        dx, dy = _direction(rev2, w0, w1, x, y)
-        return dx, dy, rev2
-    return 0.0, 0.0, False
-
-
-@_jit
-def _external(q: int, b: int, rev: bool, v0: float, v1: float, jt: Arr, ja: Arr, jb: Arr,
-              geo: Arr, d: int, X: Arr, Y: Arr, c: Arr, s: Arr, p: int, rfx: Arr, rfy: Arr,
-              rmz: Arr, Fx: Arr, Fy: Arr, M0: Arr) -> None:
-    """Balance body b with the reaction of its external joint q (``external_reaction``)."""
-    if rev:  # a force through the pivot
-        _record(q, b, ja, jb, p, rfx, rfy, rmz, Fx, Fy, M0, -Fx[b], -Fy[b], 0.0, v0, v1)
-        return
-    i = jb[q]  # a force normal to the guide at the slider point and a couple
-    rx, ry = _rot(c, s, i, geo[q, 2, d], geo[q, 3, d])
-    px, py = X[i, p] + rx, Y[i, p] + ry
-    nx, ny = -v1, v0
-    N = -(Fx[b] * nx + Fy[b] * ny)
-    m = -(M0[b] - (px * Fy[b] - py * Fx[b]))
-    _record(q, b, ja, jb, p, rfx, rfy, rmz, Fx, Fy, M0, N * nx, N * ny, m, px, py)
 
 
 @_jit
@@ -330,19 +263,23 @@ def _kernel(X: Arr, Y: Arr, TH: Arr, VX: Arr, VY: Arr, W: Arr, AX: Arr, AY: Arr,
     loads = fl.shape[2] > 0
     c = np.empty(nb)
     s = np.empty(nb)
-    Fx = np.zeros(nb)
+    Fx = np.zeros(nb)  # the loads on each body not yet balanced: force, moment about O
     Fy = np.zeros(nb)
     M0 = np.zeros(nb)
-    C = np.zeros((2, 2))
+    hv = np.zeros((2, 3))  # each hung body: (1 turning about a pivot | 0 sliding, vector)
+    C = np.zeros((2, 2))  # a closure's coefficients (rows, unknowns)
     for p in range(lo, hi):
         d = p // n
         for i in range(nb):
-            c[i] = math.cos(TH[i, p])
-            s[i] = math.sin(TH[i, p])
+            th = TH[i, p]
+            if th == 0.0:  # the frame, and any body at angle 0: exactly cos 0, sin 0
+                c[i], s[i] = 1.0, 0.0
+            else:
+                c[i], s[i] = math.cos(th), math.sin(th)
         # weight and inertia force at the centre of mass, inertia couple, kinetic energy
         t = 0.0
         for i in range(1, nb):
-            rx, ry = _rot(c, s, i, comx[i, d], comy[i, d])
+            rx, ry = _rot(c[i], s[i], comx[i, d], comy[i, d])
             w, e = W[i, p], E[i, p]
             m, inert = mass[i, d], inertia[i, d]
             vcx, vcy = VX[i, p] - w * ry, VY[i, p] + w * rx
@@ -366,110 +303,140 @@ def _kernel(X: Arr, Y: Arr, TH: Arr, VX: Arr, VY: Arr, W: Arr, AX: Arr, AY: Arr,
         # the groups, last first
         for g in range(gk.shape[0]):
             kind = gk[g]
-            if kind == 0 or kind == 1:  # a driver
-                q = gj[g, 0]
-                b = gb[g, 0]
+            nh = 2 if kind == _DYAD else 1
+            # each body hung on its known neighbour by its external joint (RatePar)
+            for h in range(nh):
+                q, b = gj[g, 2 * h], gb[g, h]
+                if jt[q] == _R:  # turning about the pivot A
+                    k = ja[q] if b == jb[q] else jb[q]
+                    o = 0 if k == ja[q] else 2
+                    rx, ry = _rot(c[k], s[k], geo[q, o, d], geo[q, o + 1, d])
+                    hv[h, 0], hv[h, 1], hv[h, 2] = 1.0, X[k, p] + rx, Y[k, p] + ry
+                else:  # sliding along the guide u
+                    k = ja[q]
+                    ux, uy = _rot(c[k], s[k], geo[q, 4, d], geo[q, 5, d])
+                    hv[h, 0], hv[h, 1], hv[h, 2] = 0.0, ux, uy
+            if kind == _CRANK:  # a torque about the pivot
+                q, b = gj[g, 0], gb[g, 0]
                 sgn = 1.0 if b == jb[q] else -1.0
                 other = ja[q] if sgn > 0 else jb[q]
-                kd = jd[q]
-                rev, v0, v1 = _hang(q, b, jt, ja, jb, geo, d, X, Y, c, s, p)
-                if kind == 0:  # a torque about the pivot
-                    torque = -(M0[b] - (v0 * Fy[b] - v1 * Fx[b]))
-                    Q[kd, p] = sgn * torque
-                    M0[b] = M0[b] + torque
-                    if other != 0:
-                        M0[other] = M0[other] - torque
-                    _record(q, b, ja, jb, p, rfx, rfy, rmz, Fx, Fy, M0, -Fx[b], -Fy[b], 0.0,
-                            v0, v1)
-                else:  # a force along the guide at the slider point
-                    i = jb[q]
-                    rx, ry = _rot(c, s, i, geo[q, 2, d], geo[q, 3, d])
-                    px, py = X[i, p] + rx, Y[i, p] + ry
-                    drive = -(Fx[b] * v0 + Fy[b] * v1)
-                    Q[kd, p] = sgn * drive
-                    _apply(b, Fx, Fy, M0, drive * v0, drive * v1, px, py, 0.0)
-                    _apply(other, Fx, Fy, M0, -drive * v0, -drive * v1, px, py, 0.0)
-                    _external(q, b, rev, v0, v1, jt, ja, jb, geo, d, X, Y, c, s, p, rfx, rfy,
-                              rmz, Fx, Fy, M0)
-                continue
-            # a dyad or a slot group: each body hung on its external joint, one unknown rate
-            q1, qc, q3 = gj[g, 0], gj[g, 1], gj[g, 2]
-            b1, b2 = gb[g, 0], gb[g, 1]
-            two = kind == 2
-            rev1, u0, u1 = _hang(q1, b1, jt, ja, jb, geo, d, X, Y, c, s, p)
-            rev2, w0, w1 = False, 0.0, 0.0
-            if two:
-                rev2, w0, w1 = _hang(q3, b2, jt, ja, jb, geo, d, X, Y, c, s, p)
-            # the closure joint's rows in the unknown rates (coefficients only)
-            ia, ib = ja[qc], jb[qc]
-            ka = 0 if ia == b1 else (1 if two and ia == b2 else -1)
-            kb = 0 if ib == b1 else (1 if two and ib == b2 else -1)
-            C[0, 0] = 0.0
-            C[0, 1] = 0.0
-            C[1, 0] = 0.0
-            C[1, 1] = 0.0
-            rx, ry = _rot(c, s, ib, geo[qc, 2, d], geo[qc, 3, d])
-            bx, by = X[ib, p] + rx, Y[ib, p] + ry  # the closure joint's point of b
-            dax, day, reva = _unknown_direction(ka, rev1, u0, u1, rev2, w0, w1, bx, by)
-            dbx, dby, revb = _unknown_direction(kb, rev1, u0, u1, rev2, w0, w1, bx, by)
-            ux, uy = 0.0, 0.0
-            if jt[qc] == 0:  # v_a(B) = v_b(B)
-                if ka >= 0:
-                    C[0, ka] += dax
-                    C[1, ka] += day
-                if kb >= 0:
-                    C[0, kb] += -dbx
-                    C[1, kb] += -dby
-            else:  # n . (v_b(P) - v_a(P)) = 0 (and omega_a = omega_b for a prismatic pair)
-                ux, uy = _rot(c, s, ia, geo[qc, 4, d], geo[qc, 5, d])
+                torque = -(M0[b] - (hv[0, 1] * Fy[b] - hv[0, 2] * Fx[b]))
+                Q[jd[q], p] = sgn * torque
+                M0[b] = M0[b] + torque
+                if other != 0:
+                    M0[other] = M0[other] - torque
+            elif kind == _LINEAR:  # a force along the guide at the slider point
+                q, b = gj[g, 0], gb[g, 0]
+                sgn = 1.0 if b == jb[q] else -1.0
+                other = ja[q] if sgn > 0 else jb[q]
+                i = jb[q]
+                rx, ry = _rot(c[i], s[i], geo[q, 2, d], geo[q, 3, d])
+                px, py = X[i, p] + rx, Y[i, p] + ry
+                ux, uy = hv[0, 1], hv[0, 2]
+                drive = -(Fx[b] * ux + Fy[b] * uy)
+                Q[jd[q], p] = sgn * drive
+                fx, fy = drive * ux, drive * uy
+                Fx[b] = Fx[b] + fx
+                Fy[b] = Fy[b] + fy
+                M0[b] = M0[b] + px * fy - py * fx + 0.0
+                if other != 0:
+                    Fx[other] = Fx[other] + -fx
+                    Fy[other] = Fy[other] + -fy
+                    M0[other] = M0[other] + px * -fy - py * -fx + 0.0
+            else:  # a dyad or a slot group: the closure joint's reaction
+                qc = gj[g, 1]
+                ia, ib = ja[qc], jb[qc]
+                b1, b2 = gb[g, 0], gb[g, 1]
+                ka = 0 if ia == b1 else (1 if nh == 2 and ia == b2 else -1)
+                kb = 0 if ib == b1 else (1 if nh == 2 and ib == b2 else -1)
+                rx, ry = _rot(c[ib], s[ib], geo[qc, 2, d], geo[qc, 3, d])
+                bx, by = X[ib, p] + rx, Y[ib, p] + ry  # the closure joint's point of b
+                ux, uy = _rot(c[ia], s[ia], geo[qc, 4, d], geo[qc, 5, d])
                 nx, ny = -uy, ux
-                if ka >= 0:
-                    C[0, ka] += -(nx * dax + ny * day)
-                if kb >= 0:
-                    C[0, kb] += nx * dbx + ny * dby
-                if jt[qc] == 1:
-                    if ka >= 0:
-                        C[1, ka] += 1.0 if reva else 0.0
-                    if kb >= 0:
-                        C[1, kb] += -(1.0 if revb else 0.0)
-            # the transposed system: sum_r C[r, beta] lambda_r = power of beta's forces
-            if rev1:
-                r1 = M0[b1] - (u0 * Fy[b1] - u1 * Fx[b1])
-            else:
-                r1 = Fx[b1] * u0 + Fy[b1] * u1
-            if two:
-                if rev2:
-                    r2 = M0[b2] - (w0 * Fy[b2] - w1 * Fx[b2])
+                C[0, 0], C[0, 1], C[1, 0], C[1, 1] = 0.0, 0.0, 0.0, 0.0
+                # its rows in the unknown rates (coefficients only): ka, kb the unknown of
+                # its body a, b (-1: a known body), sg the sign of its term
+                for kk, sg in ((ka, 1.0), (kb, -1.0)):
+                    if kk < 0:
+                        continue
+                    dx, dy = _direction(hv[kk, 0], hv[kk, 1], hv[kk, 2], bx, by)
+                    if jt[qc] == _R:  # v_a(B) = v_b(B)
+                        C[0, kk] += sg * dx
+                        C[1, kk] += sg * dy
+                    else:  # n . (v_b(P) - v_a(P)) = 0, for a prismatic pair omega_a = omega_b
+                        C[0, kk] += -sg * (nx * dx + ny * dy)
+                        if jt[qc] == _P:
+                            C[1, kk] += sg * hv[kk, 0]
+                # the transposed system: sum_r C[r, beta] lambda_r = power of beta's forces
+                pw0, pw1 = 0.0, 0.0
+                for h in range(nh):
+                    b = gb[g, h]
+                    if hv[h, 0] > 0.0:
+                        pw = M0[b] - (hv[h, 1] * Fy[b] - hv[h, 2] * Fx[b])
+                    else:
+                        pw = Fx[b] * hv[h, 1] + Fy[b] * hv[h, 2]
+                    if h == 0:
+                        pw0 = pw
+                    else:
+                        pw1 = pw
+                if nh == 2:
+                    a11, a12, a21, a22 = C[0, 0], C[1, 0], C[0, 1], C[1, 1]
+                    det = a11 * a22 - a12 * a21
+                    norm = math.hypot(a11, a21) * math.hypot(a12, a22)
+                    inv = 1.0 / det if abs(det) > 1e-7 * norm else math.nan
+                    lam0 = (pw0 * a22 - pw1 * a12) * inv
+                    lam1 = (a11 * pw1 - a21 * pw0) * inv
                 else:
-                    r2 = Fx[b2] * w0 + Fy[b2] * w1
-                a11, a12, a21, a22 = C[0, 0], C[1, 0], C[0, 1], C[1, 1]
-                det = a11 * a22 - a12 * a21
-                norm = math.hypot(a11, a21) * math.hypot(a12, a22)
-                inv = 1.0 / det if abs(det) > 1e-7 * norm else math.nan
-                lam0 = (r1 * a22 - r2 * a12) * inv
-                lam1 = (a11 * r2 - a21 * r1) * inv
-            else:
-                a = C[0, 0]
-                lam0 = r1 / a if abs(a) > 1e-7 * scale[d] else math.nan
-                lam1 = 0.0
-            # the closure joint's reaction on its body b
-            if jt[qc] == 0:
-                _record(qc, ib, ja, jb, p, rfx, rfy, rmz, Fx, Fy, M0, lam0, lam1, 0.0, bx, by)
-            else:
-                N = -lam0
-                mzc = lam1 if jt[qc] == 1 else 0.0
-                _record(qc, ib, ja, jb, p, rfx, rfy, rmz, Fx, Fy, M0, N * -uy, N * ux, mzc,
-                        bx, by)
-            _external(q1, b1, rev1, u0, u1, jt, ja, jb, geo, d, X, Y, c, s, p, rfx, rfy, rmz,
-                      Fx, Fy, M0)
-            if two:
-                _external(q3, b2, rev2, w0, w1, jt, ja, jb, geo, d, X, Y, c, s, p, rfx, rfy,
-                          rmz, Fx, Fy, M0)
+                    a = C[0, 0]
+                    lam0 = pw0 / a if abs(a) > 1e-7 * scale[d] else math.nan
+                    lam1 = 0.0
+                if jt[qc] == _R:
+                    fx, fy, mz = lam0, lam1, 0.0
+                else:  # normal to the line (and the couple, for a prismatic pair)
+                    N = -lam0
+                    fx, fy, mz = N * -uy, N * ux, (lam1 if jt[qc] == _P else 0.0)
+                # recorded on its body b (by a on b); its opposite on a
+                rfx[qc, p] += fx
+                rfy[qc, p] += fy
+                rmz[qc, p] += mz
+                if ib != 0:
+                    Fx[ib] = Fx[ib] + fx
+                    Fy[ib] = Fy[ib] + fy
+                    M0[ib] = M0[ib] + bx * fy - by * fx + mz
+                if ia != 0:
+                    Fx[ia] = Fx[ia] + -fx
+                    Fy[ia] = Fy[ia] + -fy
+                    M0[ia] = M0[ia] + bx * -fy - by * -fx + -mz
+            # each hung body balanced by the reaction of its external joint
+            for h in range(nh):
+                q, b = gj[g, 2 * h], gb[g, h]
+                if hv[h, 0] > 0.0:  # a force through the pivot
+                    fx, fy, mz, px, py = -Fx[b], -Fy[b], 0.0, hv[h, 1], hv[h, 2]
+                else:  # a force normal to the guide at the slider point, and a couple
+                    i = jb[q]
+                    rx, ry = _rot(c[i], s[i], geo[q, 2, d], geo[q, 3, d])
+                    px, py = X[i, p] + rx, Y[i, p] + ry
+                    nx, ny = -hv[h, 2], hv[h, 1]
+                    N = -(Fx[b] * nx + Fy[b] * ny)
+                    fx, fy = N * nx, N * ny
+                    mz = -(M0[b] - (px * Fy[b] - py * Fx[b]))
+                other = jb[q] if b == ja[q] else ja[q]
+                sgn = 1.0 if b == jb[q] else -1.0
+                rfx[q, p] += sgn * fx
+                rfy[q, p] += sgn * fy
+                rmz[q, p] += sgn * mz
+                Fx[b] = Fx[b] + fx
+                Fy[b] = Fy[b] + fy
+                M0[b] = M0[b] + px * fy - py * fx + mz
+                if other != 0:
+                    Fx[other] = Fx[other] + -fx
+                    Fy[other] = Fy[other] + -fy
+                    M0[other] = M0[other] + px * -fy - py * -fx + -mz
         # reaction points and the shaking force and moment on the frame
         shx, shy, shm = 0.0, 0.0, 0.0
         for q in range(nj):
             i = jb[q]
-            rx, ry = _rot(c, s, i, geo[q, 2, d], geo[q, 3, d])
+            rx, ry = _rot(c[i], s[i], geo[q, 2, d], geo[q, 3, d])
             px, py = X[i, p] + rx, Y[i, p] + ry
             rpx[q, p] = px
             rpy[q, p] = py
@@ -480,7 +447,7 @@ def _kernel(X: Arr, Y: Arr, TH: Arr, VX: Arr, VY: Arr, W: Arr, AX: Arr, AY: Arr,
             kd = jd[q]
             linear = kd >= 0 and dk[kd] == 1
             if linear:  # the driving force along the guide
-                ux, uy = _rot(c, s, ja[q], geo[q, 4, d], geo[q, 5, d])
+                ux, uy = _rot(c[ja[q]], s[ja[q]], geo[q, 4, d], geo[q, 5, d])
                 fx = fx + sg * Q[kd, p] * ux
                 fy = fy + sg * Q[kd, p] * uy
             shx += fx
