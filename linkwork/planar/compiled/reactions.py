@@ -208,14 +208,22 @@ def solve(enc: Encoded, kin: Any, gravity: tuple[float, float], about: tuple[flo
     keys = ("x", "y", "theta", "vx", "vy", "omega", "ax", "ay", "eps")
     arrs = [np.ascontiguousarray(getattr(kin, k), dtype=float).reshape(enc.nb, N)
             for k in keys]
-    out = {k: np.empty((enc.nj, *shape)) for k in ("fx", "fy", "mz", "px", "py")}
-    out["Q"] = np.empty((enc.nd, *shape))
-    for k in ("shaking_fx", "shaking_fy", "shaking_m", "T"):
-        out[k] = np.empty(shape)
-    flat = [a.reshape(a.shape[0], N) if a.ndim > len(shape) else a.reshape(N)
-            for a in out.values()]
+    # every result in one block: one allocation, whose memory the allocator keeps for the
+    # next call (separate arrays of a few MB each were returned to the system and faulted in
+    # again at every call: 15 of 35 ms at 10^5 positions of the four-bar on this machine)
+    nj, nd = enc.nj, enc.nd
+    block = np.empty((5 * nj + nd + 4, N))
+    rows = [block[k * nj:(k + 1) * nj] for k in range(5)] + [block[5 * nj:5 * nj + nd]]
+    rows += [block[5 * nj + nd + k] for k in range(4)]
+    names = ("fx", "fy", "mz", "px", "py", "Q", "shaking_fx", "shaking_fy", "shaking_m", "T")
+    out = {k: r.reshape(*r.shape[:-1], *shape) for k, r in zip(names, rows, strict=True)}
     wrenches = [w for ap in applied for w in ap.wrenches]
     steps = [(lo, min(lo + chunk, N)) for lo in range(0, N, chunk)] if wrenches else [(0, N)]
+    # the bodies' cos, sin where the motion holds them already (Kinematics._cos_sin, computed
+    # once per motion: by the loads, or by a kinematics that keeps them), else the kernel's own
+    cs = kin.__dict__.get("_cos_sin")
+    cos, sin = (_NO_COS_SIN, _NO_COS_SIN) if cs is None else (
+        np.ascontiguousarray(v, dtype=float).reshape(enc.nb, N) for v in cs)
     index = kin.mechanism.index
     for lo, hi in steps:
         fl = (load_resultants(enc, index, applied, about, arrs[0], arrs[1], slice(lo, hi))
@@ -223,11 +231,12 @@ def solve(enc: Encoded, kin: Any, gravity: tuple[float, float], about: tuple[flo
         _kernel(*arrs, n, enc.mass, enc.inertia, enc.comx, enc.comy, enc.jt, enc.ja, enc.jb,
                 enc.jd, enc.geo, enc.gk, enc.gj, enc.gb, enc.dk, enc.scale,
                 float(gravity[0]), float(gravity[1]), float(about[0]), float(about[1]),
-                fl, lo, hi, *flat)
+                fl, cos, sin, lo, hi, *rows)
     return out
 
 
 _NO_LOADS = np.zeros((0, 3, 0))
+_NO_COS_SIN = np.zeros((0, 0))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -253,14 +262,17 @@ def _direction(rev: float, v0: float, v1: float, x: float, y: float) -> tuple[fl
 def _kernel(X: Arr, Y: Arr, TH: Arr, VX: Arr, VY: Arr, W: Arr, AX: Arr, AY: Arr, E: Arr,
             n: int, mass: Arr, inertia: Arr, comx: Arr, comy: Arr, jt: Arr, ja: Arr, jb: Arr,
             jd: Arr, geo: Arr, gk: Arr, gj: Arr, gb: Arr, dk: Arr, scale: Arr, gx: float,
-            gy: float, abx: float, aby: float, fl: Arr, lo: int, hi: int, rfx: Arr, rfy: Arr,
+            gy: float, abx: float, aby: float, fl: Arr, cos: Arr, sin: Arr, lo: int, hi: int,
+            rfx: Arr, rfy: Arr,
             rmz: Arr, rpx: Arr, rpy: Arr, Q: Arr, sfx: Arr, sfy: Arr, sm: Arr, T: Arr
             ) -> None:
     """Inverse dynamics of the elements lo..hi-1 (element p: design p // n); ``fl`` the
-    loads' resultants on the bodies there (:func:`load_resultants`; no loads: empty)."""
+    loads' resultants on the bodies there (:func:`load_resultants`; no loads: empty); ``cs``
+    the bodies' ``cos``, ``sin`` (nb, elements) if known (else empty: computed here)."""
     nb = X.shape[0]
     nj = jt.shape[0]
     loads = fl.shape[2] > 0
+    known = cos.shape[0] > 0
     c = np.empty(nb)
     s = np.empty(nb)
     Fx = np.zeros(nb)  # the loads on each body not yet balanced: force, moment about O
@@ -272,7 +284,9 @@ def _kernel(X: Arr, Y: Arr, TH: Arr, VX: Arr, VY: Arr, W: Arr, AX: Arr, AY: Arr,
         d = p // n
         for i in range(nb):
             th = TH[i, p]
-            if th == 0.0:  # the frame, and any body at angle 0: exactly cos 0, sin 0
+            if known:
+                c[i], s[i] = cos[i, p], sin[i, p]
+            elif th == 0.0:  # the frame, and any body at angle 0: exactly cos 0, sin 0
                 c[i], s[i] = 1.0, 0.0
             else:
                 c[i], s[i] = math.cos(th), math.sin(th)
@@ -343,91 +357,84 @@ def _kernel(X: Arr, Y: Arr, TH: Arr, VX: Arr, VY: Arr, W: Arr, AX: Arr, AY: Arr,
                     Fx[other] = Fx[other] + -fx
                     Fy[other] = Fy[other] + -fy
                     M0[other] = M0[other] + px * -fy - py * -fx + 0.0
-            else:  # a dyad or a slot group: the closure joint's reaction
-                qc = gj[g, 1]
-                ia, ib = ja[qc], jb[qc]
-                b1, b2 = gb[g, 0], gb[g, 1]
-                ka = 0 if ia == b1 else (1 if nh == 2 and ia == b2 else -1)
-                kb = 0 if ib == b1 else (1 if nh == 2 and ib == b2 else -1)
-                rx, ry = _rot(c[ib], s[ib], geo[qc, 2, d], geo[qc, 3, d])
-                bx, by = X[ib, p] + rx, Y[ib, p] + ry  # the closure joint's point of b
-                ux, uy = _rot(c[ia], s[ia], geo[qc, 4, d], geo[qc, 5, d])
-                nx, ny = -uy, ux
-                C[0, 0], C[0, 1], C[1, 0], C[1, 1] = 0.0, 0.0, 0.0, 0.0
-                # its rows in the unknown rates (coefficients only): ka, kb the unknown of
-                # its body a, b (-1: a known body), sg the sign of its term
-                for kk, sg in ((ka, 1.0), (kb, -1.0)):
-                    if kk < 0:
-                        continue
-                    dx, dy = _direction(hv[kk, 0], hv[kk, 1], hv[kk, 2], bx, by)
-                    if jt[qc] == _R:  # v_a(B) = v_b(B)
-                        C[0, kk] += sg * dx
-                        C[1, kk] += sg * dy
-                    else:  # n . (v_b(P) - v_a(P)) = 0, for a prismatic pair omega_a = omega_b
-                        C[0, kk] += -sg * (nx * dx + ny * dy)
-                        if jt[qc] == _P:
-                            C[1, kk] += sg * hv[kk, 0]
-                # the transposed system: sum_r C[r, beta] lambda_r = power of beta's forces
-                pw0, pw1 = 0.0, 0.0
-                for h in range(nh):
-                    b = gb[g, h]
-                    if hv[h, 0] > 0.0:
-                        pw = M0[b] - (hv[h, 1] * Fy[b] - hv[h, 2] * Fx[b])
+            # the reactions, each recorded on the body it balances (by a on b: the sign) and
+            # its opposite applied to the joint's other body: a dyad's or slot group's closure
+            # joint first (r = 0), then each hung body's external joint (r = 1, 2)
+            for r in range(1 if kind == _CRANK or kind == _LINEAR else 0, nh + 1):
+                if r == 0:  # the closure joint: the transposed velocity-closure system
+                    q = gj[g, 1]
+                    ia, on = ja[q], jb[q]
+                    b1, b2 = gb[g, 0], gb[g, 1]
+                    ka = 0 if ia == b1 else (1 if nh == 2 and ia == b2 else -1)
+                    kb = 0 if on == b1 else (1 if nh == 2 and on == b2 else -1)
+                    rx, ry = _rot(c[on], s[on], geo[q, 2, d], geo[q, 3, d])
+                    px, py = X[on, p] + rx, Y[on, p] + ry  # the joint's point of b
+                    ux, uy = _rot(c[ia], s[ia], geo[q, 4, d], geo[q, 5, d])
+                    nx, ny = -uy, ux
+                    C[0, 0], C[0, 1], C[1, 0], C[1, 1] = 0.0, 0.0, 0.0, 0.0
+                    # its rows in the unknown rates (coefficients only): ka, kb the unknown
+                    # of its body a, b (-1: a known body), sg the sign of its term
+                    for kk, sg in ((ka, 1.0), (kb, -1.0)):
+                        if kk < 0:
+                            continue
+                        dx, dy = _direction(hv[kk, 0], hv[kk, 1], hv[kk, 2], px, py)
+                        if jt[q] == _R:  # v_a(B) = v_b(B)
+                            C[0, kk] += sg * dx
+                            C[1, kk] += sg * dy
+                        else:  # n . (v_b(P) - v_a(P)) = 0; a prismatic pair: w_a = w_b
+                            C[0, kk] += -sg * (nx * dx + ny * dy)
+                            if jt[q] == _P:
+                                C[1, kk] += sg * hv[kk, 0]
+                    # the transposed system: sum_r C[r, beta] lambda_r = power of beta's loads
+                    pw0, pw1 = 0.0, 0.0
+                    for h in range(nh):
+                        b = gb[g, h]
+                        if hv[h, 0] > 0.0:
+                            pw = M0[b] - (hv[h, 1] * Fy[b] - hv[h, 2] * Fx[b])
+                        else:
+                            pw = Fx[b] * hv[h, 1] + Fy[b] * hv[h, 2]
+                        if h == 0:
+                            pw0 = pw
+                        else:
+                            pw1 = pw
+                    if nh == 2:
+                        a11, a12, a21, a22 = C[0, 0], C[1, 0], C[0, 1], C[1, 1]
+                        det = a11 * a22 - a12 * a21
+                        norm = math.hypot(a11, a21) * math.hypot(a12, a22)
+                        inv = 1.0 / det if abs(det) > 1e-7 * norm else math.nan
+                        lam0 = (pw0 * a22 - pw1 * a12) * inv
+                        lam1 = (a11 * pw1 - a21 * pw0) * inv
                     else:
-                        pw = Fx[b] * hv[h, 1] + Fy[b] * hv[h, 2]
-                    if h == 0:
-                        pw0 = pw
-                    else:
-                        pw1 = pw
-                if nh == 2:
-                    a11, a12, a21, a22 = C[0, 0], C[1, 0], C[0, 1], C[1, 1]
-                    det = a11 * a22 - a12 * a21
-                    norm = math.hypot(a11, a21) * math.hypot(a12, a22)
-                    inv = 1.0 / det if abs(det) > 1e-7 * norm else math.nan
-                    lam0 = (pw0 * a22 - pw1 * a12) * inv
-                    lam1 = (a11 * pw1 - a21 * pw0) * inv
-                else:
-                    a = C[0, 0]
-                    lam0 = pw0 / a if abs(a) > 1e-7 * scale[d] else math.nan
-                    lam1 = 0.0
-                if jt[qc] == _R:
-                    fx, fy, mz = lam0, lam1, 0.0
-                else:  # normal to the line (and the couple, for a prismatic pair)
-                    N = -lam0
-                    fx, fy, mz = N * -uy, N * ux, (lam1 if jt[qc] == _P else 0.0)
-                # recorded on its body b (by a on b); its opposite on a
-                rfx[qc, p] += fx
-                rfy[qc, p] += fy
-                rmz[qc, p] += mz
-                if ib != 0:
-                    Fx[ib] = Fx[ib] + fx
-                    Fy[ib] = Fy[ib] + fy
-                    M0[ib] = M0[ib] + bx * fy - by * fx + mz
-                if ia != 0:
-                    Fx[ia] = Fx[ia] + -fx
-                    Fy[ia] = Fy[ia] + -fy
-                    M0[ia] = M0[ia] + bx * -fy - by * -fx + -mz
-            # each hung body balanced by the reaction of its external joint
-            for h in range(nh):
-                q, b = gj[g, 2 * h], gb[g, h]
-                if hv[h, 0] > 0.0:  # a force through the pivot
-                    fx, fy, mz, px, py = -Fx[b], -Fy[b], 0.0, hv[h, 1], hv[h, 2]
-                else:  # a force normal to the guide at the slider point, and a couple
-                    i = jb[q]
-                    rx, ry = _rot(c[i], s[i], geo[q, 2, d], geo[q, 3, d])
-                    px, py = X[i, p] + rx, Y[i, p] + ry
-                    nx, ny = -hv[h, 2], hv[h, 1]
-                    N = -(Fx[b] * nx + Fy[b] * ny)
-                    fx, fy = N * nx, N * ny
-                    mz = -(M0[b] - (px * Fy[b] - py * Fx[b]))
-                other = jb[q] if b == ja[q] else ja[q]
-                sgn = 1.0 if b == jb[q] else -1.0
+                        a = C[0, 0]
+                        lam0 = pw0 / a if abs(a) > 1e-7 * scale[d] else math.nan
+                        lam1 = 0.0
+                    if jt[q] == _R:
+                        fx, fy, mz = lam0, lam1, 0.0
+                    else:  # normal to the line (and the couple, for a prismatic pair)
+                        N = -lam0
+                        fx, fy, mz = N * -uy, N * ux, (lam1 if jt[q] == _P else 0.0)
+                else:  # balance the hung body with the reaction of its external joint
+                    h = r - 1
+                    q, on = gj[g, 2 * h], gb[g, h]
+                    if hv[h, 0] > 0.0:  # a force through the pivot
+                        fx, fy, mz, px, py = -Fx[on], -Fy[on], 0.0, hv[h, 1], hv[h, 2]
+                    else:  # a force normal to the guide at the slider point, and a couple
+                        i = jb[q]
+                        rx, ry = _rot(c[i], s[i], geo[q, 2, d], geo[q, 3, d])
+                        px, py = X[i, p] + rx, Y[i, p] + ry
+                        nx, ny = -hv[h, 2], hv[h, 1]
+                        N = -(Fx[on] * nx + Fy[on] * ny)
+                        fx, fy = N * nx, N * ny
+                        mz = -(M0[on] - (px * Fy[on] - py * Fx[on]))
+                other = jb[q] if on == ja[q] else ja[q]
+                sgn = 1.0 if on == jb[q] else -1.0
                 rfx[q, p] += sgn * fx
                 rfy[q, p] += sgn * fy
                 rmz[q, p] += sgn * mz
-                Fx[b] = Fx[b] + fx
-                Fy[b] = Fy[b] + fy
-                M0[b] = M0[b] + px * fy - py * fx + mz
+                if on != 0:
+                    Fx[on] = Fx[on] + fx
+                    Fy[on] = Fy[on] + fy
+                    M0[on] = M0[on] + px * fy - py * fx + mz
                 if other != 0:
                     Fx[other] = Fx[other] + -fx
                     Fy[other] = Fy[other] + -fy

@@ -171,20 +171,23 @@ def test_every_covered_group_kind_with_gravity_and_loads(builder):
     assert reactions.encode(mech) is not None
     kin = kinematics(mech, phi)
     ld = loads_for(mech, phi)
-    d0 = inverse_dynamics(kin, gravity=GRAVITY, loads=ld, about=ABOUT)
     d1 = inverse_dynamics(kin, gravity=GRAVITY, loads=ld, about=ABOUT, backend="numba")
+    assert "_cos_sin" in kin.__dict__  # the loads' cos, sin of the bodies: the kernel's too
+    d0 = inverse_dynamics(kin, gravity=GRAVITY, loads=ld, about=ABOUT)
     assert_agree(d0, d1)
     assert_balances(d1, GRAVITY)
 
 
 @pytest.mark.parametrize("builder", COVERED, ids=lambda b: b.__name__)
 def test_every_covered_group_kind_without_loads(builder):
-    """No loads and no gravity (the kernel's path without load resultants): the NumPy
-    numbers, and the balances (the shaking force is then -sum m a_C)."""
+    """No loads and no gravity (the kernel's path without load resultants, its own cos and
+    sin of the bodies' angles): the NumPy numbers, and the balances (the shaking force is
+    then -sum m a_C)."""
     mech, phi, _ = builder()
     kin = kinematics(mech, phi)
-    d0 = inverse_dynamics(kin)
     d1 = inverse_dynamics(kin, backend="numba")
+    assert "_cos_sin" not in kin.__dict__
+    d0 = inverse_dynamics(kin)
     assert_agree(d0, d1)
     assert_balances(d1, (0.0, 0.0))
 
