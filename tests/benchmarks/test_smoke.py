@@ -49,11 +49,16 @@ def test_benchmark_check_catches_a_disagreement(bench):
 
 def test_benchmark_fused_engine_equals_the_engine_with_reactions(bench):
     """The fused numba loop of the engine's four-bar (Newton-Euler written for it) gives the
-    engine's kinematics and reactions to 1e-12: an independent check of both."""
+    engine's kinematics and reactions to 1e-12: an independent check of both; so do the rows
+    of inverse_dynamics' compiled backend (backend="numba")."""
     pytest.importorskip("numba")
     case = bench.engine_case(73, reactions=True, fused=True)
     errs, _ = bench.check(case)
     assert errs["fused numba loop"] < 1e-12
+    # the compiled backend's rows (issue 20 item 2): the engine's numbers to rounding
+    for who in ("engine + reactions (numba backend)", "reactions alone, NumPy backend",
+                "reactions alone, numba backend"):
+        assert errs[who] < 1e-12, who
 
 
 def test_benchmark_plain_numpy_fourbar_is_the_open_branch(bench):
