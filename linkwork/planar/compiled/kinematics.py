@@ -148,19 +148,18 @@ def _sqrt_checked(arg: float, scale: float) -> tuple[float, bool]:
 
 
 @njit(cache=True)
-def _locus(st: Any, jt: Any, jf: Any, j: int, body: int, pix: float, piy: float
-           ) -> tuple[int, float, float, float, float, float, float, float]:
+def _locus(st: Any, jt: Any, jf: Any, j: int, body: int, pix: float, piy: float, rad: float
+           ) -> tuple[int, float, float, float, float]:
     """The locus of the point ``(pix, piy)`` of ``body`` allowed by its external joint ``j``:
-    (0, A, radius, the joint's point on the body, 0, 0) a circle, or (1, B0, u, 0, 0, 0) a line
-    (the body's angle then set)."""
+    (0, A, radius ``rad``, 0) a circle about the pivot, or (1, B0, u) a line (the body's angle
+    then set)."""
     kind, ia, ib = jt[j, 0], jt[j, 1], jt[j, 2]
     if kind == _R:
         if body == ia:
-            ex, ey, kx, ky, other = jf[j, _QAX], jf[j, _QAY], jf[j, _PBX], jf[j, _PBY], ib
+            ax, ay = _wpt(st, ib, jf[j, _PBX], jf[j, _PBY])
         else:
-            ex, ey, kx, ky, other = jf[j, _PBX], jf[j, _PBY], jf[j, _QAX], jf[j, _QAY], ia
-        ax, ay = _wpt(st, other, kx, ky)
-        return 0, ax, ay, math.hypot(pix - ex, piy - ey), ex, ey, 0.0, 0.0
+            ax, ay = _wpt(st, ia, jf[j, _QAX], jf[j, _QAY])
+        return 0, ax, ay, rad, 0.0
     _set_angle(st, body, _angle_of(st, jt, jf, j, body))
     if body == ib:  # the slider on its known guide a
         qx, qy = _wpt(st, ia, jf[j, _QAX], jf[j, _QAY])
@@ -170,7 +169,7 @@ def _locus(st: Any, jt: Any, jf: Any, j: int, body: int, pix: float, piy: float
         qx, qy = _wpt(st, ib, jf[j, _PBX], jf[j, _PBY])
         ux, uy = _rot(st, body, jf[j, _UX], jf[j, _UY])
         ox, oy = _rot(st, body, pix - jf[j, _QAX], piy - jf[j, _QAY])
-    return 1, qx + ox, qy + oy, ux, uy, 0.0, 0.0, 0.0
+    return 1, qx + ox, qy + oy, ux, uy
 
 
 @njit(cache=True)
@@ -181,7 +180,7 @@ def _intersect(k1: int, a1: float, b1: float, c1: float, d1: float, k2: int, a2:
     direction (c, d)) on ``branch``: (x, y, failed, parallel)."""
     if k1 == 0 and k2 == 0:
         ex, ey = a2 - a1, b2 - b1
-        dd = math.hypot(ex, ey)
+        dd = math.sqrt(ex * ex + ey * ey)
         a = (c1 * c1 - c2 * c2 + dd * dd) / (2 * dd)
         h, bad = _sqrt_checked(c1 * c1 - a * a, c1)
         ux, uy = ex / dd, ey / dd
@@ -206,16 +205,16 @@ def _intersect(k1: int, a1: float, b1: float, c1: float, d1: float, k2: int, a2:
 
 
 @njit(cache=True)
-def _finish_side(st: Any, body: int, kind: int, ax: float, ay: float, rad: float, ex_: float,
-                 ey_: float, pix: float, piy: float, bx: float, by: float) -> None:
-    """The body's angle from a circle's radius vector (its point ``(ex_, ey_)`` on the centre),
-    then its origin from the point ``(pix, piy)`` at ``(bx, by)``."""
+def _finish_side(st: Any, body: int, kind: int, ax: float, ay: float, rad: float,
+                 phi0: float, c0: float, s0: float, pix: float, piy: float, bx: float,
+                 by: float) -> None:
+    """The body's angle from a circle's radius vector (``phi0`` the angle of its point
+    ``(pix, piy)`` seen from its pivot, in its frame; ``c0, s0`` its cosine and sine), then its
+    origin from the point ``(pix, piy)`` at ``(bx, by)``."""
     if kind == 0:
         ex, ey = (bx - ax) / rad, (by - ay) / rad
-        phi0 = math.atan2(piy - ey_, pix - ex_)
         th = math.atan2(ey, ex)
         if phi0 != 0.0:
-            c0, s0 = math.cos(phi0), math.sin(phi0)
             st[_T, body] = th - phi0
             st[_C, body] = ex * c0 + ey * s0
             st[_SN, body] = ey * c0 - ex * s0
@@ -232,7 +231,7 @@ def _rotating_line(st: Any, body: int, ax: float, ay: float, alx: float, aly: fl
     """The angle of ``body`` pinned at A (its point ``(alx, aly)``) whose line at angle ``ang``
     must pass through X at the signed distance ``h``; True where it cannot."""
     dx, dy = xx - ax, xy - ay
-    c = h / math.hypot(dx, dy)
+    c = h / math.sqrt(dx * dx + dy * dy)
     bad = not abs(c) <= 1.0 + 1e-12
     acos = math.nan if bad else math.acos(min(max(c, -1.0), 1.0))
     _set_angle(st, body, math.atan2(dy, dx) + branch * acos - ang - math.pi / 2)
@@ -241,11 +240,9 @@ def _rotating_line(st: Any, body: int, ax: float, ay: float, alx: float, aly: fl
 
 
 @njit(cache=True)
-def _positions(st: Any, jt: Any, jf: Any, g: Any, branch: float, q: float
-               ) -> tuple[bool, bool]:
-    """The poses of the bodies of group ``g`` (its row of the group table); (failed,
-    parallel)."""
-    kind, b1, b2, j1, j2, j3 = g[0], g[1], g[2], g[3], g[4], g[5]
+def _positions(st: Any, jt: Any, jf: Any, gf: Any, gi: int, kind: int, b1: int, b2: int,
+               j1: int, j2: int, j3: int, branch: float, q: float) -> tuple[bool, bool]:
+    """The poses of the bodies of group ``gi``; (failed, parallel)."""
     if kind == _DRIVER:
         ia, ib = jt[j1, 1], jt[j1, 2]
         if jt[j1, 0] == _R:
@@ -273,12 +270,13 @@ def _positions(st: Any, jt: Any, jf: Any, g: Any, branch: float, q: float
         qax, qay, pbx, pby = jf[j2, _QAX], jf[j2, _QAY], jf[j2, _PBX], jf[j2, _PBY]
         p1x, p1y = (qax, qay) if b1 == ia2 else (pbx, pby)
         p2x, p2y = (pbx, pby) if b2 == ib2 else (qax, qay)
-        k1, a1, c1, r1, e1, f1, _, _ = _locus(st, jt, jf, j1, b1, p1x, p1y)
-        k2, a2, c2, r2, e2, f2, _, _ = _locus(st, jt, jf, j3, b2, p2x, p2y)
-        # a line locus holds its direction where a circle holds its radius and centre point
-        bx, by, bad, par = _intersect(k1, a1, c1, r1, e1, k2, a2, c2, r2, e2, branch)
-        _finish_side(st, b1, k1, a1, c1, r1, e1, f1, p1x, p1y, bx, by)
-        _finish_side(st, b2, k2, a2, c2, r2, e2, f2, p2x, p2y, bx, by)
+        k1, x1, y1, c1, d1 = _locus(st, jt, jf, j1, b1, p1x, p1y, gf[gi, 0])
+        k2, x2, y2, c2, d2 = _locus(st, jt, jf, j3, b2, p2x, p2y, gf[gi, 4])
+        bx, by, bad, par = _intersect(k1, x1, y1, c1, d1, k2, x2, y2, c2, d2, branch)
+        _finish_side(st, b1, k1, x1, y1, c1, gf[gi, 1], gf[gi, 2], gf[gi, 3], p1x, p1y, bx,
+                     by)
+        _finish_side(st, b2, k2, x2, y2, c2, gf[gi, 5], gf[gi, 6], gf[gi, 7], p2x, p2y, bx,
+                     by)
         return bad, par
     if kind == _DYAD_RPR or kind == _DYAD_PP:
         ga, sb = jt[j2, 1], jt[j2, 2]  # the internal pair's guide and slider bodies
@@ -316,12 +314,12 @@ def _positions(st: Any, jt: Any, jf: Any, g: Any, branch: float, q: float
         xx, xy = _wpt(st, ib, jf[j2, _PBX], jf[j2, _PBY])
         h = jf[j2, _NLX] * (jf[j2, _QAX] - alx) + jf[j2, _NLY] * (jf[j2, _QAY] - aly)
         return _rotating_line(st, b1, ax, ay, alx, aly, jf[j2, _ANG], h, xx, xy, branch), False
-    pbx, pby = jf[j2, _PBX], jf[j2, _PBY]
-    rad = math.hypot(pbx - alx, pby - aly)
+    rad = gf[gi, 0]
     qx, qy = _wpt(st, ia, jf[j2, _QAX], jf[j2, _QAY])
     ux, uy = _rot(st, ia, jf[j2, _UX], jf[j2, _UY])
     bx, by, bad, par = _intersect(0, ax, ay, rad, 0.0, 1, qx, qy, ux, uy, branch)
-    _finish_side(st, b1, 0, ax, ay, rad, alx, aly, pbx, pby, bx, by)
+    _finish_side(st, b1, 0, ax, ay, rad, gf[gi, 1], gf[gi, 2], gf[gi, 3], jf[j2, _PBX],
+                 jf[j2, _PBY], bx, by)
     return bad, par
 
 
@@ -340,168 +338,169 @@ def _acc_at(st: Any, k: int, x: float, y: float) -> tuple[float, float]:
 
 
 @njit(cache=True)
-def _hang(st: Any, jt: Any, jf: Any, p: Any, j: int, b: int) -> None:
+def _hang(st: Any, jt: Any, jf: Any, p: Any, s: int, j: int, b: int) -> None:
     """Body ``b`` hung on its known neighbour through joint ``j``: turning about the pivot
     (``z = omega_b``) or sliding along the guide (``z`` the slide rate)."""
     ia, ib = jt[j, 1], jt[j, 2]
     k = ia if b == ib else ib
-    p[_B], p[_K], p[_PZ] = b, k, 0.0
+    p[s, _B], p[s, _K], p[s, _PZ] = b, k, 0.0
     if jt[j, 0] == _R:
-        p[_MODE] = 1.0
+        p[s, _MODE] = 1.0
         px, py = (jf[j, _QAX], jf[j, _QAY]) if k == ia else (jf[j, _PBX], jf[j, _PBY])
         rx, ry = _rot(st, k, px, py)
-        p[_PRX], p[_PRY] = rx, ry
-        p[_PAX], p[_PAY] = st[_X, k] + rx, st[_Y, k] + ry
+        p[s, _PRX], p[s, _PRY] = rx, ry
+        p[s, _PAX], p[s, _PAY] = st[_X, k] + rx, st[_Y, k] + ry
     else:
-        p[_MODE] = 2.0
-        p[_PUX], p[_PUY] = _rot(st, ia, jf[j, _UX], jf[j, _UY])
+        p[s, _MODE] = 2.0
+        p[s, _PUX], p[s, _PUY] = _rot(st, ia, jf[j, _UX], jf[j, _UY])
 
 
 @njit(cache=True)
-def _known(p: Any, b: int) -> None:
-    p[_MODE], p[_B], p[_PZ] = 0.0, b, 0.0
+def _known(p: Any, s: int, b: int) -> None:
+    p[s, _MODE], p[s, _B], p[s, _PZ] = 0.0, b, 0.0
 
 
 @njit(cache=True)
-def _d(p: Any, x: float, y: float) -> tuple[float, float]:
-    if p[_MODE] == 0.0:
+def _d(p: Any, s: int, x: float, y: float) -> tuple[float, float]:
+    if p[s, _MODE] == 0.0:
         return 0.0, 0.0
-    if p[_MODE] == 1.0:
-        return -(y - p[_PAY]), x - p[_PAX]
-    return p[_PUX], p[_PUY]
+    if p[s, _MODE] == 1.0:
+        return -(y - p[s, _PAY]), x - p[s, _PAX]
+    return p[s, _PUX], p[s, _PUY]
 
 
 @njit(cache=True)
-def _cv(st: Any, p: Any, x: float, y: float) -> tuple[float, float]:
-    if p[_MODE] == 0.0:
-        return _vel_at(st, int(p[_B]), x, y)
-    k = int(p[_K])
-    if p[_MODE] == 1.0:
-        return st[_VX, k] - st[_W, k] * p[_PRY], st[_VY, k] + st[_W, k] * p[_PRX]
+def _cv(st: Any, p: Any, s: int, x: float, y: float) -> tuple[float, float]:
+    if p[s, _MODE] == 0.0:
+        return _vel_at(st, int(p[s, _B]), x, y)
+    k = int(p[s, _K])
+    if p[s, _MODE] == 1.0:
+        return st[_VX, k] - st[_W, k] * p[s, _PRY], st[_VY, k] + st[_W, k] * p[s, _PRX]
     return _vel_at(st, k, x, y)
 
 
 @njit(cache=True)
-def _ca(st: Any, p: Any, x: float, y: float) -> tuple[float, float]:
+def _ca(st: Any, p: Any, s: int, x: float, y: float) -> tuple[float, float]:
     """The acceleration at (x, y) without the term of the rate's derivative."""
-    if p[_MODE] == 0.0:
-        return _acc_at(st, int(p[_B]), x, y)
-    k, z = int(p[_K]), p[_PZ]
-    if p[_MODE] == 1.0:
+    if p[s, _MODE] == 0.0:
+        return _acc_at(st, int(p[s, _B]), x, y)
+    k, z = int(p[s, _K]), p[s, _PZ]
+    if p[s, _MODE] == 1.0:
         w2 = st[_W, k] * st[_W, k]
-        rx, ry = p[_PRX], p[_PRY]
+        rx, ry = p[s, _PRX], p[s, _PRY]
         aax = st[_AX, k] - st[_E, k] * ry - w2 * rx
         aay = st[_AY, k] + st[_E, k] * rx - w2 * ry
-        return aax - z * z * (x - p[_PAX]), aay - z * z * (y - p[_PAY])
+        return aax - z * z * (x - p[s, _PAX]), aay - z * z * (y - p[s, _PAY])
     akx, aky = _acc_at(st, k, x, y)
     c = 2 * st[_W, k] * z
-    return akx - c * p[_PUY], aky + c * p[_PUX]
+    return akx - c * p[s, _PUY], aky + c * p[s, _PUX]
 
 
 @njit(cache=True)
-def _wpart(st: Any, p: Any, row: int) -> tuple[float, float]:
+def _wpart(st: Any, p: Any, s: int, row: int) -> tuple[float, float]:
     """The angular velocity (``row`` _W) or acceleration (_E) as (constant, coefficient of
     the unknown)."""
-    if p[_MODE] == 0.0:
-        return st[row, int(p[_B])], 0.0
-    if p[_MODE] == 1.0:
+    if p[s, _MODE] == 0.0:
+        return st[row, int(p[s, _B])], 0.0
+    if p[s, _MODE] == 1.0:
         return 0.0, 1.0
-    return st[row, int(p[_K])], 0.0
+    return st[row, int(p[s, _K])], 0.0
 
 
 @njit(cache=True)
-def _vel(st: Any, p: Any, x: float, y: float) -> tuple[float, float]:
-    cx, cy = _cv(st, p, x, y)
-    if p[_MODE] == 0.0:
+def _vel(st: Any, p: Any, s: int, x: float, y: float) -> tuple[float, float]:
+    cx, cy = _cv(st, p, s, x, y)
+    if p[s, _MODE] == 0.0:
         return cx, cy
-    dx, dy = _d(p, x, y)
-    return cx + p[_PZ] * dx, cy + p[_PZ] * dy
+    dx, dy = _d(p, s, x, y)
+    return cx + p[s, _PZ] * dx, cy + p[s, _PZ] * dy
 
 
 @njit(cache=True)
-def _set_velocity(st: Any, p: Any) -> None:
-    b = int(p[_B])
-    st[_VX, b], st[_VY, b] = _vel(st, p, st[_X, b], st[_Y, b])
-    c, k = _wpart(st, p, _W)
-    st[_W, b] = c + k * p[_PZ]
+def _set_velocity(st: Any, p: Any, s: int) -> None:
+    b = int(p[s, _B])
+    st[_VX, b], st[_VY, b] = _vel(st, p, s, st[_X, b], st[_Y, b])
+    c, k = _wpart(st, p, s, _W)
+    st[_W, b] = c + k * p[s, _PZ]
 
 
 @njit(cache=True)
-def _set_acceleration(st: Any, p: Any, zd: float) -> None:
-    b = int(p[_B])
+def _set_acceleration(st: Any, p: Any, s: int, zd: float) -> None:
+    b = int(p[s, _B])
     x, y = st[_X, b], st[_Y, b]
-    cx, cy = _ca(st, p, x, y)
-    dx, dy = _d(p, x, y)
+    cx, cy = _ca(st, p, s, x, y)
+    dx, dy = _d(p, s, x, y)
     st[_AX, b], st[_AY, b] = cx + zd * dx, cy + zd * dy
-    c, k = _wpart(st, p, _E)
+    c, k = _wpart(st, p, s, _E)
     st[_E, b] = c + k * zd
 
 
 @njit(cache=True)
-def _closure(st: Any, jt: Any, jf: Any, pars: Any, ia_: int, ib_: int, j: int, acc: bool,
+def _closure(st: Any, jt: Any, jf: Any, p: Any, sa: int, sb: int, j: int, acc: bool,
              rows: Any) -> None:
-    """The closure rows of joint ``j`` (its body a hung as ``pars[ia_]``, b as ``pars[ib_]``;
-    slots 0, 1 the unknowns, 2 a known body) in ``rows[r] = (coefficient of z0, of z1, rhs)``:
-    velocity rows, or acceleration rows (``acc``, the rates known)."""
-    pa, pb = pars[ia_], pars[ib_]
+    """The closure rows of joint ``j`` (its body a hung as ``p[sa]``, b as ``p[sb]``; slots 0,
+    1 the unknowns, 2 a known body) in ``rows[r] = (coefficient of z0, of z1, rhs)``: velocity
+    rows, or acceleration rows (``acc``, the rates known)."""
     kind = jt[j, 0]
     for r in range(2):
         rows[r, 0] = 0.0
         rows[r, 1] = 0.0
     if kind == _R:
         bx, by = _wpt(st, jt[j, 2], jf[j, _PBX], jf[j, _PBY])
-        dax, day = _d(pa, bx, by)
-        dbx, dby = _d(pb, bx, by)
+        dax, day = _d(p, sa, bx, by)
+        dbx, dby = _d(p, sb, bx, by)
         if acc:
-            cax, cay = _ca(st, pa, bx, by)
-            cbx, cby = _ca(st, pb, bx, by)
+            cax, cay = _ca(st, p, sa, bx, by)
+            cbx, cby = _ca(st, p, sb, bx, by)
         else:
-            cax, cay = _cv(st, pa, bx, by)
-            cbx, cby = _cv(st, pb, bx, by)
-        if ia_ < 2:
-            rows[0, ia_] += dax
-            rows[1, ia_] += day
-        if ib_ < 2:
-            rows[0, ib_] += -dbx
-            rows[1, ib_] += -dby
+            cax, cay = _cv(st, p, sa, bx, by)
+            cbx, cby = _cv(st, p, sb, bx, by)
+        if sa < 2:
+            rows[0, sa] += dax
+            rows[1, sa] += day
+        if sb < 2:
+            rows[0, sb] += -dbx
+            rows[1, sb] += -dby
         rows[0, 2] = cbx - cax
         rows[1, 2] = cby - cay
         return
     px, py = _wpt(st, jt[j, 2], jf[j, _PBX], jf[j, _PBY])
     ux, uy = _rot(st, jt[j, 1], jf[j, _UX], jf[j, _UY])
     nx, ny = -uy, ux
-    dax, day = _d(pa, px, py)
-    dbx, dby = _d(pb, px, py)
-    if ia_ < 2:
-        rows[0, ia_] += -(nx * dax + ny * day)
-    if ib_ < 2:
-        rows[0, ib_] += nx * dbx + ny * dby
+    dax, day = _d(p, sa, px, py)
+    dbx, dby = _d(p, sb, px, py)
+    if sa < 2:
+        rows[0, sa] += -(nx * dax + ny * day)
+    if sb < 2:
+        rows[0, sb] += nx * dbx + ny * dby
     if acc:
-        cax, cay = _ca(st, pa, px, py)
-        cbx, cby = _ca(st, pb, px, py)
-        vax, vay = _vel(st, pa, px, py)
-        vbx, vby = _vel(st, pb, px, py)
-        c0, k0 = _wpart(st, pa, _W)
-        wa = c0 + k0 * pa[_PZ]
+        cax, cay = _ca(st, p, sa, px, py)
+        cbx, cby = _ca(st, p, sb, px, py)
+        vax, vay = _vel(st, p, sa, px, py)
+        vbx, vby = _vel(st, p, sb, px, py)
+        c0, k0 = _wpart(st, p, sa, _W)
+        wa = c0 + k0 * p[sa, _PZ]
         rvx, rvy = vbx - vax, vby - vay
         rows[0, 2] = -(nx * (cbx - cax) + ny * (cby - cay)) + 2 * wa * (nx * -rvy + ny * rvx)
     else:
-        cax, cay = _cv(st, pa, px, py)
-        cbx, cby = _cv(st, pb, px, py)
+        cax, cay = _cv(st, p, sa, px, py)
+        cbx, cby = _cv(st, p, sb, px, py)
         rows[0, 2] = -(nx * (cbx - cax) + ny * (cby - cay))
     if kind == _P:  # and omega_a = omega_b (eps_a = eps_b)
-        c0a, ka = _wpart(st, pa, _E if acc else _W)
-        c0b, kb = _wpart(st, pb, _E if acc else _W)
-        if ia_ < 2:
-            rows[1, ia_] += ka
-        if ib_ < 2:
-            rows[1, ib_] += -kb
+        c0a, ka = _wpart(st, p, sa, _E if acc else _W)
+        c0b, kb = _wpart(st, p, sb, _E if acc else _W)
+        if sa < 2:
+            rows[1, sa] += ka
+        if sb < 2:
+            rows[1, sb] += -kb
         rows[1, 2] = c0b - c0a
 
 
 @njit(cache=True)
 def _cramer(rows: Any, n_unk: int, scale: float) -> tuple[float, float]:
-    """The 1 x 1 or 2 x 2 system of ``rows``; NaN where singular (the NumPy path's tests)."""
+    """The 1 x 1 or 2 x 2 system of ``rows``; NaN where singular (the NumPy path's tests: a
+    coefficient below 1e-7 ``scale``; a determinant below 1e-7 times the product of the column
+    norms)."""
     if n_unk == 1:
         a = rows[0, 0]
         if not abs(a) > 1e-7 * scale:
@@ -510,27 +509,15 @@ def _cramer(rows: Any, n_unk: int, scale: float) -> tuple[float, float]:
     a11, a12, r1 = rows[0, 0], rows[0, 1], rows[0, 2]
     a21, a22, r2 = rows[1, 0], rows[1, 1], rows[1, 2]
     det = a11 * a22 - a12 * a21
-    norm = math.hypot(a11, a21) * math.hypot(a12, a22)
+    norm = math.sqrt((a11 * a11 + a21 * a21) * (a12 * a12 + a22 * a22))
     inv = 1.0 / det if abs(det) > 1e-7 * norm else math.nan
     return (r1 * a22 - r2 * a12) * inv, (a11 * r2 - a21 * r1) * inv
 
 
 @njit(cache=True)
-def _slot(g: Any, n_unk: int, body: int) -> int:
-    """The slot of ``pars`` of a body of the closure joint: 0, 1 its unknowns, 2 a known
-    body."""
-    if body == g[1]:
-        return 0
-    if n_unk == 2 and body == g[2]:
-        return 1
-    return 2
-
-
-@njit(cache=True)
-def _rates(st: Any, jt: Any, jf: Any, g: Any, w1: float, e1: float, scale: float,
-           pars: Any, rows: Any) -> None:
-    """Velocities and accelerations of the bodies of group ``g`` (those before it known)."""
-    kind, b1, b2, j1, j2, j3 = g[0], g[1], g[2], g[3], g[4], g[5]
+def _rates(st: Any, jt: Any, jf: Any, kind: int, b1: int, b2: int, j1: int, j2: int,
+           j3: int, w1: float, e1: float, scale: float, p: Any, rows: Any) -> None:
+    """Velocities and accelerations of the bodies of a group (those before it known)."""
     if kind == _DRIVER:
         ia, ib = jt[j1, 1], jt[j1, 2]
         sign = 1.0 if b1 == ib else -1.0
@@ -553,74 +540,76 @@ def _rates(st: Any, jt: Any, jf: Any, g: Any, w1: float, e1: float, scale: float
             st[_AX, b1] = apx + e * ry + w * w * rx
             st[_AY, b1] = apy - e * rx + w * w * ry
             return
-        p = pars[0]  # the linear driver: the body hung on its pair with the driver's rate
-        _hang(st, jt, jf, p, j1, b1)
-        p[_PZ] = sign * w1
-        _set_velocity(st, p)
-        _set_acceleration(st, p, sign * e1)
+        _hang(st, jt, jf, p, 0, j1, b1)  # a linear driver: hung with the driver's rate
+        p[0, _PZ] = sign * w1
+        _set_velocity(st, p, 0)
+        _set_acceleration(st, p, 0, sign * e1)
         return
-    if kind == _SLOT_R or kind == _SLOT_P:
-        n_unk, jc = 1, j2
-        _hang(st, jt, jf, pars[0], j1, b1)
-    else:
-        n_unk, jc = 2, j2
-        _hang(st, jt, jf, pars[0], j1, b1)
-        _hang(st, jt, jf, pars[1], j3, b2)
-    ia_, ib_ = _slot(g, n_unk, jt[jc, 1]), _slot(g, n_unk, jt[jc, 2])
-    if ia_ == 2:
-        _known(pars[2], jt[jc, 1])
-    if ib_ == 2:
-        _known(pars[2], jt[jc, 2])
-    _closure(st, jt, jf, pars, ia_, ib_, jc, False, rows)
+    _hang(st, jt, jf, p, 0, j1, b1)
+    n_unk = 1 if kind >= _SLOT_R else 2
+    if n_unk == 2:
+        _hang(st, jt, jf, p, 1, j3, b2)
+    ia, ib = jt[j2, 1], jt[j2, 2]  # the closure joint j2: slots of its bodies
+    sa = 0 if ia == b1 else (1 if n_unk == 2 and ia == b2 else 2)
+    sb = 0 if ib == b1 else (1 if n_unk == 2 and ib == b2 else 2)
+    if sa == 2:
+        _known(p, 2, ia)
+    if sb == 2:
+        _known(p, 2, ib)
+    _closure(st, jt, jf, p, sa, sb, j2, False, rows)
     z0, z1 = _cramer(rows, n_unk, scale)
-    pars[0, _PZ] = z0
+    p[0, _PZ] = z0
+    _set_velocity(st, p, 0)
     if n_unk == 2:
-        pars[1, _PZ] = z1
-    for u in range(n_unk):
-        _set_velocity(st, pars[u])
-    _closure(st, jt, jf, pars, ia_, ib_, jc, True, rows)
+        p[1, _PZ] = z1
+        _set_velocity(st, p, 1)
+    _closure(st, jt, jf, p, sa, sb, j2, True, rows)
     zd0, zd1 = _cramer(rows, n_unk, scale)
-    _set_acceleration(st, pars[0], zd0)
+    _set_acceleration(st, p, 0, zd0)
     if n_unk == 2:
-        _set_acceleration(st, pars[1], zd1)
+        _set_acceleration(st, p, 1, zd1)
 
 
 # ---------------------------------------------------------------------------------------------
 # the kernel
 @njit(cache=True)
-def kinematics_kernel(jt: Any, jf: Any, gt: Any, br: Any, scale: Any, q: Any, w: Any,
-                      e: Any, out: Any, pos_bad: Any, bad: Any, failed: Any,
+def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q: Any,
+                      w: Any, e: Any, out: Any, pos_bad: Any, bad: Any, failed: Any,
                       parallel: Any) -> None:
     """Positions, velocities and accelerations of every (design ``i``, position ``k``)
     element.
 
     ``jt`` (nj, 3) joints' kind, body a, body b; ``jf`` (m, nj, 12) their geometry per design;
-    ``gt`` (ng, 6) groups' kind, bodies, joints; ``br`` (m, ng) branches; ``scale`` (m,) length
-    scales; ``q, w, e`` (m, n) the driver's coordinate, speed, acceleration; written: ``out``
-    (9, nb, m, n), ``pos_bad, bad`` (m, n), ``failed, parallel`` (ng,) flags."""
+    ``gt`` (ng, 6) groups' kind, bodies, joints; ``gf`` (m, ng, 8) the groups' constant
+    geometry per design (:func:`_group_geometry`); ``br`` (m, ng) branches; ``scale`` (m,)
+    length scales; ``q, w, e`` (m, n) the driver's coordinate, speed, acceleration; written:
+    ``out`` (9, nb, m, n), ``pos_bad, bad`` (m, n), ``failed, parallel`` (ng,) flags."""
     nb = out.shape[1]
     m, n = q.shape
     ng = gt.shape[0]
     st = np.zeros((11, nb))
-    pars = np.zeros((3, 10))
+    p = np.zeros((3, 10))
     rows = np.zeros((2, 3))
     for i in range(m):
         jfi = jf[i]
+        gfi = gf[i]
         L = scale[i]
         for k in range(n):
             st[_C, 0] = 1.0
             fail = False
             for gi in range(ng):
-                f, par = _positions(st, jt, jfi, gt[gi], float(br[i, gi]), q[i, k])
+                f, par = _positions(st, jt, jfi, gfi, gi, gt[gi, 0], gt[gi, 1], gt[gi, 2],
+                                    gt[gi, 3], gt[gi, 4], gt[gi, 5], float(br[i, gi]),
+                                    q[i, k])
                 if par:
                     parallel[gi] = True
                 if f and not fail:
                     failed[gi] = True
                     fail = True
             for gi in range(ng):
-                g = gt[gi]
-                _rates(st, jt, jfi, g, w[i, k], e[i, k], L if g[0] >= _SLOT_R else L * L,
-                       pars, rows)
+                kind = gt[gi, 0]
+                _rates(st, jt, jfi, kind, gt[gi, 1], gt[gi, 2], gt[gi, 3], gt[gi, 4],
+                       gt[gi, 5], w[i, k], e[i, k], L, p, rows)
             b = fail
             for body in range(1, nb):
                 if not math.isfinite(st[_W, body]):
@@ -637,13 +626,15 @@ def kinematics_kernel(jt: Any, jf: Any, gt: Any, br: Any, scale: Any, q: Any, w:
 # the plan encoded
 class Encoded:
     """A plan as the kernel reads it: joint table ``jt`` (nj, 3), joint geometry ``jf`` (m,
-    nj, 12), group table ``gt`` (ng, 6), length scales (m,), the groups' keys in order."""
+    nj, 12), group table ``gt`` (ng, 6), group geometry ``gf`` (m, ng, 8), length scales (m,),
+    the groups' keys in order."""
 
-    __slots__ = ("gt", "jf", "jt", "keys", "m", "scale")
+    __slots__ = ("gf", "gt", "jf", "jt", "keys", "m", "scale")
 
-    def __init__(self, jt: np.ndarray, jf: np.ndarray, gt: np.ndarray, scale: np.ndarray,
-                 keys: tuple[str, ...]) -> None:
-        self.jt, self.jf, self.gt, self.scale, self.keys = jt, jf, gt, scale, keys
+    def __init__(self, jt: np.ndarray, jf: np.ndarray, gt: np.ndarray, gf: np.ndarray,
+                 scale: np.ndarray, keys: tuple[str, ...]) -> None:
+        self.jt, self.jf, self.gt, self.gf, self.scale = jt, jf, gt, gf, scale
+        self.keys = keys
         self.m = jf.shape[0]
 
 
@@ -675,25 +666,33 @@ def _group_row(g: PlanGroup, joints: dict[int, int]) -> list[int] | None:
     return [kind, *b, *j]
 
 
-def _degenerate(plan: Plan, jf: np.ndarray, gt: np.ndarray, jt: np.ndarray) -> bool:
-    """A dyad body or slot pin at its own pivot (the NumPy path raises StructureError there:
-    leave it to that path)."""
-    for kind, b1, b2, j1, j2, j3 in gt:
-        pts = []
+def _group_geometry(jf: np.ndarray, gt: np.ndarray, jt: np.ndarray) -> np.ndarray | None:
+    """Per design and group the constant geometry of its circle loci (side 1: the first body,
+    side 2: the second): radius, the angle ``phi0`` of the point on the circle seen from the
+    pivot in the body's frame, its cosine and sine (as :func:`~linkwork.planar.positions`
+    computes them at every position); None where a body's two joint centres coincide (the
+    NumPy path raises StructureError there)."""
+    m = jf.shape[0]
+    gf = np.zeros((m, gt.shape[0], 8))
+    for gi, (kind, b1, b2, j1, j2, j3) in enumerate(gt):
+        sides = []
         if kind == _DYAD_R:
             p1 = (_QAX, _QAY) if b1 == jt[j2, 1] else (_PBX, _PBY)
             p2 = (_PBX, _PBY) if b2 == jt[j2, 2] else (_QAX, _QAY)
-            for j, b, p in ((j1, b1, p1), (j3, b2, p2)):
-                if jt[j, 0] == _R:
-                    e = (_QAX, _QAY) if b == jt[j, 1] else (_PBX, _PBY)
-                    pts.append((jf[:, j2, p[0]] - jf[:, j, e[0]],
-                                jf[:, j2, p[1]] - jf[:, j, e[1]]))
+            sides = [(0, j1, b1, j2, p1), (4, j3, b2, j2, p2)]
         elif kind == _SLOT_R and b1 != jt[j2, 1]:
-            e = (_QAX, _QAY) if b1 == jt[j1, 1] else (_PBX, _PBY)
-            pts.append((jf[:, j2, _PBX] - jf[:, j1, e[0]], jf[:, j2, _PBY] - jf[:, j1, e[1]]))
-        if any(np.any(np.hypot(dx, dy) == 0.0) for dx, dy in pts):
-            return True
-    return False
+            sides = [(0, j1, b1, j2, (_PBX, _PBY))]
+        for off, j, b, jp, p in sides:
+            if jt[j, 0] != _R:
+                continue
+            e = (_QAX, _QAY) if b == jt[j, 1] else (_PBX, _PBY)
+            dx, dy = jf[:, jp, p[0]] - jf[:, j, e[0]], jf[:, jp, p[1]] - jf[:, j, e[1]]
+            rad = np.hypot(dx, dy)
+            if np.any(rad == 0.0):
+                return None
+            phi0 = np.arctan2(dy, dx)
+            gf[:, gi, off:off + 4] = np.stack([rad, phi0, np.cos(phi0), np.sin(phi0)], axis=1)
+    return gf
 
 
 def encode(plan: Plan) -> Encoded | None:
@@ -739,9 +738,10 @@ def _encode(plan: Plan) -> Encoded | None:
         for c, v in enumerate(vals):
             jf[:, k, c] = v
     scale = np.broadcast_to(np.asarray(plan.length_scale, dtype=float), (m,)).copy()
-    if _degenerate(plan, jf, gt, jt):
+    gf = _group_geometry(jf, gt, jt)
+    if gf is None:
         return None
-    return Encoded(jt, jf, gt, scale, tuple(g.key for g in plan.groups))
+    return Encoded(jt, jf, gt, gf, scale, tuple(g.key for g in plan.groups))
 
 
 def run(enc: Encoded, branches: dict[str, Any], q: np.ndarray, w: np.ndarray, e: np.ndarray,
@@ -757,9 +757,12 @@ def run(enc: Encoded, branches: dict[str, Any], q: np.ndarray, w: np.ndarray, e:
     bad = np.empty((m, n), dtype=np.bool_)
     failed = np.zeros(ng, dtype=np.bool_)
     parallel = np.zeros(ng, dtype=np.bool_)
-    jf = enc.jf if enc.m == m else np.broadcast_to(enc.jf, (m, *enc.jf.shape[1:]))
-    scale = enc.scale if enc.m == m else np.broadcast_to(enc.scale, (m,))
-    kinematics_kernel(enc.jt, jf, enc.gt, br, scale, q, w, e, out, pos_bad, bad, failed,
+    jf, gf, scale = enc.jf, enc.gf, enc.scale
+    if enc.m != m:  # geometry the same for every design of a batch
+        jf = np.broadcast_to(jf, (m, *jf.shape[1:]))
+        gf = np.broadcast_to(gf, (m, *gf.shape[1:]))
+        scale = np.broadcast_to(scale, (m,))
+    kinematics_kernel(enc.jt, jf, enc.gt, gf, br, scale, q, w, e, out, pos_bad, bad, failed,
                       parallel)
     return (pos_bad, bad, {k for k, f in zip(enc.keys, failed, strict=True) if f},
             {k for k, f in zip(enc.keys, parallel, strict=True) if f})
