@@ -64,33 +64,33 @@ _MODE, _B, _K, _PAX, _PAY, _PUX, _PUY, _PRX, _PRY, _PZ = range(10)
 
 # ---------------------------------------------------------------------------------------------
 # the state of one element
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rot(st: Any, i: int, x: float, y: float) -> tuple[float, float]:
     c, s = st[_C, i], st[_SN, i]
     return c * x - s * y, s * x + c * y
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _wpt(st: Any, i: int, x: float, y: float) -> tuple[float, float]:
     rx, ry = _rot(st, i, x, y)
     return st[_X, i] + rx, st[_Y, i] + ry
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _set_angle(st: Any, i: int, th: float) -> None:
     st[_T, i] = th
     st[_C, i] = math.cos(th)
     st[_SN, i] = math.sin(th)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _place(st: Any, i: int, px: float, py: float, wx: float, wy: float) -> None:
     rx, ry = _rot(st, i, px, py)
     st[_X, i] = wx - rx
     st[_Y, i] = wy - ry
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _angle_of(st: Any, jt: Any, jf: Any, j: int, body: int) -> float:
     """The angle of ``body`` fixed by the prismatic pair ``j`` to its known other body."""
     if body == jt[j, 2]:
@@ -98,7 +98,7 @@ def _angle_of(st: Any, jt: Any, jf: Any, j: int, body: int) -> float:
     return st[_T, jt[j, 2]] - jf[j, _REL]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _pivot(st: Any, jt: Any, jf: Any, j: int, body: int) -> tuple[float, float, float, float]:
     """World centre of the revolute joint ``j`` (from its known side) and its point on
     ``body``."""
@@ -109,7 +109,7 @@ def _pivot(st: Any, jt: Any, jf: Any, j: int, body: int) -> tuple[float, float, 
     return wx, wy, jf[j, _PBX], jf[j, _PBY]
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _line_condition(st: Any, jt: Any, jf: Any, j: int, body: int
                     ) -> tuple[float, float, float]:
     """The line of joint ``j`` as ``n . r_body = c`` for a body of known angle."""
@@ -125,7 +125,7 @@ def _line_condition(st: Any, jt: Any, jf: Any, j: int, body: int
     return nx, ny, nx * (px - wx) + ny * (py - wy)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _two_lines(st: Any, jt: Any, jf: Any, body: int, j1: int, j2: int) -> tuple[bool, bool]:
     """Origin of ``body`` (angle known) from two line joints; (failed, parallel)."""
     n1x, n1y, c1 = _line_condition(st, jt, jf, j1, body)
@@ -139,7 +139,7 @@ def _two_lines(st: Any, jt: Any, jf: Any, body: int, j1: int, j2: int) -> tuple[
     return par, par
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _sqrt_checked(arg: float, scale: float) -> tuple[float, bool]:
     bad = not arg >= -1e-12 * scale * scale
     if bad:
@@ -147,7 +147,7 @@ def _sqrt_checked(arg: float, scale: float) -> tuple[float, bool]:
     return math.sqrt(max(arg, 0.0)), False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _locus(st: Any, jt: Any, jf: Any, j: int, body: int, pix: float, piy: float, rad: float
            ) -> tuple[int, float, float, float, float]:
     """The locus of the point ``(pix, piy)`` of ``body`` allowed by its external joint ``j``:
@@ -172,7 +172,7 @@ def _locus(st: Any, jt: Any, jf: Any, j: int, body: int, pix: float, piy: float,
     return 1, qx + ox, qy + oy, ux, uy
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _intersect(k1: int, a1: float, b1: float, c1: float, d1: float, k2: int, a2: float,
                b2: float, c2: float, d2: float, branch: float
                ) -> tuple[float, float, bool, bool]:
@@ -204,7 +204,7 @@ def _intersect(k1: int, a1: float, b1: float, c1: float, d1: float, k2: int, a2:
     return bx + t * ux, by + t * uy, bad, False
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _finish_side(st: Any, body: int, kind: int, ax: float, ay: float, rad: float,
                  phi0: float, c0: float, s0: float, pix: float, piy: float, bx: float,
                  by: float) -> None:
@@ -225,7 +225,7 @@ def _finish_side(st: Any, body: int, kind: int, ax: float, ay: float, rad: float
     _place(st, body, pix, piy, bx, by)
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rotating_line(st: Any, body: int, ax: float, ay: float, alx: float, aly: float,
                    ang: float, h: float, xx: float, xy: float, branch: float) -> bool:
     """The angle of ``body`` pinned at A (its point ``(alx, aly)``) whose line at angle ``ang``
@@ -239,7 +239,7 @@ def _rotating_line(st: Any, body: int, ax: float, ay: float, alx: float, aly: fl
     return bad
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _positions(st: Any, jt: Any, jf: Any, gf: Any, gi: int, kind: int, b1: int, b2: int,
                j1: int, j2: int, j3: int, branch: float, q: float) -> tuple[bool, bool]:
     """The poses of the bodies of group ``gi``; (failed, parallel)."""
@@ -325,198 +325,209 @@ def _positions(st: Any, jt: Any, jf: Any, gf: Any, gi: int, kind: int, b1: int, 
 
 # ---------------------------------------------------------------------------------------------
 # rates: each body of a group hung on its known neighbour with one unknown rate
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _vel_at(st: Any, k: int, x: float, y: float) -> tuple[float, float]:
     return st[_VX, k] - st[_W, k] * (y - st[_Y, k]), st[_VY, k] + st[_W, k] * (x - st[_X, k])
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _acc_at(st: Any, k: int, x: float, y: float) -> tuple[float, float]:
     rx, ry = x - st[_X, k], y - st[_Y, k]
     w2 = st[_W, k] * st[_W, k]
     return (st[_AX, k] - st[_E, k] * ry - w2 * rx, st[_AY, k] + st[_E, k] * rx - w2 * ry)
 
 
-@njit(cache=True)
-def _hang(st: Any, jt: Any, jf: Any, p: Any, s: int, j: int, b: int) -> None:
-    """Body ``b`` hung on its known neighbour through joint ``j``: turning about the pivot
-    (``z = omega_b``) or sliding along the guide (``z`` the slide rate)."""
+@njit(cache=True, error_model="numpy")
+def _hang(st: Any, jt: Any, jf: Any, j: int, b: int) -> Any:
+    """Body ``b`` hung on its known neighbour through joint ``j``, a tuple (mode: 1 turning
+    about the pivot A with ``z = omega_b``, 2 sliding along the guide u with ``z`` the slide
+    rate; body; neighbour k; A; u; the pivot's vector from k's origin; z = 0)."""
     ia, ib = jt[j, 1], jt[j, 2]
     k = ia if b == ib else ib
-    p[s, _B], p[s, _K], p[s, _PZ] = b, k, 0.0
     if jt[j, 0] == _R:
-        p[s, _MODE] = 1.0
         px, py = (jf[j, _QAX], jf[j, _QAY]) if k == ia else (jf[j, _PBX], jf[j, _PBY])
         rx, ry = _rot(st, k, px, py)
-        p[s, _PRX], p[s, _PRY] = rx, ry
-        p[s, _PAX], p[s, _PAY] = st[_X, k] + rx, st[_Y, k] + ry
-    else:
-        p[s, _MODE] = 2.0
-        p[s, _PUX], p[s, _PUY] = _rot(st, ia, jf[j, _UX], jf[j, _UY])
+        return (1, b, k, st[_X, k] + rx, st[_Y, k] + ry, 0.0, 0.0, rx, ry, 0.0)
+    ux, uy = _rot(st, ia, jf[j, _UX], jf[j, _UY])
+    return (2, b, k, 0.0, 0.0, ux, uy, 0.0, 0.0, 0.0)
 
 
-@njit(cache=True)
-def _known(p: Any, s: int, b: int) -> None:
-    p[s, _MODE], p[s, _B], p[s, _PZ] = 0.0, b, 0.0
+@njit(cache=True, error_model="numpy")
+def _known(b: int) -> Any:
+    """A known body as a hung one with no unknown (mode 0)."""
+    return (0, b, b, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
 
 
-@njit(cache=True)
-def _d(p: Any, s: int, x: float, y: float) -> tuple[float, float]:
-    if p[s, _MODE] == 0.0:
+@njit(cache=True, error_model="numpy")
+def _with_z(p: Any, z: float) -> Any:
+    return (p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], z)
+
+
+@njit(cache=True, error_model="numpy")
+def _d(p: Any, x: float, y: float) -> tuple[float, float]:
+    """The velocity at (x, y) per unit of the unknown rate."""
+    if p[0] == 0:
         return 0.0, 0.0
-    if p[s, _MODE] == 1.0:
-        return -(y - p[s, _PAY]), x - p[s, _PAX]
-    return p[s, _PUX], p[s, _PUY]
+    if p[0] == 1:
+        return -(y - p[4]), x - p[3]
+    return p[5], p[6]
 
 
-@njit(cache=True)
-def _cv(st: Any, p: Any, s: int, x: float, y: float) -> tuple[float, float]:
-    if p[s, _MODE] == 0.0:
-        return _vel_at(st, int(p[s, _B]), x, y)
-    k = int(p[s, _K])
-    if p[s, _MODE] == 1.0:
-        return st[_VX, k] - st[_W, k] * p[s, _PRY], st[_VY, k] + st[_W, k] * p[s, _PRX]
+@njit(cache=True, error_model="numpy")
+def _cv(st: Any, p: Any, x: float, y: float) -> tuple[float, float]:
+    """The velocity at (x, y) without the unknown's term."""
+    if p[0] == 0:
+        return _vel_at(st, p[1], x, y)
+    k = p[2]
+    if p[0] == 1:
+        return st[_VX, k] - st[_W, k] * p[8], st[_VY, k] + st[_W, k] * p[7]
     return _vel_at(st, k, x, y)
 
 
-@njit(cache=True)
-def _ca(st: Any, p: Any, s: int, x: float, y: float) -> tuple[float, float]:
+@njit(cache=True, error_model="numpy")
+def _ca(st: Any, p: Any, x: float, y: float) -> tuple[float, float]:
     """The acceleration at (x, y) without the term of the rate's derivative."""
-    if p[s, _MODE] == 0.0:
-        return _acc_at(st, int(p[s, _B]), x, y)
-    k, z = int(p[s, _K]), p[s, _PZ]
-    if p[s, _MODE] == 1.0:
+    if p[0] == 0:
+        return _acc_at(st, p[1], x, y)
+    k, z = p[2], p[9]
+    if p[0] == 1:
         w2 = st[_W, k] * st[_W, k]
-        rx, ry = p[s, _PRX], p[s, _PRY]
+        rx, ry = p[7], p[8]
         aax = st[_AX, k] - st[_E, k] * ry - w2 * rx
         aay = st[_AY, k] + st[_E, k] * rx - w2 * ry
-        return aax - z * z * (x - p[s, _PAX]), aay - z * z * (y - p[s, _PAY])
+        return aax - z * z * (x - p[3]), aay - z * z * (y - p[4])
     akx, aky = _acc_at(st, k, x, y)
     c = 2 * st[_W, k] * z
-    return akx - c * p[s, _PUY], aky + c * p[s, _PUX]
+    return akx - c * p[6], aky + c * p[5]
 
 
-@njit(cache=True)
-def _wpart(st: Any, p: Any, s: int, row: int) -> tuple[float, float]:
+@njit(cache=True, error_model="numpy")
+def _wpart(st: Any, p: Any, row: int) -> tuple[float, float]:
     """The angular velocity (``row`` _W) or acceleration (_E) as (constant, coefficient of
     the unknown)."""
-    if p[s, _MODE] == 0.0:
-        return st[row, int(p[s, _B])], 0.0
-    if p[s, _MODE] == 1.0:
+    if p[0] == 0:
+        return st[row, p[1]], 0.0
+    if p[0] == 1:
         return 0.0, 1.0
-    return st[row, int(p[s, _K])], 0.0
+    return st[row, p[2]], 0.0
 
 
-@njit(cache=True)
-def _vel(st: Any, p: Any, s: int, x: float, y: float) -> tuple[float, float]:
-    cx, cy = _cv(st, p, s, x, y)
-    if p[s, _MODE] == 0.0:
+@njit(cache=True, error_model="numpy")
+def _vel(st: Any, p: Any, x: float, y: float) -> tuple[float, float]:
+    cx, cy = _cv(st, p, x, y)
+    if p[0] == 0:
         return cx, cy
-    dx, dy = _d(p, s, x, y)
-    return cx + p[s, _PZ] * dx, cy + p[s, _PZ] * dy
+    dx, dy = _d(p, x, y)
+    return cx + p[9] * dx, cy + p[9] * dy
 
 
-@njit(cache=True)
-def _set_velocity(st: Any, p: Any, s: int) -> None:
-    b = int(p[s, _B])
-    st[_VX, b], st[_VY, b] = _vel(st, p, s, st[_X, b], st[_Y, b])
-    c, k = _wpart(st, p, s, _W)
-    st[_W, b] = c + k * p[s, _PZ]
+@njit(cache=True, error_model="numpy")
+def _set_velocity(st: Any, p: Any) -> None:
+    b = p[1]
+    st[_VX, b], st[_VY, b] = _vel(st, p, st[_X, b], st[_Y, b])
+    c, k = _wpart(st, p, _W)
+    st[_W, b] = c + k * p[9]
 
 
-@njit(cache=True)
-def _set_acceleration(st: Any, p: Any, s: int, zd: float) -> None:
-    b = int(p[s, _B])
+@njit(cache=True, error_model="numpy")
+def _set_acceleration(st: Any, p: Any, zd: float) -> None:
+    b = p[1]
     x, y = st[_X, b], st[_Y, b]
-    cx, cy = _ca(st, p, s, x, y)
-    dx, dy = _d(p, s, x, y)
+    cx, cy = _ca(st, p, x, y)
+    dx, dy = _d(p, x, y)
     st[_AX, b], st[_AY, b] = cx + zd * dx, cy + zd * dy
-    c, k = _wpart(st, p, s, _E)
+    c, k = _wpart(st, p, _E)
     st[_E, b] = c + k * zd
 
 
-@njit(cache=True)
-def _closure(st: Any, jt: Any, jf: Any, p: Any, sa: int, sb: int, j: int, acc: bool,
-             rows: Any) -> None:
-    """The closure rows of joint ``j`` (its body a hung as ``p[sa]``, b as ``p[sb]``; slots 0,
-    1 the unknowns, 2 a known body) in ``rows[r] = (coefficient of z0, of z1, rhs)``: velocity
-    rows, or acceleration rows (``acc``, the rates known)."""
+@njit(cache=True, error_model="numpy")
+def _closure(st: Any, jt: Any, jf: Any, pa: Any, sa: int, pb: Any, sb: int, j: int,
+             acc: bool) -> tuple[float, float, float, float, float, float]:
+    """The closure rows of joint ``j`` (its body a hung as ``pa``, the unknown number ``sa``,
+    b as ``pb``, ``sb``; 2: a known body): ``(a11, a12, r1, a21, a22, r2)``, the coefficients
+    of the unknowns and the right-hand side of each row; velocity rows, or acceleration rows
+    (``acc``, the rates known)."""
     kind = jt[j, 0]
-    for r in range(2):
-        rows[r, 0] = 0.0
-        rows[r, 1] = 0.0
+    a11 = a12 = a21 = a22 = 0.0
     if kind == _R:
         bx, by = _wpt(st, jt[j, 2], jf[j, _PBX], jf[j, _PBY])
-        dax, day = _d(p, sa, bx, by)
-        dbx, dby = _d(p, sb, bx, by)
+        dax, day = _d(pa, bx, by)
+        dbx, dby = _d(pb, bx, by)
         if acc:
-            cax, cay = _ca(st, p, sa, bx, by)
-            cbx, cby = _ca(st, p, sb, bx, by)
+            cax, cay = _ca(st, pa, bx, by)
+            cbx, cby = _ca(st, pb, bx, by)
         else:
-            cax, cay = _cv(st, p, sa, bx, by)
-            cbx, cby = _cv(st, p, sb, bx, by)
-        if sa < 2:
-            rows[0, sa] += dax
-            rows[1, sa] += day
-        if sb < 2:
-            rows[0, sb] += -dbx
-            rows[1, sb] += -dby
-        rows[0, 2] = cbx - cax
-        rows[1, 2] = cby - cay
-        return
+            cax, cay = _cv(st, pa, bx, by)
+            cbx, cby = _cv(st, pb, bx, by)
+        if sa == 0:
+            a11, a21 = dax, day
+        elif sa == 1:
+            a12, a22 = dax, day
+        if sb == 0:
+            a11, a21 = -dbx, -dby
+        elif sb == 1:
+            a12, a22 = -dbx, -dby
+        return a11, a12, cbx - cax, a21, a22, cby - cay
     px, py = _wpt(st, jt[j, 2], jf[j, _PBX], jf[j, _PBY])
     ux, uy = _rot(st, jt[j, 1], jf[j, _UX], jf[j, _UY])
     nx, ny = -uy, ux
-    dax, day = _d(p, sa, px, py)
-    dbx, dby = _d(p, sb, px, py)
-    if sa < 2:
-        rows[0, sa] += -(nx * dax + ny * day)
-    if sb < 2:
-        rows[0, sb] += nx * dbx + ny * dby
+    dax, day = _d(pa, px, py)
+    dbx, dby = _d(pb, px, py)
+    if sa == 0:
+        a11 = -(nx * dax + ny * day)
+    elif sa == 1:
+        a12 = -(nx * dax + ny * day)
+    if sb == 0:
+        a11 = nx * dbx + ny * dby
+    elif sb == 1:
+        a12 = nx * dbx + ny * dby
     if acc:
-        cax, cay = _ca(st, p, sa, px, py)
-        cbx, cby = _ca(st, p, sb, px, py)
-        vax, vay = _vel(st, p, sa, px, py)
-        vbx, vby = _vel(st, p, sb, px, py)
-        c0, k0 = _wpart(st, p, sa, _W)
-        wa = c0 + k0 * p[sa, _PZ]
+        cax, cay = _ca(st, pa, px, py)
+        cbx, cby = _ca(st, pb, px, py)
+        vax, vay = _vel(st, pa, px, py)
+        vbx, vby = _vel(st, pb, px, py)
+        c0, k0 = _wpart(st, pa, _W)
+        wa = c0 + k0 * pa[9]
         rvx, rvy = vbx - vax, vby - vay
-        rows[0, 2] = -(nx * (cbx - cax) + ny * (cby - cay)) + 2 * wa * (nx * -rvy + ny * rvx)
+        r1 = -(nx * (cbx - cax) + ny * (cby - cay)) + 2 * wa * (nx * -rvy + ny * rvx)
     else:
-        cax, cay = _cv(st, p, sa, px, py)
-        cbx, cby = _cv(st, p, sb, px, py)
-        rows[0, 2] = -(nx * (cbx - cax) + ny * (cby - cay))
+        cax, cay = _cv(st, pa, px, py)
+        cbx, cby = _cv(st, pb, px, py)
+        r1 = -(nx * (cbx - cax) + ny * (cby - cay))
+    r2 = 0.0
     if kind == _P:  # and omega_a = omega_b (eps_a = eps_b)
-        c0a, ka = _wpart(st, p, sa, _E if acc else _W)
-        c0b, kb = _wpart(st, p, sb, _E if acc else _W)
-        if sa < 2:
-            rows[1, sa] += ka
-        if sb < 2:
-            rows[1, sb] += -kb
-        rows[1, 2] = c0b - c0a
+        c0a, ka = _wpart(st, pa, _E if acc else _W)
+        c0b, kb = _wpart(st, pb, _E if acc else _W)
+        if sa == 0:
+            a21 = ka
+        elif sa == 1:
+            a22 = ka
+        if sb == 0:
+            a21 = -kb
+        elif sb == 1:
+            a22 = -kb
+        r2 = c0b - c0a
+    return a11, a12, r1, a21, a22, r2
 
 
-@njit(cache=True)
-def _cramer(rows: Any, n_unk: int, scale: float) -> tuple[float, float]:
-    """The 1 x 1 or 2 x 2 system of ``rows``; NaN where singular (the NumPy path's tests: a
-    coefficient below 1e-7 ``scale``; a determinant below 1e-7 times the product of the column
-    norms)."""
+@njit(cache=True, error_model="numpy")
+def _cramer(a11: float, a12: float, r1: float, a21: float, a22: float, r2: float,
+            n_unk: int, scale: float) -> tuple[float, float]:
+    """The 1 x 1 or 2 x 2 system; NaN where singular (the NumPy path's tests: a coefficient
+    below 1e-7 ``scale``; a determinant below 1e-7 times the product of the column norms)."""
     if n_unk == 1:
-        a = rows[0, 0]
-        if not abs(a) > 1e-7 * scale:
+        if not abs(a11) > 1e-7 * scale:
             return math.nan, math.nan
-        return rows[0, 2] / a, math.nan
-    a11, a12, r1 = rows[0, 0], rows[0, 1], rows[0, 2]
-    a21, a22, r2 = rows[1, 0], rows[1, 1], rows[1, 2]
+        return r1 / a11, math.nan
     det = a11 * a22 - a12 * a21
     norm = math.sqrt((a11 * a11 + a21 * a21) * (a12 * a12 + a22 * a22))
     inv = 1.0 / det if abs(det) > 1e-7 * norm else math.nan
     return (r1 * a22 - r2 * a12) * inv, (a11 * r2 - a21 * r1) * inv
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _rates(st: Any, jt: Any, jf: Any, kind: int, b1: int, b2: int, j1: int, j2: int,
-           j3: int, w1: float, e1: float, scale: float, p: Any, rows: Any) -> None:
+           j3: int, w1: float, e1: float, scale: float) -> None:
     """Velocities and accelerations of the bodies of a group (those before it known)."""
     if kind == _DRIVER:
         ia, ib = jt[j1, 1], jt[j1, 2]
@@ -540,39 +551,37 @@ def _rates(st: Any, jt: Any, jf: Any, kind: int, b1: int, b2: int, j1: int, j2: 
             st[_AX, b1] = apx + e * ry + w * w * rx
             st[_AY, b1] = apy - e * rx + w * w * ry
             return
-        _hang(st, jt, jf, p, 0, j1, b1)  # a linear driver: hung with the driver's rate
-        p[0, _PZ] = sign * w1
-        _set_velocity(st, p, 0)
-        _set_acceleration(st, p, 0, sign * e1)
+        p = _with_z(_hang(st, jt, jf, j1, b1), sign * w1)  # a linear driver: hung
+        _set_velocity(st, p)
+        _set_acceleration(st, p, sign * e1)
         return
-    _hang(st, jt, jf, p, 0, j1, b1)
     n_unk = 1 if kind >= _SLOT_R else 2
-    if n_unk == 2:
-        _hang(st, jt, jf, p, 1, j3, b2)
-    ia, ib = jt[j2, 1], jt[j2, 2]  # the closure joint j2: slots of its bodies
+    p0 = _hang(st, jt, jf, j1, b1)
+    p1 = _hang(st, jt, jf, j3, b2) if n_unk == 2 else p0
+    ia, ib = jt[j2, 1], jt[j2, 2]  # the closure joint j2: the unknowns of its bodies
     sa = 0 if ia == b1 else (1 if n_unk == 2 and ia == b2 else 2)
     sb = 0 if ib == b1 else (1 if n_unk == 2 and ib == b2 else 2)
-    if sa == 2:
-        _known(p, 2, ia)
-    if sb == 2:
-        _known(p, 2, ib)
-    _closure(st, jt, jf, p, sa, sb, j2, False, rows)
-    z0, z1 = _cramer(rows, n_unk, scale)
-    p[0, _PZ] = z0
-    _set_velocity(st, p, 0)
+    pa = p0 if sa == 0 else (p1 if sa == 1 else _known(ia))
+    pb = p0 if sb == 0 else (p1 if sb == 1 else _known(ib))
+    a11, a12, r1, a21, a22, r2 = _closure(st, jt, jf, pa, sa, pb, sb, j2, False)
+    z0, z1 = _cramer(a11, a12, r1, a21, a22, r2, n_unk, scale)
+    p0 = _with_z(p0, z0)
+    _set_velocity(st, p0)
     if n_unk == 2:
-        p[1, _PZ] = z1
-        _set_velocity(st, p, 1)
-    _closure(st, jt, jf, p, sa, sb, j2, True, rows)
-    zd0, zd1 = _cramer(rows, n_unk, scale)
-    _set_acceleration(st, p, 0, zd0)
+        p1 = _with_z(p1, z1)
+        _set_velocity(st, p1)
+    pa = p0 if sa == 0 else (p1 if sa == 1 else pa)
+    pb = p0 if sb == 0 else (p1 if sb == 1 else pb)
+    a11, a12, r1, a21, a22, r2 = _closure(st, jt, jf, pa, sa, pb, sb, j2, True)
+    zd0, zd1 = _cramer(a11, a12, r1, a21, a22, r2, n_unk, scale)
+    _set_acceleration(st, p0, zd0)
     if n_unk == 2:
-        _set_acceleration(st, p, 1, zd1)
+        _set_acceleration(st, p1, zd1)
 
 
 # ---------------------------------------------------------------------------------------------
 # the kernel
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q: Any,
                       w: Any, e: Any, out: Any, pos_bad: Any, bad: Any, failed: Any,
                       parallel: Any) -> None:
@@ -588,8 +597,6 @@ def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q
     m, n = q.shape
     ng = gt.shape[0]
     st = np.zeros((11, nb))
-    p = np.zeros((3, 10))
-    rows = np.zeros((2, 3))
     for i in range(m):
         jfi = jf[i]
         gfi = gf[i]
@@ -609,7 +616,7 @@ def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q
             for gi in range(ng):
                 kind = gt[gi, 0]
                 _rates(st, jt, jfi, kind, gt[gi, 1], gt[gi, 2], gt[gi, 3], gt[gi, 4],
-                       gt[gi, 5], w[i, k], e[i, k], L, p, rows)
+                       gt[gi, 5], w[i, k], e[i, k], L)
             b = fail
             for body in range(1, nb):
                 if not math.isfinite(st[_W, body]):
