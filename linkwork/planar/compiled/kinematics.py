@@ -239,7 +239,7 @@ def _rotating_line(st: Any, body: int, ax: float, ay: float, alx: float, aly: fl
     return bad
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _positions(st: Any, jt: Any, jf: Any, gf: Any, gi: int, kind: int, b1: int, b2: int,
                j1: int, j2: int, j3: int, branch: float, q: float) -> tuple[bool, bool]:
     """The poses of the bodies of group ``gi``; (failed, parallel)."""
@@ -525,7 +525,7 @@ def _cramer(a11: float, a12: float, r1: float, a21: float, a22: float, r2: float
     return (r1 * a22 - r2 * a12) * inv, (a11 * r2 - a21 * r1) * inv
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _rates(st: Any, jt: Any, jf: Any, kind: int, b1: int, b2: int, j1: int, j2: int,
            j3: int, w1: float, e1: float, scale: float) -> None:
     """Velocities and accelerations of the bodies of a group (those before it known)."""
