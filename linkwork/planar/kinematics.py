@@ -417,10 +417,9 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     bad = np.zeros(n, dtype=bool)
     failed: set[str] = set()
     parallel: set[str] = set()
-    enc = _compiled(plan) if backend == "numba" else None
-    if enc is not None:
-        from linkwork.planar.compiled.kinematics import run
-
+    compiled = _compiled(plan) if backend == "numba" else None
+    if compiled is not None:
+        run, enc = compiled
         pos_bad, bad, failed, parallel = run(enc, used, q2, w2, e2,
                                              block.reshape(len(keys), nb, 1, n))
         pos_bad, bad = pos_bad[0], bad[0]
@@ -428,7 +427,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         plan = _from_drawing(mech.drawing, mech.drivers, plan, used, q2)
     # chunks keep the temporaries in cache; Newton groups need the whole sequence
     step = n if plan.newton else _CHUNK
-    for lo in range(0, n if enc is None else 0, step):
+    for lo in range(0, n if compiled is None else 0, step):
         sl = slice(lo, min(lo + step, n))
         st = _solve_chunk(plan, used, q2[:, sl], w2[:, sl], e2[:, sl])
         pos_bad[sl] = st.pos_bad
@@ -466,12 +465,13 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
                       ~bad, used)
 
 
-def _compiled(plan: Plan) -> Any:
-    """The plan encoded for the compiled kernel, or None where the kernel does not cover it
-    (the NumPy path then runs)."""
-    from linkwork.planar.compiled.kinematics import encode  # imports numba: only when asked
+def _compiled(plan: Plan) -> tuple[Any, Any] | None:
+    """The compiled kernel's runner and the plan encoded for it, or None where the kernel does
+    not cover the plan (the NumPy path then runs)."""
+    import linkwork.planar.compiled.kinematics as compiled  # imports numba: only when asked
 
-    return encode(plan)
+    enc = compiled.encode(plan)
+    return None if enc is None else (compiled.run, enc)
 
 
 def _driver_default(drivers: tuple[Any, ...], name: str, n: int) -> Arr | None:
@@ -560,15 +560,14 @@ def _batch_kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None
     bad = np.zeros((m, n), dtype=bool)
     failed: set[str] = set()
     parallel: set[str] = set()
-    enc = _compiled(plan) if backend == "numba" else None
-    if enc is not None:
-        from linkwork.planar.compiled.kinematics import run
-
+    compiled = _compiled(plan) if backend == "numba" else None
+    if compiled is not None:
+        run, enc = compiled
         pos_bad, bad, failed, parallel = run(enc, used, qv[0], wv[0], ev[0], block)
     per_design = plan.newton or n >= _CHUNK
     k = 1 if per_design else max(1, _CHUNK // max(n, 1))
     step = n if plan.newton else _CHUNK
-    for d0 in range(0, m if n and enc is None else 0, k):
+    for d0 in range(0, m if n and compiled is None else 0, k):
         d1 = min(d0 + k, m)
         if per_design:
             sub = plan.pick(d0)
