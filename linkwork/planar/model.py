@@ -70,8 +70,26 @@ __all__ = [
 ]
 
 
+def _rebuild(cls: type, kwargs: dict[str, Any]) -> Any:
+    return cls(**kwargs)
+
+
+class _PicklesByFields:
+    """Pickled as its constructor's arguments (read-only mappings as dicts), so that it
+    travels to other processes (Dask workers, multiprocessing); what is worked out on demand
+    (structure, compiled plan) is worked out again there."""
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        kw = {}
+        for f in dataclasses.fields(self):  # type: ignore[arg-type]
+            if f.init:
+                v = getattr(self, f.name)
+                kw[f.name] = dict(v) if isinstance(v, MappingProxyType) else v
+        return (_rebuild, (type(self), kw))
+
+
 @dataclass(frozen=True)
-class Body:
+class Body(_PicklesByFields):
     """A rigid body (link) with its own frame.
 
     Parameters
@@ -275,7 +293,7 @@ class Drivers(tuple):
 
 
 @dataclass(frozen=True)
-class Drawing:
+class Drawing(_PicklesByFields):
     """The drawn position a mechanism was described from (:func:`linkwork.planar.sketch`).
 
     Attributes
@@ -312,7 +330,7 @@ class Drawing:
 
 
 @dataclass(frozen=True)
-class Mechanism:
+class Mechanism(_PicklesByFields):
     """A planar mechanism: frame, moving bodies, joints, one driver, assembly branches.
 
     Parameters
