@@ -195,6 +195,21 @@ def test_batch_of_every_covered_kind(builder):
         np.testing.assert_array_equal(getattr(got, name)[:, 1], getattr(one, name))
 
 
+def test_batch_that_does_not_assemble_raises_the_numpy_message():
+    """on_failure="raise" on a batch: the same AssemblyError (the designs that fail, their
+    driver ranges) and the same AssemblyError.designs."""
+    a, b, c, d = _four_bars(6, 2)
+    a[[1, 4]] = 0.3
+    mech = fourbar_mechanism(a, b, c, d)
+    q = np.linspace(0.0, 2 * np.pi, 37)
+    with pytest.raises(AssemblyError) as e_np:
+        kinematics(mech, q)
+    with pytest.raises(AssemblyError) as e_nb:
+        kinematics(mech, q, backend="numba")
+    assert str(e_nb.value) == str(e_np.value)
+    assert e_nb.value.designs == e_np.value.designs == [1, 4]  # type: ignore[attr-defined]
+
+
 def test_batch_per_design_positions_and_speeds():
     """Driver positions (m, n) and speeds (m, 1) per design, on the batch path."""
     a, b, c, d = _four_bars(5, 9)
