@@ -31,6 +31,12 @@ def test_benchmark_runs_and_all_contenders_agree(bench):
         assert (case, who) in names
     assert (("four-bar engine", "fused numba loop") in names) == fused
     assert (("four-bar engine", "pylinkage (numba)") in names) == use_pl
+    numba = bench._have_numba()
+    for case, who in (("four-bar engine", "engine, backend=numba"),
+                      ("four-bar, one position (fixed cost)", "engine, backend=numba"),
+                      ("four-bar designs (5 x 360)", "engine, one batch call, backend=numba")):
+        assert ((case, who) in names) == numba
+    assert bool(result["compile"]) == numba
     assert all(v <= 1e-9 for v in result["agreement"].values())
     text = bench.table(result)
     assert "library / flat NumPy (same algorithm, same outputs)" in text

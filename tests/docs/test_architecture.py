@@ -13,8 +13,8 @@ PACKAGE = ROOT / "linkwork"
 
 #: What a function may import lazily: heavy or optional dependencies that `import linkwork`
 #: and `linkwork --help` should not pay for (matplotlib through linkwork.plot, scipy's optimisers
-#: and samplers, dask, pandas, pint, rich's progress bars; the compiled backend's kernel modules
-#: linkwork.planar.compiled.*, which import numba at their top).
+#: and samplers, dask, pandas, pint, rich's progress bars, numba and the engine's compiled
+#: kernels, which import it).
 LAZY = ("linkwork.plot", "matplotlib", "pandas", "dask", "scipy", "pint", "rich", "numba",
         "linkwork.planar.compiled.")
 #: Deprecated names that import their new home when used (also ignored by import-linter):
