@@ -353,15 +353,19 @@ def reaction_backends(mech: Any, t: np.ndarray, out: Callable[[Any], tuple[Any, 
                       ) -> list[Contender]:
     """The compiled backend of :func:`linkwork.planar.inverse_dynamics` beside the NumPy engine
     (issue 20 item 2): the engine with its reactions by ``backend="numba"`` (the kinematics by
-    the NumPy engine), and the reactions alone on a motion solved before the timed call, by
-    each backend: the two parts apart. Compiled (and loaded from numba's cache) here, before
-    the check and the timing."""
+    the NumPy engine), both by ``backend="numba"``, and the reactions alone on a motion solved
+    before the timed call, by each backend: the two parts apart. Compiled (and loaded from
+    numba's cache) here, before the check and the timing."""
     from linkwork.planar import inverse_dynamics, kinematics
 
     kin = kinematics(mech, t)
     inverse_dynamics(kin, backend="numba")
+    inverse_dynamics(kinematics(mech, t, backend="numba"), backend="numba")
     return [Contender("engine + reactions (numba backend)",
                       lambda: inverse_dynamics(kinematics(mech, t), backend="numba"), out),
+            Contender("engine + reactions, both by numba",
+                      lambda: inverse_dynamics(kinematics(mech, t, backend="numba"),
+                                               backend="numba"), out),
             Contender("reactions alone, NumPy backend", lambda: inverse_dynamics(kin), out,
                       "info"),
             Contender("reactions alone, numba backend",
@@ -764,6 +768,9 @@ def summary(rows: list[dict[str, Any]]) -> list[str]:
     rx = "four-bar engine + reactions"
     judge(f"{rx}, n={n}: engine + reactions (numba backend) / fused loop (issue 20 item 2)",
           _get(rows, rx, n, "engine + reactions (numba backend)"),
+          _get(rows, rx, n, "fused numba loop"), 3.0)
+    judge(f"{rx}, n={n}: kinematics and reactions both by numba / fused loop (issue 20 item 2)",
+          _get(rows, rx, n, "engine + reactions, both by numba"),
           _get(rows, rx, n, "fused numba loop"), 3.0)
     judge(f"{rx}, n={n}: reactions alone, numba / NumPy backend (information)",
           _get(rows, rx, n, "reactions alone, numba backend"),
