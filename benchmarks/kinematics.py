@@ -17,7 +17,9 @@ Cases, over ``n`` crank positions of one revolution (four-bar of paper 001, a, b
     positions, velocities, accelerations) and its pure-Python run as anchors.
 ``four-bar engine + reactions`` the same plus :func:`linkwork.planar.inverse_dynamics` against
     a fused loop that computes both (every reaction, point, the driving torque, shaking force
-    and moment, kinetic energy); ``closed form + reactions``
+    and moment, kinetic energy); ``engine + reactions (numba backend)``: the reactions by
+    ``backend="numba"``; the reactions alone (the motion solved before the timed call) by
+    either backend, and ``closed form + reactions``
     (:func:`linkwork.models.fourbar.fourbar_kinetostatics`) as information.
 ``crank-slider engine`` (and + reactions), pylinkage: information.
 ``four-bar designs`` ``--designs`` Grashof crank-rockers x 360 positions: the closed form in one
@@ -25,6 +27,10 @@ Cases, over ``n`` crank positions of one revolution (four-bar of paper 001, a, b
     ``fourbar_mechanism`` of dimensions over the m designs, one ``kinematics``: arrays (nb, m,
     n)), the mechanism built inside the timed call; the loop of one mechanism and one call per
     design as information. ``four-bar, one position`` the engine's fixed cost per call.
+``backend=numba`` rows: the engine's compiled backend (:mod:`linkwork.planar.compiled`; numba
+    installed) beside the NumPy engine in the engine, designs and fixed-cost cases, judged
+    against the same targets; its compilation (first call with an empty numba cache, in a fresh
+    process) and a later process's first call (cache loaded) printed once as information.
 
 Agreement: before timing, at every case and size timed, every output of every contender is
 compared with the reference (the first contender of the case; pylinkage on joint B) to 1e-9 of
@@ -42,6 +48,7 @@ Usage::
     python benchmarks/kinematics.py --markdown --json out.json
     python benchmarks/kinematics.py --n 360 --no-numba-off --designs 1000
     python benchmarks/kinematics.py --no-pylinkage --no-fused   # without the bench extra
+    python benchmarks/kinematics.py --no-compiled               # without backend="numba"
 """
 
 from __future__ import annotations
@@ -52,6 +59,7 @@ import math
 import os
 import subprocess
 import sys
+import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -197,6 +205,7 @@ class Contender:
     output: Callable[[Any], tuple[Any, ...]]
     role: str = "same"
     expect: Callable[[Any, tuple[Any, ...]], tuple[Any, ...]] | None = None
+    compiled: bool = False   # numba compiles it at its first call: run once before timing
 
 
 @dataclass
@@ -220,6 +229,20 @@ def _fused() -> Any:
     except ImportError:
         return None
     return _fused
+
+
+def _have_numba() -> bool:
+    """Whether numba is installed (the engine's compiled backend, backend="numba")."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _compiled_engine(name: str, run: Callable[[], Any], output: Callable[[Any], Any]
+                     ) -> Contender:
+    return Contender(name, run, output, compiled=True)
 
 
 def fourbar_case(n: int, fused: bool = True) -> Case:
@@ -269,7 +292,8 @@ _DYN = ("fx", "fy", "px", "py")
 _SCALARS = ("Q", "shaking_fx", "shaking_fy", "shaking_m", "T")
 
 
-def engine_case(n: int, reactions: bool, fused: bool = True, pylinkage: bool = False) -> Case:
+def engine_case(n: int, reactions: bool, fused: bool = True, pylinkage: bool = False,
+                compiled: bool = True) -> Case:
     from linkwork.planar import fourbar_mechanism, inverse_dynamics, kinematics
 
     t = _angles(n)
@@ -292,6 +316,9 @@ def engine_case(n: int, reactions: bool, fused: bool = True, pylinkage: bool = F
 
         eng_out = kin_out
     cons = [Contender("engine + reactions" if reactions else "engine", eng, eng_out, "ref")]
+    if compiled and not reactions and _have_numba():
+        cons.append(_compiled_engine("engine, backend=numba",
+                                     lambda: kinematics(mech, t, backend="numba"), kin_out))
     fz = _fused() if fused else None
     if fz is not None:
         def fused_out(r: Any) -> tuple[Any, ...]:
@@ -300,6 +327,8 @@ def engine_case(n: int, reactions: bool, fused: bool = True, pylinkage: bool = F
 
         cons.append(Contender("fused numba loop", lambda: fz.engine_fourbar(
             t, a, b, c, d, OMEGA, MASSES, reactions), fused_out, "limit"))
+        if reactions:
+            cons += reaction_backends(mech, t, eng_out)
     if reactions:
         from linkwork.models.fourbar import fourbar_kinetostatics
 
@@ -318,6 +347,29 @@ def engine_case(n: int, reactions: bool, fused: bool = True, pylinkage: bool = F
     groups = ((0, 1), (3, 4), (6, 7)) + (((9, 10), (11, 12), (14, 15)) if reactions else ())
     return Case("four-bar engine + reactions" if reactions else "four-bar engine", n, cons,
                 angles=(2,), groups=groups)
+
+
+def reaction_backends(mech: Any, t: np.ndarray, out: Callable[[Any], tuple[Any, ...]]
+                      ) -> list[Contender]:
+    """The compiled backend of :func:`linkwork.planar.inverse_dynamics` beside the NumPy engine
+    (issue 20 item 2): the engine with its reactions by ``backend="numba"`` (the kinematics by
+    the NumPy engine), both by ``backend="numba"``, and the reactions alone on a motion solved
+    before the timed call, by each backend: the two parts apart. Compiled (and loaded from
+    numba's cache) here, before the check and the timing."""
+    from linkwork.planar import inverse_dynamics, kinematics
+
+    kin = kinematics(mech, t)
+    inverse_dynamics(kin, backend="numba")
+    inverse_dynamics(kinematics(mech, t, backend="numba"), backend="numba")
+    return [Contender("engine + reactions (numba backend)",
+                      lambda: inverse_dynamics(kinematics(mech, t), backend="numba"), out),
+            Contender("engine + reactions, both by numba",
+                      lambda: inverse_dynamics(kinematics(mech, t, backend="numba"),
+                                               backend="numba"), out),
+            Contender("reactions alone, NumPy backend", lambda: inverse_dynamics(kin), out,
+                      "info"),
+            Contender("reactions alone, numba backend",
+                      lambda: inverse_dynamics(kin, backend="numba"), out, "info")]
 
 
 def slider_engine_case(n: int, reactions: bool, pylinkage: bool = False) -> Case:
@@ -360,7 +412,7 @@ def designs(m: int, seed: int = 3) -> tuple[np.ndarray, ...]:
     return a, b, c, d
 
 
-def designs_case(m: int, n: int = 360) -> Case:
+def designs_case(m: int, n: int = 360, compiled: bool = True) -> Case:
     from linkwork.models.fourbar import fourbar
     from linkwork.planar import fourbar_mechanism, kinematics
 
@@ -390,25 +442,56 @@ def designs_case(m: int, n: int = 360) -> Case:
         return tuple(getattr(k, q)[row] for q, row in (
             ("theta", 2), ("theta", 3), ("omega", 2), ("omega", 3), ("eps", 2), ("eps", 3)))
 
-    return Case(f"four-bar designs ({m} x {n})", n, [
-        Contender("closed form, one broadcast call", closed, closed_out, "ref"),
-        Contender("engine, one batch call", batch, batch_out),
-        Contender("engine, one call per design", loop, loop_out, "info")],
-        angles=(0, 1), per=m * n)
+    def batch_numba() -> Any:
+        return kinematics(fourbar_mechanism(a, b, c, d, omega1=OMEGA), t, backend="numba")
+
+    cons = [Contender("closed form, one broadcast call", closed, closed_out, "ref"),
+            Contender("engine, one batch call", batch, batch_out)]
+    if compiled and _have_numba():
+        cons.append(_compiled_engine("engine, one batch call, backend=numba", batch_numba,
+                                     batch_out))
+    cons.append(Contender("engine, one call per design", loop, loop_out, "info"))
+    return Case(f"four-bar designs ({m} x {n})", n, cons, angles=(0, 1), per=m * n)
 
 
-def fixed_cost_case() -> Case:
+def fixed_cost_case(compiled: bool = True) -> Case:
     from linkwork.models.fourbar import fourbar
     from linkwork.planar import fourbar_mechanism, kinematics
 
     t = np.array([0.7])
     a, b, c, d = FOURBAR
     mech = fourbar_mechanism(a, b, c, d, omega1=OMEGA)
-    return Case("four-bar, one position (fixed cost)", 1, [
-        Contender("closed form", lambda: fourbar(t, a, b, c, d, OMEGA),
-                  lambda r: (r.theta4, r.omega4, r.eps4), "ref"),
-        Contender("engine", lambda: kinematics(mech, t),
-                  lambda k: (k.theta[3], k.omega[3], k.eps[3]), "info")], angles=(0,))
+    def out(k: Any) -> tuple[Any, ...]:
+        return k.theta[3], k.omega[3], k.eps[3]
+
+    cons = [Contender("closed form", lambda: fourbar(t, a, b, c, d, OMEGA),
+                      lambda r: (r.theta4, r.omega4, r.eps4), "ref"),
+            Contender("engine", lambda: kinematics(mech, t), out, "info")]
+    if compiled and _have_numba():
+        cons.append(Contender("engine, backend=numba",
+                              lambda: kinematics(mech, t, backend="numba"), out, "info",
+                              compiled=True))
+    return Case("four-bar, one position (fixed cost)", 1, cons, angles=(0,))
+
+
+def compile_time() -> dict[str, float]:
+    """numba's compilation of the compiled kinematics, once: the first call of a fresh
+    process with an empty cache (``NUMBA_CACHE_DIR`` a new directory), and the first call of
+    a second process that loads that cache [s] (information, not timed in rounds)."""
+    code = ("import time, numpy as np\n"
+            "from linkwork.planar import fourbar_mechanism, kinematics\n"
+            "m = fourbar_mechanism(0.1, 0.3, 0.2, 0.3)\n"
+            "t = np.linspace(0.0, 1.0, 5)\n"
+            "t0 = time.perf_counter(); kinematics(m, t, backend='numba')\n"
+            "print(time.perf_counter() - t0)\n")
+    out = {}
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        for key in ("cold cache", "cache loaded"):
+            res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
+                                 text=True, check=True)
+            out[key] = float(res.stdout.strip().splitlines()[-1])
+    return out
 
 
 # --- pylinkage ---------------------------------------------------------------------------------
@@ -507,7 +590,7 @@ def check(case: Case) -> tuple[dict[str, float], list[float]]:
     compilation excluded: that call is repeated); raises on a disagreement."""
     results, firsts = [], []
     for con in case.contenders:
-        if con.role == "limit":
+        if con.role == "limit" or con.compiled:
             con.run()                    # compile
         t0 = time.perf_counter()
         res = con.run()
@@ -567,26 +650,30 @@ def _rocker_point(xb: Any, yb: Any, w4: Any, al4: Any, d: float) -> tuple[np.nda
     return (xb, yb, -w4 * ry, w4 * rx, -al4 * ry - w4 * w4 * rx, al4 * rx - w4 * w4 * ry)
 
 
-def cases(sizes: tuple[int, ...], pylinkage: bool, fused: bool, n_designs: int) -> list[Case]:
+def cases(sizes: tuple[int, ...], pylinkage: bool, fused: bool, n_designs: int,
+          compiled: bool = True) -> list[Case]:
     out: list[Case] = []
     for n in sizes:
         out += [fourbar_case(n, fused), slider_case(n, fused),
-                engine_case(n, False, fused, pylinkage), engine_case(n, True, fused),
+                engine_case(n, False, fused, pylinkage, compiled), engine_case(n, True, fused),
                 slider_engine_case(n, False, pylinkage), slider_engine_case(n, True)]
-    out.append(fixed_cost_case())
+    out.append(fixed_cost_case(compiled))
     if n_designs:
-        out.append(designs_case(n_designs))
+        out.append(designs_case(n_designs, compiled=compiled))
     return out
 
 
 def run(sizes: tuple[int, ...] = (360, 100_000), repeat: int = 7, pylinkage: bool = True,
         no_numba: bool = True, no_numba_repeat: int = 3, fused: bool = True,
-        n_designs: int = 10_000, long_repeat: int = 3) -> dict[str, Any]:
-    """Check and time every case; return the rows (case, n, contender, role, times) and the
-    agreement reached."""
+        n_designs: int = 10_000, long_repeat: int = 3, compiled: bool = True
+        ) -> dict[str, Any]:
+    """Check and time every case; return the rows (case, n, contender, role, times), the
+    agreement reached and the compiled backend's compilation time (``compile``)."""
     rows: list[dict[str, Any]] = []
     agreement: dict[str, float] = {}
-    for case in cases(tuple(sizes), pylinkage, fused, n_designs):
+    compiled = compiled and _have_numba()
+    compile_s = compile_time() if compiled else {}
+    for case in cases(tuple(sizes), pylinkage, fused, n_designs, compiled):
         errs, firsts = check(case)
         for who, err in errs.items():
             agreement[f"{case.name}, n={case.n}: {who}"] = err
@@ -601,7 +688,7 @@ def run(sizes: tuple[int, ...] = (360, 100_000), repeat: int = 7, pylinkage: boo
             rows.append({"case": case.name, "n": case.n, "per": case.n,
                          "contender": "pylinkage (no numba)", "role": "info",
                          "times": sp.samples})
-    return {"rows": rows, "agreement": agreement}
+    return {"rows": rows, "agreement": agreement, "compile": compile_s}
 
 
 def _get(rows: list[dict[str, Any]], case: str, n: int, who: str) -> Spread | None:
@@ -634,8 +721,14 @@ def table(result: dict[str, Any], markdown: bool = False) -> str:
         else:
             lines.append(f"{r['case']:36s} {r['n']:7d}  {name:38s} {fmt_spread(sp):>34s} "
                          f"{fmt_spread(rt, 'ratio'):>20s} {per:8.0f}")
-    lines += ["", *summary(rows), "", "agreement (max relative difference, checked before "
-              "timing at every case and size):"]
+    lines += ["", *summary(rows)]
+    if result.get("compile"):
+        c = result["compile"]
+        lines.append(f"  compiled backend (backend=\"numba\"): first call {c['cold cache']:.1f} s "
+                     f"with numba's cache empty (compilation), {c['cache loaded']:.2f} s in a "
+                     "later process (import and cache load; information)")
+    lines += ["", "agreement (max relative difference, checked before timing at every case and "
+              "size):"]
     lines += [f"  {k}: {v:.2g}" for k, v in result["agreement"].items()]
     return "\n".join(lines)
 
@@ -666,9 +759,22 @@ def summary(rows: list[dict[str, Any]]) -> list[str]:
     judge(f"four-bar engine kinematics, n={n}: engine / fused loop (issue 20 item 2)",
           _get(rows, "four-bar engine", n, "engine"),
           _get(rows, "four-bar engine", n, "fused numba loop"), 2.0)
+    judge(f"four-bar engine kinematics, n={n}: engine (backend=numba) / fused loop (issue 20 "
+          "item 2)", _get(rows, "four-bar engine", n, "engine, backend=numba"),
+          _get(rows, "four-bar engine", n, "fused numba loop"), 2.0)
     judge(f"four-bar engine + reactions, n={n}: engine / fused loop (issue 20 item 2)",
           _get(rows, "four-bar engine + reactions", n, "engine + reactions"),
           _get(rows, "four-bar engine + reactions", n, "fused numba loop"), 3.0)
+    rx = "four-bar engine + reactions"
+    judge(f"{rx}, n={n}: engine + reactions (numba backend) / fused loop (issue 20 item 2)",
+          _get(rows, rx, n, "engine + reactions (numba backend)"),
+          _get(rows, rx, n, "fused numba loop"), 3.0)
+    judge(f"{rx}, n={n}: kinematics and reactions both by numba / fused loop (issue 20 item 2)",
+          _get(rows, rx, n, "engine + reactions, both by numba"),
+          _get(rows, rx, n, "fused numba loop"), 3.0)
+    judge(f"{rx}, n={n}: reactions alone, numba / NumPy backend (information)",
+          _get(rows, rx, n, "reactions alone, numba backend"),
+          _get(rows, rx, n, "reactions alone, NumPy backend"), math.inf)
     judge(f"four-bar engine kinematics, n={n}: engine / pylinkage (numba) (issue 3)",
           _get(rows, "four-bar engine", n, "engine"),
           _get(rows, "four-bar engine", n, "pylinkage (numba)"), 1.0)
@@ -681,14 +787,24 @@ def summary(rows: list[dict[str, Any]]) -> list[str]:
         ref = _get(rows, case, des[0]["n"], "closed form, one broadcast call")
         judge(f"{case}: engine batch / closed form broadcast (issue 20 item 1)",
               _get(rows, case, des[0]["n"], "engine, one batch call"), ref, 3.0)
+        judge(f"{case}: engine batch (backend=numba) / closed form broadcast (issue 20 item 1)",
+              _get(rows, case, des[0]["n"], "engine, one batch call, backend=numba"), ref, 3.0)
         judge(f"{case}: engine loop / closed form broadcast (information)",
               _get(rows, case, des[0]["n"], "engine, one call per design"), ref, math.inf)
-    eng1 = _get(rows, "four-bar, one position (fixed cost)", 1, "engine")
-    if eng1 is not None:
-        ok = ("met" if eng1.max < 100e-6 else "met by the median only"
-              if eng1.median < 100e-6 else "missed")
-        out.append(f"  engine fixed cost (one position) = {fmt_spread(eng1)} (target < 100 us: "
-                   f"{ok}; issue 20 item 1)")
+    for label, case, n1, who in (
+            ("engine fixed cost (one position)", "four-bar, one position (fixed cost)", 1,
+             "engine"),
+            ("engine (backend=numba) fixed cost (one position)",
+             "four-bar, one position (fixed cost)", 1, "engine, backend=numba"),
+            ("engine at 360 positions", "four-bar engine", 360, "engine"),
+            ("engine (backend=numba) at 360 positions", "four-bar engine", 360,
+             "engine, backend=numba")):
+        sp = _get(rows, case, n1, who)
+        if sp is not None:
+            ok = ("met" if sp.max < 100e-6 else "met by the median only"
+                  if sp.median < 100e-6 else "missed")
+            out.append(f"  {label} = {fmt_spread(sp)} (target < 100 us: {ok}; issue 20 "
+                       "item 1)")
     return out
 
 
@@ -704,6 +820,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--no-numba-off", action="store_true",
                     help="skip the (slow) pylinkage run without numba")
     ap.add_argument("--no-fused", action="store_true", help="skip the fused numba loops")
+    ap.add_argument("--no-compiled", action="store_true",
+                    help="skip the engine's compiled backend (backend=\"numba\")")
     ap.add_argument("--markdown", action="store_true", help="print a Markdown table")
     ap.add_argument("--json", help="also write the rows to this JSON file")
     ap.add_argument("--pylinkage-only", help=argparse.SUPPRESS)
@@ -719,7 +837,8 @@ def main(argv: list[str] | None = None) -> int:
         print("numba not installed: no fused loops (pip install '.[bench]')", file=sys.stderr)
     t0, load0 = time.perf_counter(), load()
     result = run(tuple(args.n), args.repeat, pylinkage=use_pl, no_numba=not args.no_numba_off,
-                 fused=fused, n_designs=args.designs, long_repeat=args.long_repeat)
+                 fused=fused, n_designs=args.designs, long_repeat=args.long_repeat,
+                 compiled=not args.no_compiled)
     finish(result, table(result, markdown=args.markdown),
            f"{args.repeat} rounds ({args.long_repeat} for calls > 1 s)", load0, t0, args.json)
     return 0

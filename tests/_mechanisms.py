@@ -1,6 +1,7 @@
 """Planar-engine mechanisms, one per group kind (RRR, RRP, PRR, RPR, RPP, PPR, PRP, pin in slot,
 linear driver, a class-III triad), shared by the planar tests: each builder returns
-``(mechanism, driver positions, expected group kind)``."""
+``(mechanism, driver positions, expected group kind)``; and mechanisms with several drivers
+(``five_bar``, ``crank_and_ram``) and a planetary gear train (``planetary``)."""
 
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ import linkwork.planar as pl
 from linkwork.planar import (
     Body,
     Crank,
+    GearPair,
     Linear,
     Mechanism,
     PinInSlot,
@@ -20,6 +22,7 @@ from linkwork.planar import (
     bar,
     crank_slider_mechanism,
     fourbar_mechanism,
+    sketch,
 )
 
 FULL = np.linspace(0.0, 2 * np.pi, 25)
@@ -231,6 +234,40 @@ def sine_mechanism(alpha: float, f_slot: float, f_guide: float, L1: float = 0.1)
               Prismatic("G", "frame", "slider", angle=0.0, through="A", point="G",
                         friction=f_guide))
     return Mechanism(frame, (crank, slider), joints, Crank("A", 1.0))
+
+
+def five_bar():
+    """A two-crank five-bar O1-A-P-B-O2 drawn with both cranks up."""
+    pts = {"O1": (0.0, 0.0), "O2": (0.2, 0.0), "A": (0.02, 0.08), "B": (0.19, 0.1),
+           "P": (0.12, 0.28), "E": (0.05, 0.22)}
+    return sketch(pts, {"c1": ["O1", "A"], "c2": ["O2", "B"], "l1": ["A", "P", "E"],
+                        "l2": ["B", "P"]},
+                  ground=["O1", "O2"], drivers=["O1", "O2"],
+                  masses={"c1": 1.0, "c2": 1.2, "l1": {"mass": 2.0, "inertia": 0.01},
+                          "l2": 1.5})
+
+
+def crank_and_ram():
+    """A crank O-A and a ram B on a horizontal frame guide, driven linearly, joined by two
+    links A-P-B: one crank and one linear actuator."""
+    pts = {"O": (0.0, 0.0), "A": (0.05, 0.03), "P": (0.2, 0.22), "B": (0.35, 0.05)}
+    return sketch(pts, {"crank": ["O", "A"], "l1": ["A", "P"], "l2": ["P", "B"]},
+                  ground=["O"], drivers=["O", "ram"],
+                  sliders={"ram": {"point": "B", "guide": "frame", "angle": 0.0}},
+                  masses={"crank": 1.0, "l1": 2.0, "l2": 1.5, "ram": 4.0})
+
+
+def planetary():
+    """An arm driven about O carrying a planet (r = 30 mm) in a fixed internal ring (R = 90
+    mm): the frame is the ring (gear b of an internal pair), the arm the carrier."""
+    frame = Body("frame", {"O": (0.0, 0.0)})
+    arm = bar("arm", "O", "Q", 0.06, mass=0.8)
+    planet = Body("planet", {"Q": (0.0, 0.0), "T": (0.03, 0.0)}, mass=0.4, inertia=2e-4)
+    joints = (Revolute("O", "frame", "arm"), Revolute("Q", "arm", "planet"),
+              GearPair("M", "planet", "frame", radii=(0.03, 0.09), internal=True,
+                       carrier="arm"))
+    return Mechanism(frame, (arm, planet), joints, Crank("O"))
+
 
 
 def with_friction(mech: Mechanism, f_rev: float = 0.08, r: float = 0.004, f_line: float = 0.12,

@@ -42,6 +42,7 @@ from linkwork.checks import require_finite
 from linkwork.cycles import mean_over_range
 from linkwork.errors import ParameterError, angle_ranges, format_angle_ranges
 from linkwork.planar import forces, friction
+from linkwork.planar.compiled import check_backend
 from linkwork.planar.designs import pick
 from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
 from linkwork.planar.inertia import inertia_couple, inertia_force, wrenches_of
@@ -367,7 +368,7 @@ _NO_FRICTION = {"friction_fx": 0.0, "friction_fy": 0.0, "friction_mz": 0.0,
 
 def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
                      loads: Sequence[Load] = (),
-                     about: ArrayLike = (0.0, 0.0)) -> Dynamics:
+                     about: ArrayLike = (0.0, 0.0), backend: str = "numpy") -> Dynamics:
     """Joint reactions, driving torque, shaking force/moment and kinetic energy.
 
     Parameters
@@ -382,6 +383,12 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         Damper, Drag.
     about : (x, y)
         Point about which the shaking moment is taken [m] (default the frame origin).
+    backend : {"numpy", "numba"}
+        ``"numpy"`` (the default and the reference) or ``"numba"``: the plans that
+        :mod:`linkwork.planar.compiled.reactions` covers (revolute, prismatic and pin-in-slot
+        joints without friction; drivers, dyads and slot groups) through one compiled pass
+        over the positions (needs ``pip install 'linkwork[numba]'``); any other plan through
+        the NumPy path, the same result.
 
     Returns
     -------
@@ -413,11 +420,15 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     ab = tuple(float(v) for v in require_finite("about", about).ravel())
     if len(ab) != 2:
         raise ParameterError("about", about, "must be a point (x, y) [m]")
+    backend = check_backend(backend)
     if kin.n_designs is not None:
-        return _batch_dynamics(kin, (g[0], g[1]), (ab[0], ab[1]), loads)
+        return _batch_dynamics(kin, (g[0], g[1]), (ab[0], ab[1]), loads, backend)
     # the loads are checked and evaluated over the whole cycle (a load diagram's rest band,
     # a spring's length), once; the chunks take their slices
     applied = forces.apply(kin, loads)
+    enc = _compiled_plan(kin.mechanism) if backend == "numba" else None
+    if enc is not None:
+        return _compiled_dynamics(kin, enc, (g[0], g[1]), (ab[0], ab[1]), applied)
     n = kin.n
     plan = kin.mechanism.plan
     width = friction.sign_widths(plan, kin.omega1) if friction.has_friction(plan) else None
@@ -583,18 +594,22 @@ def _shaking(plan: Plan, st: State, fr: str, reactions: tuple[Arr, Arr, Arr, Arr
 
 
 def _batch_dynamics(kin: Kinematics, g: tuple[float, float], ab: tuple[float, float],
-                    loads: Sequence[Load]) -> Dynamics:
+                    loads: Sequence[Load], backend: str = "numpy") -> Dynamics:
     """:func:`inverse_dynamics` of a batch of designs (arrays ``(..., m, n)``): without loads,
     friction and gear pairs' separating forces, blocks of designs flattened with their
-    positions and solved on the plan picked there (as :func:`kinematics` does); with them,
-    design by design (the loads the same for every design)."""
+    positions and solved on the plan picked there (as :func:`kinematics` does), or all of
+    them in one compiled pass (``backend="numba"``, a plan it covers); with them, design by
+    design (the loads the same for every design)."""
     mech = kin.mechanism
     plan = mech.plan
     m = kin.n_designs
     assert m is not None
     if loads or friction.has_friction(plan) or friction.has_separation(plan):
-        return _stacked(kin, [inverse_dynamics(kin.design(i), gravity=g, loads=loads, about=ab)
-                              for i in range(m)])
+        return _stacked(kin, [inverse_dynamics(kin.design(i), gravity=g, loads=loads, about=ab,
+                                               backend=backend) for i in range(m)])
+    enc = _compiled_plan(mech) if backend == "numba" else None
+    if enc is not None:
+        return _compiled_dynamics(kin, enc, g, ab, ())
     n = kin.n
     nb, nj, nd = plan.nb, len(plan.joints), len(plan.drivers)
     react = np.empty((5, nj, m, n))  # fx, fy, mz, px, py
@@ -638,6 +653,38 @@ def _batch_dynamics(kin: Kinematics, g: tuple[float, float], ab: tuple[float, fl
                     kappa=np.ones((m, n)), friction_iterations=0,
                     friction_static=False, loads=(), load_power=np.zeros((0, m, n)),
                     V=np.zeros((m, n)))
+
+
+def _compiled_plan(mech: Mechanism) -> Any:
+    """The plan of ``mech`` encoded for the compiled kernel, None if it does not cover it
+    (:mod:`linkwork.planar.compiled.reactions`, which imports numba: only for that backend)."""
+    from linkwork.planar.compiled.reactions import encode
+
+    return encode(mech)
+
+
+def _compiled_dynamics(kin: Kinematics, enc: Any, g: tuple[float, float],
+                       ab: tuple[float, float], applied: Sequence[AppliedLoad]) -> Dynamics:
+    """:func:`inverse_dynamics` through the compiled kernel (``enc``: the encoded plan), for
+    one design (``applied``: its loads, evaluated) or a batch of designs (no loads)."""
+    from linkwork.planar.compiled.reactions import solve
+
+    mech = kin.mechanism
+    r = solve(enc, kin, g, ab, applied, CHUNK)
+    shape = kin.x.shape[1:]
+    nj = len(mech.joints)
+    Q = r["Q"][0] if mech.n_drivers == 1 else r["Q"]
+    return Dynamics(kin, kin.phi1, tuple(j.name for j in mech.joints), r["fx"], r["fy"],
+                    r["mz"], r["px"], r["py"], Q, r["shaking_fx"], r["shaking_fy"],
+                    r["shaking_m"], ab, r["T"], g, Q_frictionless=Q,
+                    friction_fx=np.zeros((nj, *shape)), friction_fy=np.zeros((nj, *shape)),
+                    friction_mz=np.zeros((nj, *shape)),
+                    friction_power=np.zeros((nj, *shape)),
+                    locked=np.zeros(shape, dtype=bool), kappa=np.ones(shape),
+                    friction_iterations=0, friction_static=False, loads=tuple(applied),
+                    load_power=(_load_power(applied, kin.n) if applied
+                                else np.zeros((0, *shape))),
+                    V=sum((ap.energy for ap in applied), np.zeros(shape)))
 
 
 def _blocks(m: int, n: int) -> list[tuple[slice, slice, Any]]:

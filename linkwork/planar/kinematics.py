@@ -36,6 +36,7 @@ from numpy.typing import ArrayLike
 from linkwork.checks import require_finite, require_point
 from linkwork.deprecation import renamed_attribute, renamed_keywords
 from linkwork.errors import AssemblyError, ParameterError, angle_ranges, format_angle_ranges
+from linkwork.planar.compiled import check_backend
 from linkwork.planar.designs import branch_value, column, design_point, pick
 from linkwork.planar.extremes import (
     DeadCentre,
@@ -334,7 +335,8 @@ def _newton_hint(mech: Mechanism, g: Group) -> str:
 @renamed_keywords(on_fail="on_failure")
 def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None,
                eps1: ArrayLike | None = None, *, branches: Mapping[str, int] | None = None,
-               on_failure: Literal["raise", "nan"] = "raise") -> Kinematics:
+               on_failure: Literal["raise", "nan"] = "raise",
+               backend: Literal["numpy", "numba"] = "numpy") -> Kinematics:
     """Positions, velocities and accelerations of all bodies for all driver positions.
 
     Parameters
@@ -356,6 +358,12 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         (default; with several drivers the ranges of the position index, each driver's values
         named in the message), or return NaN there with ``valid`` False. (``on_fail`` is its
         deprecated name.)
+    backend : {"numpy", "numba"}
+        ``"numpy"`` (the default and the reference) or ``"numba"``: the compiled kernel of
+        :mod:`linkwork.planar.compiled.kinematics` (the optional extra ``numba``), one pass over
+        the positions (and designs) for the plans it covers (one crank or linear driver and
+        closed-form groups: RRR, RRP, PRR, RPR, RPP, PPR, PRP, RS, PS); other plans run the
+        NumPy path. The same numbers to rounding (``docs/planar.md``).
 
     Returns
     -------
@@ -372,10 +380,12 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     the designs that do not assemble (``AssemblyError.designs``). Design i of the result is
     that design's own analysis (``kin.design(i)``).
     """
+    if backend != "numpy":
+        check_backend(backend)
     if not isinstance(mech, Mechanism):
         raise ParameterError("mech", mech, "must be a Mechanism")
     if mech.n_designs is not None:
-        return _batch_kinematics(mech, phi1, omega1, eps1, branches, on_failure)
+        return _batch_kinematics(mech, phi1, omega1, eps1, branches, on_failure, backend)
     nd = mech.n_drivers
     q = np.atleast_1d(require_finite("phi1", phi1)).astype(float)
     if nd == 1 and q.ndim != 1:
@@ -407,11 +417,17 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     bad = np.zeros(n, dtype=bool)
     failed: set[str] = set()
     parallel: set[str] = set()
-    if plan.newton and mech.drawing is not None and n:
+    compiled = _compiled(plan) if backend == "numba" else None
+    if compiled is not None:
+        run, enc = compiled
+        pos_bad, bad, failed, parallel = run(enc, used, q2, w2, e2,
+                                             block.reshape(len(keys), nb, 1, n))
+        pos_bad, bad = pos_bad[0], bad[0]
+    elif plan.newton and mech.drawing is not None and n:
         plan = _from_drawing(mech.drawing, mech.drivers, plan, used, q2)
     # chunks keep the temporaries in cache; Newton groups need the whole sequence
     step = n if plan.newton else _CHUNK
-    for lo in range(0, n, step):
+    for lo in range(0, n if compiled is None else 0, step):
         sl = slice(lo, min(lo + step, n))
         st = _solve_chunk(plan, used, q2[:, sl], w2[:, sl], e2[:, sl])
         pos_bad[sl] = st.pos_bad
@@ -447,6 +463,15 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     return Kinematics(mech, q, w1.copy(), e1.copy(), mech.body_names, out["X"], out["Y"],
                       out["T"], out["VX"], out["VY"], out["W"], out["AX"], out["AY"], out["E"],
                       ~bad, used)
+
+
+def _compiled(plan: Plan) -> tuple[Any, Any] | None:
+    """The compiled kernel's runner and the plan encoded for it, or None where the kernel does
+    not cover the plan (the NumPy path then runs)."""
+    import linkwork.planar.compiled.kinematics as compiled  # imports numba: only when asked
+
+    enc = compiled.encode(plan)
+    return None if enc is None else (compiled.run, enc)
 
 
 def _driver_default(drivers: tuple[Any, ...], name: str, n: int) -> Arr | None:
@@ -516,7 +541,7 @@ def _batch_inputs(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None,
 
 def _batch_kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None,
                       eps1: ArrayLike | None, branches: Mapping[str, Any] | None,
-                      on_failure: str) -> Kinematics:
+                      on_failure: str, backend: str = "numpy") -> Kinematics:
     """:func:`kinematics` of a batch of designs (``mech.n_designs`` not None): each block of
     designs flattened with its positions and solved on the plan picked there; one design at a
     time (in chunks of positions) when the positions alone fill a chunk or a Newton group
@@ -535,10 +560,14 @@ def _batch_kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None
     bad = np.zeros((m, n), dtype=bool)
     failed: set[str] = set()
     parallel: set[str] = set()
+    compiled = _compiled(plan) if backend == "numba" else None
+    if compiled is not None:
+        run, enc = compiled
+        pos_bad, bad, failed, parallel = run(enc, used, qv[0], wv[0], ev[0], block)
     per_design = plan.newton or n >= _CHUNK
     k = 1 if per_design else max(1, _CHUNK // max(n, 1))
     step = n if plan.newton else _CHUNK
-    for d0 in range(0, m if n else 0, k):
+    for d0 in range(0, m if n and compiled is None else 0, k):
         d1 = min(d0 + k, m)
         if per_design:
             sub = plan.pick(d0)

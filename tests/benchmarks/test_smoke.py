@@ -31,6 +31,12 @@ def test_benchmark_runs_and_all_contenders_agree(bench):
         assert (case, who) in names
     assert (("four-bar engine", "fused numba loop") in names) == fused
     assert (("four-bar engine", "pylinkage (numba)") in names) == use_pl
+    numba = bench._have_numba()
+    for case, who in (("four-bar engine", "engine, backend=numba"),
+                      ("four-bar, one position (fixed cost)", "engine, backend=numba"),
+                      ("four-bar designs (5 x 360)", "engine, one batch call, backend=numba")):
+        assert ((case, who) in names) == numba
+    assert bool(result["compile"]) == numba
     assert all(v <= 1e-9 for v in result["agreement"].values())
     text = bench.table(result)
     assert "library / flat NumPy (same algorithm, same outputs)" in text
@@ -49,11 +55,16 @@ def test_benchmark_check_catches_a_disagreement(bench):
 
 def test_benchmark_fused_engine_equals_the_engine_with_reactions(bench):
     """The fused numba loop of the engine's four-bar (Newton-Euler written for it) gives the
-    engine's kinematics and reactions to 1e-12: an independent check of both."""
+    engine's kinematics and reactions to 1e-12: an independent check of both; so do the rows
+    of inverse_dynamics' compiled backend (backend="numba")."""
     pytest.importorskip("numba")
     case = bench.engine_case(73, reactions=True, fused=True)
     errs, _ = bench.check(case)
     assert errs["fused numba loop"] < 1e-12
+    # the compiled backend's rows (issue 20 item 2): the engine's numbers to rounding
+    for who in ("engine + reactions (numba backend)", "engine + reactions, both by numba",
+                "reactions alone, NumPy backend", "reactions alone, numba backend"):
+        assert errs[who] < 1e-12, who
 
 
 def test_benchmark_plain_numpy_fourbar_is_the_open_branch(bench):

@@ -13,8 +13,10 @@ PACKAGE = ROOT / "linkwork"
 
 #: What a function may import lazily: heavy or optional dependencies that `import linkwork`
 #: and `linkwork --help` should not pay for (matplotlib through linkwork.plot, scipy's optimisers
-#: and samplers, dask, pandas, pint, rich's progress bars).
-LAZY = ("linkwork.plot", "matplotlib", "pandas", "dask", "scipy", "pint", "rich", "numba")
+#: and samplers, dask, pandas, pint, rich's progress bars, numba and the engine's compiled
+#: kernels, which import it).
+LAZY = ("linkwork.plot", "matplotlib", "pandas", "dask", "scipy", "pint", "rich", "numba",
+        "linkwork.planar.compiled.")
 #: Deprecated names that import their new home when used (also ignored by import-linter):
 #: plot.sine.plot_force_ratio evaluates its model; errors.require_* are now in linkwork.checks.
 #: And the command modules, which linkwork.cli imports only to run a command: `linkwork --help`

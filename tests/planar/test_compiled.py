@@ -37,3 +37,15 @@ def test_import_linkwork_does_not_import_numba() -> None:
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_kinematics_names_the_missing_extra(monkeypatch: pytest.MonkeyPatch) -> None:
+    """kinematics(..., backend="numba") without numba: the MissingExtraError naming the extra,
+    before any work; the default backend runs."""
+    from linkwork.planar import fourbar_mechanism, kinematics
+
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3)
+    monkeypatch.setitem(sys.modules, "numba", None)
+    with pytest.raises(MissingExtraError, match=r"linkwork\[numba\]"):
+        kinematics(mech, [0.5], backend="numba")
+    assert kinematics(mech, [0.5]).valid.all()

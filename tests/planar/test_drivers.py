@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 import pytest
+from _mechanisms import crank_and_ram, five_bar
 from _planar_newton_euler import _check_engine, energy_rate
 
 from linkwork.errors import ParameterError, StructureError
@@ -31,27 +32,6 @@ from linkwork.planar import (
     kinematics,
     sketch,
 )
-
-
-def five_bar():
-    """A two-crank five-bar O1-A-P-B-O2 drawn with both cranks up."""
-    pts = {"O1": (0.0, 0.0), "O2": (0.2, 0.0), "A": (0.02, 0.08), "B": (0.19, 0.1),
-           "P": (0.12, 0.28), "E": (0.05, 0.22)}
-    return sketch(pts, {"c1": ["O1", "A"], "c2": ["O2", "B"], "l1": ["A", "P", "E"],
-                        "l2": ["B", "P"]},
-                  ground=["O1", "O2"], drivers=["O1", "O2"],
-                  masses={"c1": 1.0, "c2": 1.2, "l1": {"mass": 2.0, "inertia": 0.01},
-                          "l2": 1.5})
-
-
-def crank_and_ram():
-    """A crank O-A and a ram B on a horizontal frame guide, driven linearly, joined by two
-    links A-P-B: one crank and one linear actuator."""
-    pts = {"O": (0.0, 0.0), "A": (0.05, 0.03), "P": (0.2, 0.22), "B": (0.35, 0.05)}
-    return sketch(pts, {"crank": ["O", "A"], "l1": ["A", "P"], "l2": ["P", "B"]},
-                  ground=["O"], drivers=["O", "ram"],
-                  sliders={"ram": {"point": "B", "guide": "frame", "angle": 0.0}},
-                  masses={"crank": 1.0, "l1": 2.0, "l2": 1.5, "ram": 4.0})
 
 
 def _path(mech, span, n):

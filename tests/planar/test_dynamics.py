@@ -7,6 +7,7 @@ relative to the largest value of a quantity.
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 import pytest
@@ -45,7 +46,7 @@ from _mechanisms import _angle, _rates, _rot, stephenson_sixbar
 from _planar_newton_euler import DEV, PHI7, RTOL, _check_engine
 
 import linkwork.planar as pl
-from linkwork.errors import ParameterError
+from linkwork.errors import MissingExtraError, ParameterError
 from linkwork.planar import (
     Body,
     BodyTorque,
@@ -822,3 +823,18 @@ def test_chunks_without_friction_give_every_array_of_the_whole_cycle(monkeypatch
     assert not chunked.locked.any() and np.all(chunked.kappa == 1.0)
     assert not np.any(chunked.friction_fx) and not np.any(chunked.friction_power)
     assert whole.T.tobytes() == kinetic_energy(kin).tobytes()
+
+
+def test_backend_is_checked_before_any_work(monkeypatch):
+    """inverse_dynamics(backend=...): a name other than 'numpy' or 'numba' is a ParameterError
+    naming the option; 'numba' without numba installed is a MissingExtraError naming the
+    extra (the compiled backend itself: tests/planar/compiled/test_reactions.py); the default
+    needs nothing."""
+    kin = kinematics(fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 3.0, 2.0)),
+                     np.linspace(0.0, 1.0, 5))
+    with pytest.raises(ParameterError, match="backend"):
+        inverse_dynamics(kin, backend="NumPy")
+    monkeypatch.setitem(sys.modules, "numba", None)  # import numba raises ImportError
+    with pytest.raises(MissingExtraError, match=r"linkwork\[numba\]"):
+        inverse_dynamics(kin, backend="numba")
+    assert inverse_dynamics(kin).Q.shape == (5,)

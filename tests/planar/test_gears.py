@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from _mechanisms import planetary
 from _planar_newton_euler import _check_engine, energy_rate
 
 from linkwork import io
@@ -31,7 +32,6 @@ from linkwork.planar import (
     Mechanism,
     PointForce,
     Revolute,
-    bar,
     inverse_dynamics,
     kinematics,
     sketch,
@@ -51,18 +51,6 @@ def geared_five_bar(efficiency=1.0, alpha=20.0):
                                "efficiency": efficiency}},
                   masses={"g1": {"mass": 1.2, "inertia": 0.004},
                           "g2": {"mass": 2.0, "inertia": 0.011}, "l1": 0.5, "l2": 0.6})
-
-
-def planetary():
-    """An arm driven about O carrying a planet (r = 30 mm) in a fixed internal ring (R = 90
-    mm): the frame is the ring (gear b of an internal pair), the arm the carrier."""
-    frame = Body("frame", {"O": (0.0, 0.0)})
-    arm = bar("arm", "O", "Q", 0.06, mass=0.8)
-    planet = Body("planet", {"Q": (0.0, 0.0), "T": (0.03, 0.0)}, mass=0.4, inertia=2e-4)
-    joints = (Revolute("O", "frame", "arm"), Revolute("Q", "arm", "planet"),
-              GearPair("M", "planet", "frame", radii=(0.03, 0.09), internal=True,
-                       carrier="arm"))
-    return Mechanism(frame, (arm, planet), joints, Crank("O"))
 
 
 def test_ratio_of_an_external_pair():

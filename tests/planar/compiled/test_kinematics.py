@@ -1,0 +1,292 @@
+"""The compiled kinematics (linkwork.planar.compiled.kinematics, ``backend="numba"``) against the
+NumPy path of :func:`linkwork.planar.kinematics`, the reference.
+
+Reference: the NumPy path, an independent implementation of the same conventions (array
+expressions over the positions against the kernel's scalar code per element) whose own tests
+check it against finite differences, loop closure and published numbers
+(tests/planar/test_core.py, test_crossval*.py, test_published.py). Tolerance: 1e-12 of each
+quantity's scale (its largest magnitude over the positions compared): the kernel does the same
+operations, but numba's ``cos``, ``sin``, ``atan2`` and its ``sqrt`` of a sum of squares (where
+NumPy takes ``hypot``) may differ in the last bit, and the difference grows through the rates
+by the condition of each group's closure (measured: at most 2e-15 of scale over the
+mechanisms of tests/_mechanisms.py). Masks are compared exactly. A batch of designs through
+the kernel equals each design through the kernel alone bit for bit (the same kernel, the same
+operations, per element). Skipped without numba (CI installs it: the ``test`` extra).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+pytest.importorskip("numba")
+
+from _mechanisms import BUILDERS, m_rrr, m_triad
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from linkwork.errors import AssemblyError, ParameterError
+from linkwork.planar import (
+    Kinematics,
+    Mechanism,
+    crank_slider_mechanism,
+    fourbar_mechanism,
+    kinematics,
+    sketch,
+    stack,
+)
+from linkwork.planar.compiled.kinematics import covered
+
+FIELDS = ("x", "y", "theta", "vx", "vy", "omega", "ax", "ay", "eps")
+RTOL = 1e-12
+COVERED = [b for b in BUILDERS if b()[2] != "newton"]
+
+
+def assert_agree(ref: Kinematics, got: Kinematics, rtol: float = RTOL) -> None:
+    """Every array of ``got`` equals ``ref`` to ``rtol`` of its scale (NaN where ``ref`` has
+    NaN; angles modulo 2 pi: a body at theta = pi may come out as -pi on one path, the sign of
+    a zero at atan2's cut); the masks and branches exactly. The scale of a quantity is its
+    largest magnitude, at least that of its kind: the length scale L [m] for positions, 1 rad
+    for angles, L w, w, L w^2, w^2 for the rates (w the largest angular speed, or the linear
+    driver's speed over L), so that a quantity that is zero up to rounding (a parallelogram's
+    coupler turns not at all) is judged on the motion's scale, not on its rounding."""
+    np.testing.assert_array_equal(got.valid, ref.valid)
+    assert set(got.branches) == set(ref.branches)
+    assert all(np.array_equal(got.branches[k], ref.branches[k]) for k in ref.branches)
+    length = float(np.max(ref.mechanism.plan.length_scale))
+    w = max(float(np.max(np.abs(ref.omega[np.isfinite(ref.omega)]), initial=0.0)),
+            float(np.max(np.abs(ref.vx[np.isfinite(ref.vx)]), initial=0.0)) / length, 1e-300)
+    floor = {"x": length, "y": length, "theta": 1.0, "vx": length * w, "vy": length * w,
+             "omega": w, "ax": length * w * w, "ay": length * w * w, "eps": w * w}
+    for name in FIELDS:
+        a, b = getattr(ref, name), getattr(got, name)
+        assert a.shape == b.shape, name
+        np.testing.assert_array_equal(np.isnan(b), np.isnan(a), err_msg=name)
+        fin = np.isfinite(a)
+        if name == "theta":
+            b = a + np.remainder(b - a + np.pi, 2 * np.pi) - np.pi
+        scale = max(float(np.max(np.abs(a[fin]), initial=0.0)), floor[name])
+        np.testing.assert_allclose(b[fin], a[fin], rtol=0, atol=rtol * scale, err_msg=name)
+
+
+def both(mech: Mechanism, q: np.ndarray, **kw: object) -> tuple[Kinematics, Kinematics]:
+    return kinematics(mech, q, **kw), kinematics(mech, q, backend="numba", **kw)
+
+
+def same_error(mech: Mechanism, q: np.ndarray) -> AssemblyError:
+    """The AssemblyError of the compiled backend, after checking that it says what the NumPy
+    path's says (and lists the same designs, for a batch)."""
+    with pytest.raises(AssemblyError) as e_np:
+        kinematics(mech, q)
+    with pytest.raises(AssemblyError) as e_nb:
+        kinematics(mech, q, backend="numba")
+    assert str(e_nb.value) == str(e_np.value)
+    assert getattr(e_nb.value, "designs", None) == getattr(e_np.value, "designs", None)
+    return e_nb.value
+
+
+def group_branches(mech: Mechanism, b: int) -> dict[str, int]:
+    return {g.key: b for g in mech.structure.groups if g.kind != "driver"}
+
+
+@pytest.mark.parametrize("builder", COVERED, ids=lambda b: b.__name__)
+@pytest.mark.parametrize("branch", [1, -1])
+def test_every_covered_group_kind_agrees_with_numpy(builder, branch):
+    """Every group kind of tests/_mechanisms.py the kernel covers (RRR, RRP, PRR, RPR, RPP,
+    PPR, PRP, RS with the slot on either body, PS, a linear driver), on both branches, over
+    its driver range at 4x the builder's positions: all nine arrays and the masks."""
+    mech, q, kind = builder()
+    assert covered(mech.plan)
+    assert any(g.kind == kind for g in mech.structure.groups)
+    q = np.linspace(q[0], q[-1], 4 * q.size + 1)
+    ref, got = both(mech, q, branches=group_branches(mech, branch), on_failure="nan")
+    assert_agree(ref, got)
+
+
+def test_full_turn_of_a_four_bar_with_nonzero_crank_acceleration():
+    """Paper 001's four-bar (a, b, c, d = 0.1, 0.3, 0.2, 0.3 m) over a full turn, with crank
+    speeds and accelerations varying per position (the driver's rates enter every row)."""
+    mech = fourbar_mechanism(0.1, 0.3, 0.2, 0.3, omega1=10.0)
+    q = np.linspace(0.0, 2 * np.pi, 721)
+    w = 10.0 + 3.0 * np.sin(q)
+    e = 3.0 * np.cos(q) * w
+    assert_agree(kinematics(mech, q, w, e), kinematics(mech, q, w, e, backend="numba"))
+
+
+def test_positions_that_do_not_assemble_give_the_same_masks_and_error():
+    """A four-bar that assembles on part of the turn only (a = 0.25 > the Grashof limit): the
+    same AssemblyError message (driver ranges, the group that cannot close), and with
+    on_failure="nan" the same valid mask with NaN at every quantity there."""
+    mech = fourbar_mechanism(0.25, 0.3, 0.2, 0.3)
+    q = np.linspace(0.0, 2 * np.pi, 361)
+    assert "RRR" in str(same_error(mech, q))
+    ref, got = both(mech, q, on_failure="nan")
+    assert 0 < ref.valid.sum() < q.size
+    assert_agree(ref, got)
+    assert np.isnan(got.x[:, ~got.valid]).all() and np.isfinite(got.x[:, got.valid]).all()
+
+
+def test_parallel_lines_name_the_group_as_numpy_does():
+    """A PS group whose slot turns parallel to its guide (slot angle 0 against the guide's 0):
+    the lines are parallel at every position; the message says so as on the NumPy path."""
+    import dataclasses
+
+    mech, q, _ = BUILDERS[9]()  # m_ps_sine
+    joints = tuple(dataclasses.replace(j, angle=0.0) if j.name == "S" else j
+                   for j in mech.joints)
+    mech = Mechanism(mech.frame, mech.bodies, joints, mech.driver)
+    assert "parallel" in str(same_error(mech, q))
+
+
+def test_toggle_positions_are_singular_as_on_numpy():
+    """A parallelogram four-bar (a = c, b = d): every link collinear at phi1 = 0 and pi, where
+    the dyad's rates are undefined: the same ``valid`` mask and the same message."""
+    mech = fourbar_mechanism(0.1, 0.3, 0.1, 0.3)
+    q = np.linspace(0.0, 2 * np.pi, 9)
+    ref, got = both(mech, q, on_failure="nan")
+    assert not ref.valid.all()
+    assert_agree(ref, got)
+    same_error(mech, q)
+
+
+def _four_bars(m: int, seed: int) -> tuple[np.ndarray, ...]:
+    rng = np.random.default_rng(seed)
+    return (rng.uniform(0.05, 0.12, m), rng.uniform(0.25, 0.4, m), rng.uniform(0.15, 0.3, m),
+            rng.uniform(0.2, 0.35, m))
+
+
+def test_batch_equals_each_design_compiled_alone_and_the_numpy_batch():
+    """40 four-bar designs (some do not assemble over the whole turn) with per-design branches:
+    each design of the compiled batch equals that design through the kernel alone bit for
+    bit, and the batch equals the NumPy batch to 1e-12 (masks exactly)."""
+    a, b, c, d = _four_bars(40, 5)
+    a[3] = 0.3  # a design that does not assemble over the whole turn
+    mech = fourbar_mechanism(a, b, c, d, omega1=7.0)
+    br = np.where(np.arange(40) % 3 == 0, -1, 1)
+    q = np.linspace(0.0, 2 * np.pi, 73)
+    ref, got = both(mech, q, branches={"B": br}, on_failure="nan")
+    assert not got.valid[3].all() and got.valid[0].all()
+    assert_agree(ref, got)
+    for i in (0, 3, 7, 39):
+        one = kinematics(mech.design(i), q, branches={"B": int(br[i])}, on_failure="nan",
+                         backend="numba")
+        for name in FIELDS:
+            np.testing.assert_array_equal(getattr(got, name)[:, i], getattr(one, name))
+        np.testing.assert_array_equal(got.valid[i], one.valid)
+
+
+@pytest.mark.parametrize("builder", COVERED, ids=lambda b: b.__name__)
+def test_batch_of_every_covered_kind(builder):
+    """Every covered kind as a batch of three designs (its own, mirrored in y and a copy with
+    its branches flipped): the compiled batch equals the NumPy batch, and design 1 of it the
+    one-design compiled run bit for bit."""
+    mech, q, _ = builder()
+    flipped = Mechanism(mech.frame, mech.bodies, mech.joints, mech.driver,
+                        {**dict(mech.branches), **group_branches(mech, -1)})
+    batch = stack([mech, flipped, mech])
+    ref, got = both(batch, q, on_failure="nan")
+    assert_agree(ref, got)
+    one = kinematics(flipped, q, on_failure="nan", backend="numba")
+    for name in FIELDS:
+        np.testing.assert_array_equal(getattr(got, name)[:, 1], getattr(one, name))
+
+
+def test_batch_that_does_not_assemble_raises_the_numpy_message():
+    """on_failure="raise" on a batch: the same AssemblyError (the designs that fail, their
+    driver ranges) and the same AssemblyError.designs."""
+    a, b, c, d = _four_bars(6, 2)
+    a[[1, 4]] = 0.3
+    mech = fourbar_mechanism(a, b, c, d)
+    q = np.linspace(0.0, 2 * np.pi, 37)
+    assert same_error(mech, q).designs == [1, 4]  # type: ignore[attr-defined]
+
+
+def test_batch_per_design_positions_and_speeds():
+    """Driver positions (m, n) and speeds (m, 1) per design, on the batch path."""
+    a, b, c, d = _four_bars(5, 9)
+    mech = fourbar_mechanism(a, b, c, d)
+    q = np.linspace(0.0, 2 * np.pi, 31)[None, :] + np.arange(5)[:, None] * 0.1
+    w = np.arange(1.0, 6.0)[:, None]
+    ref = kinematics(mech, q, w, 0.5, on_failure="nan")
+    got = kinematics(mech, q, w, 0.5, on_failure="nan", backend="numba")
+    assert_agree(ref, got)
+
+
+@settings(max_examples=60, deadline=None)
+@given(a=st.floats(0.02, 0.3), b=st.floats(0.05, 0.4), c=st.floats(0.05, 0.4),
+       d=st.floats(0.05, 0.4), branch=st.sampled_from([1, -1]))
+def test_random_four_bars_grashof_or_not(a, b, c, d, branch):
+    """Random four-bars, Grashof and not (most do not assemble over the whole turn): the same
+    masks, and every quantity to 1e-12 of its scale where both assemble. Near a toggle (the
+    coupler and rocker within 1e-3 rad of collinear; a change-point linkage, s + l = p + q to
+    1e-3 of its size, passes through one) the rates grow like 1/sin(transmission angle) and
+    with them the rounding of both paths: compared to 1e-9 there."""
+    mech = fourbar_mechanism(a, b, c, d, omega1=5.0)
+    q = np.linspace(0.0, 2 * np.pi, 91)
+    ref, got = both(mech, q, branches={"B": branch}, on_failure="nan")
+    np.testing.assert_array_equal(got.valid, ref.valid)
+    s, p_, q_, l_ = sorted((a, b, c, d))
+    change_point = abs(s + l_ - p_ - q_) < 1e-3 * l_
+    assert_agree(ref, got, rtol=RTOL if _far_from_toggle(ref) and not change_point else 1e-9)
+
+
+def _far_from_toggle(k: Kinematics) -> bool:
+    """The coupler and rocker are not within 1e-3 rad of collinear at any valid position."""
+    mu = k.theta[2] - k.theta[3]
+    return bool(np.all(np.abs(np.sin(mu[k.valid])) > 1e-3))
+
+
+@settings(max_examples=40, deadline=None)
+@given(r=st.floats(0.02, 0.2), ratio=st.floats(1.05, 5.0), e=st.floats(-0.1, 0.1),
+       guide=st.floats(-1.0, 1.0))
+def test_random_offset_crank_sliders(r, ratio, e, guide):
+    """Random offset crank-sliders (rod r x ratio, offset e, inclined guide): as the
+    four-bars."""
+    mech = crank_slider_mechanism(r, r * ratio, e, guide_angle=guide)
+    q = np.linspace(0.0, 2 * np.pi, 91)
+    ref, got = both(mech, q, on_failure="nan")
+    assert_agree(ref, got, rtol=1e-12 if math.fabs(e) + r < 0.99 * r * ratio else 1e-9)
+
+
+def test_uncovered_plan_falls_back_to_the_numpy_numbers_exactly():
+    """A class-III triad (a Newton group) is not compiled: backend="numba" gives the NumPy
+    path's numbers bit for bit (it runs that path)."""
+    mech, q, _ = m_triad()
+    assert not covered(mech.plan)
+    ref, got = both(mech, q)
+    for name in FIELDS:
+        np.testing.assert_array_equal(getattr(got, name), getattr(ref, name))
+
+
+def test_two_drivers_fall_back():
+    """A two-crank five-bar (two drivers, tests/planar/test_drivers.py's) is not compiled
+    either: the NumPy path's numbers bit for bit."""
+    pts = {"O1": (0.0, 0.0), "O2": (0.2, 0.0), "A": (0.02, 0.08), "B": (0.19, 0.1),
+           "P": (0.12, 0.28)}
+    mech = sketch(pts, {"c1": ["O1", "A"], "c2": ["O2", "B"], "l1": ["A", "P"],
+                        "l2": ["B", "P"]}, ground=["O1", "O2"], drivers=["O1", "O2"])
+    assert not covered(mech.plan)
+    q = np.array(mech.drawing.positions)[:, None] + np.array([0.6, -0.4])[:, None] * np.linspace(
+        0.0, 1.0, 7)
+    ref, got = both(mech, q)
+    for name in FIELDS:
+        np.testing.assert_array_equal(getattr(got, name), getattr(ref, name))
+
+
+def test_default_backend_is_numpy_and_bad_names_are_refused():
+    mech, q, _ = m_rrr()
+    ref = kinematics(mech, q)
+    again = kinematics(mech, q, backend="numpy")
+    for name in FIELDS:
+        np.testing.assert_array_equal(getattr(again, name), getattr(ref, name))
+    with pytest.raises(ParameterError, match="backend"):
+        kinematics(mech, q, backend="cuda")  # type: ignore[arg-type]
+
+
+def test_empty_and_single_positions():
+    mech, _, _ = m_rrr()
+    for q in (np.zeros(0), np.array([0.7])):
+        ref, got = both(mech, q)
+        assert_agree(ref, got)
