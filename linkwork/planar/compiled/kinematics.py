@@ -33,7 +33,8 @@ import weakref
 from typing import Any
 
 import numpy as np
-from numba import njit
+from numba import carray, njit, types
+from numba.extending import intrinsic
 
 from linkwork.planar.joints import PinInSlot, Prismatic, ResolvedJoint, Revolute
 from linkwork.planar.structure import Plan, PlanGroup
@@ -54,8 +55,6 @@ _QAX, _QAY, _PBX, _PBY, _ANG, _UX, _UY, _REL, _CREL, _SREL, _NLX, _NLY = range(1
 _NJF = 12
 # rows of the element's state
 _X, _Y, _T, _C, _SN, _VX, _VY, _W, _AX, _AY, _E = range(11)
-#: the state rows of the result block's quantities X Y T VX VY W AX AY E
-_OUT_ROWS = (_X, _Y, _T, _VX, _VY, _W, _AX, _AY, _E)
 # fields of a hung body (RatePar): mode (0 known, 1 turning about a pivot, 2 sliding), the
 # pivot A, the guide direction u, the pivot's local vector on the neighbour in frame axes, the
 # unknown rate z; then the state of its reference body (the known body, or the neighbour)
@@ -164,7 +163,7 @@ def _locus(rev: bool, is_b: bool, ox: float, oy: float, oc: float, os: float, ot
     return 1, ax + rx, ay + ry, ux, uy, th, c, s
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _intersect(k1: int, a1: float, b1: float, c1: float, d1: float, k2: int, a2: float,
                b2: float, c2: float, d2: float, branch: float
                ) -> tuple[float, float, bool, bool]:
@@ -489,7 +488,7 @@ def _acceleration(p: Any, zd: float, x: float, y: float) -> tuple[float, float, 
     return cx + zd * dx, cy + zd * dy, c + k * zd
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _closure(kind: int, px: float, py: float, ux: float, uy: float, pa: Any, sa: int,
              pb: Any, sb: int, acc: bool) -> tuple[float, float, float, float, float, float]:
     """The closure rows of a joint (``kind``; ``(px, py)`` its centre on body b, ``(ux, uy)``
@@ -644,6 +643,20 @@ def _rates(st: Any, jt: Any, jf: Any, kind: int, b1: int, b2: int, j1: int, j2: 
 
 # ---------------------------------------------------------------------------------------------
 # the kernel
+def _data_typing(typingctx: Any, arr: Any) -> Any:
+    """The data pointer of an array (for a :func:`numba.carray` view over it: a view that
+    holds no reference, so numba adjusts no reference count where it is handed on)."""
+    sig = types.CPointer(arr.dtype)(arr)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        ary = context.make_array(signature.args[0])(context, builder, value=args[0])
+        return ary.data
+    return sig, codegen
+
+
+_data: Any = intrinsic(_data_typing)
+
+
 @njit(cache=True, error_model="numpy")
 def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q: Any,
                       w: Any, e: Any, out: Any, pos_bad: Any, bad: Any, failed: Any,
@@ -655,14 +668,22 @@ def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q
     ``gt`` (ng, 6) groups' kind, bodies, joints; ``gf`` (m, ng, 8) the groups' constant
     geometry per design (:func:`_group_geometry`); ``br`` (m, ng) branches; ``scale`` (m,)
     length scales; ``q, w, e`` (m, n) the driver's coordinate, speed, acceleration; written:
-    ``out`` (9, nb, m, n), ``pos_bad, bad`` (m, n), ``failed, parallel`` (ng,) flags."""
+    ``out`` (9, nb, m, n), ``pos_bad, bad`` (m, n), ``failed, parallel`` (ng,) flags. ``jt``
+    and each design's block of ``jf`` and ``gf`` are C-contiguous (read through their data
+    pointers)."""
     nb = out.shape[1]
     m, n = q.shape
     ng = gt.shape[0]
-    st = np.zeros((11, nb))
+    # the state and the tables as views that hold no reference: numba adjusts the reference
+    # count of every array handed to the inlined per-group functions otherwise (measured: ~10%
+    # of the kernel's time); ``state`` is kept alive by its use after the loops
+    state = np.zeros((11, nb))
+    st = carray(_data(state), (11, nb))
+    jt = carray(_data(jt), jt.shape)
+    nj = jf.shape[1]
     for i in range(m):
-        jfi = jf[i]
-        gfi = gf[i]
+        jfi = carray(_data(jf[i]), (nj, _NJF))
+        gfi = carray(_data(gf[i]), (ng, 8))
         L = scale[i]
         for k in range(n):
             st[_C, 0] = 1.0
@@ -686,10 +707,20 @@ def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q
                     b = True
             pos_bad[i, k] = fail
             bad[i, k] = b
-            for r in range(9):
-                row = _OUT_ROWS[r]
+            if b:
+                out[:, :, i, k] = math.nan
+            else:
                 for body in range(nb):
-                    out[r, body, i, k] = math.nan if b else st[row, body]
+                    out[0, body, i, k] = st[_X, body]
+                    out[1, body, i, k] = st[_Y, body]
+                    out[2, body, i, k] = st[_T, body]
+                    out[3, body, i, k] = st[_VX, body]
+                    out[4, body, i, k] = st[_VY, body]
+                    out[5, body, i, k] = st[_W, body]
+                    out[6, body, i, k] = st[_AX, body]
+                    out[7, body, i, k] = st[_AY, body]
+                    out[8, body, i, k] = st[_E, body]
+    state[_C, 0] = 1.0  # the state's buffer alive until here (``st`` holds no reference)
 
 
 # ---------------------------------------------------------------------------------------------
