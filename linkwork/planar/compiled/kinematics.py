@@ -23,6 +23,12 @@ and one-body slot groups RS, PS, on revolute, prismatic and pin-in-slot joints. 
 (Newton groups, driven cylinders, gears, several drivers) is left to the NumPy path, which
 :func:`linkwork.planar.kinematics` then runs transparently.
 
+Written for numba's sake: the helpers take and return numbers only (a body's pose ``x, y, cos,
+sin``; a body hung on its neighbour as a tuple of 16 numbers that carries the neighbour's state);
+the tables are read and the state written only in the two per-group functions inlined into the
+kernel, over views that hold no reference (numba adjusted a reference count for every array
+handed to a helper: the kernel took twice as long); the result is written once per element.
+
 This module imports numba: it is imported only when ``backend="numba"`` is asked for.
 """
 
