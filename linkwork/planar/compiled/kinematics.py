@@ -23,6 +23,12 @@ and one-body slot groups RS, PS, on revolute, prismatic and pin-in-slot joints. 
 (Newton groups, driven cylinders, gears, several drivers) is left to the NumPy path, which
 :func:`linkwork.planar.kinematics` then runs transparently.
 
+Written for numba's sake: the helpers take and return numbers only (a body's pose ``x, y, cos,
+sin``; a body hung on its neighbour as a tuple of 16 numbers that carries the neighbour's state);
+the tables are read and the state written only in the two per-group functions inlined into the
+kernel, over views that hold no reference (numba adjusted a reference count for every array
+handed to a helper: the kernel took twice as long); the result is written once per element.
+
 This module imports numba: it is imported only when ``backend="numba"`` is asked for.
 """
 
@@ -33,7 +39,8 @@ import weakref
 from typing import Any
 
 import numpy as np
-from numba import njit
+from numba import carray, njit, types
+from numba.extending import intrinsic
 
 from linkwork.planar.joints import PinInSlot, Prismatic, ResolvedJoint, Revolute
 from linkwork.planar.structure import Plan, PlanGroup
@@ -54,89 +61,81 @@ _QAX, _QAY, _PBX, _PBY, _ANG, _UX, _UY, _REL, _CREL, _SREL, _NLX, _NLY = range(1
 _NJF = 12
 # rows of the element's state
 _X, _Y, _T, _C, _SN, _VX, _VY, _W, _AX, _AY, _E = range(11)
-#: the state rows of the result block's quantities X Y T VX VY W AX AY E
-_OUT_ROWS = (_X, _Y, _T, _VX, _VY, _W, _AX, _AY, _E)
-# fields of a hung body (RatePar): mode (0 known, 1 turning about a pivot, 2 sliding), body,
-# its known neighbour, the pivot A, the guide direction u, the pivot's local vector on the
-# neighbour in frame axes, the unknown rate z
-_MODE, _B, _K, _PAX, _PAY, _PUX, _PUY, _PRX, _PRY, _PZ = range(10)
+# fields of a hung body (RatePar): mode (0 known, 1 turning about a pivot, 2 sliding), the
+# pivot A, the guide direction u, the pivot's local vector on the neighbour in frame axes, the
+# unknown rate z; then the state of its reference body (the known body, or the neighbour)
+_MODE, _PAX, _PAY, _PUX, _PUY, _PRX, _PRY, _PZ = range(8)
+_RX, _RY, _RVX, _RVY, _RW, _RAX, _RAY, _RE = range(8, 16)
 
 
 # ---------------------------------------------------------------------------------------------
-# the state of one element
+# positions: the helpers take and return numbers (a body's pose is x, y, cos, sin), the
+# per-group function reads the tables and writes the state
 @njit(cache=True, error_model="numpy")
-def _rot(st: Any, i: int, x: float, y: float) -> tuple[float, float]:
-    c, s = st[_C, i], st[_SN, i]
+def _rot(c: float, s: float, x: float, y: float) -> tuple[float, float]:
     return c * x - s * y, s * x + c * y
 
 
 @njit(cache=True, error_model="numpy")
-def _wpt(st: Any, i: int, x: float, y: float) -> tuple[float, float]:
-    rx, ry = _rot(st, i, x, y)
-    return st[_X, i] + rx, st[_Y, i] + ry
+def _wpt(ox: float, oy: float, c: float, s: float, x: float, y: float
+         ) -> tuple[float, float]:
+    """The world point of the local point (x, y) of a body at (ox, oy) turned by (c, s)."""
+    rx, ry = _rot(c, s, x, y)
+    return ox + rx, oy + ry
 
 
 @njit(cache=True, error_model="numpy")
-def _set_angle(st: Any, i: int, th: float) -> None:
-    st[_T, i] = th
-    st[_C, i] = math.cos(th)
-    st[_SN, i] = math.sin(th)
+def _origin(c: float, s: float, px: float, py: float, wx: float, wy: float
+            ) -> tuple[float, float]:
+    """The origin of a body turned by (c, s) whose local point (px, py) is at (wx, wy)."""
+    rx, ry = _rot(c, s, px, py)
+    return wx - rx, wy - ry
 
 
 @njit(cache=True, error_model="numpy")
-def _place(st: Any, i: int, px: float, py: float, wx: float, wy: float) -> None:
-    rx, ry = _rot(st, i, px, py)
-    st[_X, i] = wx - rx
-    st[_Y, i] = wy - ry
+def _angle_of(is_b: bool, ta: float, tb: float, rel: float) -> float:
+    """The angle of a body fixed by a prismatic pair (relative angle ``rel``, its bodies' angles
+    ``ta, tb``) to its known other body: body b (``is_b``) or a."""
+    if is_b:
+        return ta + rel
+    return tb - rel
 
 
 @njit(cache=True, error_model="numpy")
-def _angle_of(st: Any, jt: Any, jf: Any, j: int, body: int) -> float:
-    """The angle of ``body`` fixed by the prismatic pair ``j`` to its known other body."""
-    if body == jt[j, 2]:
-        return st[_T, jt[j, 1]] + jf[j, _REL]
-    return st[_T, jt[j, 2]] - jf[j, _REL]
+def _ends(is_b: bool, qax: float, qay: float, pbx: float, pby: float
+          ) -> tuple[float, float, float, float]:
+    """A joint's point on the known body, then on the body (b if ``is_b``, else a)."""
+    if is_b:
+        return qax, qay, pbx, pby
+    return pbx, pby, qax, qay
 
 
 @njit(cache=True, error_model="numpy")
-def _pivot(st: Any, jt: Any, jf: Any, j: int, body: int) -> tuple[float, float, float, float]:
-    """World centre of the revolute joint ``j`` (from its known side) and its point on
-    ``body``."""
-    if body == jt[j, 1]:
-        wx, wy = _wpt(st, jt[j, 2], jf[j, _PBX], jf[j, _PBY])
-        return wx, wy, jf[j, _QAX], jf[j, _QAY]
-    wx, wy = _wpt(st, jt[j, 1], jf[j, _QAX], jf[j, _QAY])
-    return wx, wy, jf[j, _PBX], jf[j, _PBY]
-
-
-@njit(cache=True, error_model="numpy")
-def _line_condition(st: Any, jt: Any, jf: Any, j: int, body: int
-                    ) -> tuple[float, float, float]:
-    """The line of joint ``j`` as ``n . r_body = c`` for a body of known angle."""
-    ia, ib = jt[j, 1], jt[j, 2]
-    ux, uy = _rot(st, ia, jf[j, _UX], jf[j, _UY])
+def _line_condition(is_a: bool, xa: float, ya: float, ca: float, sa: float, xb: float,
+                    yb: float, cb: float, sb: float, qax: float, qay: float, pbx: float,
+                    pby: float, ux: float, uy: float) -> tuple[float, float, float]:
+    """The line of a joint (bodies a, b at their poses; direction ``(ux, uy)`` in a) as
+    ``n . r_body = c`` for its body a (``is_a``) or b of known angle."""
+    ux, uy = _rot(ca, sa, ux, uy)
     nx, ny = -uy, ux
-    if body == ia:
-        px, py = _wpt(st, ib, jf[j, _PBX], jf[j, _PBY])
-        wx, wy = _rot(st, ia, jf[j, _QAX], jf[j, _QAY])
+    if is_a:
+        px, py = _wpt(xb, yb, cb, sb, pbx, pby)
+        wx, wy = _rot(ca, sa, qax, qay)
     else:
-        px, py = _wpt(st, ia, jf[j, _QAX], jf[j, _QAY])
-        wx, wy = _rot(st, ib, jf[j, _PBX], jf[j, _PBY])
+        px, py = _wpt(xa, ya, ca, sa, qax, qay)
+        wx, wy = _rot(cb, sb, pbx, pby)
     return nx, ny, nx * (px - wx) + ny * (py - wy)
 
 
 @njit(cache=True, error_model="numpy")
-def _two_lines(st: Any, jt: Any, jf: Any, body: int, j1: int, j2: int) -> tuple[bool, bool]:
-    """Origin of ``body`` (angle known) from two line joints; (failed, parallel)."""
-    n1x, n1y, c1 = _line_condition(st, jt, jf, j1, body)
-    n2x, n2y, c2 = _line_condition(st, jt, jf, j2, body)
+def _two_lines(n1x: float, n1y: float, c1: float, n2x: float, n2y: float, c2: float
+               ) -> tuple[float, float, bool]:
+    """The origin of a body (angle known) on two line conditions; parallel."""
     den = n1x * n2y - n1y * n2x
     par = abs(den) < 1e-12
     if par:
         den = math.nan
-    st[_X, body] = (c1 * n2y - c2 * n1y) / den
-    st[_Y, body] = (n1x * c2 - n2x * c1) / den
-    return par, par
+    return (c1 * n2y - c2 * n1y) / den, (n1x * c2 - n2x * c1) / den, par
 
 
 @njit(cache=True, error_model="numpy")
@@ -148,31 +147,29 @@ def _sqrt_checked(arg: float, scale: float) -> tuple[float, bool]:
 
 
 @njit(cache=True, error_model="numpy")
-def _locus(st: Any, jt: Any, jf: Any, j: int, body: int, pix: float, piy: float, rad: float
-           ) -> tuple[int, float, float, float, float]:
-    """The locus of the point ``(pix, piy)`` of ``body`` allowed by its external joint ``j``:
-    (0, A, radius ``rad``, 0) a circle about the pivot, or (1, B0, u) a line (the body's angle
-    then set)."""
-    kind, ia, ib = jt[j, 0], jt[j, 1], jt[j, 2]
-    if kind == _R:
-        if body == ia:
-            ax, ay = _wpt(st, ib, jf[j, _PBX], jf[j, _PBY])
-        else:
-            ax, ay = _wpt(st, ia, jf[j, _QAX], jf[j, _QAY])
-        return 0, ax, ay, rad, 0.0
-    _set_angle(st, body, _angle_of(st, jt, jf, j, body))
-    if body == ib:  # the slider on its known guide a
-        qx, qy = _wpt(st, ia, jf[j, _QAX], jf[j, _QAY])
-        ux, uy = _rot(st, ia, jf[j, _UX], jf[j, _UY])
-        ox, oy = _rot(st, body, pix - jf[j, _PBX], piy - jf[j, _PBY])
+def _locus(rev: bool, is_b: bool, ox: float, oy: float, oc: float, os: float, ot: float,
+           pkx: float, pky: float, psx: float, psy: float, ux: float, uy: float, rel: float,
+           pix: float, piy: float, rad: float
+           ) -> tuple[int, float, float, float, float, float, float, float]:
+    """The locus of the point ``(pix, piy)`` of a body allowed by its external joint (revolute
+    ``rev`` or a line; the body its b if ``is_b``; the known other body's pose ``ox, oy, oc,
+    os`` and angle ``ot``; the joint's points on it ``pk`` and on the body ``ps``): (0, A,
+    radius ``rad``, 0) a circle about the pivot, or (1, B0, u) a line, then the body's angle,
+    its cosine and sine (a line's only)."""
+    ax, ay = _wpt(ox, oy, oc, os, pkx, pky)
+    if rev:
+        return 0, ax, ay, rad, 0.0, 0.0, 1.0, 0.0
+    th = _angle_of(is_b, ot, ot, rel)
+    c, s = math.cos(th), math.sin(th)
+    if is_b:  # the slider on its known guide a
+        ux, uy = _rot(oc, os, ux, uy)
     else:  # the guide; the known body's point slides on it
-        qx, qy = _wpt(st, ib, jf[j, _PBX], jf[j, _PBY])
-        ux, uy = _rot(st, body, jf[j, _UX], jf[j, _UY])
-        ox, oy = _rot(st, body, pix - jf[j, _QAX], piy - jf[j, _QAY])
-    return 1, qx + ox, qy + oy, ux, uy
+        ux, uy = _rot(c, s, ux, uy)
+    rx, ry = _rot(c, s, pix - psx, piy - psy)
+    return 1, ax + rx, ay + ry, ux, uy, th, c, s
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True, error_model="numpy", inline="always")
 def _intersect(k1: int, a1: float, b1: float, c1: float, d1: float, k2: int, a2: float,
                b2: float, c2: float, d2: float, branch: float
                ) -> tuple[float, float, bool, bool]:
@@ -205,38 +202,40 @@ def _intersect(k1: int, a1: float, b1: float, c1: float, d1: float, k2: int, a2:
 
 
 @njit(cache=True, error_model="numpy")
-def _finish_side(st: Any, body: int, kind: int, ax: float, ay: float, rad: float,
-                 phi0: float, c0: float, s0: float, pix: float, piy: float, bx: float,
-                 by: float) -> None:
-    """The body's angle from a circle's radius vector (``phi0`` the angle of its point
-    ``(pix, piy)`` seen from its pivot, in its frame; ``c0, s0`` its cosine and sine), then its
+def _finish_side(kind: int, ax: float, ay: float, rad: float, phi0: float, c0: float,
+                 s0: float, th: float, c: float, s: float, pix: float, piy: float, bx: float,
+                 by: float) -> tuple[float, float, float, float, float]:
+    """The body's pose (angle, cosine, sine, origin): on a circle (``kind`` 0) its angle from
+    the radius vector (``phi0`` the angle of its point ``(pix, piy)`` seen from its pivot, in
+    its frame; ``c0, s0`` its cosine and sine), on a line the given ``th, c, s``; then its
     origin from the point ``(pix, piy)`` at ``(bx, by)``."""
     if kind == 0:
         ex, ey = (bx - ax) / rad, (by - ay) / rad
         th = math.atan2(ey, ex)
         if phi0 != 0.0:
-            st[_T, body] = th - phi0
-            st[_C, body] = ex * c0 + ey * s0
-            st[_SN, body] = ey * c0 - ex * s0
+            th = th - phi0
+            c = ex * c0 + ey * s0
+            s = ey * c0 - ex * s0
         else:
-            st[_T, body] = th
-            st[_C, body] = ex
-            st[_SN, body] = ey
-    _place(st, body, pix, piy, bx, by)
+            c, s = ex, ey
+    x, y = _origin(c, s, pix, piy, bx, by)
+    return th, c, s, x, y
 
 
 @njit(cache=True, error_model="numpy")
-def _rotating_line(st: Any, body: int, ax: float, ay: float, alx: float, aly: float,
-                   ang: float, h: float, xx: float, xy: float, branch: float) -> bool:
-    """The angle of ``body`` pinned at A (its point ``(alx, aly)``) whose line at angle ``ang``
-    must pass through X at the signed distance ``h``; True where it cannot."""
+def _rotating_line(ax: float, ay: float, alx: float, aly: float, ang: float, h: float,
+                   xx: float, xy: float, branch: float
+                   ) -> tuple[bool, float, float, float, float, float]:
+    """The pose of a body pinned at A (its point ``(alx, aly)``) whose line at angle ``ang``
+    must pass through X at the signed distance ``h``: (cannot, angle, cosine, sine, origin)."""
     dx, dy = xx - ax, xy - ay
     c = h / math.sqrt(dx * dx + dy * dy)
     bad = not abs(c) <= 1.0 + 1e-12
     acos = math.nan if bad else math.acos(min(max(c, -1.0), 1.0))
-    _set_angle(st, body, math.atan2(dy, dx) + branch * acos - ang - math.pi / 2)
-    _place(st, body, alx, aly, ax, ay)
-    return bad
+    th = math.atan2(dy, dx) + branch * acos - ang - math.pi / 2
+    co, si = math.cos(th), math.sin(th)
+    x, y = _origin(co, si, alx, aly, ax, ay)
+    return bad, th, co, si, x, y
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -245,220 +244,274 @@ def _positions(st: Any, jt: Any, jf: Any, gf: Any, gi: int, kind: int, b1: int, 
     """The poses of the bodies of group ``gi``; (failed, parallel)."""
     if kind == _DRIVER:
         ia, ib = jt[j1, 1], jt[j1, 2]
-        if jt[j1, 0] == _R:
-            if b1 == ib:
-                _set_angle(st, ib, st[_T, ia] + q)
-                wx, wy = _wpt(st, ia, jf[j1, _QAX], jf[j1, _QAY])
-                _place(st, ib, jf[j1, _PBX], jf[j1, _PBY], wx, wy)
-            else:
-                _set_angle(st, ia, st[_T, ib] - q)
-                wx, wy = _wpt(st, ib, jf[j1, _PBX], jf[j1, _PBY])
-                _place(st, ia, jf[j1, _QAX], jf[j1, _QAY], wx, wy)
-        elif b1 == ib:
-            _set_angle(st, ib, st[_T, ia] + jf[j1, _REL])
-            wx, wy = _wpt(st, ia, jf[j1, _QAX], jf[j1, _QAY])
-            ux, uy = _rot(st, ia, jf[j1, _UX], jf[j1, _UY])
-            _place(st, ib, jf[j1, _PBX], jf[j1, _PBY], wx + q * ux, wy + q * uy)
-        else:
-            _set_angle(st, ia, st[_T, ib] - jf[j1, _REL])
-            wx, wy = _wpt(st, ib, jf[j1, _PBX], jf[j1, _PBY])
-            ux, uy = _rot(st, ia, jf[j1, _UX], jf[j1, _UY])
-            _place(st, ia, jf[j1, _QAX], jf[j1, _QAY], wx - q * ux, wy - q * uy)
+        k = ia if b1 == ib else ib
+        sign = 1.0 if b1 == ib else -1.0
+        pkx, pky, pux, puy = _ends(b1 == ib, jf[j1, _QAX], jf[j1, _QAY], jf[j1, _PBX],
+                                   jf[j1, _PBY])
+        rev = jt[j1, 0] == _R
+        th = st[_T, k] + sign * (q if rev else jf[j1, _REL])
+        c, s = math.cos(th), math.sin(th)
+        wx, wy = _wpt(st[_X, k], st[_Y, k], st[_C, k], st[_SN, k], pkx, pky)
+        if not rev:  # the guide's direction in a, turned by a's angle (the one just set if b1
+            # is a)
+            ca, sa = (st[_C, ia], st[_SN, ia]) if b1 == ib else (c, s)
+            ux, uy = _rot(ca, sa, jf[j1, _UX], jf[j1, _UY])
+            wx, wy = wx + sign * q * ux, wy + sign * q * uy
+        x, y = _origin(c, s, pux, puy, wx, wy)
+        st[_T, b1], st[_C, b1], st[_SN, b1], st[_X, b1], st[_Y, b1] = th, c, s, x, y
         return False, False
     if kind == _DYAD_R:
         ia2, ib2 = jt[j2, 1], jt[j2, 2]
         qax, qay, pbx, pby = jf[j2, _QAX], jf[j2, _QAY], jf[j2, _PBX], jf[j2, _PBY]
         p1x, p1y = (qax, qay) if b1 == ia2 else (pbx, pby)
         p2x, p2y = (pbx, pby) if b2 == ib2 else (qax, qay)
-        k1, x1, y1, c1, d1 = _locus(st, jt, jf, j1, b1, p1x, p1y, gf[gi, 0])
-        k2, x2, y2, c2, d2 = _locus(st, jt, jf, j3, b2, p2x, p2y, gf[gi, 4])
+        ia, ib = jt[j1, 1], jt[j1, 2]
+        o = ia if b1 == ib else ib
+        pkx, pky, psx, psy = _ends(b1 == ib, jf[j1, _QAX], jf[j1, _QAY], jf[j1, _PBX],
+                                   jf[j1, _PBY])
+        k1, x1, y1, c1, d1, t1, co1, si1 = _locus(
+            jt[j1, 0] == _R, b1 == ib, st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], st[_T, o],
+            pkx, pky, psx, psy, jf[j1, _UX], jf[j1, _UY], jf[j1, _REL], p1x, p1y, gf[gi, 0])
+        ia, ib = jt[j3, 1], jt[j3, 2]
+        o = ia if b2 == ib else ib
+        pkx, pky, psx, psy = _ends(b2 == ib, jf[j3, _QAX], jf[j3, _QAY], jf[j3, _PBX],
+                                   jf[j3, _PBY])
+        k2, x2, y2, c2, d2, t2, co2, si2 = _locus(
+            jt[j3, 0] == _R, b2 == ib, st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], st[_T, o],
+            pkx, pky, psx, psy, jf[j3, _UX], jf[j3, _UY], jf[j3, _REL], p2x, p2y, gf[gi, 4])
         bx, by, bad, par = _intersect(k1, x1, y1, c1, d1, k2, x2, y2, c2, d2, branch)
-        _finish_side(st, b1, k1, x1, y1, c1, gf[gi, 1], gf[gi, 2], gf[gi, 3], p1x, p1y, bx,
-                     by)
-        _finish_side(st, b2, k2, x2, y2, c2, gf[gi, 5], gf[gi, 6], gf[gi, 7], p2x, p2y, bx,
-                     by)
+        st[_T, b1], st[_C, b1], st[_SN, b1], st[_X, b1], st[_Y, b1] = _finish_side(
+            k1, x1, y1, c1, gf[gi, 1], gf[gi, 2], gf[gi, 3], t1, co1, si1, p1x, p1y, bx, by)
+        st[_T, b2], st[_C, b2], st[_SN, b2], st[_X, b2], st[_Y, b2] = _finish_side(
+            k2, x2, y2, c2, gf[gi, 5], gf[gi, 6], gf[gi, 7], t2, co2, si2, p2x, p2y, bx, by)
         return bad, par
     if kind == _DYAD_RPR or kind == _DYAD_PP:
         ga, sb = jt[j2, 1], jt[j2, 2]  # the internal pair's guide and slider bodies
         rg, rs = (j1, j3) if ga == b1 else (j3, j1)
-        if kind == _DYAD_RPR:
-            ax, ay, alx, aly = _pivot(st, jt, jf, rg, ga)
-            cx, cy, clx, cly = _pivot(st, jt, jf, rs, sb)
+        if kind == _DYAD_RPR:  # the guide pinned at A, the slider at C
+            ia, ib = jt[rg, 1], jt[rg, 2]
+            o = ib if ga == ia else ia
+            pkx, pky, alx, aly = _ends(ga != ia, jf[rg, _QAX], jf[rg, _QAY], jf[rg, _PBX],
+                                       jf[rg, _PBY])
+            ax, ay = _wpt(st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], pkx, pky)
+            ia, ib = jt[rs, 1], jt[rs, 2]
+            o = ib if sb == ia else ia
+            pkx, pky, clx, cly = _ends(sb != ia, jf[rs, _QAX], jf[rs, _QAY], jf[rs, _PBX],
+                                       jf[rs, _PBY])
+            cx, cy = _wpt(st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], pkx, pky)
             cr, sr = jf[j2, _CREL], jf[j2, _SREL]
             px, py = jf[j2, _PBX] - clx, jf[j2, _PBY] - cly
             rpx, rpy = cr * px - sr * py, sr * px + cr * py
             h = (jf[j2, _NLX] * (jf[j2, _QAX] - alx - rpx)
                  + jf[j2, _NLY] * (jf[j2, _QAY] - aly - rpy))
-            bad = _rotating_line(st, ga, ax, ay, alx, aly, jf[j2, _ANG], h, cx, cy, branch)
-            _set_angle(st, sb, _angle_of(st, jt, jf, j2, sb))
-            _place(st, sb, clx, cly, cx, cy)
+            bad, th, c, s, x, y = _rotating_line(ax, ay, alx, aly, jf[j2, _ANG], h, cx, cy,
+                                                 branch)
+            st[_T, ga], st[_C, ga], st[_SN, ga], st[_X, ga], st[_Y, ga] = th, c, s, x, y
+            th = _angle_of(True, th, th, jf[j2, _REL])
+            c, s = math.cos(th), math.sin(th)
+            x, y = _origin(c, s, clx, cly, cx, cy)
+            st[_T, sb], st[_C, sb], st[_SN, sb], st[_X, sb], st[_Y, sb] = th, c, s, x, y
             return bad, False
-        if jt[rg, 0] == _P:
-            _set_angle(st, ga, _angle_of(st, jt, jf, rg, ga))
-            _set_angle(st, sb, _angle_of(st, jt, jf, j2, sb))
+        if jt[rg, 0] == _P:  # both angles from the prismatic pairs, the slider pinned
+            th = _angle_of(ga == jt[rg, 2], st[_T, jt[rg, 1]], st[_T, jt[rg, 2]], jf[rg, _REL])
+            st[_T, ga], st[_C, ga], st[_SN, ga] = th, math.cos(th), math.sin(th)
+            th = _angle_of(True, th, th, jf[j2, _REL])
+            st[_T, sb], st[_C, sb], st[_SN, sb] = th, math.cos(th), math.sin(th)
             pinned, free, rp, rf = sb, ga, rs, rg
         else:
-            _set_angle(st, sb, _angle_of(st, jt, jf, rs, sb))
-            _set_angle(st, ga, _angle_of(st, jt, jf, j2, ga))
+            th = _angle_of(sb == jt[rs, 2], st[_T, jt[rs, 1]], st[_T, jt[rs, 2]], jf[rs, _REL])
+            st[_T, sb], st[_C, sb], st[_SN, sb] = th, math.cos(th), math.sin(th)
+            th = _angle_of(False, th, th, jf[j2, _REL])
+            st[_T, ga], st[_C, ga], st[_SN, ga] = th, math.cos(th), math.sin(th)
             pinned, free, rp, rf = ga, sb, rg, rs
-        px, py, plx, ply = _pivot(st, jt, jf, rp, pinned)
-        _place(st, pinned, plx, ply, px, py)
-        return _two_lines(st, jt, jf, free, rf, j2)
-    # one body with a revolute (RS) or prismatic (PS) pair j1 and a pin-in-slot j2
-    if kind == _SLOT_P:
-        _set_angle(st, b1, _angle_of(st, jt, jf, j1, b1))
-        return _two_lines(st, jt, jf, b1, j1, j2)
-    ax, ay, alx, aly = _pivot(st, jt, jf, j1, b1)
-    ia, ib = jt[j2, 1], jt[j2, 2]
-    if b1 == ia:  # the body carries the slot; the pin X is known
-        xx, xy = _wpt(st, ib, jf[j2, _PBX], jf[j2, _PBY])
-        h = jf[j2, _NLX] * (jf[j2, _QAX] - alx) + jf[j2, _NLY] * (jf[j2, _QAY] - aly)
-        return _rotating_line(st, b1, ax, ay, alx, aly, jf[j2, _ANG], h, xx, xy, branch), False
-    rad = gf[gi, 0]
-    qx, qy = _wpt(st, ia, jf[j2, _QAX], jf[j2, _QAY])
-    ux, uy = _rot(st, ia, jf[j2, _UX], jf[j2, _UY])
-    bx, by, bad, par = _intersect(0, ax, ay, rad, 0.0, 1, qx, qy, ux, uy, branch)
-    _finish_side(st, b1, 0, ax, ay, rad, gf[gi, 1], gf[gi, 2], gf[gi, 3], jf[j2, _PBX],
-                 jf[j2, _PBY], bx, by)
-    return bad, par
+        ia, ib = jt[rp, 1], jt[rp, 2]
+        o = ib if pinned == ia else ia
+        pkx, pky, plx, ply = _ends(pinned != ia, jf[rp, _QAX], jf[rp, _QAY], jf[rp, _PBX],
+                                   jf[rp, _PBY])
+        px, py = _wpt(st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], pkx, pky)
+        st[_X, pinned], st[_Y, pinned] = _origin(st[_C, pinned], st[_SN, pinned], plx, ply,
+                                                 px, py)
+        ja, jb = rf, j2
+    elif kind == _SLOT_P:  # one body with a prismatic pair j1 and a pin-in-slot j2
+        free = b1
+        th = _angle_of(b1 == jt[j1, 2], st[_T, jt[j1, 1]], st[_T, jt[j1, 2]], jf[j1, _REL])
+        st[_T, b1], st[_C, b1], st[_SN, b1] = th, math.cos(th), math.sin(th)
+        ja, jb = j1, j2
+    else:  # one body with a revolute pair j1 and a pin-in-slot j2
+        ia, ib = jt[j1, 1], jt[j1, 2]
+        o = ib if b1 == ia else ia
+        pkx, pky, alx, aly = _ends(b1 != ia, jf[j1, _QAX], jf[j1, _QAY], jf[j1, _PBX],
+                                   jf[j1, _PBY])
+        ax, ay = _wpt(st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], pkx, pky)
+        ia, ib = jt[j2, 1], jt[j2, 2]
+        if b1 == ia:  # the body carries the slot; the pin X is known
+            xx, xy = _wpt(st[_X, ib], st[_Y, ib], st[_C, ib], st[_SN, ib], jf[j2, _PBX],
+                          jf[j2, _PBY])
+            h = jf[j2, _NLX] * (jf[j2, _QAX] - alx) + jf[j2, _NLY] * (jf[j2, _QAY] - aly)
+            bad, th, c, s, x, y = _rotating_line(ax, ay, alx, aly, jf[j2, _ANG], h, xx, xy,
+                                                 branch)
+            st[_T, b1], st[_C, b1], st[_SN, b1], st[_X, b1], st[_Y, b1] = th, c, s, x, y
+            return bad, False
+        rad = gf[gi, 0]
+        qx, qy = _wpt(st[_X, ia], st[_Y, ia], st[_C, ia], st[_SN, ia], jf[j2, _QAX],
+                      jf[j2, _QAY])
+        ux, uy = _rot(st[_C, ia], st[_SN, ia], jf[j2, _UX], jf[j2, _UY])
+        bx, by, bad, par = _intersect(0, ax, ay, rad, 0.0, 1, qx, qy, ux, uy, branch)
+        st[_T, b1], st[_C, b1], st[_SN, b1], st[_X, b1], st[_Y, b1] = _finish_side(
+            0, ax, ay, rad, gf[gi, 1], gf[gi, 2], gf[gi, 3], 0.0, 1.0, 0.0, jf[j2, _PBX],
+            jf[j2, _PBY], bx, by)
+        return bad, par
+    # the free body's origin on the line conditions of joints ja and jb (its angle known)
+    ia, ib = jt[ja, 1], jt[ja, 2]
+    n1x, n1y, c1 = _line_condition(
+        free == ia, st[_X, ia], st[_Y, ia], st[_C, ia], st[_SN, ia], st[_X, ib], st[_Y, ib],
+        st[_C, ib], st[_SN, ib], jf[ja, _QAX], jf[ja, _QAY], jf[ja, _PBX], jf[ja, _PBY],
+        jf[ja, _UX], jf[ja, _UY])
+    ia, ib = jt[jb, 1], jt[jb, 2]
+    n2x, n2y, c2 = _line_condition(
+        free == ia, st[_X, ia], st[_Y, ia], st[_C, ia], st[_SN, ia], st[_X, ib], st[_Y, ib],
+        st[_C, ib], st[_SN, ib], jf[jb, _QAX], jf[jb, _QAY], jf[jb, _PBX], jf[jb, _PBY],
+        jf[jb, _UX], jf[jb, _UY])
+    st[_X, free], st[_Y, free], par = _two_lines(n1x, n1y, c1, n2x, n2y, c2)
+    return par, par
 
 
 # ---------------------------------------------------------------------------------------------
-# rates: each body of a group hung on its known neighbour with one unknown rate
+# rates: each body of a group hung on its known neighbour with one unknown rate. A hung body is
+# a tuple of numbers (fields _MODE.._PZ) with the state of its reference body (the known body
+# itself, or its neighbour): X Y VX VY W AX AY E (fields _RX.._RE), read when it is hung
 @njit(cache=True, error_model="numpy")
-def _vel_at(st: Any, k: int, x: float, y: float) -> tuple[float, float]:
-    return st[_VX, k] - st[_W, k] * (y - st[_Y, k]), st[_VY, k] + st[_W, k] * (x - st[_X, k])
-
-
-@njit(cache=True, error_model="numpy")
-def _acc_at(st: Any, k: int, x: float, y: float) -> tuple[float, float]:
-    rx, ry = x - st[_X, k], y - st[_Y, k]
-    w2 = st[_W, k] * st[_W, k]
-    return (st[_AX, k] - st[_E, k] * ry - w2 * rx, st[_AY, k] + st[_E, k] * rx - w2 * ry)
-
-
-@njit(cache=True, error_model="numpy")
-def _hang(st: Any, jt: Any, jf: Any, j: int, b: int) -> Any:
-    """Body ``b`` hung on its known neighbour through joint ``j``, a tuple (mode: 1 turning
-    about the pivot A with ``z = omega_b``, 2 sliding along the guide u with ``z`` the slide
-    rate; body; neighbour k; A; u; the pivot's vector from k's origin; z = 0)."""
-    ia, ib = jt[j, 1], jt[j, 2]
-    k = ia if b == ib else ib
-    if jt[j, 0] == _R:
-        px, py = (jf[j, _QAX], jf[j, _QAY]) if k == ia else (jf[j, _PBX], jf[j, _PBY])
-        rx, ry = _rot(st, k, px, py)
-        return (1, b, k, st[_X, k] + rx, st[_Y, k] + ry, 0.0, 0.0, rx, ry, 0.0)
-    ux, uy = _rot(st, ia, jf[j, _UX], jf[j, _UY])
-    return (2, b, k, 0.0, 0.0, ux, uy, 0.0, 0.0, 0.0)
+def _hang(rev: bool, kx: float, ky: float, kc: float, ks: float, kvx: float, kvy: float,
+          kw: float, kax: float, kay: float, ke: float, px: float, py: float, ca: float,
+          sa: float, ux: float, uy: float) -> Any:
+    """A body hung on its known neighbour k (its pose and rates) through a joint: turning about
+    the pivot A (``rev``; the pivot's local point ``(px, py)`` on k) with ``z = omega``, or
+    sliding along the guide u (direction ``(ux, uy)`` in the joint's body a turned by ``(ca,
+    sa)``) with ``z`` the slide rate; z = 0."""
+    if rev:
+        rx, ry = _rot(kc, ks, px, py)
+        return (1.0, kx + rx, ky + ry, 0.0, 0.0, rx, ry, 0.0, kx, ky, kvx, kvy, kw, kax, kay,
+                ke)
+    ux, uy = _rot(ca, sa, ux, uy)
+    return (2.0, 0.0, 0.0, ux, uy, 0.0, 0.0, 0.0, kx, ky, kvx, kvy, kw, kax, kay, ke)
 
 
 @njit(cache=True, error_model="numpy")
-def _known(b: int) -> Any:
-    """A known body as a hung one with no unknown (mode 0)."""
-    return (0, b, b, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0)
+def _known(x: float, y: float, vx: float, vy: float, w: float, ax: float, ay: float,
+           e: float) -> Any:
+    """A known body (its state) as a hung one with no unknown (mode 0)."""
+    return (0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x, y, vx, vy, w, ax, ay, e)
 
 
 @njit(cache=True, error_model="numpy")
 def _with_z(p: Any, z: float) -> Any:
-    return (p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], z)
+    return (p[0], p[1], p[2], p[3], p[4], p[5], p[6], z, p[8], p[9], p[10], p[11], p[12],
+            p[13], p[14], p[15])
+
+
+@njit(cache=True, error_model="numpy")
+def _vel_at(p: Any, x: float, y: float) -> tuple[float, float]:
+    """The velocity at (x, y) of the reference body of ``p``."""
+    return p[_RVX] - p[_RW] * (y - p[_RY]), p[_RVY] + p[_RW] * (x - p[_RX])
+
+
+@njit(cache=True, error_model="numpy")
+def _acc_at(p: Any, x: float, y: float) -> tuple[float, float]:
+    """The acceleration at (x, y) of the reference body of ``p``."""
+    rx, ry = x - p[_RX], y - p[_RY]
+    w2 = p[_RW] * p[_RW]
+    return p[_RAX] - p[_RE] * ry - w2 * rx, p[_RAY] + p[_RE] * rx - w2 * ry
 
 
 @njit(cache=True, error_model="numpy")
 def _d(p: Any, x: float, y: float) -> tuple[float, float]:
     """The velocity at (x, y) per unit of the unknown rate."""
-    if p[0] == 0:
+    if p[_MODE] == 0:
         return 0.0, 0.0
-    if p[0] == 1:
-        return -(y - p[4]), x - p[3]
-    return p[5], p[6]
+    if p[_MODE] == 1:
+        return -(y - p[_PAY]), x - p[_PAX]
+    return p[_PUX], p[_PUY]
 
 
 @njit(cache=True, error_model="numpy")
-def _cv(st: Any, p: Any, x: float, y: float) -> tuple[float, float]:
+def _cv(p: Any, x: float, y: float) -> tuple[float, float]:
     """The velocity at (x, y) without the unknown's term."""
-    if p[0] == 0:
-        return _vel_at(st, p[1], x, y)
-    k = p[2]
-    if p[0] == 1:
-        return st[_VX, k] - st[_W, k] * p[8], st[_VY, k] + st[_W, k] * p[7]
-    return _vel_at(st, k, x, y)
+    if p[_MODE] == 1:
+        return p[_RVX] - p[_RW] * p[_PRY], p[_RVY] + p[_RW] * p[_PRX]
+    return _vel_at(p, x, y)
 
 
 @njit(cache=True, error_model="numpy")
-def _ca(st: Any, p: Any, x: float, y: float) -> tuple[float, float]:
+def _ca(p: Any, x: float, y: float) -> tuple[float, float]:
     """The acceleration at (x, y) without the term of the rate's derivative."""
-    if p[0] == 0:
-        return _acc_at(st, p[1], x, y)
-    k, z = p[2], p[9]
-    if p[0] == 1:
-        w2 = st[_W, k] * st[_W, k]
-        rx, ry = p[7], p[8]
-        aax = st[_AX, k] - st[_E, k] * ry - w2 * rx
-        aay = st[_AY, k] + st[_E, k] * rx - w2 * ry
-        return aax - z * z * (x - p[3]), aay - z * z * (y - p[4])
-    akx, aky = _acc_at(st, k, x, y)
-    c = 2 * st[_W, k] * z
-    return akx - c * p[6], aky + c * p[5]
+    if p[_MODE] == 0:
+        return _acc_at(p, x, y)
+    z = p[_PZ]
+    if p[_MODE] == 1:
+        w2 = p[_RW] * p[_RW]
+        rx, ry = p[_PRX], p[_PRY]
+        aax = p[_RAX] - p[_RE] * ry - w2 * rx
+        aay = p[_RAY] + p[_RE] * rx - w2 * ry
+        return aax - z * z * (x - p[_PAX]), aay - z * z * (y - p[_PAY])
+    akx, aky = _acc_at(p, x, y)
+    c = 2 * p[_RW] * z
+    return akx - c * p[_PUY], aky + c * p[_PUX]
 
 
 @njit(cache=True, error_model="numpy")
-def _wpart(st: Any, p: Any, row: int) -> tuple[float, float]:
-    """The angular velocity (``row`` _W) or acceleration (_E) as (constant, coefficient of
-    the unknown)."""
-    if p[0] == 0:
-        return st[row, p[1]], 0.0
-    if p[0] == 1:
+def _wpart(p: Any, acc: bool) -> tuple[float, float]:
+    """The angular velocity (or acceleration: ``acc``) as (constant, coefficient of the
+    unknown)."""
+    if p[_MODE] == 1:
         return 0.0, 1.0
-    return st[row, p[2]], 0.0
+    return (p[_RE] if acc else p[_RW]), 0.0
 
 
 @njit(cache=True, error_model="numpy")
-def _vel(st: Any, p: Any, x: float, y: float) -> tuple[float, float]:
-    cx, cy = _cv(st, p, x, y)
-    if p[0] == 0:
+def _vel(p: Any, x: float, y: float) -> tuple[float, float]:
+    cx, cy = _cv(p, x, y)
+    if p[_MODE] == 0:
         return cx, cy
     dx, dy = _d(p, x, y)
-    return cx + p[9] * dx, cy + p[9] * dy
+    return cx + p[_PZ] * dx, cy + p[_PZ] * dy
 
 
 @njit(cache=True, error_model="numpy")
-def _set_velocity(st: Any, p: Any) -> None:
-    b = p[1]
-    st[_VX, b], st[_VY, b] = _vel(st, p, st[_X, b], st[_Y, b])
-    c, k = _wpart(st, p, _W)
-    st[_W, b] = c + k * p[9]
+def _velocity(p: Any, x: float, y: float) -> tuple[float, float, float]:
+    """The hung body's velocity (of its origin at (x, y)) and angular velocity."""
+    vx, vy = _vel(p, x, y)
+    c, k = _wpart(p, False)
+    return vx, vy, c + k * p[_PZ]
 
 
 @njit(cache=True, error_model="numpy")
-def _set_acceleration(st: Any, p: Any, zd: float) -> None:
-    b = p[1]
-    x, y = st[_X, b], st[_Y, b]
-    cx, cy = _ca(st, p, x, y)
+def _acceleration(p: Any, zd: float, x: float, y: float) -> tuple[float, float, float]:
+    """The hung body's acceleration (of its origin at (x, y)) and angular acceleration, the
+    unknown's derivative ``zd``."""
+    cx, cy = _ca(p, x, y)
     dx, dy = _d(p, x, y)
-    st[_AX, b], st[_AY, b] = cx + zd * dx, cy + zd * dy
-    c, k = _wpart(st, p, _E)
-    st[_E, b] = c + k * zd
+    c, k = _wpart(p, True)
+    return cx + zd * dx, cy + zd * dy, c + k * zd
 
 
-@njit(cache=True, error_model="numpy")
-def _closure(st: Any, jt: Any, jf: Any, pa: Any, sa: int, pb: Any, sb: int, j: int,
-             acc: bool) -> tuple[float, float, float, float, float, float]:
-    """The closure rows of joint ``j`` (its body a hung as ``pa``, the unknown number ``sa``,
-    b as ``pb``, ``sb``; 2: a known body): ``(a11, a12, r1, a21, a22, r2)``, the coefficients
-    of the unknowns and the right-hand side of each row; velocity rows, or acceleration rows
+@njit(cache=True, error_model="numpy", inline="always")
+def _closure(kind: int, px: float, py: float, ux: float, uy: float, pa: Any, sa: int,
+             pb: Any, sb: int, acc: bool) -> tuple[float, float, float, float, float, float]:
+    """The closure rows of a joint (``kind``; ``(px, py)`` its centre on body b, ``(ux, uy)``
+    its line's direction; its body a hung as ``pa``, the unknown number ``sa``, b as ``pb``,
+    ``sb``; 2: a known body): ``(a11, a12, r1, a21, a22, r2)``, the coefficients of the
+    unknowns and the right-hand side of each row; velocity rows, or acceleration rows
     (``acc``, the rates known)."""
-    kind = jt[j, 0]
     a11 = a12 = a21 = a22 = 0.0
     if kind == _R:
-        bx, by = _wpt(st, jt[j, 2], jf[j, _PBX], jf[j, _PBY])
-        dax, day = _d(pa, bx, by)
-        dbx, dby = _d(pb, bx, by)
+        dax, day = _d(pa, px, py)
+        dbx, dby = _d(pb, px, py)
         if acc:
-            cax, cay = _ca(st, pa, bx, by)
-            cbx, cby = _ca(st, pb, bx, by)
+            cax, cay = _ca(pa, px, py)
+            cbx, cby = _ca(pb, px, py)
         else:
-            cax, cay = _cv(st, pa, bx, by)
-            cbx, cby = _cv(st, pb, bx, by)
+            cax, cay = _cv(pa, px, py)
+            cbx, cby = _cv(pb, px, py)
         if sa == 0:
             a11, a21 = dax, day
         elif sa == 1:
@@ -468,8 +521,6 @@ def _closure(st: Any, jt: Any, jf: Any, pa: Any, sa: int, pb: Any, sb: int, j: i
         elif sb == 1:
             a12, a22 = -dbx, -dby
         return a11, a12, cbx - cax, a21, a22, cby - cay
-    px, py = _wpt(st, jt[j, 2], jf[j, _PBX], jf[j, _PBY])
-    ux, uy = _rot(st, jt[j, 1], jf[j, _UX], jf[j, _UY])
     nx, ny = -uy, ux
     dax, day = _d(pa, px, py)
     dbx, dby = _d(pb, px, py)
@@ -482,22 +533,22 @@ def _closure(st: Any, jt: Any, jf: Any, pa: Any, sa: int, pb: Any, sb: int, j: i
     elif sb == 1:
         a12 = nx * dbx + ny * dby
     if acc:
-        cax, cay = _ca(st, pa, px, py)
-        cbx, cby = _ca(st, pb, px, py)
-        vax, vay = _vel(st, pa, px, py)
-        vbx, vby = _vel(st, pb, px, py)
-        c0, k0 = _wpart(st, pa, _W)
-        wa = c0 + k0 * pa[9]
+        cax, cay = _ca(pa, px, py)
+        cbx, cby = _ca(pb, px, py)
+        vax, vay = _vel(pa, px, py)
+        vbx, vby = _vel(pb, px, py)
+        c0, k0 = _wpart(pa, False)
+        wa = c0 + k0 * pa[_PZ]
         rvx, rvy = vbx - vax, vby - vay
         r1 = -(nx * (cbx - cax) + ny * (cby - cay)) + 2 * wa * (nx * -rvy + ny * rvx)
     else:
-        cax, cay = _cv(st, pa, px, py)
-        cbx, cby = _cv(st, pb, px, py)
+        cax, cay = _cv(pa, px, py)
+        cbx, cby = _cv(pb, px, py)
         r1 = -(nx * (cbx - cax) + ny * (cby - cay))
     r2 = 0.0
     if kind == _P:  # and omega_a = omega_b (eps_a = eps_b)
-        c0a, ka = _wpart(st, pa, _E if acc else _W)
-        c0b, kb = _wpart(st, pb, _E if acc else _W)
+        c0a, ka = _wpart(pa, acc)
+        c0b, kb = _wpart(pb, acc)
         if sa == 0:
             a21 = ka
         elif sa == 1:
@@ -529,58 +580,89 @@ def _cramer(a11: float, a12: float, r1: float, a21: float, a22: float, r2: float
 def _rates(st: Any, jt: Any, jf: Any, kind: int, b1: int, b2: int, j1: int, j2: int,
            j3: int, w1: float, e1: float, scale: float) -> None:
     """Velocities and accelerations of the bodies of a group (those before it known)."""
-    if kind == _DRIVER:
-        ia, ib = jt[j1, 1], jt[j1, 2]
+    ia, ib = jt[j1, 1], jt[j1, 2]
+    k = ia if b1 == ib else ib
+    if kind == _DRIVER and jt[j1, 0] == _R:  # the crank: closed form
         sign = 1.0 if b1 == ib else -1.0
-        if jt[j1, 0] == _R:  # the crank: closed form
-            k = ia if b1 == ib else ib
-            if b1 == ib:
-                pkx, pky, pux, puy = jf[j1, _QAX], jf[j1, _QAY], jf[j1, _PBX], jf[j1, _PBY]
-            else:
-                pkx, pky, pux, puy = jf[j1, _PBX], jf[j1, _PBY], jf[j1, _QAX], jf[j1, _QAY]
-            w = st[_W, k] + sign * w1
-            e = st[_E, k] + sign * e1
-            st[_W, b1], st[_E, b1] = w, e
-            rx, ry = _rot(st, k, pkx, pky)
-            wk, ek = st[_W, k], st[_E, k]
-            vpx, vpy = st[_VX, k] - wk * ry, st[_VY, k] + wk * rx
-            apx = st[_AX, k] - ek * ry - wk * wk * rx
-            apy = st[_AY, k] + ek * rx - wk * wk * ry
-            rx, ry = _rot(st, b1, pux, puy)
-            st[_VX, b1], st[_VY, b1] = vpx + w * ry, vpy - w * rx
-            st[_AX, b1] = apx + e * ry + w * w * rx
-            st[_AY, b1] = apy - e * rx + w * w * ry
-            return
-        p = _with_z(_hang(st, jt, jf, j1, b1), sign * w1)  # a linear driver: hung
-        _set_velocity(st, p)
-        _set_acceleration(st, p, sign * e1)
+        pkx, pky, pux, puy = _ends(b1 == ib, jf[j1, _QAX], jf[j1, _QAY], jf[j1, _PBX],
+                                   jf[j1, _PBY])
+        w = st[_W, k] + sign * w1
+        e = st[_E, k] + sign * e1
+        st[_W, b1], st[_E, b1] = w, e
+        rx, ry = _rot(st[_C, k], st[_SN, k], pkx, pky)
+        wk, ek = st[_W, k], st[_E, k]
+        vpx, vpy = st[_VX, k] - wk * ry, st[_VY, k] + wk * rx
+        apx = st[_AX, k] - ek * ry - wk * wk * rx
+        apy = st[_AY, k] + ek * rx - wk * wk * ry
+        rx, ry = _rot(st[_C, b1], st[_SN, b1], pux, puy)
+        st[_VX, b1], st[_VY, b1] = vpx + w * ry, vpy - w * rx
+        st[_AX, b1] = apx + e * ry + w * w * rx
+        st[_AY, b1] = apy - e * rx + w * w * ry
+        return
+    pkx, pky = (jf[j1, _QAX], jf[j1, _QAY]) if k == ia else (jf[j1, _PBX], jf[j1, _PBY])
+    p0 = _hang(jt[j1, 0] == _R, st[_X, k], st[_Y, k], st[_C, k], st[_SN, k], st[_VX, k],
+               st[_VY, k], st[_W, k], st[_AX, k], st[_AY, k], st[_E, k], pkx, pky,
+               st[_C, ia], st[_SN, ia], jf[j1, _UX], jf[j1, _UY])
+    x1, y1 = st[_X, b1], st[_Y, b1]
+    if kind == _DRIVER:  # a linear driver: hung
+        sign = 1.0 if b1 == ib else -1.0
+        p0 = _with_z(p0, sign * w1)
+        st[_VX, b1], st[_VY, b1], st[_W, b1] = _velocity(p0, x1, y1)
+        st[_AX, b1], st[_AY, b1], st[_E, b1] = _acceleration(p0, sign * e1, x1, y1)
         return
     n_unk = 1 if kind >= _SLOT_R else 2
-    p0 = _hang(st, jt, jf, j1, b1)
-    p1 = _hang(st, jt, jf, j3, b2) if n_unk == 2 else p0
+    p1 = p0
+    if n_unk == 2:
+        ia, ib = jt[j3, 1], jt[j3, 2]
+        k = ia if b2 == ib else ib
+        pkx, pky = (jf[j3, _QAX], jf[j3, _QAY]) if k == ia else (jf[j3, _PBX], jf[j3, _PBY])
+        p1 = _hang(jt[j3, 0] == _R, st[_X, k], st[_Y, k], st[_C, k], st[_SN, k], st[_VX, k],
+                   st[_VY, k], st[_W, k], st[_AX, k], st[_AY, k], st[_E, k], pkx, pky,
+                   st[_C, ia], st[_SN, ia], jf[j3, _UX], jf[j3, _UY])
     ia, ib = jt[j2, 1], jt[j2, 2]  # the closure joint j2: the unknowns of its bodies
     sa = 0 if ia == b1 else (1 if n_unk == 2 and ia == b2 else 2)
     sb = 0 if ib == b1 else (1 if n_unk == 2 and ib == b2 else 2)
-    pa = p0 if sa == 0 else (p1 if sa == 1 else _known(ia))
-    pb = p0 if sb == 0 else (p1 if sb == 1 else _known(ib))
-    a11, a12, r1, a21, a22, r2 = _closure(st, jt, jf, pa, sa, pb, sb, j2, False)
+    pa = p0 if sa == 0 else (p1 if sa == 1 else _known(
+        st[_X, ia], st[_Y, ia], st[_VX, ia], st[_VY, ia], st[_W, ia], st[_AX, ia],
+        st[_AY, ia], st[_E, ia]))
+    pb = p0 if sb == 0 else (p1 if sb == 1 else _known(
+        st[_X, ib], st[_Y, ib], st[_VX, ib], st[_VY, ib], st[_W, ib], st[_AX, ib],
+        st[_AY, ib], st[_E, ib]))
+    jk = jt[j2, 0]
+    px, py = _wpt(st[_X, ib], st[_Y, ib], st[_C, ib], st[_SN, ib], jf[j2, _PBX], jf[j2, _PBY])
+    ux, uy = _rot(st[_C, ia], st[_SN, ia], jf[j2, _UX], jf[j2, _UY])
+    a11, a12, r1, a21, a22, r2 = _closure(jk, px, py, ux, uy, pa, sa, pb, sb, False)
     z0, z1 = _cramer(a11, a12, r1, a21, a22, r2, n_unk, scale)
     p0 = _with_z(p0, z0)
-    _set_velocity(st, p0)
+    st[_VX, b1], st[_VY, b1], st[_W, b1] = _velocity(p0, x1, y1)
     if n_unk == 2:
         p1 = _with_z(p1, z1)
-        _set_velocity(st, p1)
+        st[_VX, b2], st[_VY, b2], st[_W, b2] = _velocity(p1, st[_X, b2], st[_Y, b2])
     pa = p0 if sa == 0 else (p1 if sa == 1 else pa)
     pb = p0 if sb == 0 else (p1 if sb == 1 else pb)
-    a11, a12, r1, a21, a22, r2 = _closure(st, jt, jf, pa, sa, pb, sb, j2, True)
+    a11, a12, r1, a21, a22, r2 = _closure(jk, px, py, ux, uy, pa, sa, pb, sb, True)
     zd0, zd1 = _cramer(a11, a12, r1, a21, a22, r2, n_unk, scale)
-    _set_acceleration(st, p0, zd0)
+    st[_AX, b1], st[_AY, b1], st[_E, b1] = _acceleration(p0, zd0, x1, y1)
     if n_unk == 2:
-        _set_acceleration(st, p1, zd1)
+        st[_AX, b2], st[_AY, b2], st[_E, b2] = _acceleration(p1, zd1, st[_X, b2], st[_Y, b2])
 
 
 # ---------------------------------------------------------------------------------------------
 # the kernel
+def _data_typing(typingctx: Any, arr: Any) -> Any:
+    """The data pointer of an array (for a :func:`numba.carray` view over it: a view that
+    holds no reference, so numba adjusts no reference count where it is handed on)."""
+    sig = types.CPointer(arr.dtype)(arr)
+
+    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+        ary = context.make_array(signature.args[0])(context, builder, value=args[0])
+        return ary.data
+    return sig, codegen
+
+
+_data: Any = intrinsic(_data_typing)
+
+
 @njit(cache=True, error_model="numpy")
 def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q: Any,
                       w: Any, e: Any, out: Any, pos_bad: Any, bad: Any, failed: Any,
@@ -592,14 +674,22 @@ def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q
     ``gt`` (ng, 6) groups' kind, bodies, joints; ``gf`` (m, ng, 8) the groups' constant
     geometry per design (:func:`_group_geometry`); ``br`` (m, ng) branches; ``scale`` (m,)
     length scales; ``q, w, e`` (m, n) the driver's coordinate, speed, acceleration; written:
-    ``out`` (9, nb, m, n), ``pos_bad, bad`` (m, n), ``failed, parallel`` (ng,) flags."""
+    ``out`` (9, nb, m, n), ``pos_bad, bad`` (m, n), ``failed, parallel`` (ng,) flags. ``jt``
+    and each design's block of ``jf`` and ``gf`` are C-contiguous (read through their data
+    pointers)."""
     nb = out.shape[1]
     m, n = q.shape
     ng = gt.shape[0]
-    st = np.zeros((11, nb))
+    # the state and the tables as views that hold no reference: numba adjusts the reference
+    # count of every array handed to the inlined per-group functions otherwise (measured: ~10%
+    # of the kernel's time); ``state`` is kept alive by its use after the loops
+    state = np.zeros((11, nb))
+    st = carray(_data(state), (11, nb))
+    jt = carray(_data(jt), jt.shape)
+    nj = jf.shape[1]
     for i in range(m):
-        jfi = jf[i]
-        gfi = gf[i]
+        jfi = carray(_data(jf[i]), (nj, _NJF))
+        gfi = carray(_data(gf[i]), (ng, 8))
         L = scale[i]
         for k in range(n):
             st[_C, 0] = 1.0
@@ -623,10 +713,20 @@ def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q
                     b = True
             pos_bad[i, k] = fail
             bad[i, k] = b
-            for r in range(9):
-                row = _OUT_ROWS[r]
+            if b:
+                out[:, :, i, k] = math.nan
+            else:
                 for body in range(nb):
-                    out[r, body, i, k] = math.nan if b else st[row, body]
+                    out[0, body, i, k] = st[_X, body]
+                    out[1, body, i, k] = st[_Y, body]
+                    out[2, body, i, k] = st[_T, body]
+                    out[3, body, i, k] = st[_VX, body]
+                    out[4, body, i, k] = st[_VY, body]
+                    out[5, body, i, k] = st[_W, body]
+                    out[6, body, i, k] = st[_AX, body]
+                    out[7, body, i, k] = st[_AY, body]
+                    out[8, body, i, k] = st[_E, body]
+    state[_C, 0] = 1.0  # the state's buffer alive until here (``st`` holds no reference)
 
 
 # ---------------------------------------------------------------------------------------------
