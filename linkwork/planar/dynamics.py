@@ -460,7 +460,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
 
 
 def _load_power(applied: Sequence[AppliedLoad], n: int) -> Arr:
-    return np.array([ap.power for ap in applied]).reshape(-1, n)
+    return np.array([ap.power for ap in applied], dtype=float).reshape(len(applied), n)
 
 
 def _part(v: Any, sl: slice) -> Any:

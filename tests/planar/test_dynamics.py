@@ -838,3 +838,16 @@ def test_backend_is_checked_before_any_work(monkeypatch):
     with pytest.raises(MissingExtraError, match=r"linkwork\[numba\]"):
         inverse_dynamics(kin, backend="numba")
     assert inverse_dynamics(kin).Q.shape == (5,)
+
+
+def test_a_motion_of_no_positions_has_dynamics_of_no_positions() -> None:
+    """An empty cycle (kinematics of 0 driver positions) gives arrays with 0 positions, for
+    one design and a batch, with and without loads (it raised a bare reshape ValueError)."""
+    one = engine_fourbar(0.1, 0.3, 0.2, 0.3, omega1=10.0, masses=(1.0, 2.0, 3.0))
+    dyn = inverse_dynamics(kinematics(one, np.array([])),
+                           loads=[pl.PointForce("rocker", (0.1, 0.0), fy=-5.0)])
+    assert dyn.Q.shape == (0,) and dyn.fx.shape == (4, 0) and dyn.load_power.shape == (1, 0)
+    assert inverse_dynamics(kinematics(one, np.array([]))).load_power.shape == (0, 0)
+    batch = engine_fourbar(np.array([0.1, 0.11]), 0.3, 0.2, 0.3, omega1=10.0,
+                           masses=(1.0, 2.0, 3.0))
+    assert inverse_dynamics(kinematics(batch, np.array([]))).fx.shape == (4, 2, 0)
