@@ -1,14 +1,17 @@
 """The engine's kinematics compiled by numba: one pass over the (design, position) elements.
 
-A *plan interpreter*: :func:`encode` turns a mechanism's compiled plan
-(:class:`~linkwork.planar.structure.Plan`) once into flat arrays (the joints' kinds and bodies,
-the groups' kinds, bodies and joints, and per design the joints' local geometry), and
-:func:`kinematics_kernel` runs, for every element (design ``i``, position ``k``), every group in
-order: the positions of its bodies, then (all groups again) their velocities and accelerations,
-written straight into the result block ``out[quantity, body, i, k]`` (quantities ``X Y T VX VY
-W AX AY E``), with the element's masks (``pos_bad``: it does not assemble; ``bad``: that or a
-singular rate) and the groups where an element first failed (``failed``) or two lines were
-parallel (``parallel``), for the same AssemblyError as the NumPy path.
+:func:`encode` turns a mechanism's compiled plan (:class:`~linkwork.planar.structure.Plan`)
+once into flat arrays: the joints' kinds and bodies and the groups' kinds, bodies and joints
+(the plan's *structure*), and per design the joints' local geometry and the groups' constant
+geometry. :func:`kernel_source` writes, for a structure, the kernel that runs every group of
+every element (design ``i``, position ``k``) in order: the positions of its bodies, then (all
+groups again) their velocities and accelerations, written straight into the result block
+``out[quantity, body, i, k]`` (quantities ``X Y T VX VY W AX AY E``), with the element's masks
+(``pos_bad``: it does not assemble; ``bad``: that or a singular rate) and the groups where an
+element first failed (``failed``) or two lines were parallel (``parallel``), for the same
+AssemblyError as the NumPy path. The kernel is generated, compiled and cached once per
+structure (:mod:`~linkwork.planar.compiled.codegen`): every four-bar, of any dimensions, alone
+or in a batch, runs the same compiled kernel.
 
 Same conventions and the same arithmetic as the NumPy path, element by element
 (:mod:`~linkwork.planar.positions`: loci circle/line, their intersection, the body's angle from
@@ -23,11 +26,12 @@ and one-body slot groups RS, PS, on revolute, prismatic and pin-in-slot joints. 
 (Newton groups, driven cylinders, gears, several drivers) is left to the NumPy path, which
 :func:`linkwork.planar.kinematics` then runs transparently.
 
-Written for numba's sake: the helpers take and return numbers only (a body's pose ``x, y, cos,
-sin``; a body hung on its neighbour as a tuple of 16 numbers that carries the neighbour's state);
-the tables are read and the state written only in the two per-group functions inlined into the
-kernel, over views that hold no reference (numba adjusted a reference count for every array
-handed to a helper: the kernel took twice as long); the result is written once per element.
+Written for numba's sake: the helpers below take and return numbers only (a body's pose ``x,
+y, cos, sin``; a body hung on its neighbour as a tuple of 16 numbers that carries the
+neighbour's state), and the generated kernel calls them with the structure's constants (which
+joint, which side, which kind), so that the compiler removes every branch the structure decides
+and keeps each body's state in registers. The writers :func:`_write_positions` and
+:func:`_write_rates` take those decisions, one group at a time.
 
 This module imports numba: it is imported only when ``backend="numba"`` is asked for.
 """
@@ -35,17 +39,18 @@ This module imports numba: it is imported only when ``backend="numba"`` is asked
 from __future__ import annotations
 
 import math
+import sys
 import weakref
 from typing import Any
 
 import numpy as np
-from numba import carray, njit, types
-from numba.extending import intrinsic
+from numba import njit
 
+from linkwork.planar.compiled.codegen import Source, fingerprint, load
 from linkwork.planar.joints import PinInSlot, Prismatic, ResolvedJoint, Revolute
 from linkwork.planar.structure import Plan, PlanGroup
 
-__all__ = ["Encoded", "covered", "encode", "kinematics_kernel", "run"]
+__all__ = ["Encoded", "covered", "encode", "kernel", "kernel_source", "run"]
 
 # joint kinds
 _R, _P, _S = 0, 1, 2
@@ -99,15 +104,6 @@ def _angle_of(is_b: bool, ta: float, tb: float, rel: float) -> float:
     if is_b:
         return ta + rel
     return tb - rel
-
-
-@njit(cache=True, error_model="numpy")
-def _ends(is_b: bool, qax: float, qay: float, pbx: float, pby: float
-          ) -> tuple[float, float, float, float]:
-    """A joint's point on the known body, then on the body (b if ``is_b``, else a)."""
-    if is_b:
-        return qax, qay, pbx, pby
-    return pbx, pby, qax, qay
 
 
 @njit(cache=True, error_model="numpy")
@@ -236,144 +232,6 @@ def _rotating_line(ax: float, ay: float, alx: float, aly: float, ang: float, h: 
     co, si = math.cos(th), math.sin(th)
     x, y = _origin(co, si, alx, aly, ax, ay)
     return bad, th, co, si, x, y
-
-
-@njit(cache=True, error_model="numpy", inline="always")
-def _positions(st: Any, jt: Any, jf: Any, gf: Any, gi: int, kind: int, b1: int, b2: int,
-               j1: int, j2: int, j3: int, branch: float, q: float) -> tuple[bool, bool]:
-    """The poses of the bodies of group ``gi``; (failed, parallel)."""
-    if kind == _DRIVER:
-        ia, ib = jt[j1, 1], jt[j1, 2]
-        k = ia if b1 == ib else ib
-        sign = 1.0 if b1 == ib else -1.0
-        pkx, pky, pux, puy = _ends(b1 == ib, jf[j1, _QAX], jf[j1, _QAY], jf[j1, _PBX],
-                                   jf[j1, _PBY])
-        rev = jt[j1, 0] == _R
-        th = st[_T, k] + sign * (q if rev else jf[j1, _REL])
-        c, s = math.cos(th), math.sin(th)
-        wx, wy = _wpt(st[_X, k], st[_Y, k], st[_C, k], st[_SN, k], pkx, pky)
-        if not rev:  # the guide's direction in a, turned by a's angle (the one just set if b1
-            # is a)
-            ca, sa = (st[_C, ia], st[_SN, ia]) if b1 == ib else (c, s)
-            ux, uy = _rot(ca, sa, jf[j1, _UX], jf[j1, _UY])
-            wx, wy = wx + sign * q * ux, wy + sign * q * uy
-        x, y = _origin(c, s, pux, puy, wx, wy)
-        st[_T, b1], st[_C, b1], st[_SN, b1], st[_X, b1], st[_Y, b1] = th, c, s, x, y
-        return False, False
-    if kind == _DYAD_R:
-        ia2, ib2 = jt[j2, 1], jt[j2, 2]
-        qax, qay, pbx, pby = jf[j2, _QAX], jf[j2, _QAY], jf[j2, _PBX], jf[j2, _PBY]
-        p1x, p1y = (qax, qay) if b1 == ia2 else (pbx, pby)
-        p2x, p2y = (pbx, pby) if b2 == ib2 else (qax, qay)
-        ia, ib = jt[j1, 1], jt[j1, 2]
-        o = ia if b1 == ib else ib
-        pkx, pky, psx, psy = _ends(b1 == ib, jf[j1, _QAX], jf[j1, _QAY], jf[j1, _PBX],
-                                   jf[j1, _PBY])
-        k1, x1, y1, c1, d1, t1, co1, si1 = _locus(
-            jt[j1, 0] == _R, b1 == ib, st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], st[_T, o],
-            pkx, pky, psx, psy, jf[j1, _UX], jf[j1, _UY], jf[j1, _REL], p1x, p1y, gf[gi, 0])
-        ia, ib = jt[j3, 1], jt[j3, 2]
-        o = ia if b2 == ib else ib
-        pkx, pky, psx, psy = _ends(b2 == ib, jf[j3, _QAX], jf[j3, _QAY], jf[j3, _PBX],
-                                   jf[j3, _PBY])
-        k2, x2, y2, c2, d2, t2, co2, si2 = _locus(
-            jt[j3, 0] == _R, b2 == ib, st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], st[_T, o],
-            pkx, pky, psx, psy, jf[j3, _UX], jf[j3, _UY], jf[j3, _REL], p2x, p2y, gf[gi, 4])
-        bx, by, bad, par = _intersect(k1, x1, y1, c1, d1, k2, x2, y2, c2, d2, branch)
-        st[_T, b1], st[_C, b1], st[_SN, b1], st[_X, b1], st[_Y, b1] = _finish_side(
-            k1, x1, y1, c1, gf[gi, 1], gf[gi, 2], gf[gi, 3], t1, co1, si1, p1x, p1y, bx, by)
-        st[_T, b2], st[_C, b2], st[_SN, b2], st[_X, b2], st[_Y, b2] = _finish_side(
-            k2, x2, y2, c2, gf[gi, 5], gf[gi, 6], gf[gi, 7], t2, co2, si2, p2x, p2y, bx, by)
-        return bad, par
-    if kind == _DYAD_RPR or kind == _DYAD_PP:
-        ga, sb = jt[j2, 1], jt[j2, 2]  # the internal pair's guide and slider bodies
-        rg, rs = (j1, j3) if ga == b1 else (j3, j1)
-        if kind == _DYAD_RPR:  # the guide pinned at A, the slider at C
-            ia, ib = jt[rg, 1], jt[rg, 2]
-            o = ib if ga == ia else ia
-            pkx, pky, alx, aly = _ends(ga != ia, jf[rg, _QAX], jf[rg, _QAY], jf[rg, _PBX],
-                                       jf[rg, _PBY])
-            ax, ay = _wpt(st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], pkx, pky)
-            ia, ib = jt[rs, 1], jt[rs, 2]
-            o = ib if sb == ia else ia
-            pkx, pky, clx, cly = _ends(sb != ia, jf[rs, _QAX], jf[rs, _QAY], jf[rs, _PBX],
-                                       jf[rs, _PBY])
-            cx, cy = _wpt(st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], pkx, pky)
-            cr, sr = jf[j2, _CREL], jf[j2, _SREL]
-            px, py = jf[j2, _PBX] - clx, jf[j2, _PBY] - cly
-            rpx, rpy = cr * px - sr * py, sr * px + cr * py
-            h = (jf[j2, _NLX] * (jf[j2, _QAX] - alx - rpx)
-                 + jf[j2, _NLY] * (jf[j2, _QAY] - aly - rpy))
-            bad, th, c, s, x, y = _rotating_line(ax, ay, alx, aly, jf[j2, _ANG], h, cx, cy,
-                                                 branch)
-            st[_T, ga], st[_C, ga], st[_SN, ga], st[_X, ga], st[_Y, ga] = th, c, s, x, y
-            th = _angle_of(True, th, th, jf[j2, _REL])
-            c, s = math.cos(th), math.sin(th)
-            x, y = _origin(c, s, clx, cly, cx, cy)
-            st[_T, sb], st[_C, sb], st[_SN, sb], st[_X, sb], st[_Y, sb] = th, c, s, x, y
-            return bad, False
-        if jt[rg, 0] == _P:  # both angles from the prismatic pairs, the slider pinned
-            th = _angle_of(ga == jt[rg, 2], st[_T, jt[rg, 1]], st[_T, jt[rg, 2]], jf[rg, _REL])
-            st[_T, ga], st[_C, ga], st[_SN, ga] = th, math.cos(th), math.sin(th)
-            th = _angle_of(True, th, th, jf[j2, _REL])
-            st[_T, sb], st[_C, sb], st[_SN, sb] = th, math.cos(th), math.sin(th)
-            pinned, free, rp, rf = sb, ga, rs, rg
-        else:
-            th = _angle_of(sb == jt[rs, 2], st[_T, jt[rs, 1]], st[_T, jt[rs, 2]], jf[rs, _REL])
-            st[_T, sb], st[_C, sb], st[_SN, sb] = th, math.cos(th), math.sin(th)
-            th = _angle_of(False, th, th, jf[j2, _REL])
-            st[_T, ga], st[_C, ga], st[_SN, ga] = th, math.cos(th), math.sin(th)
-            pinned, free, rp, rf = ga, sb, rg, rs
-        ia, ib = jt[rp, 1], jt[rp, 2]
-        o = ib if pinned == ia else ia
-        pkx, pky, plx, ply = _ends(pinned != ia, jf[rp, _QAX], jf[rp, _QAY], jf[rp, _PBX],
-                                   jf[rp, _PBY])
-        px, py = _wpt(st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], pkx, pky)
-        st[_X, pinned], st[_Y, pinned] = _origin(st[_C, pinned], st[_SN, pinned], plx, ply,
-                                                 px, py)
-        ja, jb = rf, j2
-    elif kind == _SLOT_P:  # one body with a prismatic pair j1 and a pin-in-slot j2
-        free = b1
-        th = _angle_of(b1 == jt[j1, 2], st[_T, jt[j1, 1]], st[_T, jt[j1, 2]], jf[j1, _REL])
-        st[_T, b1], st[_C, b1], st[_SN, b1] = th, math.cos(th), math.sin(th)
-        ja, jb = j1, j2
-    else:  # one body with a revolute pair j1 and a pin-in-slot j2
-        ia, ib = jt[j1, 1], jt[j1, 2]
-        o = ib if b1 == ia else ia
-        pkx, pky, alx, aly = _ends(b1 != ia, jf[j1, _QAX], jf[j1, _QAY], jf[j1, _PBX],
-                                   jf[j1, _PBY])
-        ax, ay = _wpt(st[_X, o], st[_Y, o], st[_C, o], st[_SN, o], pkx, pky)
-        ia, ib = jt[j2, 1], jt[j2, 2]
-        if b1 == ia:  # the body carries the slot; the pin X is known
-            xx, xy = _wpt(st[_X, ib], st[_Y, ib], st[_C, ib], st[_SN, ib], jf[j2, _PBX],
-                          jf[j2, _PBY])
-            h = jf[j2, _NLX] * (jf[j2, _QAX] - alx) + jf[j2, _NLY] * (jf[j2, _QAY] - aly)
-            bad, th, c, s, x, y = _rotating_line(ax, ay, alx, aly, jf[j2, _ANG], h, xx, xy,
-                                                 branch)
-            st[_T, b1], st[_C, b1], st[_SN, b1], st[_X, b1], st[_Y, b1] = th, c, s, x, y
-            return bad, False
-        rad = gf[gi, 0]
-        qx, qy = _wpt(st[_X, ia], st[_Y, ia], st[_C, ia], st[_SN, ia], jf[j2, _QAX],
-                      jf[j2, _QAY])
-        ux, uy = _rot(st[_C, ia], st[_SN, ia], jf[j2, _UX], jf[j2, _UY])
-        bx, by, bad, par = _intersect(0, ax, ay, rad, 0.0, 1, qx, qy, ux, uy, branch)
-        st[_T, b1], st[_C, b1], st[_SN, b1], st[_X, b1], st[_Y, b1] = _finish_side(
-            0, ax, ay, rad, gf[gi, 1], gf[gi, 2], gf[gi, 3], 0.0, 1.0, 0.0, jf[j2, _PBX],
-            jf[j2, _PBY], bx, by)
-        return bad, par
-    # the free body's origin on the line conditions of joints ja and jb (its angle known)
-    ia, ib = jt[ja, 1], jt[ja, 2]
-    n1x, n1y, c1 = _line_condition(
-        free == ia, st[_X, ia], st[_Y, ia], st[_C, ia], st[_SN, ia], st[_X, ib], st[_Y, ib],
-        st[_C, ib], st[_SN, ib], jf[ja, _QAX], jf[ja, _QAY], jf[ja, _PBX], jf[ja, _PBY],
-        jf[ja, _UX], jf[ja, _UY])
-    ia, ib = jt[jb, 1], jt[jb, 2]
-    n2x, n2y, c2 = _line_condition(
-        free == ia, st[_X, ia], st[_Y, ia], st[_C, ia], st[_SN, ia], st[_X, ib], st[_Y, ib],
-        st[_C, ib], st[_SN, ib], jf[jb, _QAX], jf[jb, _QAY], jf[jb, _PBX], jf[jb, _PBY],
-        jf[jb, _UX], jf[jb, _UY])
-    st[_X, free], st[_Y, free], par = _two_lines(n1x, n1y, c1, n2x, n2y, c2)
-    return par, par
 
 
 # ---------------------------------------------------------------------------------------------
@@ -576,157 +434,297 @@ def _cramer(a11: float, a12: float, r1: float, a21: float, a22: float, r2: float
     return (r1 * a22 - r2 * a12) * inv, (a11 * r2 - a21 * r1) * inv
 
 
-@njit(cache=True, error_model="numpy", inline="always")
-def _rates(st: Any, jt: Any, jf: Any, kind: int, b1: int, b2: int, j1: int, j2: int,
-           j3: int, w1: float, e1: float, scale: float) -> None:
-    """Velocities and accelerations of the bodies of a group (those before it known)."""
-    ia, ib = jt[j1, 1], jt[j1, 2]
-    k = ia if b1 == ib else ib
-    if kind == _DRIVER and jt[j1, 0] == _R:  # the crank: closed form
-        sign = 1.0 if b1 == ib else -1.0
-        pkx, pky, pux, puy = _ends(b1 == ib, jf[j1, _QAX], jf[j1, _QAY], jf[j1, _PBX],
-                                   jf[j1, _PBY])
-        w = st[_W, k] + sign * w1
-        e = st[_E, k] + sign * e1
-        st[_W, b1], st[_E, b1] = w, e
-        rx, ry = _rot(st[_C, k], st[_SN, k], pkx, pky)
-        wk, ek = st[_W, k], st[_E, k]
-        vpx, vpy = st[_VX, k] - wk * ry, st[_VY, k] + wk * rx
-        apx = st[_AX, k] - ek * ry - wk * wk * rx
-        apy = st[_AY, k] + ek * rx - wk * wk * ry
-        rx, ry = _rot(st[_C, b1], st[_SN, b1], pux, puy)
-        st[_VX, b1], st[_VY, b1] = vpx + w * ry, vpy - w * rx
-        st[_AX, b1] = apx + e * ry + w * w * rx
-        st[_AY, b1] = apy - e * rx + w * w * ry
+# ---------------------------------------------------------------------------------------------
+# the kernel, generated per plan structure (:mod:`~linkwork.planar.compiled.codegen`): the
+# writers below take every decision of the structure (joint kinds, bodies, group kinds) and
+# write the helpers' calls with their constants; a body's state is the local variables
+# x<b> y<b> t<b> c<b> s<b> vx<b> vy<b> w<b> ax<b> ay<b> e<b>, a joint's geometry j<q>_<field>,
+# a group's g<gi>_<column>, read once per design
+_JFIELDS = ("qax", "qay", "pbx", "pby", "ang", "ux", "uy", "rel", "crel", "srel", "nlx", "nly")
+_STATE = ("x", "y", "t", "c", "s", "vx", "vy", "w", "ax", "ay", "e")
+_HELPERS = ("_wpt", "_origin", "_rot", "_locus", "_intersect", "_finish_side",
+            "_rotating_line", "_line_condition", "_two_lines", "_hang", "_known", "_with_z",
+            "_velocity", "_acceleration", "_closure", "_cramer")
+
+
+def _j(q: int, field: str) -> str:
+    return f"j{q}_{field}"
+
+
+def _pose(b: int) -> str:
+    """A body's pose as the helpers take it: x, y, cos, sin."""
+    return f"x{b}, y{b}, c{b}, s{b}"
+
+
+def _ends_of(is_b: bool, q: int) -> tuple[str, str, str, str]:
+    """``_ends``: the joint's point on the known body, then on the body (b if ``is_b``)."""
+    qa, pb = (_j(q, "qax"), _j(q, "qay")), (_j(q, "pbx"), _j(q, "pby"))
+    return (*qa, *pb) if is_b else (*pb, *qa)
+
+
+def _write_positions(src: Source, jt: np.ndarray, gi: int, row: Any) -> None:
+    """The poses of the bodies of group ``gi`` (``_positions`` of the interpreter, its
+    branches taken here); sets ``f<gi>, par<gi>`` (failed, parallel)."""
+    kind, b1, b2, j1, j2, j3 = (int(v) for v in row)
+    g = f"g{gi}_"
+    if kind == _DRIVER:
+        ia, ib = int(jt[j1, 1]), int(jt[j1, 2])
+        is_b = b1 == ib
+        k = ia if is_b else ib
+        sign = 1.0 if is_b else -1.0
+        pkx, pky, pux, puy = _ends_of(is_b, j1)
+        rev = jt[j1, 0] == _R
+        src(f"th = t{k} + {sign!r} * ({'qk' if rev else _j(j1, 'rel')})",
+            "cc, ss = math.cos(th), math.sin(th)",
+            f"wx, wy = _wpt({_pose(k)}, {pkx}, {pky})")
+        if not rev:  # the guide's direction in a, turned by a's angle
+            ca = f"c{ia}, s{ia}" if is_b else "cc, ss"
+            src(f"ux, uy = _rot({ca}, {_j(j1, 'ux')}, {_j(j1, 'uy')})",
+                f"wx, wy = wx + {sign!r} * qk * ux, wy + {sign!r} * qk * uy")
+        src(f"x, y = _origin(cc, ss, {pux}, {puy}, wx, wy)",
+            f"t{b1}, c{b1}, s{b1}, x{b1}, y{b1} = th, cc, ss, x, y",
+            f"f{gi} = par{gi} = False")
         return
-    pkx, pky = (jf[j1, _QAX], jf[j1, _QAY]) if k == ia else (jf[j1, _PBX], jf[j1, _PBY])
-    p0 = _hang(jt[j1, 0] == _R, st[_X, k], st[_Y, k], st[_C, k], st[_SN, k], st[_VX, k],
-               st[_VY, k], st[_W, k], st[_AX, k], st[_AY, k], st[_E, k], pkx, pky,
-               st[_C, ia], st[_SN, ia], jf[j1, _UX], jf[j1, _UY])
-    x1, y1 = st[_X, b1], st[_Y, b1]
+    if kind == _DYAD_R:
+        p1 = (_j(j2, "qax"), _j(j2, "qay")) if b1 == jt[j2, 1] else (_j(j2, "pbx"), _j(j2, "pby"))
+        p2 = (_j(j2, "pbx"), _j(j2, "pby")) if b2 == jt[j2, 2] else (_j(j2, "qax"), _j(j2, "qay"))
+        ks = []
+        for side, (b, jj, p, rad) in enumerate(((b1, j1, p1, 0), (b2, j3, p2, 4)), start=1):
+            ia, ib = int(jt[jj, 1]), int(jt[jj, 2])
+            o = ia if b == ib else ib
+            pkx, pky, psx, psy = _ends_of(b == ib, jj)
+            rev = bool(jt[jj, 0] == _R)
+            ks.append(0 if rev else 1)
+            src(f"_, lx{side}, ly{side}, lc{side}, ld{side}, lt{side}, lco{side}, lsi{side} = "
+                f"_locus({rev}, {b == ib}, {_pose(o)}, t{o}, {pkx}, {pky}, {psx}, {psy}, "
+                f"{_j(jj, 'ux')}, {_j(jj, 'uy')}, {_j(jj, 'rel')}, {p[0]}, {p[1]}, {g}{rad})")
+        src(f"bx, by, f{gi}, par{gi} = _intersect({ks[0]}, lx1, ly1, lc1, ld1, {ks[1]}, lx2, "
+            f"ly2, lc2, ld2, br{gi})")
+        for side, (b, p, col) in enumerate(((b1, p1, 1), (b2, p2, 5)), start=1):
+            src(f"t{b}, c{b}, s{b}, x{b}, y{b} = _finish_side({ks[side - 1]}, lx{side}, "
+                f"ly{side}, lc{side}, {g}{col}, {g}{col + 1}, {g}{col + 2}, lt{side}, "
+                f"lco{side}, lsi{side}, {p[0]}, {p[1]}, bx, by)")
+        return
+    if kind in (_DYAD_RPR, _DYAD_PP):
+        ga, sb = int(jt[j2, 1]), int(jt[j2, 2])  # the internal pair's guide and slider bodies
+        rg, rs = (j1, j3) if ga == b1 else (j3, j1)
+        if kind == _DYAD_RPR:  # the guide pinned at A, the slider at C
+            ia, ib = int(jt[rg, 1]), int(jt[rg, 2])
+            o = ib if ga == ia else ia
+            pkx, pky, alx, aly = _ends_of(ga != ia, rg)
+            src(f"ax_, ay_ = _wpt({_pose(o)}, {pkx}, {pky})")
+            ia, ib = int(jt[rs, 1]), int(jt[rs, 2])
+            o = ib if sb == ia else ia
+            pkx, pky, clx, cly = _ends_of(sb != ia, rs)
+            src(f"cx, cy = _wpt({_pose(o)}, {pkx}, {pky})",
+                f"cr, sr = {_j(j2, 'crel')}, {_j(j2, 'srel')}",
+                f"px, py = {_j(j2, 'pbx')} - {clx}, {_j(j2, 'pby')} - {cly}",
+                "rpx, rpy = cr * px - sr * py, sr * px + cr * py",
+                f"h = ({_j(j2, 'nlx')} * ({_j(j2, 'qax')} - {alx} - rpx) + {_j(j2, 'nly')} * "
+                f"({_j(j2, 'qay')} - {aly} - rpy))",
+                f"f{gi}, th, cc, ss, x, y = _rotating_line(ax_, ay_, {alx}, {aly}, "
+                f"{_j(j2, 'ang')}, h, cx, cy, br{gi})",
+                f"t{ga}, c{ga}, s{ga}, x{ga}, y{ga} = th, cc, ss, x, y",
+                f"th = th + {_j(j2, 'rel')}",
+                "cc, ss = math.cos(th), math.sin(th)",
+                f"x, y = _origin(cc, ss, {clx}, {cly}, cx, cy)",
+                f"t{sb}, c{sb}, s{sb}, x{sb}, y{sb} = th, cc, ss, x, y",
+                f"par{gi} = False")
+            return
+        if jt[rg, 0] == _P:  # both angles from the prismatic pairs, the slider pinned
+            src(f"th = {_angle_expr(ga == jt[rg, 2], jt[rg], rg)}",
+                f"t{ga}, c{ga}, s{ga} = th, math.cos(th), math.sin(th)",
+                f"th = th + {_j(j2, 'rel')}",
+                f"t{sb}, c{sb}, s{sb} = th, math.cos(th), math.sin(th)")
+            pinned, free, rp, rf = sb, ga, rs, rg
+        else:
+            src(f"th = {_angle_expr(sb == jt[rs, 2], jt[rs], rs)}",
+                f"t{sb}, c{sb}, s{sb} = th, math.cos(th), math.sin(th)",
+                f"th = th - {_j(j2, 'rel')}",
+                f"t{ga}, c{ga}, s{ga} = th, math.cos(th), math.sin(th)")
+            pinned, free, rp, rf = ga, sb, rg, rs
+        ia, ib = int(jt[rp, 1]), int(jt[rp, 2])
+        o = ib if pinned == ia else ia
+        pkx, pky, plx, ply = _ends_of(pinned != ia, rp)
+        src(f"px, py = _wpt({_pose(o)}, {pkx}, {pky})",
+            f"x{pinned}, y{pinned} = _origin(c{pinned}, s{pinned}, {plx}, {ply}, px, py)")
+        ja, jb = rf, j2
+    elif kind == _SLOT_P:  # one body with a prismatic pair j1 and a pin-in-slot j2
+        free = b1
+        src(f"th = {_angle_expr(b1 == jt[j1, 2], jt[j1], j1)}",
+            f"t{b1}, c{b1}, s{b1} = th, math.cos(th), math.sin(th)")
+        ja, jb = j1, j2
+    else:  # one body with a revolute pair j1 and a pin-in-slot j2
+        ia, ib = int(jt[j1, 1]), int(jt[j1, 2])
+        o = ib if b1 == ia else ia
+        pkx, pky, alx, aly = _ends_of(b1 != ia, j1)
+        src(f"ax_, ay_ = _wpt({_pose(o)}, {pkx}, {pky})")
+        ia, ib = int(jt[j2, 1]), int(jt[j2, 2])
+        if b1 == ia:  # the body carries the slot; the pin X is known
+            src(f"xx, xy = _wpt({_pose(ib)}, {_j(j2, 'pbx')}, {_j(j2, 'pby')})",
+                f"h = {_j(j2, 'nlx')} * ({_j(j2, 'qax')} - {alx}) + {_j(j2, 'nly')} * "
+                f"({_j(j2, 'qay')} - {aly})",
+                f"f{gi}, th, cc, ss, x, y = _rotating_line(ax_, ay_, {alx}, {aly}, "
+                f"{_j(j2, 'ang')}, h, xx, xy, br{gi})",
+                f"t{b1}, c{b1}, s{b1}, x{b1}, y{b1} = th, cc, ss, x, y",
+                f"par{gi} = False")
+            return
+        src(f"qx, qy = _wpt({_pose(ia)}, {_j(j2, 'qax')}, {_j(j2, 'qay')})",
+            f"ux, uy = _rot(c{ia}, s{ia}, {_j(j2, 'ux')}, {_j(j2, 'uy')})",
+            f"bx, by, f{gi}, par{gi} = _intersect(0, ax_, ay_, {g}0, 0.0, 1, qx, qy, ux, uy, "
+            f"br{gi})",
+            f"t{b1}, c{b1}, s{b1}, x{b1}, y{b1} = _finish_side(0, ax_, ay_, {g}0, {g}1, {g}2, "
+            f"{g}3, 0.0, 1.0, 0.0, {_j(j2, 'pbx')}, {_j(j2, 'pby')}, bx, by)")
+        return
+    # the free body's origin on the line conditions of joints ja and jb (its angle known)
+    for k, jj in enumerate((ja, jb), start=1):
+        ia, ib = int(jt[jj, 1]), int(jt[jj, 2])
+        src(f"n{k}x, n{k}y, c{k}_ = _line_condition({free == ia}, {_pose(ia)}, {_pose(ib)}, "
+            f"{_j(jj, 'qax')}, {_j(jj, 'qay')}, {_j(jj, 'pbx')}, {_j(jj, 'pby')}, "
+            f"{_j(jj, 'ux')}, {_j(jj, 'uy')})")
+    src(f"x{free}, y{free}, par{gi} = _two_lines(n1x, n1y, c1_, n2x, n2y, c2_)",
+        f"f{gi} = par{gi}")
+
+
+def _angle_expr(is_b: bool, jrow: Any, q: int) -> str:
+    """``_angle_of``: the angle of a body fixed by the prismatic pair ``q`` to its other body
+    (the body is b if ``is_b``: a's angle plus the relative angle; else b's minus it)."""
+    return f"t{int(jrow[1])} + {_j(q, 'rel')}" if is_b else f"t{int(jrow[2])} - {_j(q, 'rel')}"
+
+
+def _write_rates(src: Source, jt: np.ndarray, row: Any) -> None:
+    """Velocities and accelerations of the bodies of a group (``_rates`` of the interpreter,
+    its branches taken here)."""
+    kind, b1, b2, j1, j2, j3 = (int(v) for v in row)
+    ia, ib = int(jt[j1, 1]), int(jt[j1, 2])
+    k = ia if b1 == ib else ib
+    sign = 1.0 if b1 == ib else -1.0
+    if kind == _DRIVER and jt[j1, 0] == _R:  # the crank: closed form
+        pkx, pky, pux, puy = _ends_of(b1 == ib, j1)
+        src(f"w_ = w{k} + {sign!r} * wk",
+            f"e_ = e{k} + {sign!r} * ek",
+            f"w{b1}, e{b1} = w_, e_",
+            f"rx, ry = _rot(c{k}, s{k}, {pkx}, {pky})",
+            f"vpx, vpy = vx{k} - w{k} * ry, vy{k} + w{k} * rx",
+            f"apx = ax{k} - e{k} * ry - w{k} * w{k} * rx",
+            f"apy = ay{k} + e{k} * rx - w{k} * w{k} * ry",
+            f"rx, ry = _rot(c{b1}, s{b1}, {pux}, {puy})",
+            f"vx{b1}, vy{b1} = vpx + w_ * ry, vpy - w_ * rx",
+            f"ax{b1} = apx + e_ * ry + w_ * w_ * rx",
+            f"ay{b1} = apy - e_ * rx + w_ * w_ * ry")
+        return
+
+    def hang(name: str, jj: int, b: int) -> None:
+        ia, ib = int(jt[jj, 1]), int(jt[jj, 2])
+        k = ia if b == ib else ib
+        pkx, pky = (_j(jj, "qax"), _j(jj, "qay")) if k == ia else (_j(jj, "pbx"), _j(jj, "pby"))
+        src(f"{name} = _hang({bool(jt[jj, 0] == _R)}, {_pose(k)}, vx{k}, vy{k}, w{k}, ax{k}, "
+            f"ay{k}, e{k}, {pkx}, {pky}, c{ia}, s{ia}, {_j(jj, 'ux')}, {_j(jj, 'uy')})")
+
+    hang("p0", j1, b1)
     if kind == _DRIVER:  # a linear driver: hung
-        sign = 1.0 if b1 == ib else -1.0
-        p0 = _with_z(p0, sign * w1)
-        st[_VX, b1], st[_VY, b1], st[_W, b1] = _velocity(p0, x1, y1)
-        st[_AX, b1], st[_AY, b1], st[_E, b1] = _acceleration(p0, sign * e1, x1, y1)
+        src(f"p0 = _with_z(p0, {sign!r} * wk)",
+            f"vx{b1}, vy{b1}, w{b1} = _velocity(p0, x{b1}, y{b1})",
+            f"ax{b1}, ay{b1}, e{b1} = _acceleration(p0, {sign!r} * ek, x{b1}, y{b1})")
         return
     n_unk = 1 if kind >= _SLOT_R else 2
-    p1 = p0
     if n_unk == 2:
-        ia, ib = jt[j3, 1], jt[j3, 2]
-        k = ia if b2 == ib else ib
-        pkx, pky = (jf[j3, _QAX], jf[j3, _QAY]) if k == ia else (jf[j3, _PBX], jf[j3, _PBY])
-        p1 = _hang(jt[j3, 0] == _R, st[_X, k], st[_Y, k], st[_C, k], st[_SN, k], st[_VX, k],
-                   st[_VY, k], st[_W, k], st[_AX, k], st[_AY, k], st[_E, k], pkx, pky,
-                   st[_C, ia], st[_SN, ia], jf[j3, _UX], jf[j3, _UY])
-    ia, ib = jt[j2, 1], jt[j2, 2]  # the closure joint j2: the unknowns of its bodies
+        hang("p1", j3, b2)
+    else:
+        src("p1 = p0")
+    ia, ib = int(jt[j2, 1]), int(jt[j2, 2])  # the closure joint j2: the unknowns of its bodies
     sa = 0 if ia == b1 else (1 if n_unk == 2 and ia == b2 else 2)
     sb = 0 if ib == b1 else (1 if n_unk == 2 and ib == b2 else 2)
-    pa = p0 if sa == 0 else (p1 if sa == 1 else _known(
-        st[_X, ia], st[_Y, ia], st[_VX, ia], st[_VY, ia], st[_W, ia], st[_AX, ia],
-        st[_AY, ia], st[_E, ia]))
-    pb = p0 if sb == 0 else (p1 if sb == 1 else _known(
-        st[_X, ib], st[_Y, ib], st[_VX, ib], st[_VY, ib], st[_W, ib], st[_AX, ib],
-        st[_AY, ib], st[_E, ib]))
-    jk = jt[j2, 0]
-    px, py = _wpt(st[_X, ib], st[_Y, ib], st[_C, ib], st[_SN, ib], jf[j2, _PBX], jf[j2, _PBY])
-    ux, uy = _rot(st[_C, ia], st[_SN, ia], jf[j2, _UX], jf[j2, _UY])
-    a11, a12, r1, a21, a22, r2 = _closure(jk, px, py, ux, uy, pa, sa, pb, sb, False)
-    z0, z1 = _cramer(a11, a12, r1, a21, a22, r2, n_unk, scale)
-    p0 = _with_z(p0, z0)
-    st[_VX, b1], st[_VY, b1], st[_W, b1] = _velocity(p0, x1, y1)
+    for name, s, body in (("pa", sa, ia), ("pb", sb, ib)):
+        src(f"{name} = " + (f"p{s}" if s < 2 else
+                            f"_known(x{body}, y{body}, vx{body}, vy{body}, w{body}, ax{body}, "
+                            f"ay{body}, e{body})"))
+    jk = int(jt[j2, 0])
+    src(f"px, py = _wpt({_pose(ib)}, {_j(j2, 'pbx')}, {_j(j2, 'pby')})",
+        f"ux, uy = _rot(c{ia}, s{ia}, {_j(j2, 'ux')}, {_j(j2, 'uy')})",
+        f"a11, a12, r1, a21, a22, r2 = _closure({jk}, px, py, ux, uy, pa, {sa}, pb, {sb}, "
+        "False)",
+        f"z0, z1 = _cramer(a11, a12, r1, a21, a22, r2, {n_unk}, L)",
+        "p0 = _with_z(p0, z0)",
+        f"vx{b1}, vy{b1}, w{b1} = _velocity(p0, x{b1}, y{b1})")
     if n_unk == 2:
-        p1 = _with_z(p1, z1)
-        st[_VX, b2], st[_VY, b2], st[_W, b2] = _velocity(p1, st[_X, b2], st[_Y, b2])
-    pa = p0 if sa == 0 else (p1 if sa == 1 else pa)
-    pb = p0 if sb == 0 else (p1 if sb == 1 else pb)
-    a11, a12, r1, a21, a22, r2 = _closure(jk, px, py, ux, uy, pa, sa, pb, sb, True)
-    zd0, zd1 = _cramer(a11, a12, r1, a21, a22, r2, n_unk, scale)
-    st[_AX, b1], st[_AY, b1], st[_E, b1] = _acceleration(p0, zd0, x1, y1)
+        src("p1 = _with_z(p1, z1)",
+            f"vx{b2}, vy{b2}, w{b2} = _velocity(p1, x{b2}, y{b2})")
+    if sa < 2:
+        src(f"pa = p{sa}")
+    if sb < 2:
+        src(f"pb = p{sb}")
+    src(f"a11, a12, r1, a21, a22, r2 = _closure({jk}, px, py, ux, uy, pa, {sa}, pb, {sb}, "
+        "True)",
+        f"zd0, zd1 = _cramer(a11, a12, r1, a21, a22, r2, {n_unk}, L)",
+        f"ax{b1}, ay{b1}, e{b1} = _acceleration(p0, zd0, x{b1}, y{b1})")
     if n_unk == 2:
-        st[_AX, b2], st[_AY, b2], st[_E, b2] = _acceleration(p1, zd1, st[_X, b2], st[_Y, b2])
+        src(f"ax{b2}, ay{b2}, e{b2} = _acceleration(p1, zd1, x{b2}, y{b2})")
 
 
-# ---------------------------------------------------------------------------------------------
-# the kernel
-def _data_typing(typingctx: Any, arr: Any) -> Any:
-    """The data pointer of an array (for a :func:`numba.carray` view over it: a view that
-    holds no reference, so numba adjusts no reference count where it is handed on)."""
-    sig = types.CPointer(arr.dtype)(arr)
+def kernel_source(jt: np.ndarray, gt: np.ndarray, nb: int) -> str:
+    """The source of the kernel of a plan structure (joint table ``jt``, group table ``gt``,
+    ``nb`` bodies): ``kernel(jf, gf, br, scale, q, w, e, out, pos_bad, bad, failed,
+    parallel)`` with the arguments of :func:`run`'s call."""
+    src = Source()
+    src(f"# generated by linkwork.planar.compiled.kinematics; helpers {_helpers_hash()}",
+        "import math",
+        "from numba import njit",
+        f"from linkwork.planar.compiled.kinematics import {', '.join(_HELPERS)}",
+        "",
+        "",
+        '@njit(cache=True, error_model="numpy")',
+        "def kernel(jf, gf, br, scale, q, w, e, out, pos_bad, bad, failed, parallel):")
+    src.indent()
+    src("m, n = q.shape",
+        "for i in range(m):")
+    src.indent()
+    for q in range(jt.shape[0]):
+        src(", ".join(_j(q, f) for f in _JFIELDS) + " = "
+            + ", ".join(f"jf[i, {q}, {c}]" for c in range(_NJF)))
+    for gi in range(gt.shape[0]):
+        src(", ".join(f"g{gi}_{c}" for c in range(8)) + " = "
+            + ", ".join(f"gf[i, {gi}, {c}]" for c in range(8)),
+            f"br{gi} = float(br[i, {gi}])")
+    src("L = scale[i]",
+        "for k in range(n):")
+    src.indent()
+    src("qk, wk, ek = q[i, k], w[i, k], e[i, k]")
+    # every body's state starts at the frame's (the frame: at rest at the origin); a body's
+    # rows are set by its group before they are read, except the unknown position of a body
+    # on two lines, handed to _line_condition, which does not read it
+    for b in range(nb):
+        src(" = ".join(f"{f}{b}" for f in _STATE if f != "c") + " = 0.0", f"c{b} = 1.0")
+    src("fail = False")
+    for gi, row in enumerate(gt):
+        _write_positions(src, jt, gi, row)
+        src(f"if par{gi}:", f"    parallel[{gi}] = True",
+            f"if f{gi} and not fail:", f"    failed[{gi}] = True", "    fail = True")
+    for row in gt:
+        _write_rates(src, jt, row)
+    src("b = fail" + "".join(f" or not math.isfinite(w{b})" for b in range(1, nb)),
+        "pos_bad[i, k] = fail",
+        "bad[i, k] = b",
+        "if b:",
+        "    out[:, :, i, k] = math.nan",
+        "else:")
+    src.indent()
+    for b in range(nb):
+        src(*(f"out[{r}, {b}, i, k] = {f}{b}" for r, f in enumerate(
+            ("x", "y", "t", "vx", "vy", "w", "ax", "ay", "e"))))
+    return src.text()
 
-    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
-        ary = context.make_array(signature.args[0])(context, builder, value=args[0])
-        return ary.data
-    return sig, codegen
+
+def _helpers_hash() -> str:
+    return fingerprint(sys.modules[__name__])
 
 
-_data: Any = intrinsic(_data_typing)
-
-
-@njit(cache=True, error_model="numpy")
-def kinematics_kernel(jt: Any, jf: Any, gt: Any, gf: Any, br: Any, scale: Any, q: Any,
-                      w: Any, e: Any, out: Any, pos_bad: Any, bad: Any, failed: Any,
-                      parallel: Any) -> None:
-    """Positions, velocities and accelerations of every (design ``i``, position ``k``)
-    element.
-
-    ``jt`` (nj, 3) joints' kind, body a, body b; ``jf`` (m, nj, 12) their geometry per design;
-    ``gt`` (ng, 6) groups' kind, bodies, joints; ``gf`` (m, ng, 8) the groups' constant
-    geometry per design (:func:`_group_geometry`); ``br`` (m, ng) branches; ``scale`` (m,)
-    length scales; ``q, w, e`` (m, n) the driver's coordinate, speed, acceleration; written:
-    ``out`` (9, nb, m, n), ``pos_bad, bad`` (m, n), ``failed, parallel`` (ng,) flags. ``jt``
-    and each design's block of ``jf`` and ``gf`` are C-contiguous (read through their data
-    pointers)."""
-    nb = out.shape[1]
-    m, n = q.shape
-    ng = gt.shape[0]
-    # the state and the tables as views that hold no reference: numba adjusts the reference
-    # count of every array handed to the inlined per-group functions otherwise (measured: ~10%
-    # of the kernel's time); ``state`` is kept alive by its use after the loops
-    state = np.zeros((11, nb))
-    st = carray(_data(state), (11, nb))
-    jt = carray(_data(jt), jt.shape)
-    nj = jf.shape[1]
-    for i in range(m):
-        jfi = carray(_data(jf[i]), (nj, _NJF))
-        gfi = carray(_data(gf[i]), (ng, 8))
-        L = scale[i]
-        for k in range(n):
-            st[_C, 0] = 1.0
-            fail = False
-            for gi in range(ng):
-                f, par = _positions(st, jt, jfi, gfi, gi, gt[gi, 0], gt[gi, 1], gt[gi, 2],
-                                    gt[gi, 3], gt[gi, 4], gt[gi, 5], float(br[i, gi]),
-                                    q[i, k])
-                if par:
-                    parallel[gi] = True
-                if f and not fail:
-                    failed[gi] = True
-                    fail = True
-            for gi in range(ng):
-                kind = gt[gi, 0]
-                _rates(st, jt, jfi, kind, gt[gi, 1], gt[gi, 2], gt[gi, 3], gt[gi, 4],
-                       gt[gi, 5], w[i, k], e[i, k], L)
-            b = fail
-            for body in range(1, nb):
-                if not math.isfinite(st[_W, body]):
-                    b = True
-            pos_bad[i, k] = fail
-            bad[i, k] = b
-            if b:
-                out[:, :, i, k] = math.nan
-            else:
-                for body in range(nb):
-                    out[0, body, i, k] = st[_X, body]
-                    out[1, body, i, k] = st[_Y, body]
-                    out[2, body, i, k] = st[_T, body]
-                    out[3, body, i, k] = st[_VX, body]
-                    out[4, body, i, k] = st[_VY, body]
-                    out[5, body, i, k] = st[_W, body]
-                    out[6, body, i, k] = st[_AX, body]
-                    out[7, body, i, k] = st[_AY, body]
-                    out[8, body, i, k] = st[_E, body]
-    state[_C, 0] = 1.0  # the state's buffer alive until here (``st`` holds no reference)
+def kernel(enc: Encoded) -> Any:
+    """The compiled kernel of ``enc``'s plan structure (generated, compiled and cached once
+    per structure: :mod:`~linkwork.planar.compiled.codegen`)."""
+    if enc.kernel is None:
+        enc.kernel = load("kinematics", kernel_source(enc.jt, enc.gt, enc.nb))
+    return enc.kernel
 
 
 # ---------------------------------------------------------------------------------------------
@@ -736,13 +734,15 @@ class Encoded:
     nj, 12), group table ``gt`` (ng, 6), group geometry ``gf`` (m, ng, 8), length scales (m,),
     the groups' keys in order."""
 
-    __slots__ = ("gf", "gt", "jf", "jt", "keys", "m", "scale")
+    __slots__ = ("gf", "gt", "jf", "jt", "kernel", "keys", "m", "nb", "scale")
 
     def __init__(self, jt: np.ndarray, jf: np.ndarray, gt: np.ndarray, gf: np.ndarray,
-                 scale: np.ndarray, keys: tuple[str, ...]) -> None:
+                 scale: np.ndarray, keys: tuple[str, ...], nb: int) -> None:
         self.jt, self.jf, self.gt, self.gf, self.scale = jt, jf, gt, gf, scale
         self.keys = keys
         self.m = jf.shape[0]
+        self.nb = nb
+        self.kernel: Any = None  # generated at the first run (:func:`kernel`)
 
 
 _CACHE: weakref.WeakKeyDictionary[Plan, Encoded | None] = weakref.WeakKeyDictionary()
@@ -848,7 +848,7 @@ def _encode(plan: Plan) -> Encoded | None:
     gf = _group_geometry(jf, gt, jt)
     if gf is None:
         return None
-    return Encoded(jt, jf, gt, gf, scale, tuple(g.key for g in plan.groups))
+    return Encoded(jt, jf, gt, gf, scale, tuple(g.key for g in plan.groups), plan.nb)
 
 
 def run(enc: Encoded, branches: dict[str, Any], q: np.ndarray, w: np.ndarray, e: np.ndarray,
@@ -869,7 +869,6 @@ def run(enc: Encoded, branches: dict[str, Any], q: np.ndarray, w: np.ndarray, e:
         jf = np.broadcast_to(jf, (m, *jf.shape[1:]))
         gf = np.broadcast_to(gf, (m, *gf.shape[1:]))
         scale = np.broadcast_to(scale, (m,))
-    kinematics_kernel(enc.jt, jf, enc.gt, gf, br, scale, q, w, e, out, pos_bad, bad, failed,
-                      parallel)
+    kernel(enc)(jf, gf, br, scale, q, w, e, out, pos_bad, bad, failed, parallel)
     return (pos_bad, bad, {k for k, f in zip(enc.keys, failed, strict=True) if f},
             {k for k, f in zip(enc.keys, parallel, strict=True) if f})
