@@ -11,6 +11,12 @@ the reaction points and the shaking force and moment. The conventions, formulas 
 operations are those of the NumPy path, which stays the reference: the two agree to rounding
 (numba's ``cos``/``sin`` may differ from NumPy's in the last bit).
 
+The kernel is generated per plan structure (:func:`kernel_source`, compiled and cached once
+per structure by :mod:`~linkwork.planar.compiled.codegen`): the loops over the bodies, groups
+and joints are unrolled while the source is written and every decision of the structure is
+taken there, so the bodies' cos, sin and unbalanced loads and the joints' reactions are local
+variables; the masses and the joints' geometry are read from the tables per design.
+
 Compiled plans (:func:`encode` gives None for any other, and the NumPy path runs):
 
 * joints: :class:`~linkwork.planar.joints.Revolute`, :class:`~linkwork.planar.joints.Prismatic`
@@ -30,7 +36,7 @@ backend is asked for.
 
 from __future__ import annotations
 
-import math
+import sys
 import weakref
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -39,16 +45,14 @@ from typing import Any
 import numpy as np
 
 from linkwork.planar.compiled import numba_module
+from linkwork.planar.compiled.codegen import Source, fingerprint, load
 from linkwork.planar.joints import PinInSlot, Prismatic, Revolute
 from linkwork.planar.state import Arr
 from linkwork.planar.structure import HUNG
 
-__all__ = ["Encoded", "encode", "load_resultants", "solve"]
+__all__ = ["Encoded", "encode", "kernel", "kernel_source", "load_resultants", "solve"]
 
 _numba = numba_module()
-#: the kernels' compilation: cached on disk, IEEE arithmetic (no fastmath), NumPy's error
-#: model (a division by zero gives inf or NaN, as in the NumPy path, not an exception)
-_jit = _numba.njit(cache=True, fastmath=False, error_model="numpy")
 #: the kernel's helpers: inlined into it by numba (they take numbers only, see below)
 _inline = _numba.njit(cache=True, fastmath=False, error_model="numpy", inline="always")
 
@@ -224,13 +228,13 @@ def solve(enc: Encoded, kin: Any, gravity: tuple[float, float], about: tuple[flo
     cos, sin = (_NO_COS_SIN, _NO_COS_SIN) if cs is None else (
         np.ascontiguousarray(v, dtype=float).reshape(enc.nb, N) for v in cs)
     index = kin.mechanism.index
+    run = kernel(enc)
     for lo, hi in steps:
         fl = (load_resultants(enc, index, applied, about, arrs[0], arrs[1], slice(lo, hi))
               if wrenches else _NO_LOADS)
-        _kernel(*arrs, n, enc.mass, enc.inertia, enc.comx, enc.comy, enc.jt, enc.ja, enc.jb,
-                enc.jd, enc.geo, enc.gk, enc.gj, enc.gb, enc.dk, enc.scale,
-                float(gravity[0]), float(gravity[1]), float(about[0]), float(about[1]),
-                fl, cos, sin, lo, hi, *rows)
+        run(*arrs, n, enc.mass, enc.inertia, enc.comx, enc.comy, enc.geo, enc.scale,
+            float(gravity[0]), float(gravity[1]), float(about[0]), float(about[1]),
+            fl, cos, sin, lo, hi, *rows)
     return out
 
 
@@ -239,232 +243,246 @@ _NO_COS_SIN = np.zeros((0, 0))
 
 
 # ---------------------------------------------------------------------------------------------
-# the kernel: one element at a time. Its helpers take and return numbers only: a helper
-# taking arrays, even inlined, costs a reference count taken and released per array and call
-# (0.4-0.7 us per element of the four-bar against 0.17 without)
+# the kernel's one helper: it takes and returns numbers only (a helper taking arrays, even
+# inlined, costs a reference count taken and released per array and call)
 @_inline
 def _rot(c: float, s: float, x: float, y: float) -> tuple[float, float]:
     """A local vector (x, y) of a body at angle (cos, sin) = (c, s), in frame axes."""
     return c * x - s * y, s * x + c * y
 
 
-@_inline
-def _direction(rev: float, v0: float, v1: float, x: float, y: float) -> tuple[float, float]:
-    """The velocity of the world point (x, y) of a hung body per unit of its unknown rate:
-    turning about the pivot (v0, v1) (``rev`` 1) or sliding along (v0, v1) (``rev`` 0)."""
-    if rev > 0.0:
-        return -(y - v1), x - v0
-    return v0, v1
-
-
-@_jit
-def _kernel(X: Arr, Y: Arr, TH: Arr, VX: Arr, VY: Arr, W: Arr, AX: Arr, AY: Arr, E: Arr,
-            n: int, mass: Arr, inertia: Arr, comx: Arr, comy: Arr, jt: Arr, ja: Arr, jb: Arr,
-            jd: Arr, geo: Arr, gk: Arr, gj: Arr, gb: Arr, dk: Arr, scale: Arr, gx: float,
-            gy: float, abx: float, aby: float, fl: Arr, cos: Arr, sin: Arr, lo: int, hi: int,
-            rfx: Arr, rfy: Arr,
-            rmz: Arr, rpx: Arr, rpy: Arr, Q: Arr, sfx: Arr, sfy: Arr, sm: Arr, T: Arr
-            ) -> None:
-    """Inverse dynamics of the elements lo..hi-1 (element p: design p // n); ``fl`` the
-    loads' resultants on the bodies there (:func:`load_resultants`; no loads: empty); ``cs``
-    the bodies' ``cos``, ``sin`` (nb, elements) if known (else empty: computed here)."""
-    nb = X.shape[0]
-    nj = jt.shape[0]
-    loads = fl.shape[2] > 0
-    known = cos.shape[0] > 0
-    c = np.empty(nb)
-    s = np.empty(nb)
-    Fx = np.zeros(nb)  # the loads on each body not yet balanced: force, moment about O
-    Fy = np.zeros(nb)
-    M0 = np.zeros(nb)
-    hv = np.zeros((2, 3))  # each hung body: (1 turning about a pivot | 0 sliding, vector)
-    C = np.zeros((2, 2))  # a closure's coefficients (rows, unknowns)
-    for p in range(lo, hi):
-        d = p // n
-        for i in range(nb):
-            th = TH[i, p]
-            if known:
-                c[i], s[i] = cos[i, p], sin[i, p]
-            elif th == 0.0:  # the frame, and any body at angle 0: exactly cos 0, sin 0
-                c[i], s[i] = 1.0, 0.0
-            else:
-                c[i], s[i] = math.cos(th), math.sin(th)
-        # weight and inertia force at the centre of mass, inertia couple, kinetic energy
-        t = 0.0
-        for i in range(1, nb):
-            rx, ry = _rot(c[i], s[i], comx[i, d], comy[i, d])
-            w, e = W[i, p], E[i, p]
-            m, inert = mass[i, d], inertia[i, d]
-            vcx, vcy = VX[i, p] - w * ry, VY[i, p] + w * rx
-            acx = AX[i, p] - e * ry - w * w * rx
-            acy = AY[i, p] + e * rx - w * w * ry
-            fx, fy = m * (gx - acx), m * (gy - acy)
-            rx2, ry2 = (X[i, p] + rx) - X[i, p], (Y[i, p] + ry) - Y[i, p]
-            fm = rx2 * fy - ry2 * fx + (-(inert * e))
-            if loads:
-                fx += fl[i, 0, p - lo]
-                fy += fl[i, 1, p - lo]
-                fm += fl[i, 2, p - lo]
-            Fx[i], Fy[i] = fx, fy
-            M0[i] = fm + X[i, p] * fy - Y[i, p] * fx
-            t += 0.5 * m * (vcx * vcx + vcy * vcy) + 0.5 * inert * (w * w)
-        T[p] = t
-        for q in range(nj):
-            rfx[q, p] = 0.0
-            rfy[q, p] = 0.0
-            rmz[q, p] = 0.0
-        # the groups, last first
-        for g in range(gk.shape[0]):
-            kind = gk[g]
-            nh = 2 if kind == _DYAD else 1
-            # each body hung on its known neighbour by its external joint (RatePar)
+# ---------------------------------------------------------------------------------------------
+# the kernel, generated per plan structure (:mod:`~linkwork.planar.compiled.codegen`): the
+# interpreter's loops over the bodies, groups and joints unrolled, every decision of the
+# structure (joint types and bodies, group kinds, drivers) taken while the source is written;
+# the bodies' cos, sin and unbalanced loads, the hung bodies' vectors, the closure coefficients
+# and the joints' reactions are local variables. The operations and their order are the
+# interpreter's, so are the results, bit for bit.
+def _write_group(src: Source, enc: Encoded, g: int) -> None:
+    """The reactions of group ``g`` (groups last first), its driver's load included."""
+    jt, ja, jb, jd = enc.jt, enc.ja, enc.jb, enc.jd
+    kind = int(enc.gk[g])
+    gj, gb = [int(v) for v in enc.gj[g]], [int(v) for v in enc.gb[g]]
+    nh = 2 if kind == _DYAD else 1
+    rev = []  # each hung body turns about a pivot (1.0) or slides (0.0)
+    for h in range(nh):
+        q, b = gj[2 * h], gb[h]
+        if jt[q] == _R:  # turning about the pivot A
+            k = int(ja[q]) if b == jb[q] else int(jb[q])
+            o = 0 if k == ja[q] else 2
+            src(f"rx, ry = _rot(c{k}, s{k}, geo[{q}, {o}, d], geo[{q}, {o + 1}, d])",
+                f"hv{h}1, hv{h}2 = X[{k}, p] + rx, Y[{k}, p] + ry")
+            rev.append(1.0)
+        else:  # sliding along the guide u
+            k = int(ja[q])
+            src(f"hv{h}1, hv{h}2 = _rot(c{k}, s{k}, geo[{q}, 4, d], geo[{q}, 5, d])")
+            rev.append(0.0)
+    if kind in (_CRANK, _LINEAR):
+        q, b = gj[0], gb[0]
+        sgn = 1.0 if b == jb[q] else -1.0
+        other = int(ja[q]) if sgn > 0 else int(jb[q])
+        if kind == _CRANK:  # a torque about the pivot
+            src(f"torque = -(M0{b} - (hv01 * Fy{b} - hv02 * Fx{b}))",
+                f"Q{jd[q]} = {sgn!r} * torque",
+                f"M0{b} = M0{b} + torque")
+            if other != 0:
+                src(f"M0{other} = M0{other} - torque")
+        else:  # a force along the guide at the slider point
+            i = int(jb[q])
+            src(f"rx, ry = _rot(c{i}, s{i}, geo[{q}, 2, d], geo[{q}, 3, d])",
+                f"px, py = X[{i}, p] + rx, Y[{i}, p] + ry",
+                "ux, uy = hv01, hv02",
+                f"drive = -(Fx{b} * ux + Fy{b} * uy)",
+                f"Q{jd[q]} = {sgn!r} * drive",
+                "fx, fy = drive * ux, drive * uy",
+                f"Fx{b} = Fx{b} + fx",
+                f"Fy{b} = Fy{b} + fy",
+                f"M0{b} = M0{b} + px * fy - py * fx + 0.0")
+            if other != 0:
+                src(f"Fx{other} = Fx{other} + -fx",
+                    f"Fy{other} = Fy{other} + -fy",
+                    f"M0{other} = M0{other} + px * -fy - py * -fx + 0.0")
+    # the reactions: a dyad's or slot group's closure joint first (r = 0), then each hung
+    # body's external joint (r = 1, 2)
+    for r in range(1 if kind in (_CRANK, _LINEAR) else 0, nh + 1):
+        if r == 0:  # the closure joint: the transposed velocity-closure system
+            q = gj[1]
+            ia, on = int(ja[q]), int(jb[q])
+            b1, b2 = gb
+            ka = 0 if ia == b1 else (1 if nh == 2 and ia == b2 else -1)
+            kb = 0 if on == b1 else (1 if nh == 2 and on == b2 else -1)
+            src(f"rx, ry = _rot(c{on}, s{on}, geo[{q}, 2, d], geo[{q}, 3, d])",
+                f"px, py = X[{on}, p] + rx, Y[{on}, p] + ry",
+                f"ux, uy = _rot(c{ia}, s{ia}, geo[{q}, 4, d], geo[{q}, 5, d])",
+                "nx, ny = -uy, ux",
+                "C00, C01, C10, C11 = 0.0, 0.0, 0.0, 0.0")
+            for kk, sg in ((ka, 1.0), (kb, -1.0)):
+                if kk < 0:
+                    continue
+                if rev[kk] > 0.0:
+                    src(f"dx, dy = -(py - hv{kk}2), px - hv{kk}1")
+                else:
+                    src(f"dx, dy = hv{kk}1, hv{kk}2")
+                if jt[q] == _R:  # v_a(B) = v_b(B)
+                    src(f"C0{kk} += {sg!r} * dx", f"C1{kk} += {sg!r} * dy")
+                else:  # n . (v_b(P) - v_a(P)) = 0; a prismatic pair: w_a = w_b
+                    src(f"C0{kk} += {-sg!r} * (nx * dx + ny * dy)")
+                    if jt[q] == _P:
+                        src(f"C1{kk} += {sg!r} * {rev[kk]!r}")
+            # the transposed system: sum_r C[r, beta] lambda_r = power of beta's loads
             for h in range(nh):
-                q, b = gj[g, 2 * h], gb[g, h]
-                if jt[q] == _R:  # turning about the pivot A
-                    k = ja[q] if b == jb[q] else jb[q]
-                    o = 0 if k == ja[q] else 2
-                    rx, ry = _rot(c[k], s[k], geo[q, o, d], geo[q, o + 1, d])
-                    hv[h, 0], hv[h, 1], hv[h, 2] = 1.0, X[k, p] + rx, Y[k, p] + ry
-                else:  # sliding along the guide u
-                    k = ja[q]
-                    ux, uy = _rot(c[k], s[k], geo[q, 4, d], geo[q, 5, d])
-                    hv[h, 0], hv[h, 1], hv[h, 2] = 0.0, ux, uy
-            if kind == _CRANK:  # a torque about the pivot
-                q, b = gj[g, 0], gb[g, 0]
-                sgn = 1.0 if b == jb[q] else -1.0
-                other = ja[q] if sgn > 0 else jb[q]
-                torque = -(M0[b] - (hv[0, 1] * Fy[b] - hv[0, 2] * Fx[b]))
-                Q[jd[q], p] = sgn * torque
-                M0[b] = M0[b] + torque
-                if other != 0:
-                    M0[other] = M0[other] - torque
-            elif kind == _LINEAR:  # a force along the guide at the slider point
-                q, b = gj[g, 0], gb[g, 0]
-                sgn = 1.0 if b == jb[q] else -1.0
-                other = ja[q] if sgn > 0 else jb[q]
-                i = jb[q]
-                rx, ry = _rot(c[i], s[i], geo[q, 2, d], geo[q, 3, d])
-                px, py = X[i, p] + rx, Y[i, p] + ry
-                ux, uy = hv[0, 1], hv[0, 2]
-                drive = -(Fx[b] * ux + Fy[b] * uy)
-                Q[jd[q], p] = sgn * drive
-                fx, fy = drive * ux, drive * uy
-                Fx[b] = Fx[b] + fx
-                Fy[b] = Fy[b] + fy
-                M0[b] = M0[b] + px * fy - py * fx + 0.0
-                if other != 0:
-                    Fx[other] = Fx[other] + -fx
-                    Fy[other] = Fy[other] + -fy
-                    M0[other] = M0[other] + px * -fy - py * -fx + 0.0
-            # the reactions, each recorded on the body it balances (by a on b: the sign) and
-            # its opposite applied to the joint's other body: a dyad's or slot group's closure
-            # joint first (r = 0), then each hung body's external joint (r = 1, 2)
-            for r in range(1 if kind == _CRANK or kind == _LINEAR else 0, nh + 1):
-                if r == 0:  # the closure joint: the transposed velocity-closure system
-                    q = gj[g, 1]
-                    ia, on = ja[q], jb[q]
-                    b1, b2 = gb[g, 0], gb[g, 1]
-                    ka = 0 if ia == b1 else (1 if nh == 2 and ia == b2 else -1)
-                    kb = 0 if on == b1 else (1 if nh == 2 and on == b2 else -1)
-                    rx, ry = _rot(c[on], s[on], geo[q, 2, d], geo[q, 3, d])
-                    px, py = X[on, p] + rx, Y[on, p] + ry  # the joint's point of b
-                    ux, uy = _rot(c[ia], s[ia], geo[q, 4, d], geo[q, 5, d])
-                    nx, ny = -uy, ux
-                    C[0, 0], C[0, 1], C[1, 0], C[1, 1] = 0.0, 0.0, 0.0, 0.0
-                    # its rows in the unknown rates (coefficients only): ka, kb the unknown
-                    # of its body a, b (-1: a known body), sg the sign of its term
-                    for kk, sg in ((ka, 1.0), (kb, -1.0)):
-                        if kk < 0:
-                            continue
-                        dx, dy = _direction(hv[kk, 0], hv[kk, 1], hv[kk, 2], px, py)
-                        if jt[q] == _R:  # v_a(B) = v_b(B)
-                            C[0, kk] += sg * dx
-                            C[1, kk] += sg * dy
-                        else:  # n . (v_b(P) - v_a(P)) = 0; a prismatic pair: w_a = w_b
-                            C[0, kk] += -sg * (nx * dx + ny * dy)
-                            if jt[q] == _P:
-                                C[1, kk] += sg * hv[kk, 0]
-                    # the transposed system: sum_r C[r, beta] lambda_r = power of beta's loads
-                    pw0, pw1 = 0.0, 0.0
-                    for h in range(nh):
-                        b = gb[g, h]
-                        if hv[h, 0] > 0.0:
-                            pw = M0[b] - (hv[h, 1] * Fy[b] - hv[h, 2] * Fx[b])
-                        else:
-                            pw = Fx[b] * hv[h, 1] + Fy[b] * hv[h, 2]
-                        if h == 0:
-                            pw0 = pw
-                        else:
-                            pw1 = pw
-                    if nh == 2:
-                        a11, a12, a21, a22 = C[0, 0], C[1, 0], C[0, 1], C[1, 1]
-                        det = a11 * a22 - a12 * a21
-                        norm = math.hypot(a11, a21) * math.hypot(a12, a22)
-                        inv = 1.0 / det if abs(det) > 1e-7 * norm else math.nan
-                        lam0 = (pw0 * a22 - pw1 * a12) * inv
-                        lam1 = (a11 * pw1 - a21 * pw0) * inv
-                    else:
-                        a = C[0, 0]
-                        lam0 = pw0 / a if abs(a) > 1e-7 * scale[d] else math.nan
-                        lam1 = 0.0
-                    if jt[q] == _R:
-                        fx, fy, mz = lam0, lam1, 0.0
-                    else:  # normal to the line (and the couple, for a prismatic pair)
-                        N = -lam0
-                        fx, fy, mz = N * -uy, N * ux, (lam1 if jt[q] == _P else 0.0)
-                else:  # balance the hung body with the reaction of its external joint
-                    h = r - 1
-                    q, on = gj[g, 2 * h], gb[g, h]
-                    if hv[h, 0] > 0.0:  # a force through the pivot
-                        fx, fy, mz, px, py = -Fx[on], -Fy[on], 0.0, hv[h, 1], hv[h, 2]
-                    else:  # a force normal to the guide at the slider point, and a couple
-                        i = jb[q]
-                        rx, ry = _rot(c[i], s[i], geo[q, 2, d], geo[q, 3, d])
-                        px, py = X[i, p] + rx, Y[i, p] + ry
-                        nx, ny = -hv[h, 2], hv[h, 1]
-                        N = -(Fx[on] * nx + Fy[on] * ny)
-                        fx, fy = N * nx, N * ny
-                        mz = -(M0[on] - (px * Fy[on] - py * Fx[on]))
-                other = jb[q] if on == ja[q] else ja[q]
-                sgn = 1.0 if on == jb[q] else -1.0
-                rfx[q, p] += sgn * fx
-                rfy[q, p] += sgn * fy
-                rmz[q, p] += sgn * mz
-                if on != 0:
-                    Fx[on] = Fx[on] + fx
-                    Fy[on] = Fy[on] + fy
-                    M0[on] = M0[on] + px * fy - py * fx + mz
-                if other != 0:
-                    Fx[other] = Fx[other] + -fx
-                    Fy[other] = Fy[other] + -fy
-                    M0[other] = M0[other] + px * -fy - py * -fx + -mz
-        # reaction points and the shaking force and moment on the frame
-        shx, shy, shm = 0.0, 0.0, 0.0
-        for q in range(nj):
-            i = jb[q]
-            rx, ry = _rot(c[i], s[i], geo[q, 2, d], geo[q, 3, d])
-            px, py = X[i, p] + rx, Y[i, p] + ry
-            rpx[q, p] = px
-            rpy[q, p] = py
-            if ja[q] != 0 and jb[q] != 0:
-                continue
-            sg = -1.0 if ja[q] == 0 else 1.0
-            fx, fy, mz = sg * rfx[q, p], sg * rfy[q, p], sg * rmz[q, p]
-            kd = jd[q]
-            linear = kd >= 0 and dk[kd] == 1
-            if linear:  # the driving force along the guide
-                ux, uy = _rot(c[ja[q]], s[ja[q]], geo[q, 4, d], geo[q, 5, d])
-                fx = fx + sg * Q[kd, p] * ux
-                fy = fy + sg * Q[kd, p] * uy
-            shx += fx
-            shy += fy
-            shm += (px - abx) * fy - (py - aby) * fx + mz
-            if kd >= 0 and not linear:  # the motor's reaction torque
-                shm += sg * Q[kd, p]
-        if loads:  # the loads' reactions on the frame
-            shx += fl[0, 0, p - lo]
-            shy += fl[0, 1, p - lo]
-            shm += fl[0, 2, p - lo]
-        sfx[p] = shx
-        sfy[p] = shy
-        sm[p] = shm
+                b = gb[h]
+                if rev[h] > 0.0:
+                    src(f"pw{h} = M0{b} - (hv{h}1 * Fy{b} - hv{h}2 * Fx{b})")
+                else:
+                    src(f"pw{h} = Fx{b} * hv{h}1 + Fy{b} * hv{h}2")
+            if nh == 2:
+                src("a11, a12, a21, a22 = C00, C10, C01, C11",
+                    "det = a11 * a22 - a12 * a21",
+                    "norm = math.hypot(a11, a21) * math.hypot(a12, a22)",
+                    "inv = 1.0 / det if abs(det) > 1e-7 * norm else math.nan",
+                    "lam0 = (pw0 * a22 - pw1 * a12) * inv",
+                    "lam1 = (a11 * pw1 - a21 * pw0) * inv")
+            else:
+                src("a = C00",
+                    "lam0 = pw0 / a if abs(a) > 1e-7 * scale[d] else math.nan",
+                    "lam1 = 0.0")
+            if jt[q] == _R:
+                src("fx, fy, mz = lam0, lam1, 0.0")
+            else:  # normal to the line (and the couple, for a prismatic pair)
+                src("N = -lam0",
+                    f"fx, fy, mz = N * -uy, N * ux, {'lam1' if jt[q] == _P else '0.0'}")
+        else:  # balance the hung body with the reaction of its external joint
+            h = r - 1
+            q, on = gj[2 * h], gb[h]
+            if rev[h] > 0.0:  # a force through the pivot
+                src(f"fx, fy, mz, px, py = -Fx{on}, -Fy{on}, 0.0, hv{h}1, hv{h}2")
+            else:  # a force normal to the guide at the slider point, and a couple
+                i = int(jb[q])
+                src(f"rx, ry = _rot(c{i}, s{i}, geo[{q}, 2, d], geo[{q}, 3, d])",
+                    f"px, py = X[{i}, p] + rx, Y[{i}, p] + ry",
+                    f"nx, ny = -hv{h}2, hv{h}1",
+                    f"N = -(Fx{on} * nx + Fy{on} * ny)",
+                    "fx, fy = N * nx, N * ny",
+                    f"mz = -(M0{on} - (px * Fy{on} - py * Fx{on}))")
+        other = int(jb[q]) if on == ja[q] else int(ja[q])
+        sgn = 1.0 if on == jb[q] else -1.0
+        src(f"rfx{q} += {sgn!r} * fx", f"rfy{q} += {sgn!r} * fy", f"rmz{q} += {sgn!r} * mz")
+        if on != 0:
+            src(f"Fx{on} = Fx{on} + fx",
+                f"Fy{on} = Fy{on} + fy",
+                f"M0{on} = M0{on} + px * fy - py * fx + mz")
+        if other != 0:
+            src(f"Fx{other} = Fx{other} + -fx",
+                f"Fy{other} = Fy{other} + -fy",
+                f"M0{other} = M0{other} + px * -fy - py * -fx + -mz")
+
+
+def kernel_source(enc: Encoded) -> str:
+    """The source of the kernel of ``enc``'s plan structure: ``kernel`` with the arguments of
+    :func:`solve`'s call (the interpreter's, without the structure's tables)."""
+    nb, nj, nd = enc.nb, enc.nj, enc.nd
+    ja, jb, jd, dk = enc.ja, enc.jb, enc.jd, enc.dk
+    src = Source()
+    src(f"# generated by linkwork.planar.compiled.reactions; helpers {_helpers_hash()}",
+        "import math",
+        "from numba import njit",
+        "from linkwork.planar.compiled.reactions import _rot",
+        "",
+        "",
+        '@njit(cache=True, error_model="numpy")',
+        "def kernel(X, Y, TH, VX, VY, W, AX, AY, E, n, mass, inertia, comx, comy, geo, scale,",
+        "           gx, gy, abx, aby, fl, cos, sin, lo, hi, rfx, rfy, rmz, rpx, rpy, Q, sfx,",
+        "           sfy, sm, T):")
+    src.indent()
+    src("loads = fl.shape[2] > 0",
+        "known = cos.shape[0] > 0",
+        "for p in range(lo, hi):")
+    src.indent()
+    src("d = p // n")
+    for i in range(nb):
+        src(f"th = TH[{i}, p]",
+            "if known:",
+            f"    c{i}, s{i} = cos[{i}, p], sin[{i}, p]",
+            "elif th == 0.0:  # the frame, and any body at angle 0: exactly cos 0, sin 0",
+            f"    c{i}, s{i} = 1.0, 0.0",
+            "else:",
+            f"    c{i}, s{i} = math.cos(th), math.sin(th)")
+    # weight and inertia force at the centre of mass, inertia couple, kinetic energy
+    src("t = 0.0")
+    for i in range(1, nb):
+        src(f"rx, ry = _rot(c{i}, s{i}, comx[{i}, d], comy[{i}, d])",
+            f"w, e = W[{i}, p], E[{i}, p]",
+            f"m, inert = mass[{i}, d], inertia[{i}, d]",
+            f"vcx, vcy = VX[{i}, p] - w * ry, VY[{i}, p] + w * rx",
+            f"acx = AX[{i}, p] - e * ry - w * w * rx",
+            f"acy = AY[{i}, p] + e * rx - w * w * ry",
+            "fx, fy = m * (gx - acx), m * (gy - acy)",
+            f"rx2, ry2 = (X[{i}, p] + rx) - X[{i}, p], (Y[{i}, p] + ry) - Y[{i}, p]",
+            "fm = rx2 * fy - ry2 * fx + (-(inert * e))",
+            "if loads:",
+            f"    fx += fl[{i}, 0, p - lo]",
+            f"    fy += fl[{i}, 1, p - lo]",
+            f"    fm += fl[{i}, 2, p - lo]",
+            f"Fx{i}, Fy{i} = fx, fy",
+            f"M0{i} = fm + X[{i}, p] * fy - Y[{i}, p] * fx",
+            "t += 0.5 * m * (vcx * vcx + vcy * vcy) + 0.5 * inert * (w * w)")
+    src("T[p] = t")
+    for q in range(nj):
+        src(f"rfx{q} = rfy{q} = rmz{q} = 0.0")
+    for g in range(enc.gk.shape[0]):
+        _write_group(src, enc, g)
+    # reaction points and the shaking force and moment on the frame
+    src("shx, shy, shm = 0.0, 0.0, 0.0")
+    for q in range(nj):
+        i = int(jb[q])
+        src(f"rx, ry = _rot(c{i}, s{i}, geo[{q}, 2, d], geo[{q}, 3, d])",
+            f"px, py = X[{i}, p] + rx, Y[{i}, p] + ry",
+            f"rpx[{q}, p] = px",
+            f"rpy[{q}, p] = py",
+            f"rfx[{q}, p] = rfx{q}",
+            f"rfy[{q}, p] = rfy{q}",
+            f"rmz[{q}, p] = rmz{q}")
+        if ja[q] != 0 and jb[q] != 0:
+            continue
+        sg = -1.0 if ja[q] == 0 else 1.0
+        src(f"fx, fy, mz = {sg!r} * rfx{q}, {sg!r} * rfy{q}, {sg!r} * rmz{q}")
+        kd = int(jd[q])
+        linear = kd >= 0 and dk[kd] == 1
+        if linear:  # the driving force along the guide
+            a = int(ja[q])
+            src(f"ux, uy = _rot(c{a}, s{a}, geo[{q}, 4, d], geo[{q}, 5, d])",
+                f"fx = fx + {sg!r} * Q{kd} * ux",
+                f"fy = fy + {sg!r} * Q{kd} * uy")
+        src("shx += fx",
+            "shy += fy",
+            "shm += (px - abx) * fy - (py - aby) * fx + mz")
+        if kd >= 0 and not linear:  # the motor's reaction torque
+            src(f"shm += {sg!r} * Q{kd}")
+    for kd in range(nd):
+        src(f"Q[{kd}, p] = Q{kd}")
+    src("if loads:  # the loads' reactions on the frame",
+        "    shx += fl[0, 0, p - lo]",
+        "    shy += fl[0, 1, p - lo]",
+        "    shm += fl[0, 2, p - lo]",
+        "sfx[p] = shx",
+        "sfy[p] = shy",
+        "sm[p] = shm")
+    return src.text()
+
+
+def _helpers_hash() -> str:
+    return fingerprint(sys.modules[__name__])
+
+
+def kernel(enc: Encoded) -> Any:
+    """The compiled kernel of ``enc``'s plan structure (generated, compiled and cached once
+    per structure: :mod:`~linkwork.planar.compiled.codegen`)."""
+    try:
+        return _KERNELS[enc]
+    except KeyError:
+        fn = _KERNELS[enc] = load("reactions", kernel_source(enc))
+        return fn
+
+
+_KERNELS: weakref.WeakKeyDictionary[Encoded, Any] = weakref.WeakKeyDictionary()

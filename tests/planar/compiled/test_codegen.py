@@ -121,3 +121,22 @@ def test_the_generated_kernel_takes_the_structure_not_the_values():
     ka, kb = kinematics(a, q, backend="numba"), kinematics(b, q, backend="numba")
     assert not np.allclose(ka.theta, kb.theta)
     np.testing.assert_allclose(kb.theta, kinematics(b, q).theta, rtol=0, atol=1e-14)
+
+
+def test_one_reactions_kernel_per_structure():
+    """Four-bars of other dimensions and masses share the generated reactions kernel; its
+    source holds no dimension or mass; a two-driver plan has its own."""
+    from _mechanisms import five_bar
+
+    from linkwork.planar.compiled import reactions
+
+    mechs = [fourbar_mechanism(0.1, 0.3, 0.2, 0.3, omega1=10.0, masses=(1.0, 2.0, 1.5)),
+             fourbar_mechanism(0.05, 0.4, 0.3, 0.35, omega1=3.0, masses=(0.7, 2.5, 1.1))]
+    encs = [reactions.encode(m) for m in mechs]
+    sources = {reactions.kernel_source(e) for e in encs}  # type: ignore[arg-type]
+    assert len(sources) == 1
+    (src,) = sources
+    assert "0.3" not in src and "1.5" not in src and "2.5" not in src
+    assert reactions.kernel(encs[0]) is reactions.kernel(encs[1])  # type: ignore[arg-type]
+    other = reactions.encode(five_bar())
+    assert other is not None and reactions.kernel_source(other) not in sources
