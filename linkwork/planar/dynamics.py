@@ -42,7 +42,7 @@ from linkwork.checks import require_finite
 from linkwork.cycles import mean_over_range
 from linkwork.errors import ParameterError, angle_ranges, format_angle_ranges
 from linkwork.planar import forces, friction
-from linkwork.planar.compiled import check_backend
+from linkwork.planar.compiled import check_backend, check_threads
 from linkwork.planar.designs import pick
 from linkwork.planar.forces import AppliedLoad, BodyTorque, Load, PointForce
 from linkwork.planar.inertia import inertia_couple, inertia_force, wrenches_of
@@ -368,7 +368,8 @@ _NO_FRICTION = {"friction_fx": 0.0, "friction_fy": 0.0, "friction_mz": 0.0,
 
 def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
                      loads: Sequence[Load] = (),
-                     about: ArrayLike = (0.0, 0.0), backend: str = "numpy") -> Dynamics:
+                     about: ArrayLike = (0.0, 0.0), backend: str = "numpy",
+                     threads: int = 1) -> Dynamics:
     """Joint reactions, driving torque, shaking force/moment and kinetic energy.
 
     Parameters
@@ -389,6 +390,10 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
         joints without friction; drivers, dyads and slot groups) through one compiled pass
         over the positions (needs ``pip install 'linkwork[numba]'``); any other plan through
         the NumPy path, the same result.
+    threads : int
+        With ``backend="numba"``: the compiled kernel's threads (default 1, the calling
+        thread), the (design, position) elements shared among them; the same result bit for
+        bit on any number of threads. At most numba's thread count (``NUMBA_NUM_THREADS``).
 
     Returns
     -------
@@ -421,14 +426,16 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     if len(ab) != 2:
         raise ParameterError("about", about, "must be a point (x, y) [m]")
     backend = check_backend(backend)
+    if type(threads) is not int or threads != 1:
+        threads = check_threads(threads, backend)
     if kin.n_designs is not None:
-        return _batch_dynamics(kin, (g[0], g[1]), (ab[0], ab[1]), loads, backend)
+        return _batch_dynamics(kin, (g[0], g[1]), (ab[0], ab[1]), loads, backend, threads)
     # the loads are checked and evaluated over the whole cycle (a load diagram's rest band,
     # a spring's length), once; the chunks take their slices
     applied = forces.apply(kin, loads)
     enc = _compiled_plan(kin.mechanism) if backend == "numba" else None
     if enc is not None:
-        return _compiled_dynamics(kin, enc, (g[0], g[1]), (ab[0], ab[1]), applied)
+        return _compiled_dynamics(kin, enc, (g[0], g[1]), (ab[0], ab[1]), applied, threads)
     n = kin.n
     plan = kin.mechanism.plan
     width = friction.sign_widths(plan, kin.omega1) if friction.has_friction(plan) else None
@@ -594,7 +601,8 @@ def _shaking(plan: Plan, st: State, fr: str, reactions: tuple[Arr, Arr, Arr, Arr
 
 
 def _batch_dynamics(kin: Kinematics, g: tuple[float, float], ab: tuple[float, float],
-                    loads: Sequence[Load], backend: str = "numpy") -> Dynamics:
+                    loads: Sequence[Load], backend: str = "numpy", threads: int = 1
+                    ) -> Dynamics:
     """:func:`inverse_dynamics` of a batch of designs (arrays ``(..., m, n)``): without loads,
     friction and gear pairs' separating forces, blocks of designs flattened with their
     positions and solved on the plan picked there (as :func:`kinematics` does), or all of
@@ -606,10 +614,11 @@ def _batch_dynamics(kin: Kinematics, g: tuple[float, float], ab: tuple[float, fl
     assert m is not None
     if loads or friction.has_friction(plan) or friction.has_separation(plan):
         return _stacked(kin, [inverse_dynamics(kin.design(i), gravity=g, loads=loads, about=ab,
-                                               backend=backend) for i in range(m)])
+                                               backend=backend, threads=threads)
+                              for i in range(m)])
     enc = _compiled_plan(mech) if backend == "numba" else None
     if enc is not None:
-        return _compiled_dynamics(kin, enc, g, ab, ())
+        return _compiled_dynamics(kin, enc, g, ab, (), threads)
     n = kin.n
     nb, nj, nd = plan.nb, len(plan.joints), len(plan.drivers)
     react = np.empty((5, nj, m, n))  # fx, fy, mz, px, py
@@ -664,13 +673,14 @@ def _compiled_plan(mech: Mechanism) -> Any:
 
 
 def _compiled_dynamics(kin: Kinematics, enc: Any, g: tuple[float, float],
-                       ab: tuple[float, float], applied: Sequence[AppliedLoad]) -> Dynamics:
+                       ab: tuple[float, float], applied: Sequence[AppliedLoad],
+                       threads: int = 1) -> Dynamics:
     """:func:`inverse_dynamics` through the compiled kernel (``enc``: the encoded plan), for
     one design (``applied``: its loads, evaluated) or a batch of designs (no loads)."""
     from linkwork.planar.compiled.reactions import solve
 
     mech = kin.mechanism
-    r = solve(enc, kin, g, ab, applied, CHUNK)
+    r = solve(enc, kin, g, ab, applied, CHUNK, threads)
     shape = kin.x.shape[1:]
     nj = len(mech.joints)
     Q = r["Q"][0] if mech.n_drivers == 1 else r["Q"]

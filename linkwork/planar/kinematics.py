@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike
 from linkwork.checks import require_finite, require_point
 from linkwork.deprecation import renamed_attribute, renamed_keywords
 from linkwork.errors import AssemblyError, ParameterError, angle_ranges, format_angle_ranges
-from linkwork.planar.compiled import check_backend
+from linkwork.planar.compiled import check_backend, check_threads
 from linkwork.planar.designs import branch_value, column, design_point, pick
 from linkwork.planar.extremes import (
     DeadCentre,
@@ -336,7 +336,7 @@ def _newton_hint(mech: Mechanism, g: Group) -> str:
 def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None,
                eps1: ArrayLike | None = None, *, branches: Mapping[str, int] | None = None,
                on_failure: Literal["raise", "nan"] = "raise",
-               backend: Literal["numpy", "numba"] = "numpy") -> Kinematics:
+               backend: Literal["numpy", "numba"] = "numpy", threads: int = 1) -> Kinematics:
     """Positions, velocities and accelerations of all bodies for all driver positions.
 
     Parameters
@@ -364,6 +364,12 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
         the positions (and designs) for the plans it covers (one crank or linear driver and
         closed-form groups: RRR, RRP, PRR, RPR, RPP, PPR, PRP, RS, PS); other plans run the
         NumPy path. The same numbers to rounding (``docs/planar.md``).
+    threads : int
+        With ``backend="numba"``: the compiled kernel's threads (default 1, the calling
+        thread). The designs of a batch and blocks of positions are shared among them; every
+        element is computed alone, so the result is the same bit for bit on any number of
+        threads. At most numba's thread count (``NUMBA_NUM_THREADS``); a plan the kernel does
+        not cover runs the NumPy path on one thread.
 
     Returns
     -------
@@ -382,10 +388,13 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     """
     if backend != "numpy":
         check_backend(backend)
+    if type(threads) is not int or threads != 1:
+        threads = check_threads(threads, backend)
     if not isinstance(mech, Mechanism):
         raise ParameterError("mech", mech, "must be a Mechanism")
     if mech.n_designs is not None:
-        return _batch_kinematics(mech, phi1, omega1, eps1, branches, on_failure, backend)
+        return _batch_kinematics(mech, phi1, omega1, eps1, branches, on_failure, backend,
+                                 threads)
     nd = mech.n_drivers
     q = np.atleast_1d(require_finite("phi1", phi1)).astype(float)
     if nd == 1 and q.ndim != 1:
@@ -421,7 +430,8 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     if compiled is not None:
         run, enc = compiled
         pos_bad, bad, failed, parallel = run(enc, used, q2, w2, e2,
-                                             block.reshape(len(keys), nb, 1, n))
+                                             block.reshape(len(keys), nb, 1, n),
+                                             threads=threads)
         pos_bad, bad = pos_bad[0], bad[0]
     elif plan.newton and mech.drawing is not None and n:
         plan = _from_drawing(mech.drawing, mech.drivers, plan, used, q2)
@@ -541,7 +551,8 @@ def _batch_inputs(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None,
 
 def _batch_kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None,
                       eps1: ArrayLike | None, branches: Mapping[str, Any] | None,
-                      on_failure: str, backend: str = "numpy") -> Kinematics:
+                      on_failure: str, backend: str = "numpy", threads: int = 1
+                      ) -> Kinematics:
     """:func:`kinematics` of a batch of designs (``mech.n_designs`` not None): each block of
     designs flattened with its positions and solved on the plan picked there; one design at a
     time (in chunks of positions) when the positions alone fill a chunk or a Newton group
@@ -563,7 +574,8 @@ def _batch_kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None
     compiled = _compiled(plan) if backend == "numba" else None
     if compiled is not None:
         run, enc = compiled
-        pos_bad, bad, failed, parallel = run(enc, used, qv[0], wv[0], ev[0], block)
+        pos_bad, bad, failed, parallel = run(enc, used, qv[0], wv[0], ev[0], block,
+                                             zeroed=True, threads=threads)
     per_design = plan.newton or n >= _CHUNK
     k = 1 if per_design else max(1, _CHUNK // max(n, 1))
     step = n if plan.newton else _CHUNK

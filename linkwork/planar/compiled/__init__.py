@@ -12,9 +12,11 @@ from __future__ import annotations
 
 from typing import Any
 
+import numpy as np
+
 from linkwork.errors import MissingExtraError, ParameterError
 
-__all__ = ["BACKENDS", "NUMBA_INSTALL", "check_backend", "numba_module"]
+__all__ = ["BACKENDS", "NUMBA_INSTALL", "check_backend", "check_threads", "numba_module"]
 
 #: The engine's backends: ``"numpy"`` (the default and the reference) and ``"numba"``.
 BACKENDS = ("numpy", "numba")
@@ -38,3 +40,20 @@ def check_backend(backend: Any, *, option: str = "backend") -> str:
     if backend == "numba":
         numba_module()
     return backend
+
+
+def check_threads(threads: Any, backend: str) -> int:
+    """``threads`` checked: an integer >= 1; above 1 only with ``backend="numba"`` and at most
+    numba's thread count (``NUMBA_NUM_THREADS``, by default the machine's CPUs); else a
+    ParameterError naming ``threads``, its value and the limit."""
+    if isinstance(threads, bool) or not isinstance(threads, int | np.integer) or threads < 1:
+        raise ParameterError("threads", threads, "must be an integer >= 1")
+    if threads > 1 and backend != "numba":
+        raise ParameterError("threads", threads, "needs backend='numba' (the NumPy path runs "
+                             "on one thread)")
+    if threads > 1:
+        limit = int(numba_module().config.NUMBA_NUM_THREADS)
+        if threads > limit:
+            raise ParameterError("threads", threads, f"must be at most {limit}, numba's "
+                                 "thread count (NUMBA_NUM_THREADS)")
+    return int(threads)

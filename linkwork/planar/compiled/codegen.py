@@ -27,15 +27,20 @@ import importlib.util
 import os
 import sys
 import tempfile
+import threading
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-__all__ = ["Source", "choose_dir", "fingerprint", "kernel_dir", "load"]
+__all__ = ["Source", "call", "choose_dir", "decorator", "fingerprint", "kernel_dir", "load",
+           "loop"]
 
 _LOADED: dict[str, Callable[..., Any]] = {}
 _DIR: list[Path] = []
+#: parallel kernels run one at a time: numba's fallback threading layer (workqueue, where
+#: neither OpenMP nor TBB is installed) aborts the process on concurrent launches
+_PARALLEL = threading.Lock()
 
 
 class Source:
@@ -113,3 +118,32 @@ def load(prefix: str, source: str, name: str = "kernel", directory: Path | None 
     fn: Callable[..., Any] = getattr(module, name)
     _LOADED[key] = fn
     return fn
+
+
+def decorator(parallel: bool) -> str:
+    """The generated kernels' compilation: cached on disk, IEEE arithmetic (no fastmath),
+    NumPy's error model (a division by zero gives inf or NaN, as in the NumPy path); with
+    ``parallel``, the outer loop (:func:`loop`) shared among numba's threads."""
+    return f'@njit(cache=True, error_model="numpy"{", parallel=True" if parallel else ""})'
+
+
+def loop(parallel: bool) -> str:
+    """The outer loop of a generated kernel: ``prange`` in a parallel one."""
+    return "prange" if parallel else "range"
+
+
+def call(fn: Callable[..., Any], threads: int, *args: Any) -> None:
+    """``fn(*args)``: a parallel kernel on ``threads`` of numba's threads (one such call at a
+    time in the process), a serial one (``threads`` 1) as it is."""
+    if threads == 1:
+        fn(*args)
+        return
+    import numba
+
+    with _PARALLEL:
+        before = numba.get_num_threads()
+        numba.set_num_threads(threads)
+        try:
+            fn(*args)
+        finally:
+            numba.set_num_threads(before)

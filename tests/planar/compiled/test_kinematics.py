@@ -290,3 +290,92 @@ def test_empty_and_single_positions():
     for q in (np.zeros(0), np.array([0.7])):
         ref, got = both(mech, q)
         assert_agree(ref, got)
+
+
+# --- threads: the parallel kernel (designs and blocks of positions shared among threads) ---
+def _threads() -> int:
+    import numba
+
+    return min(3, int(numba.config.NUMBA_NUM_THREADS))
+
+
+def test_long_cycles_of_a_batch_run_in_blocks_as_numpy_does():
+    """Three designs (one that does not assemble over the whole turn) x 2.5 blocks of
+    positions (BLOCK each: the kernel's unit of work): the compiled batch against the NumPy
+    batch, and each design against itself alone."""
+    from linkwork.planar.compiled.kinematics import BLOCK
+
+    a, b, c, d = _four_bars(3, 11)
+    a[1] = 0.3
+    mech = fourbar_mechanism(a, b, c, d, omega1=4.0)
+    q = np.linspace(0.0, 2 * np.pi, 5 * BLOCK // 2 + 3)
+    ref, got = both(mech, q, on_failure="nan")
+    assert not got.valid[1].all()
+    assert_agree(ref, got)
+    one = kinematics(mech.design(2), q, on_failure="nan", backend="numba")
+    np.testing.assert_array_equal(got.eps[:, 2], one.eps)
+
+
+@pytest.mark.parametrize("builder", [m_rrr, m_triad, *COVERED[1::3]], ids=lambda b: b.__name__)
+def test_threads_give_the_same_result_bit_for_bit(builder):
+    """threads = 2 or 3 against 1: every array and mask equal bit for bit, for one design over
+    several blocks of positions (out of range at both ends: elements that do not assemble)
+    and for a batch of three designs; a plan that runs the NumPy path (the triad) too."""
+    if _threads() < 2:
+        pytest.skip("numba has one thread here (NUMBA_NUM_THREADS)")
+    mech, q, _ = builder()
+    span = q[-1] - q[0]
+    q = np.linspace(q[0] - 0.2 * span, q[-1] + 0.2 * span, 4500)
+    for m in (mech, stack([mech, mech, mech])):
+        one = kinematics(m, q, on_failure="nan", backend="numba")
+        many = kinematics(m, q, on_failure="nan", backend="numba", threads=_threads())
+        for name in (*FIELDS, "valid"):
+            np.testing.assert_array_equal(getattr(many, name), getattr(one, name), name)
+
+
+def test_threads_raise_the_same_assembly_error():
+    if _threads() < 2:
+        pytest.skip("numba has one thread here (NUMBA_NUM_THREADS)")
+    a, b, c, d = _four_bars(6, 2)
+    a[[1, 4]] = 0.3
+    mech = fourbar_mechanism(a, b, c, d)
+    q = np.linspace(0.0, 2 * np.pi, 37)
+    with pytest.raises(AssemblyError) as one:
+        kinematics(mech, q, backend="numba")
+    with pytest.raises(AssemblyError) as many:
+        kinematics(mech, q, backend="numba", threads=2)
+    assert str(many.value) == str(one.value)
+
+
+def test_parallel_kernels_called_from_several_python_threads():
+    """Four Python threads each running the parallel kernel (one launch at a time in the
+    process: numba's fallback threading layer aborts on concurrent launches): every result
+    equals the serial one."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    if _threads() < 2:
+        pytest.skip("numba has one thread here (NUMBA_NUM_THREADS)")
+    a, b, c, d = _four_bars(20, 4)
+    mech = fourbar_mechanism(a, b, c, d)
+    q = np.linspace(0.0, 2 * np.pi, 361)
+    ref = kinematics(mech, q, backend="numba", on_failure="nan")
+    with ThreadPoolExecutor(4) as ex:
+        outs = list(ex.map(lambda _: kinematics(mech, q, backend="numba", threads=2,
+                                                on_failure="nan"), range(8)))
+    for k in outs:
+        np.testing.assert_array_equal(k.eps, ref.eps)
+
+
+@pytest.mark.parametrize(("threads", "backend", "match"), [
+    (0, "numba", "threads = 0 is invalid: must be an integer >= 1"),
+    (-2, "numba", "must be an integer >= 1"),
+    (1.5, "numba", "must be an integer >= 1"),
+    (True, "numba", "must be an integer >= 1"),
+    ("2", "numba", "must be an integer >= 1"),
+    (2, "numpy", "threads = 2 is invalid: needs backend='numba'"),
+    (10**6, "numba", r"must be at most \d+, numba's thread count \(NUMBA_NUM_THREADS\)"),
+])
+def test_bad_threads_are_refused(threads, backend, match):
+    mech, q, _ = m_rrr()
+    with pytest.raises(ParameterError, match=match):
+        kinematics(mech, q, backend=backend, threads=threads)

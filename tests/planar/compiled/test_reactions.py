@@ -314,6 +314,47 @@ def test_positions_that_do_not_assemble():
     assert_agree(d0, d1)
 
 
+@pytest.mark.parametrize("builder", [m_rrr, m_rpr, m_ps_sine, five_bar],
+                         ids=lambda b: b.__name__)
+def test_threads_give_the_same_result_bit_for_bit(builder):
+    """threads = 2 or 3 against 1 (the elements shared among numba's threads): every array
+    equal bit for bit, one design with loads and gravity over several chunks of positions,
+    and a batch of designs in one pass."""
+    import numba
+
+    threads = min(3, int(numba.config.NUMBA_NUM_THREADS))
+    if threads < 2:
+        pytest.skip("numba has one thread here (NUMBA_NUM_THREADS)")
+    if builder is five_bar:
+        mech = five_bar()
+        t = np.linspace(0.0, 1.0, 3001)
+        kin = kinematics(mech, np.array(mech.drawing.positions)[:, None]
+                         + np.array([0.4, -0.3])[:, None] * t, on_failure="nan")
+        cases = [(kin, [])]
+    else:
+        mech, phi, _ = builder()
+        phi = np.linspace(phi[0], phi[-1], 3 * dynamics.CHUNK // 2)
+        kin = kinematics(mech, phi, on_failure="nan")
+        batch = kinematics(stack([varied(mech, f) for f in (1.0, 1.04, 0.97)]), phi,
+                           on_failure="nan")
+        cases = [(kin, loads_for(mech, phi)), (batch, [])]
+    for k, ld in cases:
+        one = inverse_dynamics(k, gravity=GRAVITY, loads=ld, about=ABOUT, backend="numba")
+        many = inverse_dynamics(k, gravity=GRAVITY, loads=ld, about=ABOUT, backend="numba",
+                                threads=threads)
+        for name in ARRAYS:
+            np.testing.assert_array_equal(getattr(many, name), getattr(one, name), name)
+
+
+def test_threads_are_checked():
+    mech, phi, _ = m_rrr()
+    kin = kinematics(mech, phi)
+    with pytest.raises(ParameterError, match="threads = 0 is invalid"):
+        inverse_dynamics(kin, backend="numba", threads=0)
+    with pytest.raises(ParameterError, match="needs backend='numba'"):
+        inverse_dynamics(kin, threads=2)
+
+
 def test_backend_is_checked():
     """An unknown backend is a ParameterError naming the option and the known ones."""
     mech, phi, _ = m_rrr()
