@@ -29,8 +29,11 @@ Cases, over ``n`` crank positions of one revolution (four-bar of paper 001, a, b
     design as information. ``four-bar, one position`` the engine's fixed cost per call.
 ``backend=numba`` rows: the engine's compiled backend (:mod:`linkwork.planar.compiled`; numba
     installed) beside the NumPy engine in the engine, designs and fixed-cost cases, judged
-    against the same targets; its compilation (first call with an empty numba cache, in a fresh
-    process) and a later process's first call (cache loaded) printed once as information.
+    against the same targets; its compilation (first call with an empty numba cache and no
+    generated kernel, in a fresh process) and a later process's first call (cache loaded)
+    printed once as information. ``..., 2 threads`` rows: the compiled backend with
+    ``threads=2`` (numba's threads; information, judged apart: the references run on one
+    thread).
 
 Agreement: before timing, at every case and size timed, every output of every contender is
 compared with the reference (the first contender of the case; pylinkage on joint B) to 1e-9 of
@@ -245,6 +248,14 @@ def _compiled_engine(name: str, run: Callable[[], Any], output: Callable[[Any], 
     return Contender(name, run, output, compiled=True)
 
 
+def threads() -> int:
+    """The threads of the compiled backend's threaded rows: 2, or numba's thread count if
+    lower (1: no threaded rows)."""
+    import numba
+
+    return min(2, int(numba.config.NUMBA_NUM_THREADS))
+
+
 def fourbar_case(n: int, fused: bool = True) -> Case:
     from linkwork.models.fourbar import fourbar
 
@@ -319,6 +330,10 @@ def engine_case(n: int, reactions: bool, fused: bool = True, pylinkage: bool = F
     if compiled and not reactions and _have_numba():
         cons.append(_compiled_engine("engine, backend=numba",
                                      lambda: kinematics(mech, t, backend="numba"), kin_out))
+        if (k := threads()) > 1:
+            cons.append(Contender(f"engine, backend=numba, {k} threads",
+                                  lambda: kinematics(mech, t, backend="numba", threads=k),
+                                  kin_out, "info", compiled=True))
     fz = _fused() if fused else None
     if fz is not None:
         def fused_out(r: Any) -> tuple[Any, ...]:
@@ -361,7 +376,12 @@ def reaction_backends(mech: Any, t: np.ndarray, out: Callable[[Any], tuple[Any, 
     kin = kinematics(mech, t)
     inverse_dynamics(kin, backend="numba")
     inverse_dynamics(kinematics(mech, t, backend="numba"), backend="numba")
-    return [Contender("engine + reactions (numba backend)",
+    k = threads()
+    threaded = [] if k < 2 else [Contender(
+        f"engine + reactions, both by numba, {k} threads",
+        lambda: inverse_dynamics(kinematics(mech, t, backend="numba", threads=k),
+                                 backend="numba", threads=k), out, "info", compiled=True)]
+    cons = [Contender("engine + reactions (numba backend)",
                       lambda: inverse_dynamics(kinematics(mech, t), backend="numba"), out),
             Contender("engine + reactions, both by numba",
                       lambda: inverse_dynamics(kinematics(mech, t, backend="numba"),
@@ -370,6 +390,7 @@ def reaction_backends(mech: Any, t: np.ndarray, out: Callable[[Any], tuple[Any, 
                       "info"),
             Contender("reactions alone, numba backend",
                       lambda: inverse_dynamics(kin, backend="numba"), out, "info")]
+    return cons + threaded
 
 
 def slider_engine_case(n: int, reactions: bool, pylinkage: bool = False) -> Case:
@@ -450,6 +471,11 @@ def designs_case(m: int, n: int = 360, compiled: bool = True) -> Case:
     if compiled and _have_numba():
         cons.append(_compiled_engine("engine, one batch call, backend=numba", batch_numba,
                                      batch_out))
+        if (k := threads()) > 1:
+            cons.append(Contender(f"engine, one batch call, backend=numba, {k} threads",
+                                  lambda: kinematics(fourbar_mechanism(a, b, c, d, omega1=OMEGA),
+                                                     t, backend="numba", threads=k),
+                                  batch_out, "info", compiled=True))
     cons.append(Contender("engine, one call per design", loop, loop_out, "info"))
     return Case(f"four-bar designs ({m} x {n})", n, cons, angles=(0, 1), per=m * n)
 
@@ -486,7 +512,9 @@ def compile_time() -> dict[str, float]:
             "print(time.perf_counter() - t0)\n")
     out = {}
     with tempfile.TemporaryDirectory() as cache:
-        env = dict(os.environ, NUMBA_CACHE_DIR=cache)
+        # numba's cache and linkwork's generated kernels (their files and numba's cache of
+        # them) both empty
+        env = dict(os.environ, NUMBA_CACHE_DIR=cache, LINKWORK_CACHE_DIR=cache)
         for key in ("cold cache", "cache loaded"):
             res = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True,
                                  text=True, check=True)
@@ -772,6 +800,14 @@ def summary(rows: list[dict[str, Any]]) -> list[str]:
     judge(f"{rx}, n={n}: kinematics and reactions both by numba / fused loop (issue 20 item 2)",
           _get(rows, rx, n, "engine + reactions, both by numba"),
           _get(rows, rx, n, "fused numba loop"), 3.0)
+    k = threads() if _have_numba() else 1
+    judge(f"four-bar engine kinematics, n={n}: engine (backend=numba, {k} threads) / fused loop "
+          "(one thread; information)",
+          _get(rows, "four-bar engine", n, f"engine, backend=numba, {k} threads"),
+          _get(rows, "four-bar engine", n, "fused numba loop"), math.inf)
+    judge(f"{rx}, n={n}: both by numba on {k} threads / fused loop (one thread; information)",
+          _get(rows, rx, n, f"engine + reactions, both by numba, {k} threads"),
+          _get(rows, rx, n, "fused numba loop"), math.inf)
     judge(f"{rx}, n={n}: reactions alone, numba / NumPy backend (information)",
           _get(rows, rx, n, "reactions alone, numba backend"),
           _get(rows, rx, n, "reactions alone, NumPy backend"), math.inf)
@@ -789,6 +825,10 @@ def summary(rows: list[dict[str, Any]]) -> list[str]:
               _get(rows, case, des[0]["n"], "engine, one batch call"), ref, 3.0)
         judge(f"{case}: engine batch (backend=numba) / closed form broadcast (issue 20 item 1)",
               _get(rows, case, des[0]["n"], "engine, one batch call, backend=numba"), ref, 3.0)
+        judge(f"{case}: engine batch (backend=numba, {k} threads) / closed form broadcast "
+              "(one thread) (issue 20 item 1, on threads)",
+              _get(rows, case, des[0]["n"], f"engine, one batch call, backend=numba, {k} threads"),
+              ref, 3.0)
         judge(f"{case}: engine loop / closed form broadcast (information)",
               _get(rows, case, des[0]["n"], "engine, one call per design"), ref, math.inf)
     for label, case, n1, who in (
