@@ -361,9 +361,9 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     backend : {"numpy", "numba"}
         ``"numpy"`` (the default and the reference) or ``"numba"``: the compiled kernel of
         :mod:`linkwork.planar.compiled.kinematics` (the optional extra ``numba``), one pass over
-        the positions (and designs) for the plans it covers (one crank or linear driver and
-        closed-form groups: RRR, RRP, PRR, RPR, RPP, PPR, PRP, RS, PS); other plans run the
-        NumPy path. The same numbers to rounding (``docs/planar.md``).
+        the positions (and designs) for the plans it covers (crank and linear drivers, one or
+        several, and closed-form groups: RRR, RRP, PRR, RPR, RPP, PPR, PRP, RS, PS); other
+        plans run the NumPy path. The same numbers to rounding (``docs/planar.md``).
     threads : int
         With ``backend="numba"``: the compiled kernel's threads (default 1, the calling
         thread). The designs of a batch and blocks of positions are shared among them; every
@@ -429,8 +429,8 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     compiled = _compiled(plan) if backend == "numba" else None
     if compiled is not None:
         run, enc = compiled
-        pos_bad, bad, failed, parallel = run(enc, used, q2, w2, e2,
-                                             block.reshape(len(keys), nb, 1, n),
+        pos_bad, bad, failed, parallel = run(enc, used, q2[:, None], w2[:, None],
+                                             e2[:, None], block.reshape(len(keys), nb, 1, n),
                                              threads=threads)
         pos_bad, bad = pos_bad[0], bad[0]
     elif plan.newton and mech.drawing is not None and n:
@@ -574,8 +574,8 @@ def _batch_kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None
     compiled = _compiled(plan) if backend == "numba" else None
     if compiled is not None:
         run, enc = compiled
-        pos_bad, bad, failed, parallel = run(enc, used, qv[0], wv[0], ev[0], block,
-                                             zeroed=True, threads=threads)
+        pos_bad, bad, failed, parallel = run(enc, used, qv, wv, ev, block, zeroed=True,
+                                             threads=threads)
     per_design = plan.newton or n >= _CHUNK
     k = 1 if per_design else max(1, _CHUNK // max(n, 1))
     step = n if plan.newton else _CHUNK

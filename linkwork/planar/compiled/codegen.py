@@ -41,6 +41,7 @@ _DIR: list[Path] = []
 #: parallel kernels run one at a time: numba's fallback threading layer (workqueue, where
 #: neither OpenMP nor TBB is installed) aborts the process on concurrent launches
 _PARALLEL = threading.Lock()
+_LOADING = threading.Lock()
 
 
 class Source:
@@ -104,20 +105,25 @@ def load(prefix: str, source: str, name: str = "kernel", directory: Path | None 
         return _LOADED[key]
     except KeyError:
         pass
-    modname = f"_linkwork_{prefix}_{key}"
-    path = (directory or kernel_dir()) / f"{modname}.py"
-    if not path.exists() or path.read_text() != source:
-        tmp = path.with_suffix(f".{os.getpid()}.tmp")
-        tmp.write_text(source)
-        os.replace(tmp, path)  # atomic: a process running beside this one reads all or none
-    spec = importlib.util.spec_from_file_location(modname, path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[modname] = module
-    spec.loader.exec_module(module)
-    fn: Callable[..., Any] = getattr(module, name)
-    _LOADED[key] = fn
-    return fn
+    with _LOADING:  # one thread of the process writes and imports a kernel, the others wait
+        if key in _LOADED:
+            return _LOADED[key]
+        modname = f"_linkwork_{prefix}_{key}"
+        path = (directory or kernel_dir()) / f"{modname}.py"
+        if not path.exists() or path.read_text() != source:
+            # a file of its own, then renamed: a process beside this one reads all or none
+            fd, tmp = tempfile.mkstemp(suffix=".tmp", prefix=f"{modname}.", dir=path.parent)
+            with os.fdopen(fd, "w") as f:
+                f.write(source)
+            os.replace(tmp, path)
+        spec = importlib.util.spec_from_file_location(modname, path)
+        assert spec is not None and spec.loader is not None
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[modname] = module
+        spec.loader.exec_module(module)
+        fn: Callable[..., Any] = getattr(module, name)
+        _LOADED[key] = fn
+        return fn
 
 
 def decorator(parallel: bool) -> str:

@@ -20,10 +20,11 @@ known neighbour with one unknown rate, the closure rows of the joint between the
 with the same singularity tests): the results agree with it to rounding (numba's ``cos``,
 ``sin``, ``atan2`` may differ from NumPy's in the last bit).
 
-Compiled plans (:func:`covered`): one driver (a crank on a revolute joint or a linear driver on
-a prismatic one), then any sequence of the closed-form dyads RRR, RRP, PRR, RPR, RPP, PPR, PRP
-and one-body slot groups RS, PS, on revolute, prismatic and pin-in-slot joints. Any other plan
-(Newton groups, driven cylinders, gears, several drivers) is left to the NumPy path, which
+Compiled plans (:func:`covered`): one or several drivers (each a crank on a revolute joint or a
+linear driver on a prismatic one, a group of its own, with its own coordinate, speed and
+acceleration) and any sequence of the closed-form dyads RRR, RRP, PRR, RPR, RPP, PPR, PRP and
+one-body slot groups RS, PS, on revolute, prismatic and pin-in-slot joints. Any other plan
+(Newton groups, driven cylinders, gears) is left to the NumPy path, which
 :func:`linkwork.planar.kinematics` then runs transparently.
 
 Written for numba's sake: the helpers below take and return numbers only (a body's pose ``x,
@@ -469,20 +470,20 @@ def _write_positions(src: Source, jt: np.ndarray, gi: int, row: Any) -> None:
     branches taken here); sets ``f<gi>, par<gi>`` (failed, parallel)."""
     kind, b1, b2, j1, j2, j3 = (int(v) for v in row)
     g = f"g{gi}_"
-    if kind == _DRIVER:
+    if kind == _DRIVER:  # driver j2 of the drivers (its coordinate qk<j2>)
         ia, ib = int(jt[j1, 1]), int(jt[j1, 2])
         is_b = b1 == ib
         k = ia if is_b else ib
         sign = 1.0 if is_b else -1.0
         pkx, pky, pux, puy = _ends_of(is_b, j1)
         rev = jt[j1, 0] == _R
-        src(f"th = t{k} + {sign!r} * ({'qk' if rev else _j(j1, 'rel')})",
+        src(f"th = t{k} + {sign!r} * ({f'qk{j2}' if rev else _j(j1, 'rel')})",
             "cc, ss = math.cos(th), math.sin(th)",
             f"wx, wy = _wpt({_pose(k)}, {pkx}, {pky})")
         if not rev:  # the guide's direction in a, turned by a's angle
             ca = f"c{ia}, s{ia}" if is_b else "cc, ss"
             src(f"ux, uy = _rot({ca}, {_j(j1, 'ux')}, {_j(j1, 'uy')})",
-                f"wx, wy = wx + {sign!r} * qk * ux, wy + {sign!r} * qk * uy")
+                f"wx, wy = wx + {sign!r} * qk{j2} * ux, wy + {sign!r} * qk{j2} * uy")
         src(f"x, y = _origin(cc, ss, {pux}, {puy}, wx, wy)",
             f"t{b1}, c{b1}, s{b1}, x{b1}, y{b1} = th, cc, ss, x, y",
             f"f{gi} = par{gi} = False")
@@ -603,8 +604,8 @@ def _write_rates(src: Source, jt: np.ndarray, row: Any) -> None:
     sign = 1.0 if b1 == ib else -1.0
     if kind == _DRIVER and jt[j1, 0] == _R:  # the crank: closed form
         pkx, pky, pux, puy = _ends_of(b1 == ib, j1)
-        src(f"w_ = w{k} + {sign!r} * wk",
-            f"e_ = e{k} + {sign!r} * ek",
+        src(f"w_ = w{k} + {sign!r} * wk{j2}",
+            f"e_ = e{k} + {sign!r} * ek{j2}",
             f"w{b1}, e{b1} = w_, e_",
             f"rx, ry = _rot(c{k}, s{k}, {pkx}, {pky})",
             f"vpx, vpy = vx{k} - w{k} * ry, vy{k} + w{k} * rx",
@@ -625,9 +626,9 @@ def _write_rates(src: Source, jt: np.ndarray, row: Any) -> None:
 
     hang("p0", j1, b1)
     if kind == _DRIVER:  # a linear driver: hung
-        src(f"p0 = _with_z(p0, {sign!r} * wk)",
+        src(f"p0 = _with_z(p0, {sign!r} * wk{j2})",
             f"vx{b1}, vy{b1}, w{b1} = _velocity(p0, x{b1}, y{b1})",
-            f"ax{b1}, ay{b1}, e{b1} = _acceleration(p0, {sign!r} * ek, x{b1}, y{b1})")
+            f"ax{b1}, ay{b1}, e{b1} = _acceleration(p0, {sign!r} * ek{j2}, x{b1}, y{b1})")
         return
     n_unk = 1 if kind >= _SLOT_R else 2
     if n_unk == 2:
@@ -681,7 +682,7 @@ def kernel_source(jt: np.ndarray, gt: np.ndarray, nb: int, parallel: bool = Fals
         "def kernel(jf, gf, br, scale, q, w, e, out, frame, pos_bad, bad, failed,",
         "           parallel_lines):")
     src.indent()
-    src("m, n = q.shape",
+    src("m, n = q.shape[1], q.shape[2]",
         f"nblk = (n + {BLOCK - 1}) // {BLOCK}",
         f"for job in {loop(parallel)}(m * nblk):")
     src.indent()
@@ -697,7 +698,8 @@ def kernel_source(jt: np.ndarray, gt: np.ndarray, nb: int, parallel: bool = Fals
     src("L = scale[i]",
         f"for k in range(k0, min(k0 + {BLOCK}, n)):")
     src.indent()
-    src("qk, wk, ek = q[i, k], w[i, k], e[i, k]")
+    for d in sorted({int(row[4]) for row in gt if row[0] == _DRIVER}):
+        src(f"qk{d}, wk{d}, ek{d} = q[{d}, i, k], w[{d}, i, k], e[{d}, i, k]")
     # every body's state starts at the frame's (the frame: at rest at the origin); a body's
     # rows are set by its group before they are read, except the unknown position of a body
     # on two lines, handed to _line_condition, which does not read it
@@ -777,7 +779,7 @@ def _group_row(g: PlanGroup, joints: dict[int, int]) -> list[int] | None:
         r = g.joints[0]
         if _joint_kind(r) not in (_R, _P):
             return None
-        return [_DRIVER, g.bodies[0], -1, joints[id(r)], -1, -1]
+        return [_DRIVER, g.bodies[0], -1, joints[id(r)], r.drive_index, -1]
     kind = _KINDS.get(g.kind)
     if kind is None:
         return None
@@ -827,7 +829,7 @@ def encode(plan: Plan) -> Encoded | None:
 
 
 def _encode(plan: Plan) -> Encoded | None:
-    if len(plan.drivers) > 1 or plan.newton:
+    if plan.newton:
         return None
     joints = {id(r): k for k, r in enumerate(plan.joints)}
     kinds = [_joint_kind(r) for r in plan.joints]
@@ -836,7 +838,7 @@ def _encode(plan: Plan) -> Encoded | None:
     rows: list[list[int]] = []
     for g in plan.groups:
         row = _group_row(g, joints)
-        if row is None or (row[0] == _DRIVER) != (not rows):  # the driver first, only
+        if row is None:
             return None
         rows.append(row)
     jt = np.array([[k, r.ia, r.ib] for k, r in zip(kinds, plan.joints, strict=True)],
@@ -867,12 +869,13 @@ def _encode(plan: Plan) -> Encoded | None:
 def run(enc: Encoded, branches: dict[str, Any], q: np.ndarray, w: np.ndarray, e: np.ndarray,
         out: np.ndarray, zeroed: bool = False, threads: int = 1
         ) -> tuple[np.ndarray, np.ndarray, set[str], set[str]]:
-    """The kernel over the elements of ``q, w, e`` (m, n) into ``out`` (9, nb, m, n):
+    """The kernel over the elements of ``q, w, e`` (n_drivers, m, n) into ``out`` (9, nb, m,
+    n):
     ``(pos_bad, bad, failed, parallel)`` (masks (m, n), sets of group keys). ``zeroed``: out
     holds zeros already, so the frame's rows are not written (a large block from
     ``np.zeros`` is memory the system maps on first write: those pages are never touched).
     ``threads`` > 1: the parallel kernel on that many of numba's threads."""
-    m, n = q.shape
+    m, n = q.shape[1:]
     ng = len(enc.keys)
     br = np.empty((m, ng), dtype=np.int64)
     for c, key in enumerate(enc.keys):

@@ -66,6 +66,22 @@ def test_load_writes_once_and_imports(tmp_path, monkeypatch):
     sys.modules.pop(path.stem, None)
 
 
+def test_threads_loading_one_kernel_at_once(tmp_path, monkeypatch):
+    """Eight threads load the same new kernel at once: one writes and imports it, every
+    thread gets that function, and no temporary file is left (each writer's temporary file
+    has a name of its own)."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    monkeypatch.setattr(codegen, "_LOADED", {})
+    src = "import time\ntime.sleep(0.05)\n\n\ndef kernel(x):\n    return 3 * x\n"
+    with ThreadPoolExecutor(8) as ex:
+        fns = list(ex.map(lambda _: codegen.load("test", src, directory=tmp_path), range(8)))
+    assert len({id(f) for f in fns}) == 1 and fns[0](2) == 6
+    (path,) = tmp_path.glob("_linkwork_test_*.py")
+    assert sorted(p.name for p in tmp_path.iterdir() if p.is_file()) == [path.name]
+    sys.modules.pop(path.stem, None)
+
+
 def test_a_damaged_kernel_file_is_written_again(tmp_path, monkeypatch):
     monkeypatch.setattr(codegen, "_LOADED", {})
     codegen.load("test", SOURCE, directory=tmp_path)

@@ -16,6 +16,7 @@ operations, per element). Skipped without numba (CI installs it: the ``test`` ex
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -23,18 +24,18 @@ import pytest
 
 pytest.importorskip("numba")
 
-from _mechanisms import BUILDERS, m_rrr, m_triad
+from _mechanisms import BUILDERS, crank_and_ram, five_bar, m_rrr, m_triad
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from linkwork.errors import AssemblyError, ParameterError
 from linkwork.planar import (
+    Body,
     Kinematics,
     Mechanism,
     crank_slider_mechanism,
     fourbar_mechanism,
     kinematics,
-    sketch,
     stack,
 )
 from linkwork.planar.compiled.kinematics import covered
@@ -260,19 +261,71 @@ def test_uncovered_plan_falls_back_to_the_numpy_numbers_exactly():
         np.testing.assert_array_equal(getattr(got, name), getattr(ref, name))
 
 
-def test_two_drivers_fall_back():
-    """A two-crank five-bar (two drivers, tests/planar/test_drivers.py's) is not compiled
-    either: the NumPy path's numbers bit for bit."""
-    pts = {"O1": (0.0, 0.0), "O2": (0.2, 0.0), "A": (0.02, 0.08), "B": (0.19, 0.1),
-           "P": (0.12, 0.28)}
-    mech = sketch(pts, {"c1": ["O1", "A"], "c2": ["O2", "B"], "l1": ["A", "P"],
-                        "l2": ["B", "P"]}, ground=["O1", "O2"], drivers=["O1", "O2"])
-    assert not covered(mech.plan)
-    q = np.array(mech.drawing.positions)[:, None] + np.array([0.6, -0.4])[:, None] * np.linspace(
-        0.0, 1.0, 7)
-    ref, got = both(mech, q)
+def _two_driver_motion(mech: Mechanism, n: int, out_of_range: bool = False
+                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Both drivers moving from the drawing's positions (the second driver a crank or a ram):
+    positions (2, n), speeds and accelerations varying per driver and position;
+    ``out_of_range``: so far that some positions do not assemble."""
+    t = np.linspace(0.0, 1.0, n)
+    lin = mech.plan.driver_kinds[1] == "linear"
+    step = np.array([0.6, 0.02 if lin else -0.4] if not out_of_range else
+                    [3.8, 0.13] if lin else [2 * np.pi, -2 * np.pi])[:, None]
+    q = np.array(mech.drawing.positions)[:, None] + step * t
+    w = np.array([[8.0], [0.3 if lin else -5.0]]) * (1.0 + 0.5 * np.sin(3.0 * t))
+    e = np.array([[2.0], [1.0]]) * np.cos(2.0 * t)
+    return q, w, e
+
+
+def _scaled(mech: Mechanism, f: float) -> Mechanism:
+    """Another design of ``mech``: every body's points moved to ``f`` times their place."""
+    def body(b: Body) -> Body:
+        return dataclasses.replace(b, points={k: (v[0] * f, v[1] * f)
+                                              for k, v in b.points.items()})
+
+    return Mechanism(body(mech.frame), tuple(body(b) for b in mech.bodies), mech.joints,
+                     mech.drivers, dict(mech.branches))
+
+
+@pytest.mark.parametrize("build", [five_bar, crank_and_ram], ids=lambda b: b.__name__)
+def test_several_drivers(build):
+    """Two drivers (two cranks; a crank and a linear actuator), each a group of its own with
+    its own positions, speeds and accelerations: compiled, and the NumPy path's numbers; out
+    of range, the same masks and the same AssemblyError."""
+    mech = build()
+    assert covered(mech.plan) and len(mech.drivers) == 2
+    q, w, e = _two_driver_motion(mech, 41)
+    ref = kinematics(mech, q, w, e)
+    got = kinematics(mech, q, w, e, backend="numba")
+    assert_agree(ref, got)
+    q, w, e = _two_driver_motion(mech, 41, out_of_range=True)
+    ref = kinematics(mech, q, w, e, on_failure="nan")
+    got = kinematics(mech, q, w, e, on_failure="nan", backend="numba")
+    assert 0 < np.count_nonzero(~ref.valid) < q.shape[1]
+    assert_agree(ref, got)
+    same_error(mech, q)
+
+
+@pytest.mark.parametrize("build", [five_bar, crank_and_ram], ids=lambda b: b.__name__)
+def test_several_drivers_in_a_batch(build):
+    """Three designs of a two-driver mechanism (scaled, per-design driver positions, speeds
+    and accelerations per driver and position): the compiled batch against the NumPy batch,
+    design 1 against itself alone bit for bit, and on threads bit for bit."""
+    mech = build()
+    q, w, e = _two_driver_motion(mech, 31)
+    batch = stack([_scaled(mech, f) for f in (1.0, 1.03, 0.98)])
+    mech = _scaled(mech, 1.03)
+    qb = np.stack([q, q + 0.01, q - 0.01], axis=1)  # (2, 3, n)
+    ref = kinematics(batch, qb, w, e, on_failure="nan")
+    got = kinematics(batch, qb, w, e, on_failure="nan", backend="numba")
+    assert_agree(ref, got)
+    one = kinematics(mech, qb[:, 1], w, e, on_failure="nan", backend="numba")
     for name in FIELDS:
-        np.testing.assert_array_equal(getattr(got, name), getattr(ref, name))
+        np.testing.assert_array_equal(getattr(got, name)[:, 1], getattr(one, name))
+    if _threads() > 1:
+        many = kinematics(batch, qb, w, e, on_failure="nan", backend="numba",
+                          threads=_threads())
+        for name in FIELDS:
+            np.testing.assert_array_equal(getattr(many, name), getattr(got, name))
 
 
 def test_default_backend_is_numpy_and_bad_names_are_refused():
