@@ -821,7 +821,7 @@ class Encoded:
     nj, 12), group table ``gt`` (ng, 6), group geometry ``gf`` (m, ng, 8), length scales (m,),
     the groups' keys in order."""
 
-    __slots__ = ("gf", "gt", "jf", "jt", "kernels", "keys", "m", "nb", "scale")
+    __slots__ = ("deferred", "gf", "gt", "jf", "jt", "kernels", "keys", "m", "nb", "scale")
 
     def __init__(self, jt: np.ndarray, jf: np.ndarray, gt: np.ndarray, gf: np.ndarray,
                  scale: np.ndarray, keys: tuple[str, ...], nb: int) -> None:
@@ -830,6 +830,7 @@ class Encoded:
         self.m = jf.shape[0]
         self.nb = nb
         self.kernels: dict[bool, Any] = {}  # serial, parallel: at the first run (:func:`kernel`)
+        self.deferred: list[tuple[int, Any]] | None = None  # the angles left to :func:`run`
 
 
 _CACHE: weakref.WeakKeyDictionary[Plan, Encoded | None] = weakref.WeakKeyDictionary()
@@ -961,15 +962,16 @@ def run(enc: Encoded, branches: dict[str, Any], q: np.ndarray, w: np.ndarray, e:
         jf = np.broadcast_to(jf, (m, *jf.shape[1:]))
         gf = np.broadcast_to(gf, (m, *gf.shape[1:]))
         scale = np.broadcast_to(scale, (m,))
-    deferred = deferred_angles(enc.jt, enc.gt)
-    ang = np.empty((len(deferred), m, n))
+    if enc.deferred is None:  # (body, its phi0 per design or None where all are 0)
+        enc.deferred = [(b, None if not enc.gf[:, gi, col].any() else enc.gf[:, gi, col, None])
+                        for b, gi, col in deferred_angles(enc.jt, enc.gt)]
+    ang = np.empty((len(enc.deferred), m, n))
     call(kernel(enc, threads > 1), threads, jf, gf, br, scale, q, w, e, out, ang, not zeroed,
          pos_bad, bad, failed, parallel)
-    for j, (b, gi, col) in enumerate(deferred):  # the angles: arctan2(ey, ex) - phi0
+    for j, (b, phi0) in enumerate(enc.deferred):  # the angles: arctan2(ey, ex) - phi0
         t = out[2, b]
         np.arctan2(t, ang[j], out=t)
-        phi0 = enc.gf[:, gi, col]
-        if np.any(phi0 != 0.0):
-            np.subtract(t, phi0[:, None], out=t)
+        if phi0 is not None:
+            np.subtract(t, phi0, out=t)
     return (pos_bad, bad, {k for k, f in zip(enc.keys, failed, strict=True) if f},
             {k for k, f in zip(enc.keys, parallel, strict=True) if f})
