@@ -455,8 +455,9 @@ def _cramer(a11: float, a12: float, r1: float, a21: float, a22: float, r2: float
 # write the helpers' calls with their constants; a body's state is the local variables
 # x<b> y<b> t<b> c<b> s<b> vx<b> vy<b> w<b> ax<b> ay<b> e<b>, a joint's geometry j<q>_<field>,
 # a group's g<gi>_<column>, read once per design
-#: positions of one design per block of the kernel's outer loop (its unit of work on a thread)
-BLOCK = 2048
+#: positions of one design per block of the kernel's outer loop (its unit of work on a thread;
+#: a call has at most as many threads as blocks)
+BLOCK = 512
 _JFIELDS = ("qax", "qay", "pbx", "pby", "ang", "ux", "uy", "rel", "crel", "srel", "nlx", "nly")
 _STATE = ("x", "y", "t", "c", "s", "vx", "vy", "w", "ax", "ay", "e")
 _HELPERS = ("_wpt", "_origin", "_rot", "_locus", "_intersect", "_finish_side", "_finish_circle",
@@ -966,12 +967,16 @@ def run(enc: Encoded, branches: dict[str, Any], q: np.ndarray, w: np.ndarray, e:
         enc.deferred = [(b, None if not enc.gf[:, gi, col].any() else enc.gf[:, gi, col, None])
                         for b, gi, col in deferred_angles(enc.jt, enc.gt)]
     ang = np.empty((len(enc.deferred), m, n))
+    threads = max(1, min(threads, m * -(-n // BLOCK)))  # no more threads than blocks
     call(kernel(enc, threads > 1), threads, jf, gf, br, scale, q, w, e, out, ang, not zeroed,
          pos_bad, bad, failed, parallel)
-    for j, (b, phi0) in enumerate(enc.deferred):  # the angles: arctan2(ey, ex) - phi0
-        t = out[2, b]
-        np.arctan2(t, ang[j], out=t)
-        if phi0 is not None:
-            np.subtract(t, phi0, out=t)
+    # the angles: arctan2(ey, ex) - phi0 (NaN where the element failed: the kernel wrote NaN
+    # as ey and left ex unwritten, so no warning for what is there)
+    with np.errstate(invalid="ignore"):
+        for j, (b, phi0) in enumerate(enc.deferred):
+            t = out[2, b]
+            np.arctan2(t, ang[j], out=t)
+            if phi0 is not None:
+                np.subtract(t, phi0, out=t)
     return (pos_bad, bad, {k for k, f in zip(enc.keys, failed, strict=True) if f},
             {k for k, f in zip(enc.keys, parallel, strict=True) if f})

@@ -463,3 +463,32 @@ def test_angles_on_circles_per_design_frames():
         shift = np.remainder(got.theta[2:, i] - got.theta[2:, 0] + alpha + np.pi,
                              2 * np.pi) - np.pi
         np.testing.assert_allclose(shift, 0.0, atol=1e-12)
+
+
+def test_no_more_threads_than_blocks(monkeypatch):
+    """A call runs on at most as many threads as it has blocks of positions (BLOCK per design):
+    one design of 360 positions on the calling thread, three designs on 3 (or numba's
+    count), one design of 2.5 blocks on 3; the numbers are the same either way."""
+    import linkwork.planar.compiled.kinematics as ck
+
+    if _threads() < 2:
+        pytest.skip("numba has one thread here (NUMBA_NUM_THREADS)")
+    used: list[int] = []
+    real = ck.call
+
+    def spy(fn, threads, *args):
+        used.append(threads)
+        return real(fn, threads, *args)
+
+    monkeypatch.setattr(ck, "call", spy)
+    a, b, c, d = _four_bars(3, 5)
+    k = _threads()
+    one = fourbar_mechanism(a[0], b[0], c[0], d[0])
+    q = np.linspace(0.0, 2 * np.pi, 360)
+    ref = kinematics(one, q, backend="numba", on_failure="nan")
+    got = kinematics(one, q, backend="numba", threads=k, on_failure="nan")
+    kinematics(fourbar_mechanism(a, b, c, d), q, backend="numba", threads=k, on_failure="nan")
+    kinematics(one, np.linspace(0.0, 2 * np.pi, 5 * ck.BLOCK // 2), backend="numba",
+               threads=k, on_failure="nan")
+    assert used == [1, 1, min(k, 3), min(k, 3)]
+    np.testing.assert_array_equal(got.eps, ref.eps)
