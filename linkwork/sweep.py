@@ -422,7 +422,8 @@ def check_client(client: Any, *, option: str = "client") -> None:
 def evaluate(func: Callable[..., Any], candidates: Any, *, chunk_size: int = 10_000,
              client: Any = None, progress: Progress | None = None,
              combine: Callable[[Any, Any], Any] | None = None,
-             shared: Mapping[str, Any] | None = None) -> Any:
+             shared: Mapping[str, Any] | None = None, balance: int = 0,
+             min_chunk: int = 1) -> Any:
     """Evaluate a vectorised ``func`` over candidates, chunk by chunk.
 
     Parameters
@@ -451,6 +452,13 @@ def evaluate(func: Callable[..., Any], candidates: Any, *, chunk_size: int = 10_
     shared : mapping of str to object, optional
         Inputs every chunk needs, passed to ``func`` as keyword arguments; on a cluster they
         travel to each worker once (scattered before the chunks), not with every task.
+    balance, min_chunk : int
+        On a cluster, smaller chunks where needed so that each worker thread has at least
+        ``balance`` of them (0: the chunks as ``chunk_size`` makes them), none below
+        ``min_chunk`` candidates: the last tasks are then short, and a worker slowed by other
+        load waits less for the others. Only for a ``func`` whose results do not depend on
+        where the chunks are cut (not for a :class:`Generated` that makes each chunk from a
+        seed of its own).
 
     Returns
     -------
@@ -459,6 +467,14 @@ def evaluate(func: Callable[..., Any], candidates: Any, *, chunk_size: int = 10_
     to the empty selection.
     """
     check_client(client)
+    if isinstance(balance, bool) or not isinstance(balance, int) or balance < 0:
+        raise ParameterError("balance", balance, "must be an integer >= 0")
+    if isinstance(min_chunk, bool) or not isinstance(min_chunk, int) or min_chunk < 1:
+        raise ParameterError("min_chunk", min_chunk, "must be an integer >= 1")
+    if balance and isinstance(candidates, Generated):
+        raise ParameterError("balance", balance, "must be 0 for Generated candidates (each "
+                             "chunk is made from a seed of its own: smaller chunks would "
+                             "change the candidates)")
     n = _length(candidates)
     slices = chunk_slices(n, chunk_size) or [slice(0, 0)]
     kw = dict(shared or {})
@@ -475,12 +491,14 @@ def evaluate(func: Callable[..., Any], candidates: Any, *, chunk_size: int = 10_
             if progress is not None:
                 progress(sl.stop, n)
         return joined.result() if combine is None else acc
-    return _evaluate_dask(func, candidates, slices, n, client, progress, combine, kw)
+    return _evaluate_dask(func, candidates, slices, n, client, progress, combine, kw,
+                          balance, min_chunk)
 
 
 def _evaluate_dask(func: Callable[..., Any], candidates: Any, slices: list[slice], n: int,
                    client: Any, progress: Progress | None,
-                   combine: Callable[[Any, Any], Any] | None, shared: dict[str, Any]) -> Any:
+                   combine: Callable[[Any, Any], Any] | None, shared: dict[str, Any],
+                   balance: int = 0, min_chunk: int = 1) -> Any:
     from dask.distributed import Client, as_completed
 
     own = isinstance(client, str)
@@ -496,6 +514,9 @@ def _evaluate_dask(func: Callable[..., Any], candidates: Any, slices: list[slice
         scattered = (dict(zip(names, cl.scatter([shared[k] for k in names], broadcast=True,
                                                 hash=False), strict=True)) if shared else {})
         threads = max(1, sum(cl.nthreads().values()))
+        if balance and n and len(slices) < balance * threads:
+            size = max(int(min_chunk), -(-n // (balance * threads)))
+            slices = chunk_slices(n, min(size, slices[0].stop - slices[0].start))
         groups = task_groups(len(slices), threads)
         tasks = [(slices[g[0]].start, slices[g[-1]].stop) for g in groups]
         if isinstance(candidates, Generated):  # make each chunk on its worker

@@ -205,6 +205,12 @@ def _peaks(comp: np.ndarray) -> np.ndarray:
 #: s of worker CPU in chunks of 2000, 0.25-0.30 s and 0.77-0.90 s in chunks of 10 000); in
 #: process the size does not matter (the kernel works in blocks of KERNEL_BLOCK).
 CHUNK_SAMPLES = 10_000
+#: On a cluster, at least this many chunks per worker thread (smaller ones where needed, none
+#: below MIN_CLUSTER_CHUNK samples): short last tasks balance the workers (the peaks do not
+#: depend on the chunking). 10^5 samples on 2 workers: 32 chunks of 3125, 1.58-1.65x
+#: in-process against 1.47-1.84x with 10 chunks of 10,000 (docs/performance.md)
+CLUSTER_CHUNKS = 16
+MIN_CLUSTER_CHUNK = 1_000
 
 #: Samples per block of the peak kernel: a block's reactions (positions x 6 n_joints x block,
 #: 4.4 MB for 360 positions and 4 joints) live in one buffer reused by every block of a chunk.
@@ -394,7 +400,9 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     chunk_size : int
         Samples per chunk (default :data:`CHUNK_SAMPLES`): the unit of work of a Dask cluster
         and of ``progress`` (the kernel runs over a chunk in blocks of :data:`KERNEL_BLOCK`
-        samples, so memory stays bounded whatever the chunk size).
+        samples, so memory stays bounded whatever the chunk size). On a cluster, smaller where
+        needed for :data:`CLUSTER_CHUNKS` chunks per worker thread (none below
+        :data:`MIN_CLUSTER_CHUNK` samples). The peaks do not depend on the chunking.
     client : dask.distributed.Client or str, optional
         Spread the chunks over this cluster (see :func:`linkwork.sweep.evaluate`).
     progress : callable, optional
@@ -428,6 +436,7 @@ def tolerance_study(model: SpatialModel, geom: SpatialGeometry, wrenches: ArrayL
     nj = len(model.joints)
     func = functools.partial(_chunk, n=geom.n, n_joints=nj)
     peaks = evaluate(func, draws, chunk_size=chunk_size, client=client, progress=progress,
-                     shared={"zb": affine_blocks(c0, zmat)})
+                     shared={"zb": affine_blocks(c0, zmat)}, balance=CLUSTER_CHUNKS,
+                     min_chunk=MIN_CLUSTER_CHUNK)
     return ToleranceStudy(joints=tuple(names), quantities=PEAK_QUANTITIES, peaks=peaks,
                           nominal=nominal, draws=draws, tolerances=tuple(tolerances), seed=seed)

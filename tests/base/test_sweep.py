@@ -326,6 +326,37 @@ def test_dask_tasks_of_several_chunks_call_func_on_the_in_process_chunks():
     assert len(done) == 10 and done[-1] == (95, 95)
 
 
+def test_balance_cuts_smaller_chunks_on_a_cluster_only():
+    """``balance=4`` on 2 worker threads: 95 candidates in chunks of 50 are cut into at least
+    8 chunks, 8 of 12 (ceil(95 / 8)), or of ``min_chunk`` = 20 where that is larger; in-process
+    the chunks stay those of ``chunk_size``; a Generated source refuses it; bad values name
+    the parameter."""
+    from dask.distributed import Client
+
+    x = np.arange(95.0)
+    assert np.array_equal(evaluate(_chunk_start, x, chunk_size=50, balance=4),
+                          evaluate(_chunk_start, x, chunk_size=50))
+    with Client(processes=False, dashboard_address=":0", n_workers=2,
+                threads_per_worker=1) as client:
+        done = []
+        cut = evaluate(_chunk_start, x, chunk_size=50, client=client, balance=4,
+                       progress=lambda d, t: done.append(d))
+        floor = evaluate(_chunk_start, x, chunk_size=50, client=client, balance=4,
+                         min_chunk=20)
+        plain = evaluate(_chunk_start, x, chunk_size=50, client=client)
+    np.testing.assert_array_equal(cut, np.repeat(np.arange(0.0, 95.0, 12.0), 12)[:95])
+    assert len(done) == 8 and done[-1] == 95  # one call per chunk (in the order they finish)
+    np.testing.assert_array_equal(floor, np.repeat(np.arange(0.0, 95.0, 20.0), 20)[:95])
+    np.testing.assert_array_equal(plain, np.repeat([0.0, 50.0], [50, 45]))
+    with pytest.raises(ParameterError, match="balance = 2 is invalid: must be 0 for "
+                                             "Generated candidates"):
+        evaluate(_chunk_start, Generated(95, _make_index), balance=2, client="tcp://x:1")
+    with pytest.raises(ParameterError, match="balance = -1 is invalid"):
+        evaluate(_chunk_start, x, balance=-1)
+    with pytest.raises(ParameterError, match="min_chunk = 0 is invalid"):
+        evaluate(_chunk_start, x, min_chunk=0)
+
+
 def _varied(x):
     """Results of three kinds by chunk: float rows, then (from candidate 40 on) int rows."""
     x = np.asarray(x)
