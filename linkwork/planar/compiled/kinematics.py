@@ -723,8 +723,9 @@ def _write_rates(src: Source, jt: np.ndarray, row: Any) -> None:
 
 def kernel_source(jt: np.ndarray, gt: np.ndarray, nb: int, parallel: bool = False) -> str:
     """The source of the kernel of a plan structure (joint table ``jt``, group table ``gt``,
-    ``nb`` bodies): ``kernel(jf, gf, br, scale, q, w, e, out, frame, pos_bad, bad, failed,
-    parallel_lines)`` with the arguments of :func:`run`'s call (``frame``: write the frame's
+    ``nb`` bodies): ``kernel(jf, gf, br, scale, q, w, e, out, ang, frame, pos_bad, bad,
+    failed, parallel_lines)`` with the arguments of :func:`run`'s call (``ang``: the ``ex`` of
+    the angles left to :func:`run`, :func:`deferred_angles`; ``frame``: write the frame's
     rows, zeros). The elements go in blocks of :data:`BLOCK` positions of one design (each
     design's geometry read once per block), shared among numba's threads if ``parallel``."""
     src = Source()
