@@ -426,8 +426,7 @@ def inverse_dynamics(kin: Kinematics, *, gravity: ArrayLike | None = None,
     if len(ab) != 2:
         raise ParameterError("about", about, "must be a point (x, y) [m]")
     backend = check_backend(backend)
-    if type(threads) is not int or threads != 1:
-        threads = check_threads(threads, backend)
+    threads = check_threads(threads, backend)
     if kin.n_designs is not None:
         return _batch_dynamics(kin, (g[0], g[1]), (ab[0], ab[1]), loads, backend, threads)
     # the loads are checked and evaluated over the whole cycle (a load diagram's rest band,

@@ -388,8 +388,7 @@ def kinematics(mech: Mechanism, phi1: ArrayLike, omega1: ArrayLike | None = None
     """
     if backend != "numpy":
         check_backend(backend)
-    if type(threads) is not int or threads != 1:
-        threads = check_threads(threads, backend)
+    threads = check_threads(threads, backend)
     if not isinstance(mech, Mechanism):
         raise ParameterError("mech", mech, "must be a Mechanism")
     if mech.n_designs is not None:

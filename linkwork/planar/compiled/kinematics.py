@@ -147,15 +147,15 @@ def _sqrt_checked(arg: float, scale: float) -> tuple[float, bool]:
 def _locus(rev: bool, is_b: bool, ox: float, oy: float, oc: float, os: float, ot: float,
            pkx: float, pky: float, psx: float, psy: float, ux: float, uy: float, rel: float,
            pix: float, piy: float, rad: float
-           ) -> tuple[int, float, float, float, float, float, float, float]:
+           ) -> tuple[float, float, float, float, float, float, float]:
     """The locus of the point ``(pix, piy)`` of a body allowed by its external joint (revolute
     ``rev`` or a line; the body its b if ``is_b``; the known other body's pose ``ox, oy, oc,
-    os`` and angle ``ot``; the joint's points on it ``pk`` and on the body ``ps``): (0, A,
-    radius ``rad``, 0) a circle about the pivot, or (1, B0, u) a line, then the body's angle,
-    its cosine and sine (a line's only)."""
+    os`` and angle ``ot``; the joint's points on it ``pk`` and on the body ``ps``): (A, radius
+    ``rad``, 0) a circle about the pivot, or (B0, u) a line, then the body's angle, its cosine
+    and sine (a line's only)."""
     ax, ay = _wpt(ox, oy, oc, os, pkx, pky)
     if rev:
-        return 0, ax, ay, rad, 0.0, 0.0, 1.0, 0.0
+        return ax, ay, rad, 0.0, 0.0, 1.0, 0.0
     th = _angle_of(is_b, ot, ot, rel)
     c, s = math.cos(th), math.sin(th)
     if is_b:  # the slider on its known guide a
@@ -163,7 +163,7 @@ def _locus(rev: bool, is_b: bool, ox: float, oy: float, oc: float, os: float, ot
     else:  # the guide; the known body's point slides on it
         ux, uy = _rot(c, s, ux, uy)
     rx, ry = _rot(c, s, pix - psx, piy - psy)
-    return 1, ax + rx, ay + ry, ux, uy, th, c, s
+    return ax + rx, ay + ry, ux, uy, th, c, s
 
 
 @njit(cache=True, error_model="numpy", inline="always")
@@ -199,30 +199,14 @@ def _intersect(k1: int, a1: float, b1: float, c1: float, d1: float, k2: int, a2:
 
 
 @njit(cache=True, error_model="numpy")
-def _finish_side(kind: int, ax: float, ay: float, rad: float, phi0: float, c0: float,
-                 s0: float, th: float, c: float, s: float, pix: float, piy: float, bx: float,
-                 by: float) -> tuple[float, float, float, float, float]:
-    """The body's pose (angle, cosine, sine, origin): on a circle (``kind`` 0) its angle from
-    the radius vector (``phi0`` the angle of its point ``(pix, piy)`` seen from its pivot, in
-    its frame; ``c0, s0`` its cosine and sine), on a line the given ``th, c, s``; then its
-    origin from the point ``(pix, piy)`` at ``(bx, by)``."""
-    if kind == 0:
-        ex, ey, c, s, x, y = _finish_circle(ax, ay, rad, phi0, c0, s0, pix, piy, bx, by)
-        th = math.atan2(ey, ex)
-        if phi0 != 0.0:
-            th = th - phi0
-        return th, c, s, x, y
-    x, y = _origin(c, s, pix, piy, bx, by)
-    return th, c, s, x, y
-
-
-@njit(cache=True, error_model="numpy")
 def _finish_circle(ax: float, ay: float, rad: float, phi0: float, c0: float, s0: float,
                    pix: float, piy: float, bx: float, by: float
                    ) -> tuple[float, float, float, float, float, float]:
-    """:func:`_finish_side` on a circle without the angle: the radius vector's direction (ex,
-    ey), whose ``atan2(ey, ex) - phi0`` is the angle, then the body's cosine, sine and
-    origin."""
+    """The pose of a body whose point ``(pix, piy)`` is at ``(bx, by)`` on the circle of
+    centre ``(ax, ay)`` and radius ``rad`` about its pivot, without its angle: the radius
+    vector's direction (ex, ey), whose ``atan2(ey, ex) - phi0`` is the angle (``phi0`` the
+    angle of the point seen from the pivot in the body's frame; ``c0, s0`` its cosine and
+    sine), then the body's cosine, sine and origin."""
     ex, ey = (bx - ax) / rad, (by - ay) / rad
     if phi0 != 0.0:
         c = ex * c0 + ey * s0
@@ -460,7 +444,7 @@ def _cramer(a11: float, a12: float, r1: float, a21: float, a22: float, r2: float
 BLOCK = 512
 _JFIELDS = ("qax", "qay", "pbx", "pby", "ang", "ux", "uy", "rel", "crel", "srel", "nlx", "nly")
 _STATE = ("x", "y", "t", "c", "s", "vx", "vy", "w", "ax", "ay", "e")
-_HELPERS = ("_wpt", "_origin", "_rot", "_locus", "_intersect", "_finish_side", "_finish_circle",
+_HELPERS = ("_wpt", "_origin", "_rot", "_locus", "_intersect", "_finish_circle",
             "_rotating_line", "_line_condition", "_two_lines", "_hang", "_known", "_with_z",
             "_velocity", "_acceleration", "_closure", "_cramer")
 
@@ -546,7 +530,7 @@ def _write_positions(src: Source, jt: np.ndarray, gi: int, row: Any, angles: _An
             pkx, pky, psx, psy = _ends_of(b == ib, jj)
             rev = bool(jt[jj, 0] == _R)
             ks.append(0 if rev else 1)
-            src(f"_, lx{side}, ly{side}, lc{side}, ld{side}, lt{side}, lco{side}, lsi{side} = "
+            src(f"lx{side}, ly{side}, lc{side}, ld{side}, lt{side}, lco{side}, lsi{side} = "
                 f"_locus({rev}, {b == ib}, {_pose(o)}, {'0.0' if rev else angles.t(o)}, "
                 f"{pkx}, {pky}, {psx}, {psy}, "
                 f"{_j(jj, 'ux')}, {_j(jj, 'uy')}, {_j(jj, 'rel')}, {p[0]}, {p[1]}, {g}{rad})")
@@ -556,10 +540,9 @@ def _write_positions(src: Source, jt: np.ndarray, gi: int, row: Any, angles: _An
             if ks[side - 1] == 0:
                 angles.circle(src, b, gi, col, f"lx{side}, ly{side}, lc{side}, {g}{col}, "
                               f"{g}{col + 1}, {g}{col + 2}, {p[0]}, {p[1]}, bx, by")
-            else:
-                src(f"t{b}, c{b}, s{b}, x{b}, y{b} = _finish_side(1, lx{side}, ly{side}, "
-                    f"lc{side}, {g}{col}, {g}{col + 1}, {g}{col + 2}, lt{side}, lco{side}, "
-                    f"lsi{side}, {p[0]}, {p[1]}, bx, by)")
+            else:  # on a line: the angle the locus gave, the origin from the point
+                src(f"t{b}, c{b}, s{b} = lt{side}, lco{side}, lsi{side}",
+                    f"x{b}, y{b} = _origin(c{b}, s{b}, {p[0]}, {p[1]}, bx, by)")
         return
     if kind in (_DYAD_RPR, _DYAD_PP):
         ga, sb = int(jt[j2, 1]), int(jt[j2, 2])  # the internal pair's guide and slider bodies

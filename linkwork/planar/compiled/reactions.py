@@ -39,7 +39,7 @@ from __future__ import annotations
 import sys
 import weakref
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -105,6 +105,8 @@ class Encoded:
     gb: Arr
     dk: Arr
     scale: Arr
+    #: the compiled kernels of the plan's structure, serial and parallel (:func:`kernel`)
+    kernels: dict[bool, Any] = field(default_factory=dict, repr=False)
 
 
 _CACHE: weakref.WeakKeyDictionary[Any, Encoded | None] = weakref.WeakKeyDictionary()
@@ -258,6 +260,13 @@ def _rot(c: float, s: float, x: float, y: float) -> tuple[float, float]:
 # the bodies' cos, sin and unbalanced loads, the hung bodies' vectors, the closure coefficients
 # and the joints' reactions are local variables. The operations and their order are the
 # interpreter's, so are the results, bit for bit.
+def _point_b(src: Source, enc: Encoded, q: int) -> None:
+    """``px, py``: the world point of joint ``q`` on its body b."""
+    i = int(enc.jb[q])
+    src(f"rx, ry = _rot(c{i}, s{i}, geo[{q}, 2, d], geo[{q}, 3, d])",
+        f"px, py = X[{i}, p] + rx, Y[{i}, p] + ry")
+
+
 def _write_group(src: Source, enc: Encoded, g: int) -> None:
     """The reactions of group ``g`` (groups last first), its driver's load included."""
     jt, ja, jb, jd = enc.jt, enc.ja, enc.jb, enc.jd
@@ -288,10 +297,8 @@ def _write_group(src: Source, enc: Encoded, g: int) -> None:
             if other != 0:
                 src(f"M0{other} = M0{other} - torque")
         else:  # a force along the guide at the slider point
-            i = int(jb[q])
-            src(f"rx, ry = _rot(c{i}, s{i}, geo[{q}, 2, d], geo[{q}, 3, d])",
-                f"px, py = X[{i}, p] + rx, Y[{i}, p] + ry",
-                "ux, uy = hv01, hv02",
+            _point_b(src, enc, q)
+            src("ux, uy = hv01, hv02",
                 f"drive = -(Fx{b} * ux + Fy{b} * uy)",
                 f"Q{jd[q]} = {sgn!r} * drive",
                 "fx, fy = drive * ux, drive * uy",
@@ -311,9 +318,8 @@ def _write_group(src: Source, enc: Encoded, g: int) -> None:
             b1, b2 = gb
             ka = 0 if ia == b1 else (1 if nh == 2 and ia == b2 else -1)
             kb = 0 if on == b1 else (1 if nh == 2 and on == b2 else -1)
-            src(f"rx, ry = _rot(c{on}, s{on}, geo[{q}, 2, d], geo[{q}, 3, d])",
-                f"px, py = X[{on}, p] + rx, Y[{on}, p] + ry",
-                f"ux, uy = _rot(c{ia}, s{ia}, geo[{q}, 4, d], geo[{q}, 5, d])",
+            _point_b(src, enc, q)  # (on: the joint's body b)
+            src(f"ux, uy = _rot(c{ia}, s{ia}, geo[{q}, 4, d], geo[{q}, 5, d])",
                 "nx, ny = -uy, ux",
                 "C00, C01, C10, C11 = 0.0, 0.0, 0.0, 0.0")
             for kk, sg in ((ka, 1.0), (kb, -1.0)):
@@ -358,10 +364,8 @@ def _write_group(src: Source, enc: Encoded, g: int) -> None:
             if rev[h] > 0.0:  # a force through the pivot
                 src(f"fx, fy, mz, px, py = -Fx{on}, -Fy{on}, 0.0, hv{h}1, hv{h}2")
             else:  # a force normal to the guide at the slider point, and a couple
-                i = int(jb[q])
-                src(f"rx, ry = _rot(c{i}, s{i}, geo[{q}, 2, d], geo[{q}, 3, d])",
-                    f"px, py = X[{i}, p] + rx, Y[{i}, p] + ry",
-                    f"nx, ny = -hv{h}2, hv{h}1",
+                _point_b(src, enc, q)
+                src(f"nx, ny = -hv{h}2, hv{h}1",
                     f"N = -(Fx{on} * nx + Fy{on} * ny)",
                     "fx, fy = N * nx, N * ny",
                     f"mz = -(M0{on} - (px * Fy{on} - py * Fx{on}))")
@@ -436,10 +440,8 @@ def kernel_source(enc: Encoded, parallel: bool = False) -> str:
     # reaction points and the shaking force and moment on the frame
     src("shx, shy, shm = 0.0, 0.0, 0.0")
     for q in range(nj):
-        i = int(jb[q])
-        src(f"rx, ry = _rot(c{i}, s{i}, geo[{q}, 2, d], geo[{q}, 3, d])",
-            f"px, py = X[{i}, p] + rx, Y[{i}, p] + ry",
-            f"rpx[{q}, p] = px",
+        _point_b(src, enc, q)
+        src(f"rpx[{q}, p] = px",
             f"rpy[{q}, p] = py",
             f"rfx[{q}, p] = rfx{q}",
             f"rfy[{q}, p] = rfy{q}",
@@ -479,12 +481,8 @@ def _helpers_hash() -> str:
 def kernel(enc: Encoded, parallel: bool = False) -> Any:
     """The compiled kernel of ``enc``'s plan structure, serial or ``parallel`` (generated,
     compiled and cached once per structure: :mod:`~linkwork.planar.compiled.codegen`)."""
-    kernels = _KERNELS.setdefault(enc, {})
     try:
-        return kernels[parallel]
+        return enc.kernels[parallel]
     except KeyError:
-        fn = kernels[parallel] = load("reactions", kernel_source(enc, parallel))
+        fn = enc.kernels[parallel] = load("reactions", kernel_source(enc, parallel))
         return fn
-
-
-_KERNELS: weakref.WeakKeyDictionary[Encoded, dict[bool, Any]] = weakref.WeakKeyDictionary()
