@@ -28,15 +28,16 @@ import os
 import sys
 import tempfile
 import threading
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Hashable, Mapping
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
 __all__ = ["Source", "call", "choose_dir", "decorator", "fingerprint", "kernel_dir", "load",
-           "loop"]
+           "loop", "structure_kernel"]
 
 _LOADED: dict[str, Callable[..., Any]] = {}
+_BY_STRUCTURE: dict[tuple[str, Hashable], Callable[..., Any]] = {}
 _DIR: list[Path] = []
 #: parallel kernels run one at a time: numba's fallback threading layer (workqueue, where
 #: neither OpenMP nor TBB is installed) aborts the process on concurrent launches
@@ -93,6 +94,18 @@ def fingerprint(*modules: ModuleType) -> str:
     for mod in modules:
         h.update(Path(mod.__file__ or "").read_bytes())
     return h.hexdigest()[:16]
+
+
+def structure_kernel(prefix: str, key: Hashable, source: Callable[[], str]) -> Any:
+    """The kernel of the plan structure ``key`` (its tables as bytes, and whether parallel):
+    ``load(prefix, source())`` the first time, the same function after, without writing the
+    source again (a new mechanism of a known structure, e.g. a design changed by a solver,
+    costs a dictionary look-up, not the ~0.2 ms of writing its kernel's source)."""
+    try:
+        return _BY_STRUCTURE[prefix, key]
+    except KeyError:
+        fn = _BY_STRUCTURE[prefix, key] = load(prefix, source())
+        return fn
 
 
 def load(prefix: str, source: str, name: str = "kernel", directory: Path | None = None

@@ -39,6 +39,7 @@ This module imports numba: it is imported only when ``backend="numba"`` is asked
 
 from __future__ import annotations
 
+import functools
 import math
 import sys
 import weakref
@@ -47,7 +48,14 @@ from typing import Any
 import numpy as np
 from numba import njit
 
-from linkwork.planar.compiled.codegen import Source, call, decorator, fingerprint, load, loop
+from linkwork.planar.compiled.codegen import (
+    Source,
+    call,
+    decorator,
+    fingerprint,
+    loop,
+    structure_kernel,
+)
 from linkwork.planar.joints import PinInSlot, Prismatic, ResolvedJoint, Revolute
 from linkwork.planar.structure import Plan, PlanGroup
 
@@ -775,15 +783,23 @@ def kernel_source(jt: np.ndarray, gt: np.ndarray, nb: int, parallel: bool = Fals
 def deferred_angles(jt: np.ndarray, gt: np.ndarray) -> list[tuple[int, int, int]]:
     """The bodies whose angle the kernel of this structure leaves to :func:`run` (see
     :class:`_Angles`): (body, group, column of its ``phi0`` in the group geometry), in the
-    order of the kernel's ``ang`` rows."""
+    order of the kernel's ``ang`` rows; worked out once per structure."""
+    return list(_deferred(jt.tobytes(), gt.tobytes()))
+
+
+@functools.cache
+def _deferred(jt_bytes: bytes, gt_bytes: bytes) -> tuple[tuple[int, int, int], ...]:
+    jt = np.frombuffer(jt_bytes, dtype=np.int64).reshape(-1, 3)
+    gt = np.frombuffer(gt_bytes, dtype=np.int64).reshape(-1, 6)
     angles = _Angles()
     scratch = Source()
     for gi, row in enumerate(gt):
         _write_positions(scratch, jt, gi, row, angles)
-    return [(b, gi, col) for b, (gi, col) in sorted(angles.circles.items())
-            if b not in angles.reads]
+    return tuple((b, gi, col) for b, (gi, col) in sorted(angles.circles.items())
+                 if b not in angles.reads)
 
 
+@functools.cache
 def _helpers_hash() -> str:
     return fingerprint(sys.modules[__name__])
 
@@ -791,12 +807,8 @@ def _helpers_hash() -> str:
 def kernel(enc: Encoded, parallel: bool = False) -> Any:
     """The compiled kernel of ``enc``'s plan structure, serial or ``parallel`` (generated,
     compiled and cached once per structure: :mod:`~linkwork.planar.compiled.codegen`)."""
-    try:
-        return enc.kernels[parallel]
-    except KeyError:
-        fn = enc.kernels[parallel] = load("kinematics", kernel_source(enc.jt, enc.gt, enc.nb,
-                                                                      parallel))
-        return fn
+    return structure_kernel("kinematics", (enc.jt.tobytes(), enc.gt.tobytes(), enc.nb, parallel),
+                            lambda: kernel_source(enc.jt, enc.gt, enc.nb, parallel))
 
 
 # ---------------------------------------------------------------------------------------------
@@ -806,7 +818,7 @@ class Encoded:
     nj, 12), group table ``gt`` (ng, 6), group geometry ``gf`` (m, ng, 8), length scales (m,),
     the groups' keys in order."""
 
-    __slots__ = ("deferred", "gf", "gt", "jf", "jt", "kernels", "keys", "m", "nb", "scale")
+    __slots__ = ("deferred", "gf", "gt", "jf", "jt", "keys", "m", "nb", "scale")
 
     def __init__(self, jt: np.ndarray, jf: np.ndarray, gt: np.ndarray, gf: np.ndarray,
                  scale: np.ndarray, keys: tuple[str, ...], nb: int) -> None:
@@ -814,7 +826,6 @@ class Encoded:
         self.keys = keys
         self.m = jf.shape[0]
         self.nb = nb
-        self.kernels: dict[bool, Any] = {}  # serial, parallel: at the first run (:func:`kernel`)
         self.deferred: list[tuple[int, Any]] | None = None  # the angles left to :func:`run`
 
 

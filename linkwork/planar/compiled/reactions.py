@@ -36,16 +36,24 @@ backend is asked for.
 
 from __future__ import annotations
 
+import functools
 import sys
 import weakref
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from linkwork.planar.compiled import numba_module
-from linkwork.planar.compiled.codegen import Source, call, decorator, fingerprint, load, loop
+from linkwork.planar.compiled.codegen import (
+    Source,
+    call,
+    decorator,
+    fingerprint,
+    loop,
+    structure_kernel,
+)
 from linkwork.planar.joints import PinInSlot, Prismatic, Revolute
 from linkwork.planar.state import Arr
 from linkwork.planar.structure import HUNG
@@ -105,8 +113,6 @@ class Encoded:
     gb: Arr
     dk: Arr
     scale: Arr
-    #: the compiled kernels of the plan's structure, serial and parallel (:func:`kernel`)
-    kernels: dict[bool, Any] = field(default_factory=dict, repr=False)
 
 
 _CACHE: weakref.WeakKeyDictionary[Any, Encoded | None] = weakref.WeakKeyDictionary()
@@ -474,6 +480,7 @@ def kernel_source(enc: Encoded, parallel: bool = False) -> str:
     return src.text()
 
 
+@functools.cache
 def _helpers_hash() -> str:
     return fingerprint(sys.modules[__name__])
 
@@ -481,8 +488,6 @@ def _helpers_hash() -> str:
 def kernel(enc: Encoded, parallel: bool = False) -> Any:
     """The compiled kernel of ``enc``'s plan structure, serial or ``parallel`` (generated,
     compiled and cached once per structure: :mod:`~linkwork.planar.compiled.codegen`)."""
-    try:
-        return enc.kernels[parallel]
-    except KeyError:
-        fn = enc.kernels[parallel] = load("reactions", kernel_source(enc, parallel))
-        return fn
+    key = (enc.nb, enc.nj, enc.nd, parallel, *(a.tobytes() for a in (
+        enc.jt, enc.ja, enc.jb, enc.jd, enc.gk, enc.gj, enc.gb, enc.dk)))
+    return structure_kernel("reactions", key, lambda: kernel_source(enc, parallel))

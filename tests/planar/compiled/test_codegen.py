@@ -156,3 +156,24 @@ def test_one_reactions_kernel_per_structure():
     assert reactions.kernel(encs[0]) is reactions.kernel(encs[1])  # type: ignore[arg-type]
     other = reactions.encode(five_bar())
     assert other is not None and reactions.kernel_source(other) not in sources
+
+
+def test_a_new_mechanism_of_a_known_structure_writes_no_source(monkeypatch):
+    """Once a structure's kernels exist, a new mechanism of that structure (a design changed by
+    a solver, a loop over designs) neither writes the source again nor works out its
+    deferred angles again: both are looked up by the structure's tables."""
+    from linkwork.planar import inverse_dynamics
+    from linkwork.planar.compiled import reactions
+
+    q = np.linspace(0.0, 6.0, 5)
+    inverse_dynamics(kinematics(fourbar_mechanism(0.1, 0.3, 0.2, 0.3, masses=(1.0, 2.0, 1.5)),
+                                q, backend="numba"), backend="numba")
+    written: list[str] = []
+    monkeypatch.setattr(ck, "kernel_source", lambda *a: written.append("kinematics") or "")
+    monkeypatch.setattr(reactions, "kernel_source", lambda *a: written.append("reactions") or "")
+    for a in (0.09, 0.11):
+        mech = fourbar_mechanism(a, 0.3, 0.2, 0.3, masses=(1.0, 2.0, a * 10))
+        ref = inverse_dynamics(kinematics(mech, q), backend="numpy")
+        got = inverse_dynamics(kinematics(mech, q, backend="numba"), backend="numba")
+        np.testing.assert_allclose(got.Q, ref.Q, rtol=0, atol=1e-12 * np.max(np.abs(ref.Q)))
+    assert written == []
