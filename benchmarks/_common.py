@@ -10,6 +10,8 @@ samples taken in the same round (paired), which is the spread a target must be j
 
 from __future__ import annotations
 
+import functools
+import itertools
 import os
 import statistics
 import sys
@@ -167,24 +169,156 @@ def max_rel_diff(got: Sequence[Any], want: Sequence[Any], angles: Sequence[int] 
     return worst
 
 
-def local_clusters(workers: Sequence[int]) -> tuple[dict[str, Any], list[Any]]:
-    """Local dask clusters of worker processes (``LocalCluster(processes=True)``: what a
-    ``--scheduler`` address gives on one machine), one per entry of ``workers``, 1 thread per
-    worker, dask's default worker settings (its nanny sets ``MALLOC_TRIM_THRESHOLD_=65536``).
-    Returns {label: Client} and the objects to close."""
+def join(parts: Sequence[Any]) -> Any:
+    """Results of consecutive shares joined along their first axis (arrays, or dicts of
+    arrays key by key)."""
+    if isinstance(parts[0], dict):
+        return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
+    return np.concatenate(parts)
+
+
+class PlainProcesses:
+    """``w`` plain worker processes (``multiprocessing``, spawned, no Dask), started and warmed
+    up once, with the environment a Dask nanny gives its workers
+    (``distributed.nanny.pre-spawn-environ``: one BLAS thread, dask's malloc setting). A study
+    runs on them as ``w`` equal consecutive shares of its candidates, one per process, each
+    evaluated there in-process in the same chunks: no scheduler, no per-task cost, only the
+    shares and their results cross between processes. Each process runs its share as a Dask
+    worker runs a task (``linkwork.sweep._on_worker``: the chunks on aligned arrays inside
+    ``sweep.roomy_heap``). What an executor of ``w`` processes can do on this machine at this
+    moment at best: the bound a Dask cluster of ``w`` workers is judged against."""
+
+    def __init__(self, w: int) -> None:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        try:
+            import dask
+
+            env = {k: str(v) for k, v in
+                   (dask.config.get("distributed.nanny.pre-spawn-environ") or {}).items()}
+        except ImportError:
+            env = {}
+        saved = {k: os.environ.get(k) for k in env}
+        os.environ.update(env)   # inherited by the processes spawned now
+        try:
+            self.w = int(w)
+            self.executor = ProcessPoolExecutor(self.w,
+                                                mp_context=multiprocessing.get_context("spawn"))
+            list(self.executor.map(time.sleep, [0.3] * self.w))   # w tasks at once: w spawned
+        finally:
+            for k, v in saved.items():
+                if v is None:
+                    os.environ.pop(k, None)
+                else:
+                    os.environ[k] = v
+        started = len(self.executor._processes or {})
+        if started != self.w:
+            raise RuntimeError(f"{self.w} plain processes asked, {started} started")
+
+    def evaluate(self, func: Callable[..., Any], candidates: Any, chunk_size: int) -> Any:
+        """``func`` over ``candidates`` (an array, or a dict of arrays) in ``w`` shares, one per
+        process; the results joined in order."""
+        n = len(next(iter(candidates.values())) if isinstance(candidates, dict) else candidates)
+        cuts = [n * i // self.w for i in range(self.w + 1)]
+        shares = [({k: v[a:b] for k, v in candidates.items()} if isinstance(candidates, dict)
+                   else candidates[a:b]) for a, b in itertools.pairwise(cuts)]
+        from linkwork.sweep import _on_worker, chunk_slices
+
+        bounds = [[(c.start, c.stop) for c in chunk_slices(b - a, chunk_size)]
+                  for a, b in itertools.pairwise(cuts)]
+        # (functions of this module cannot travel: the tests load it under another name)
+        parts = self.executor.map(_on_worker, [func] * self.w, shares, bounds, [{}] * self.w)
+        return join([r for part in parts for r in part])
+
+    def close(self) -> None:
+        self.executor.shutdown()
+
+
+def cluster_rounds(workers: Sequence[int], inproc: Callable[[], Any],
+                   on_cluster: Callable[[Any], Any], on_plain: Callable[[PlainProcesses], Any],
+                   same: Callable[[Any, Any, str], None], repeat: int
+                   ) -> list[dict[str, Any]]:
+    """A study in-process, on a local Dask cluster of worker processes and on as many plain
+    processes (:class:`PlainProcesses`), for each entry ``w`` of ``workers`` in turn, with
+    only that cluster (``LocalCluster(n_workers=w, threads_per_worker=1, processes=True)``,
+    dask's default worker settings: what a ``--scheduler`` address gives on one machine) and
+    its plain processes alive: an idle cluster's processes took 3-6.5 % of a core each on this
+    machine, CPU the measured one would lose. The three are sampled round-robin, ``repeat``
+    rounds (``inproc()``, ``on_cluster(client)``, ``on_plain(processes)``); their results are
+    checked first, ``same(got, in_process, label)``. Returns one row per ``w``: the samples
+    of each and the CPU split (:func:`cpu_split`) in-process and on the cluster."""
     import logging
 
     from dask.distributed import Client, LocalCluster
 
     logging.getLogger("distributed").setLevel(logging.ERROR)
-    clients, owned = {}, []
+    rows = []
     for w in workers:
+        label = f"process cluster, {w} worker{'s' if w > 1 else ''}"
+        plain_label = f"{w} plain process{'es' if w > 1 else ''}"
         cluster = LocalCluster(n_workers=w, threads_per_worker=1, processes=True,
                                dashboard_address=":0", silence_logs=logging.ERROR)
         client = Client(cluster)
-        clients[f"process cluster, {w} worker{'s' if w > 1 else ''}"] = client
-        owned += [client, cluster]
-    return clients, owned
+        plain = PlainProcesses(w)
+        try:
+            fns: list[Callable[[], Any]] = [inproc, functools.partial(on_cluster, client),
+                                            functools.partial(on_plain, plain)]
+            firsts, results = [], []
+            for fn in fns:                      # warm-up, agreement, calibration
+                t0 = time.perf_counter()
+                results.append(fn())
+                firsts.append(time.perf_counter() - t0)
+            same(results[1], results[0], label)
+            same(results[2], results[0], plain_label)
+            del results
+            times = time_rounds(fns, repeat, first=firsts)
+            cpu = {"in-process": cpu_split(inproc), label: cpu_split(fns[1], client)}
+        finally:
+            plain.close()
+            client.close()
+            cluster.close()
+        rows.append({"workers": w, "cluster": label, "plain": plain_label,
+                     "times": {"in-process": times[0].samples, "cluster": times[1].samples,
+                               "plain": times[2].samples}, "cpu": cpu})
+    return rows
+
+
+def cluster_lines(rows: Sequence[dict[str, Any]], what: str, target: float = 1.6,
+                  markdown: bool = False) -> list[str]:
+    """The table of :func:`cluster_rounds`: each executor's time, its speed-up over
+    in-process per round, and the cluster's share of the plain processes' speed-up (Dask's own
+    cost); the target judged against the spread for 2 workers (issue 20)."""
+    out = ["", f"{what} on local process clusters, one cluster alive at a time (speed-ups: "
+           "in-process time / time, per round):"]
+    cells = ["executor", "workers", "min / median / max", "speed-up min / median / max",
+             "cluster / plain processes"]
+    if markdown:
+        out += ["| " + " | ".join(cells) + " |", "|---|---:|---:|---:|---:|"]
+    for r in rows:
+        t = {k: Spread(list(v)) for k, v in r["times"].items()}
+        share = ratio(t["plain"], t["cluster"])
+        for key, name in (("in-process", "in-process"), ("cluster", r["cluster"]),
+                          ("plain", r["plain"])):
+            sp = ratio(t["in-process"], t[key])
+            line = [name, str(r["workers"]), fmt_spread(t[key]),
+                    "1" if key == "in-process" else fmt_spread(sp, "ratio"),
+                    fmt_spread(share, "ratio") if key == "cluster" else ""]
+            if markdown:
+                out.append("| " + " | ".join(line) + " |")
+            else:
+                out.append(f"  {line[0]:32s} {line[1]:>2s} {line[2]:>30s} {line[3]:>20s} "
+                           f"{line[4]:>20s}")
+        if r["workers"] == 2:
+            sp = ratio(t["in-process"], t["cluster"])
+            bound = ratio(t["in-process"], t["plain"])
+            out.append(f"  target: 2 workers >= {target:g}x in-process (issue 20): "
+                       f"{verdict(sp, target, 'above')} (median {sp.median:.2f}); 2 plain "
+                       f"processes, the machine's bound this run: {bound.median:.2f} "
+                       f"({verdict(bound, target, 'above')})")
+    for r in rows:
+        out += cpu_lines(r["cpu"])
+    return out
 
 
 def _process_cpu() -> float:

@@ -14,13 +14,18 @@ Contenders, on the same scrambled Sobol candidates of scheme 1 (r, l, alpha, a, 
                             passes, then evaluation) in chunks of 4096, in-process;
 ``screen, dask ...``        the same chunks on ``LocalCluster(processes=True)`` with
                             ``--workers`` worker processes (1 thread each, dask's default worker
-                            settings): what ``linkwork swashplate synthesize --scheduler`` gives.
+                            settings): what ``linkwork swashplate synthesize --scheduler``
+                            gives; one cluster alive at a time, sampled round-robin with the
+                            in-process screening and with ``w plain processes`` (equal shares
+                            of the candidates on spawned processes, no Dask: the machine's
+                            bound for an executor of processes at that moment).
 
 Agreement, before timing: the vectorised characteristics (H, both pressure angles, max |Pi_v|)
 of all ``--loop-n`` loop candidates equal the loop's to 1e-10 (of max(1, |value|)); every
-cluster's screening equals the in-process screening exactly (every key, every candidate, NaN
-where NaN). Timing: ``--repeat`` rounds, one sample of every contender per round; min / median /
-max; the speed-up of a cluster is the in-process screening time over the cluster's, per round.
+cluster's and the plain processes' screening equals the in-process screening exactly (every key,
+every candidate, NaN where NaN). Timing: ``--repeat`` rounds, one sample of every contender per
+round; min / median / max; the speed-up of an executor is the in-process screening time over
+its own, per round.
 
 Usage::
 
@@ -43,16 +48,14 @@ from scipy.stats import qmc
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import (
+    PlainProcesses,
     Spread,
-    cpu_lines,
-    cpu_split,
+    cluster_lines,
+    cluster_rounds,
     finish,
     fmt_spread,
     load,
-    local_clusters,
-    ratio,
     time_rounds,
-    verdict,
 )
 
 from linkwork.models import swashplate as sw
@@ -119,44 +122,37 @@ def run(n: int = 16384, loop_n: int = 300, repeat: int = 5, workers: tuple[int, 
     req, bounds, X = problem(n)
     vec_fn = functools.partial(syn.evaluate_candidates, req=req)
     screen_fn = functools.partial(syn._screen, req=req, bounds=bounds)
-    clients: dict[str, Any] = {}
-    owned: list[Any] = []
-    if workers:
-        clients, owned = local_clusters(workers)
-    try:
-        names = ["loop (per candidate)", "vectorised, chunks of 4096",
-                 "screen (repair + evaluate), in-process"]
-        counts = [loop_n, n, n]
-        fns: list[Any] = [lambda: loop(req, X[:loop_n]),
-                          lambda: evaluate(vec_fn, X, chunk_size=CHUNK),
-                          lambda: evaluate(screen_fn, X, chunk_size=CHUNK)]
-        for label, cl in clients.items():
-            names.append(f"screen, dask {label}")
-            counts.append(n)
-            fns.append(functools.partial(evaluate, screen_fn, X, chunk_size=CHUNK, client=cl))
-        firsts, results = [], []
-        for fn in fns:                          # warm-up, agreement, calibration
-            t0 = time.perf_counter()
-            results.append(fn())
-            firsts.append(time.perf_counter() - t0)
-        agreement = {"vectorised vs loop": check_loop(
-            results[0], syn.evaluate_candidates(X[:loop_n], req))}
-        for name, res in zip(names[3:], results[3:], strict=True):
-            check_same(res, results[2], name)
-            agreement[f"{name} vs in-process"] = 0.0
-        del results
-        times = time_rounds(fns, repeat, first=firsts, long_repeat=long_repeat)
-        cpu = {}
-        if clients:
-            cpu["in-process"] = cpu_split(fns[2])
-            for (label, cl), fn in zip(clients.items(), fns[3:], strict=True):
-                cpu[label] = cpu_split(fn, cl)
-    finally:
-        for obj in owned:
-            obj.close()
+    names = ["loop (per candidate)", "vectorised, chunks of 4096",
+             "screen (repair + evaluate), in-process"]
+    counts = [loop_n, n, n]
+    fns: list[Any] = [lambda: loop(req, X[:loop_n]),
+                      lambda: evaluate(vec_fn, X, chunk_size=CHUNK),
+                      lambda: evaluate(screen_fn, X, chunk_size=CHUNK)]
+    firsts, results = [], []
+    for fn in fns:                          # warm-up, agreement, calibration
+        t0 = time.perf_counter()
+        results.append(fn())
+        firsts.append(time.perf_counter() - t0)
+    agreement = {"vectorised vs loop": check_loop(
+        results[0], syn.evaluate_candidates(X[:loop_n], req))}
+    del results
+    times = time_rounds(fns, repeat, first=firsts, long_repeat=long_repeat)
     rows = [{"contender": name, "candidates": k, "times": sp.samples}
             for name, k, sp in zip(names, counts, times, strict=True)]
-    return {"rows": rows, "agreement": agreement, "n": n, "cpu": cpu}
+
+    def same(got: Any, want: Any, label: str) -> None:
+        check_same(got, want, label)
+        agreement[f"screen, {label} vs in-process"] = 0.0
+
+    def on_plain(procs: PlainProcesses) -> Any:
+        return procs.evaluate(screen_fn, X, CHUNK)
+
+    def on_cluster(client: Any) -> Any:
+        return evaluate(screen_fn, X, chunk_size=CHUNK, client=client)
+
+    clusters = (cluster_rounds(workers, fns[2], on_cluster, on_plain, same, repeat)
+                if workers else [])
+    return {"rows": rows, "agreement": agreement, "n": n, "dask": clusters}
 
 
 def table(result: dict[str, Any], markdown: bool = False) -> str:
@@ -178,17 +174,9 @@ def table(result: dict[str, Any], markdown: bool = False) -> str:
         else:
             lines.append(f"{r['contender']:46s} {r['candidates']:10d} {fmt_spread(sp):>28s} "
                          f"{rate:12,.0f} {rate / base:7.1f}")
-    inproc = Spread(rows[2]["times"])
-    dask = [r for r in rows if "dask" in r["contender"]]
-    if dask:
-        lines += ["", "speed-up of the screening over in-process (in-process time / cluster "
-                  "time, per round; min / median / max):"]
-        for r in dask:
-            sp = ratio(inproc, Spread(r["times"]))
-            target = ("; target >= 1.6 (issue 20): " + verdict(sp, 1.6, "above")
-                      if "2 workers" in r["contender"] else "")
-            lines.append(f"  {r['contender']}: {fmt_spread(sp, 'ratio')}{target}")
-    lines += cpu_lines(result.get("cpu", {}))
+    if result.get("dask"):
+        lines += cluster_lines(result["dask"], f"the screening of {result['n']} candidates",
+                               markdown=markdown)
     lines += ["", "agreement (checked before timing):"]
     lines += [f"  {k}: {v:.2g}" for k, v in result["agreement"].items()]
     return "\n".join(lines)

@@ -17,10 +17,15 @@ does),
 ``tolerance_study``      :func:`linkwork.redundancy.tolerance_study` at each ``--n`` samples,
                          in-process (the affine map deviations -> reactions is built once per
                          position; each chunk of samples is one batched matrix product);
-``... dask``             the same at ``--dask-n`` samples on local dask clusters of worker
+``... dask``             the same at ``--dask-n`` samples on a local dask cluster of worker
                          processes (``LocalCluster(processes=True)``, ``--workers`` 1 and 2,
-                         1 thread each, dask's default worker settings): what ``--scheduler``
-                         gives; the speed-up is in-process time / cluster time per round;
+                         1 thread each, dask's default worker settings: what ``--scheduler``
+                         gives), one cluster alive at a time, sampled round-robin with the
+                         in-process study and with ``w plain processes`` (the study's set-up
+                         here, then the library's kernel over equal shares of the draws on
+                         spawned processes, no Dask: the machine's bound for an executor of
+                         processes at that moment); speed-ups are in-process time / time per
+                         round;
 ``plain NumPy re-solve`` the reference: for ``--resolve-n`` samples, one straightforward
                          re-solve of the whole compliance problem per sample, written out in
                          this file (stiffness ``A K A^T`` assembled from the joint geometry and
@@ -46,7 +51,8 @@ Before timing, the force and displacement methods are compared (every component 
 and Q, relative to the largest value of its kind, 1e-9), and the peaks of every timed contender
 are compared with the plain NumPy re-solve of the same samples (relative to the largest peak of
 the same quantity, 1e-9; a study is checked on ``--resolve-n`` of its own samples spread over
-its N); the dask runs must equal the in-process run of the same size to 1e-12.
+its N); the dask runs and the plain processes must equal the in-process run of the same
+size to 1e-12.
 
 Case "peak kernel": the kernel alone on the largest ``--n`` with the affine map given, the
 library's (``tolerance._chunk``) against the lean kernel written flat and a fused numba loop
@@ -80,17 +86,16 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from _common import (
+    PlainProcesses,
     Spread,
-    cpu_lines,
-    cpu_split,
+    cluster_lines,
+    cluster_rounds,
     finish,
     fmt_spread,
     fmt_time,
     load,
-    local_clusters,
     ratio,
     time_rounds,
-    verdict,
 )
 
 EXAMPLE = Path(__file__).resolve().parents[1] / "examples" / "loom_fourbar_spatial.toml"
@@ -370,13 +375,11 @@ def cycle_contenders(prob: Problem) -> list[Contender]:
     return [Contender(f"{m} method", 0, solver(m), out) for m in ("force", "displacement")]
 
 
-def study_contenders(prob: Problem, sizes: tuple[int, ...], resolve_n: int, dask_n: int,
-                     clients: dict[str, Any] | None = None, seed: int = 1,
+def study_contenders(prob: Problem, sizes: tuple[int, ...], resolve_n: int, seed: int = 1,
                      chunk_size: int = 10_000
                      ) -> tuple[list[Contender], Callable[[np.ndarray], np.ndarray]]:
     """The Monte-Carlo contenders, and the plain NumPy re-solve ``draws -> peaks`` that checks
-    them. Per-sample contenders run on ``resolve_n`` samples of the smallest study; ``clients``
-    (label -> dask Client) each run the study at ``dask_n`` samples."""
+    them. Per-sample contenders run on ``resolve_n`` samples of the smallest study."""
     from linkwork.redundancy import solve_reactions, tolerance_study
 
     n0 = min(sizes)
@@ -423,16 +426,47 @@ def study_contenders(prob: Problem, sizes: tuple[int, ...], resolve_n: int, dask
         cons.append(Contender("tolerance_study", n, study(n), of_study))
         cons.append(Contender("plain NumPy affine map, lean kernel", n, affine(n),
                               lambda x: x))
-    if dask_n and clients:
-        if dask_n not in sizes:
-            cons.append(Contender("tolerance_study", dask_n, study(dask_n), of_study))
-        for label, cl in clients.items():
-            cons.append(Contender(f"tolerance_study, dask {label}", dask_n, study(dask_n, cl),
-                                  of_study))
     def resolve(dr: np.ndarray) -> np.ndarray:
         return np.stack([peaks_of(plain.reactions(d)) for d in deviations_of(prob, dr)])
 
     return cons, resolve
+
+
+def affine_of(prob: Problem) -> tuple[np.ndarray, np.ndarray]:
+    """``c0`` (n, 6 n_joints) and ``Z`` (n, 6 n_joints, n_tol) of the library's affine map
+    (``tolerance.affine_map``) for the toleranced deviations of ``prob``."""
+    import linkwork.redundancy.tolerance as tol
+
+    names = [j.name for j in prob.model.joints]
+    index = [(names.index(t.joint) * 2 + (0 if t.side == "a" else 1)) * 6
+             + _COMPS.index(t.component) for t in prob.tolerances]
+    _, c0, z = tol.affine_map(prob.model, prob.geom, prob.wrenches, index)
+    return c0, z
+
+
+def library_kernel(prob: Problem, c0: np.ndarray, z: np.ndarray
+                   ) -> Callable[[np.ndarray], np.ndarray]:
+    """The library's peak kernel ``draws -> peaks`` with the affine map ``c0``, ``Z`` given
+    (``tolerance._chunk`` on ``tolerance.affine_blocks``): what ``tolerance_study`` evaluates
+    chunk by chunk after its set-up."""
+    import functools
+
+    import linkwork.redundancy.tolerance as tol
+
+    return functools.partial(tol._chunk, zb=tol.affine_blocks(c0, z), n=prob.geom.n,
+                             n_joints=len(prob.model.joints))
+
+
+def on_plain_processes(prob: Problem, n: int, seed: int, chunk_size: int
+                       ) -> Callable[[PlainProcesses], np.ndarray]:
+    """The study of ``n`` samples on plain processes, peaks (n, n_joints, 7): its set-up
+    here as ``tolerance_study`` makes it (the same draws, the affine map), then the library's
+    kernel over equal shares of the draws, one per process, in chunks of ``chunk_size``."""
+    def run(procs: PlainProcesses) -> np.ndarray:
+        draws = PlainAffine(prob).draws(n, seed)
+        return procs.evaluate(library_kernel(prob, *affine_of(prob)), draws, chunk_size)
+
+    return run
 
 
 def kernel_contenders(prob: Problem, n: int, seed: int = 1, chunk_size: int = 10_000,
@@ -441,18 +475,10 @@ def kernel_contenders(prob: Problem, n: int, seed: int = 1, chunk_size: int = 10
     draws for all): the library's (``tolerance._chunk`` over chunks of ``chunk_size``, its
     buffers reused block by block), the lean kernel of :class:`PlainAffine` written flat, and
     a fused numba loop (the practical limit). Output: the peaks (n, n_joints, 7)."""
-    import functools
-
-    import linkwork.redundancy.tolerance as tol
-
-    names = [j.name for j in prob.model.joints]
-    index = [(names.index(t.joint) * 2 + (0 if t.side == "a" else 1)) * 6
-             + _COMPS.index(t.component) for t in prob.tolerances]
-    _, c0, z = tol.affine_map(prob.model, prob.geom, prob.wrenches, index)
-    nj, npos = len(names), prob.geom.n
+    c0, z = affine_of(prob)
+    nj, npos = len(prob.model.joints), prob.geom.n
+    kern = library_kernel(prob, c0, z)
     draws = PlainAffine(prob).draws(n, seed)
-    zb = tol.affine_blocks(c0, z)
-    kern = functools.partial(tol._chunk, zb=zb, n=npos, n_joints=nj)
 
     def library() -> np.ndarray:
         return np.concatenate([kern(draws[i:i + chunk_size])
@@ -533,7 +559,7 @@ def check_cycle(results: list[np.ndarray], names: list[str], nj: int) -> float:
 def check_study(results: dict[str, Any], cons: list[Contender], resolve_n: int,
                 resolve: Callable[[np.ndarray], np.ndarray]) -> dict[str, float]:
     """Peaks of every contender against the plain NumPy re-solve of the same samples, relative
-    to the largest peak of the same quantity; the dask study against the in-process one.
+    to the largest peak of the same quantity.
 
     Per-sample contenders ran on the reference samples (the plain NumPy re-solve's); every
     study is checked on ``resolve_n`` of its own samples spread over its N, re-solved by
@@ -543,20 +569,10 @@ def check_study(results: dict[str, Any], cons: list[Contender], resolve_n: int,
     scale = np.max(np.abs(ref), axis=(0, 1))                   # (7,) per quantity
     scale = np.maximum(scale, 1e-6 * np.max(scale))
     out: dict[str, float] = {}
-    inproc: dict[int, np.ndarray] = {}
     for i, con in enumerate(cons):
         got, draws = results[f"{con.name}#{i}"]
         want = ref
         if draws is not None:                                   # a study: its own samples
-            if "dask" in con.name and con.samples in inproc:
-                same = inproc[con.samples]
-                err = float(np.max(np.abs(got - same)) / np.max(np.abs(same)))
-                out[f"{con.name}, N={con.samples} vs in-process"] = err
-                if not err <= RTOL_DASK:
-                    raise AssertionError(f"{con.name} differs from the in-process study: "
-                                         f"{err:.3g} > {RTOL_DASK:g}")
-            elif con.name == "tolerance_study":
-                inproc[con.samples] = got
             idx = _spread(con.samples, resolve_n)
             got, want = got[idx], resolve(draws[idx])
         err = _rel(got, want, scale)
@@ -612,43 +628,47 @@ def run(sizes: tuple[int, ...] = (1_000, 10_000, 100_000), positions: int = 360,
         rows.append({"case": "peak kernel", "contender": con.name, "samples": con.samples,
                      "positions": positions, "times": sp.samples})
     # tolerance study
-    clients: dict[str, Any] = {}
-    owned: list[Any] = []
-    if dask_n and workers:
-        clients, owned = local_clusters(workers)
-    try:
-        cons, resolve = study_contenders(prob, tuple(sizes), resolve_n, dask_n, clients, seed,
-                                         chunk_size)
-        res_s, first_s = _first_calls(cons)
-        study_err = check_study(res_s, cons, resolve_n, resolve)
-        del res_s
-        times = time_rounds([c.run for c in cons], repeat, first=first_s,
-                            long_repeat=long_repeat)
-        cpu = cpu_profiles(cons, clients, dask_n)
-    finally:
-        for obj in owned:
-            obj.close()
+    cons, resolve = study_contenders(prob, tuple(sizes), resolve_n, seed, chunk_size)
+    res_s, first_s = _first_calls(cons)
+    study_err = check_study(res_s, cons, resolve_n, resolve)
+    del res_s
+    times = time_rounds([c.run for c in cons], repeat, first=first_s, long_repeat=long_repeat)
     for con, sp in zip(cons, times, strict=True):
         rows.append({"case": "tolerance study", "contender": con.name, "samples": con.samples,
                      "positions": positions, "times": sp.samples})
+    dask_err: dict[str, float] = {}
+    clusters = (dask_rounds(prob, dask_n, seed, chunk_size, workers, repeat, dask_err)
+                if dask_n and workers else [])
     return {"rows": rows, "agreement": {"force vs displacement (one cycle)": cycle_err,
-                                        **kernel_err, **study_err},
+                                        **kernel_err, **study_err, **dask_err},
             "tolerances": len(prob.tolerances), "resolve_samples": cons[0].samples,
-            "cpu": cpu}
+            "dask": clusters, "dask_samples": dask_n}
 
 
-def cpu_profiles(cons: list[Contender], clients: dict[str, Any], n: int
-                 ) -> dict[str, dict[str, Any]]:
-    """CPU seconds per call of the study at ``n`` samples in-process and on each cluster
-    (:func:`_common.cpu_split`): what bounds the speed-up on free cores, whatever the load."""
-    if not clients:
-        return {}
-    out = {"in-process": cpu_split(next(c.run for c in cons if c.name == "tolerance_study"
-                                        and c.samples == n))}
-    for label, cl in clients.items():
-        run = next(c.run for c in cons if c.name == f"tolerance_study, dask {label}")
-        out[label] = cpu_split(run, cl)
-    return out
+def dask_rounds(prob: Problem, n: int, seed: int, chunk_size: int, workers: tuple[int, ...],
+                repeat: int, agreement: dict[str, float]) -> list[dict[str, Any]]:
+    """The study of ``n`` samples in-process, on a local process cluster and on plain
+    processes, for each number of ``workers`` (:func:`_common.cluster_rounds`); the peaks of
+    both against the in-process study's to :data:`RTOL_DASK` (into ``agreement``)."""
+    from linkwork.redundancy import tolerance_study
+
+    def study(client: Any = None) -> Any:
+        return tolerance_study(prob.model, prob.geom, prob.wrenches, prob.tolerances, n,
+                               seed=seed, chunk_size=chunk_size, client=client)
+
+    def peaks(x: Any) -> np.ndarray:
+        return np.asarray(getattr(x, "peaks", x))
+
+    def same(got: Any, want: Any, label: str) -> None:
+        g, w = peaks(got), peaks(want)
+        err = float(np.max(np.abs(g - w)) / np.max(np.abs(w)))
+        agreement[f"tolerance_study, {label}, N={n} vs in-process"] = err
+        if not err <= RTOL_DASK:
+            raise AssertionError(f"{label}: the peaks differ from the in-process study: "
+                                 f"{err:.3g} > {RTOL_DASK:g}")
+
+    return cluster_rounds(workers, study, study, on_plain_processes(prob, n, seed, chunk_size),
+                          same, repeat)
 
 
 def _sp(r: dict[str, Any]) -> Spread:
@@ -705,19 +725,10 @@ def table(result: dict[str, Any], markdown: bool = False) -> str:
         per = sp.median / r["samples"]
         emit([r["contender"], str(r["samples"]), fmt_spread(sp), fmt_time(per),
               f"{plain_per / per:.3g}", f"{fact_per / per:.3g}"], w)
-    dask = [r for r in st if "dask" in r["contender"]]
-    if dask:
-        n = dask[0]["samples"]
-        inproc = _sp(next(r for r in st if r["contender"] == "tolerance_study"
-                          and r["samples"] == n))
-        lines += ["", f"Dask at {n} samples: speed-up over in-process (in-process time / "
-                  "cluster time, per round; min / median / max):"]
-        for r in dask:
-            sp = ratio(inproc, _sp(r))
-            target = ("; target >= 1.6 (issue 20): " + verdict(sp, 1.6, "above")
-                      if "2 workers" in r["contender"] else "")
-            lines.append(f"  {r['contender']}: {fmt_spread(sp, 'ratio')}{target}")
-    lines += cpu_lines(result.get("cpu", {}))
+    if result.get("dask"):
+        lines += cluster_lines(result["dask"],
+                               f"tolerance_study, {result['dask_samples']} samples",
+                               markdown=markdown)
     lines.append("")
     lines.append("agreement (max relative difference, checked before timing):")
     for k, v in result["agreement"].items():

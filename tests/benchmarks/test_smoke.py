@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pytest
 from _benchmarks import BENCHMARKS, load_benchmark
@@ -110,15 +112,56 @@ def test_tolerance_study_benchmark_runs_tiny_and_its_checks_bite():
 
 
 def test_tolerance_study_benchmark_dask_rows_on_a_process_cluster():
-    """The dask rows run on LocalCluster(processes=True) and equal the in-process study."""
+    """The dask rows run on LocalCluster(processes=True) and on as many plain processes, both
+    equal to the in-process study, and the table judges them."""
     tol = load_benchmark("tolerance_study")
     result = tol.run(sizes=(40,), positions=12, repeat=1, resolve_n=2, dask_n=40, workers=(1,),
                      fused=False)
-    names = [r["contender"] for r in result["rows"]]
-    assert "tolerance_study, dask process cluster, 1 worker" in names
-    assert result["agreement"][
-        "tolerance_study, dask process cluster, 1 worker, N=40 vs in-process"] == 0.0
-    assert "speed-up over in-process" in tol.table(result)
+    (row,) = result["dask"]
+    assert row["workers"] == 1 and set(row["times"]) == {"in-process", "cluster", "plain"}
+    assert all(len(v) == 1 for v in row["times"].values())
+    agree = result["agreement"]
+    assert agree["tolerance_study, process cluster, 1 worker, N=40 vs in-process"] == 0.0
+    assert agree["tolerance_study, 1 plain process, N=40 vs in-process"] == 0.0
+    text = tol.table(result)
+    assert "one cluster alive at a time" in text and "1 plain process" in text
+
+
+def test_swashplate_benchmark_dask_rows_and_their_check():
+    """benchmarks/swashplate_synthesis.py with a 1-worker process cluster: the cluster's and
+    the plain process's screening equal the in-process one; a plain process that returns
+    another screening is caught before timing."""
+    sw = load_benchmark("swashplate_synthesis")
+    result = sw.run(n=64, loop_n=3, repeat=1, workers=(1,))
+    assert result["agreement"]["screen, process cluster, 1 worker vs in-process"] == 0.0
+    assert result["agreement"]["screen, 1 plain process vs in-process"] == 0.0
+    assert "the screening of 64 candidates" in sw.table(result)
+    common = load_benchmark("_common")
+    req, _, x = sw.problem(8)
+    fn = functools.partial(sw.syn.evaluate_candidates, req=req)
+
+    def other(procs):
+        return {k: v + 1.0 for k, v in procs.evaluate(fn, x, 4).items()}
+
+    with pytest.raises(AssertionError, match="1 plain process"):
+        common.cluster_rounds((1,), lambda: sw.evaluate(fn, x, chunk_size=4),
+                              lambda cl: sw.evaluate(fn, x, chunk_size=4, client=cl),
+                              other, sw.check_same, repeat=1)
+
+
+def test_plain_processes_split_the_candidates_in_order():
+    """benchmarks/_common.PlainProcesses: equal consecutive shares, one per process, chunked
+    there; arrays and dicts of arrays joined in candidate order."""
+    common = load_benchmark("_common")
+    procs = common.PlainProcesses(2)
+    try:
+        x = np.arange(11.0)
+        assert np.array_equal(procs.evaluate(np.square, x, 3), x ** 2)
+        d = {"a": np.arange(5.0), "b": -np.arange(5.0)}
+        got = procs.evaluate(dict, d, 2)
+        assert set(got) == {"a", "b"} and all(np.array_equal(got[k], d[k]) for k in d)
+    finally:
+        procs.close()
 
 
 def test_cpu_lines_of_calls_below_the_clock_resolution():
