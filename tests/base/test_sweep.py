@@ -326,6 +326,55 @@ def test_dask_tasks_of_several_chunks_call_func_on_the_in_process_chunks():
     assert len(done) == 10 and done[-1] == (95, 95)
 
 
+def _fails_at_50(x):
+    x = np.asarray(x)
+    if x[0] == 50.0:
+        raise ValueError("chunk 50 failed")
+    return x * 1.0
+
+
+def test_results_wait_on_the_workers_until_gather_bytes(monkeypatch):
+    """On a cluster the first finished task's results are gathered at once (their size per
+    candidate), the rest when GATHER_BYTES of them wait or after the last task: 95 candidates
+    of 8 bytes in two gathers; with GATHER_BYTES = 0, one gather per batch of finished tasks.
+    The results and the progress (once per chunk, reaching N) are the same either way, and a
+    task's error is raised, not left waiting."""
+    import distributed
+    from dask.distributed import Client
+
+    import linkwork.sweep as sweep
+
+    calls = []
+    real = distributed.Client.gather
+
+    def spy(self, futures, *args, **kw):
+        calls.append(len(futures))
+        return real(self, futures, *args, **kw)
+
+    monkeypatch.setattr(distributed.Client, "gather", spy)
+    x = np.arange(95.0)
+    local = evaluate(_chunk_start, x, chunk_size=10)
+    with Client(processes=False, dashboard_address=":0", n_workers=2,
+                threads_per_worker=1) as client:
+        done: list[int] = []
+        late = evaluate(_chunk_start, x, chunk_size=10, client=client,
+                        progress=lambda d, t: done.append(d))
+        assert len(calls) == 2 and sum(calls) == 6   # 10 chunks in 6 tasks
+        assert len(done) == 10 and done[-1] == 95
+        calls.clear()
+        monkeypatch.setattr(sweep, "GATHER_BYTES", 0)
+        done2: list[int] = []
+        each = evaluate(_chunk_start, x, chunk_size=10, client=client,
+                        progress=lambda d, t: done2.append(d))
+        assert len(calls) >= 3 and sum(calls) == 6
+        assert len(done2) == 10 and done2[-1] == 95
+        monkeypatch.setattr(sweep, "GATHER_BYTES", 64 * 2**20)
+        with pytest.raises(ValueError, match="chunk 50 failed"):
+            evaluate(_fails_at_50, x, chunk_size=10, client=client)
+    np.testing.assert_array_equal(late, local)
+    np.testing.assert_array_equal(each, local)
+
+
 def test_balance_cuts_smaller_chunks_on_a_cluster_only():
     """``balance=4`` on 2 worker threads: 95 candidates in chunks of 50 are cut into at least
     8 chunks, 8 of 12 (ceil(95 / 8)), or of ``min_chunk`` = 20 where that is larger; in-process
