@@ -51,32 +51,14 @@ they complete (``as_completed(...).batches()``, one ``gather`` per batch), each 
 the workers as soon as it is here; ``combine`` folds them in candidate order as soon as the
 next one in order is in, and ``progress`` is called once per chunk.
 
-Worker malloc settings
-----------------------
-dask's worker launcher (the nanny) sets ``MALLOC_TRIM_THRESHOLD_=65536`` in every worker
-process it starts (dask config ``distributed.nanny.pre-spawn-environ``), so that the workers
-give freed memory back to the system. That setting also fixes glibc's ``mmap`` threshold at
-128 kB: every NumPy temporary of more than 128 kB becomes a fresh ``mmap`` and every page of it
-a page fault, and the freed top of the heap is returned at once. A NumPy kernel that makes
-multi-megabyte temporaries then runs 1.5-3x slower on such a worker than in the user's own
-process. Two remedies, both here: the library's hottest kernel (the tolerance study's) works in
-preallocated buffers, and every task that runs on a cluster runs inside :func:`roomy_heap`,
-which raises the two glibc thresholds while the task's chunks run and restores the
-environment's values (and trims the heap) afterwards, so that the worker gives its memory back
-between tasks as its operator asked. Nothing is needed from whoever starts the cluster;
-unsetting the variable (``distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_``)
-changes nothing for linkwork. The worker settings that do matter: ``docs/dask.md``.
+Worker malloc settings: :mod:`linkwork.heap` (every task on a cluster runs inside
+:func:`linkwork.heap.roomy_heap`).
 """
 
 from __future__ import annotations
 
-import ctypes
-import ctypes.util
 import functools
-import os
 import re
-import sys
-import threading
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from typing import Any
@@ -84,6 +66,7 @@ from typing import Any
 import numpy as np
 
 from linkwork.errors import MissingExtraError, ParameterError
+from linkwork.heap import roomy_heap
 
 __all__ = [
     "DASK_INSTALL",
@@ -184,88 +167,6 @@ class Generated:
 
     def __len__(self) -> int:
         return self.n
-
-
-# ---------------------------------------------------------------------------------------------
-# glibc's heap thresholds while a chunk runs on a worker
-
-#: mallopt(3) parameters of glibc
-_M_TRIM_THRESHOLD = -1
-_M_MMAP_THRESHOLD = -3
-#: While a chunk runs: temporaries up to this size come from the heap, not from fresh mmaps
-#: (the largest value glibc accepts on 64-bit systems) ...
-ROOMY_MMAP_THRESHOLD = 32 * 2**20
-#: ... and up to this much freed memory stays in the heap until the chunk is done.
-ROOMY_TRIM_THRESHOLD = 512 * 2**20
-#: glibc's default mmap and trim thresholds (what it starts from when the environment does
-#: not set them)
-_GLIBC_DEFAULT = 128 * 1024
-
-
-@functools.cache
-def _libc() -> Any:
-    """glibc's ``mallopt`` and ``malloc_trim``, or None (another C library or system); looked
-    up once per process (``ctypes.util.find_library`` runs ``ldconfig -p`` in a subprocess:
-    4-8 ms measured, which every chunk on a worker paid before)."""
-    if not sys.platform.startswith("linux"):
-        return None
-    try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6")
-        libc.mallopt.argtypes = [ctypes.c_int, ctypes.c_int]
-        libc.malloc_trim.argtypes = [ctypes.c_size_t]
-        return libc
-    except (OSError, AttributeError):  # musl has no malloc_trim
-        return None
-
-
-def _env_threshold(name: str) -> int | None:
-    """The byte count a ``MALLOC_*_`` environment variable sets, or None."""
-    raw = os.environ.get(name)
-    try:
-        return int(raw) if raw is not None else None
-    except ValueError:
-        return None
-
-
-_heap_lock = threading.Lock()
-_heap_users = 0
-
-
-@contextmanager
-def roomy_heap() -> Iterator[None]:
-    """Let NumPy temporaries reuse heap memory while the block runs, whatever the process's
-    ``MALLOC_TRIM_THRESHOLD_`` / ``MALLOC_MMAP_THRESHOLD_``.
-
-    Where the environment sets one of the two (dask's worker launcher sets
-    ``MALLOC_TRIM_THRESHOLD_=65536``), glibc's thresholds are fixed: each temporary above
-    128 kB is a fresh ``mmap`` with a page fault per page. Inside this block they are raised to
-    :data:`ROOMY_MMAP_THRESHOLD` / :data:`ROOMY_TRIM_THRESHOLD`; when the last of the threads
-    inside leaves, they are set back to what the environment asked (or glibc's defaults) and
-    ``malloc_trim(0)`` returns the freed memory to the system, as that setting intends.
-    Without either variable (glibc's adaptive thresholds, the usual interactive process),
-    and where glibc is absent, it does nothing.
-    """
-    global _heap_users
-    trim = _env_threshold("MALLOC_TRIM_THRESHOLD_")
-    mmap = _env_threshold("MALLOC_MMAP_THRESHOLD_")
-    libc = _libc() if (trim is not None or mmap is not None) else None
-    if libc is None:
-        yield
-        return
-    with _heap_lock:
-        _heap_users += 1
-        if _heap_users == 1:
-            libc.mallopt(_M_MMAP_THRESHOLD, ROOMY_MMAP_THRESHOLD)
-            libc.mallopt(_M_TRIM_THRESHOLD, ROOMY_TRIM_THRESHOLD)
-    try:
-        yield
-    finally:
-        with _heap_lock:
-            _heap_users -= 1
-            if _heap_users == 0:
-                libc.mallopt(_M_MMAP_THRESHOLD, _GLIBC_DEFAULT if mmap is None else mmap)
-                libc.mallopt(_M_TRIM_THRESHOLD, _GLIBC_DEFAULT if trim is None else trim)
-                libc.malloc_trim(0)
 
 
 def aligned(value: Any) -> Any:

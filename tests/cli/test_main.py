@@ -466,3 +466,13 @@ def test_show_completion_prints_the_bash_script(capsys, monkeypatch):
     monkeypatch.setattr(typer.completion, "_get_shell_name", lambda: "bash")
     assert main(["--show-completion"]) == 0
     assert "_LINKWORK_COMPLETE=complete_bash" in capsys.readouterr().out
+
+
+def test_the_command_line_fixes_its_heap(monkeypatch):
+    """``linkwork`` owns its process: every command starts with roomy_process_heap."""
+    import linkwork.cli as cli
+
+    calls = []
+    monkeypatch.setattr(cli, "roomy_process_heap", lambda: calls.append(1) or True)
+    assert cli.main(["examples"]) == 0
+    assert calls == [1]

@@ -21,8 +21,11 @@ LAZY = ("linkwork.plot", "matplotlib", "pandas", "dask", "scipy", "pint", "rich"
 #: plot.sine.plot_force_ratio evaluates its model; errors.require_* are now in linkwork.checks.
 #: And the command modules, which linkwork.cli imports only to run a command: `linkwork --help`
 #: would otherwise import the studies, pydantic and the engine (issue 19 item 7: start-up
-#: under 0.3 s; 0.51 s with them, measured in docs/performance.md).
+#: under 0.3 s; 0.51 s with them, measured in docs/performance.md). And ctypes.util in
+#: linkwork.heap, which the command line imports at start: it imports shutil, subprocess and
+#: tempfile (9 ms) and is needed only where glibc is not among the loaded symbols.
 LAZY_EXCEPTIONS = {("linkwork/plot/sine.py", "linkwork.models.sine"),
+                   ("linkwork/heap.py", "ctypes.util"),
                    ("linkwork/errors.py", "linkwork.checks"),
                    ("linkwork/errors.py", "linkwork.deprecation"),
                    ("linkwork/cli/__init__.py", "linkwork.cli")}
