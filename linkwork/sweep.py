@@ -486,7 +486,8 @@ def _evaluate_dask(func: Callable[..., Any], candidates: Any, slices: list[slice
                         joined.add(i, res)
                     else:
                         results[i] = res
-            per = max(per or 0.0, size / held)
+            if held:   # (none for an empty set of candidates: one task of an empty chunk)
+                per = max(per or 0.0, size / held)
             pending, held = [], 0
             del got, parts
             res = None

@@ -300,8 +300,12 @@ def test_results_wait_on_the_workers_until_gather_bytes(monkeypatch):
         monkeypatch.setattr(sweep, "GATHER_BYTES", 64 * 2**20)
         with pytest.raises(ValueError, match="chunk 50 failed"):
             evaluate(_fails_at_50, x, chunk_size=10, client=client)
+        empty = evaluate(_chunk_start, x[:0], chunk_size=10, client=client)
     np.testing.assert_array_equal(late, local)
     np.testing.assert_array_equal(each, local)
+    # no candidates: func on the empty selection, as in-process (divided by zero candidates
+    # when the size per candidate was first learnt)
+    assert empty.shape == (0,) and evaluate(_chunk_start, x[:0], chunk_size=10).shape == (0,)
 
 
 def test_balance_cuts_smaller_chunks_on_a_cluster_only():
