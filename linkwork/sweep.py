@@ -46,10 +46,11 @@ as ``func(chunk, **shared)``; on a cluster they are sent to every worker once
 On a cluster the chunks go out as tasks of consecutive chunks (:func:`task_groups`: guided
 self-scheduling, large tasks first and single chunks last, so that few tasks carry Dask's
 per-task cost and the workers still finish together; ``func`` is still called once per chunk,
-on the same chunks as in-process), submitted at once; their results are gathered in batches as
-they complete (``as_completed(...).batches()``, one ``gather`` per batch), each released on
-the workers as soon as it is here; ``combine`` folds them in candidate order as soon as the
-next one in order is in, and ``progress`` is called once per chunk.
+on the same chunks as in-process), submitted at once. ``progress`` is called once per chunk as
+its task finishes; the results stay on the workers until about :data:`GATHER_BYTES` of them
+can be gathered in one ``gather`` (the first task's at once, to learn their size; the rest
+after the last task), each released on the workers as soon as it is here; ``combine`` folds
+them in candidate order as soon as the next one in order is in.
 
 Worker malloc settings: :mod:`linkwork.heap` (every task on a cluster runs inside
 :func:`linkwork.heap.roomy_heap`).
