@@ -169,14 +169,6 @@ def max_rel_diff(got: Sequence[Any], want: Sequence[Any], angles: Sequence[int] 
     return worst
 
 
-def join(parts: Sequence[Any]) -> Any:
-    """Results of consecutive shares joined along their first axis (arrays, or dicts of
-    arrays key by key)."""
-    if isinstance(parts[0], dict):
-        return {k: np.concatenate([p[k] for p in parts]) for k in parts[0]}
-    return np.concatenate(parts)
-
-
 class PlainProcesses:
     """``w`` plain worker processes (``multiprocessing``, spawned, no Dask), started and warmed
     up once, with the environment a Dask nanny gives its workers
@@ -219,17 +211,15 @@ class PlainProcesses:
     def evaluate(self, func: Callable[..., Any], candidates: Any, chunk_size: int) -> Any:
         """``func`` over ``candidates`` (an array, or a dict of arrays) in ``w`` shares, one per
         process; the results joined in order."""
-        n = len(next(iter(candidates.values())) if isinstance(candidates, dict) else candidates)
-        cuts = [n * i // self.w for i in range(self.w + 1)]
-        shares = [({k: v[a:b] for k, v in candidates.items()} if isinstance(candidates, dict)
-                   else candidates[a:b]) for a, b in itertools.pairwise(cuts)]
-        from linkwork.sweep import _on_worker, chunk_slices
+        from linkwork.sweep import _join, _length, _on_worker, _take, chunk_slices
 
+        cuts = [_length(candidates) * i // self.w for i in range(self.w + 1)]
+        shares = [_take(candidates, slice(a, b)) for a, b in itertools.pairwise(cuts)]
         bounds = [[(c.start, c.stop) for c in chunk_slices(b - a, chunk_size)]
                   for a, b in itertools.pairwise(cuts)]
         # (functions of this module cannot travel: the tests load it under another name)
         parts = self.executor.map(_on_worker, [func] * self.w, shares, bounds, [{}] * self.w)
-        return join([r for part in parts for r in part])
+        return _join([r for part in parts for r in part])
 
     def close(self) -> None:
         self.executor.shutdown()
